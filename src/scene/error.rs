@@ -1,0 +1,29 @@
+//! Scene loading errors: each names the file, the line and the key.
+use std::fmt;
+use std::path::PathBuf;
+
+/// An error in a scene or one of the files it names.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    pub file: PathBuf,
+    /// 1-based line, when the error has a place in the file.
+    pub line: Option<usize>,
+    /// Dotted key path, e.g. `render.width` or `shapes[3].material`.
+    pub key: Option<String>,
+    pub message: String,
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file.display())?;
+        if let Some(line) = self.line {
+            write!(f, ":{line}")?;
+        }
+        if let Some(key) = &self.key {
+            write!(f, ": key `{key}`")?;
+        }
+        write!(f, ": {}", self.message)
+    }
+}
+
+impl std::error::Error for SceneError {}

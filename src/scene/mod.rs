@@ -1,0 +1,175 @@
+//! Scene description: the TOML format (version 1, see README), parsed and validated into
+//! world-space primitives. No wgpu here.
+//!
+//! Loading turns every shape into triangles (quads, cubes, meshes) or analytic spheres, in
+//! world space, each tagged with its shape index so that emission, velocity and texture
+//! coordinates can be looked up per shape.
+
+mod error;
+mod load;
+mod mesh;
+
+pub use error::SceneError;
+pub use load::{load, load_str};
+
+use glam::{Vec2, Vec3};
+use std::path::PathBuf;
+
+/// Which integrator renders the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Stochastic progressive photon mapping (Hachisuka & Jensen 2009).
+    Sppm,
+    /// Naive path tracing.
+    Pt,
+    /// Path tracing with next-event estimation and multiple importance sampling.
+    PtNee,
+}
+
+/// The `[render]` table, with defaults applied.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderSettings {
+    pub width: u32,
+    pub height: u32,
+    pub method: Method,
+    /// SPPM passes, or samples per pixel for the path tracers.
+    pub iterations: u32,
+    /// Camera samples per pixel in each SPPM pass.
+    pub spp: u32,
+    /// Photons emitted per SPPM pass.
+    pub photons: u32,
+    /// Initial gather radius; `None` asks for the automatic choice.
+    pub radius: Option<f32>,
+    pub alpha: f32,
+    pub max_depth: u32,
+    pub seed: u32,
+    pub time_limit: Option<f64>,
+}
+
+/// The `[camera]` table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    pub position: Vec3,
+    pub look_at: Vec3,
+    pub up: Vec3,
+    /// Vertical field of view, degrees.
+    pub fov: f32,
+    pub aperture_radius: f32,
+    pub focus_distance: f32,
+    /// Line of `aperture_radius` in the file, when given.
+    pub aperture_line: Option<usize>,
+}
+
+/// A material's scattering model.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MaterialKind {
+    /// Lambertian; `texture` (index into `Scene::textures`) replaces `albedo` when present.
+    Diffuse { albedo: Vec3, texture: Option<u32> },
+    /// Perfect specular reflector.
+    Mirror { albedo: Vec3 },
+    /// GGX microfacet conductor; roughness is GGX alpha.
+    Glossy { albedo: Vec3, roughness: f32 },
+    /// Dielectric interface; roughness 0 is smooth, otherwise GGX alpha (Walter et al. 2007).
+    Dielectric { ior: f32, roughness: f32 },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub kind: MaterialKind,
+    /// Line of the material's entry in `[materials]`.
+    pub line: usize,
+}
+
+/// A texture decoded to linear RGB (sRGB decoded), row 0 at the top (t = 1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    pub path: PathBuf,
+    pub width: u32,
+    pub height: u32,
+    /// Linear RGB, row-major, `width * height` texels.
+    pub texels: Vec<Vec3>,
+}
+
+/// The kind of a `[[shapes]]` entry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShapeKind {
+    Quad,
+    Sphere,
+    Cube,
+    Mesh,
+}
+
+/// One `[[shapes]]` entry, after its primitives were generated.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shape {
+    pub kind: ShapeKind,
+    pub material: u32,
+    /// Radiance leaving the front side (quads, meshes: side of the winding's normal;
+    /// spheres: outside). `None` when the shape does not emit.
+    pub emission: Option<Vec3>,
+    pub velocity: Option<Vec3>,
+    /// Line of the `[[shapes]]` header.
+    pub line: usize,
+    /// Line of `velocity`, when given.
+    pub velocity_line: Option<usize>,
+}
+
+/// A world-space triangle. The geometric normal is `normalize(cross(p[1]-p[0], p[2]-p[0]))`,
+/// which is the front side for emission.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Triangle {
+    pub p: [Vec3; 3],
+    /// Per-vertex shading normals (unit length), only for `smooth = true` meshes.
+    pub n: Option<[Vec3; 3]>,
+    /// Per-vertex texture coordinates, when the shape has them (quads: `uv_scale * (a, b)`;
+    /// meshes: OBJ `vt`).
+    pub uv: Option<[Vec2; 3]>,
+    pub shape: u32,
+}
+
+/// A world-space analytic sphere.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sphere {
+    pub center: Vec3,
+    pub radius: f32,
+    pub shape: u32,
+}
+
+/// `[[lights]]` entries that are not surfaces.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LightKind {
+    /// Radiant intensity (W/sr) from a point.
+    Point { position: Vec3, intensity: Vec3 },
+    /// Parallel light travelling along `direction` (unit), `irradiance` on a facing surface.
+    Directional { direction: Vec3, irradiance: Vec3 },
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Light {
+    pub kind: LightKind,
+    /// Line of the `[[lights]]` header.
+    pub line: usize,
+}
+
+/// A loaded, validated scene.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The scene file, for error messages.
+    pub path: PathBuf,
+    pub render: RenderSettings,
+    pub camera: Camera,
+    pub materials: Vec<Material>,
+    pub textures: Vec<Texture>,
+    pub shapes: Vec<Shape>,
+    pub triangles: Vec<Triangle>,
+    pub spheres: Vec<Sphere>,
+    pub lights: Vec<Light>,
+}
+
+impl Scene {
+    /// Material of a shape.
+    pub fn shape_material(&self, shape: u32) -> &Material {
+        &self.materials[self.shapes[shape as usize].material as usize]
+    }
+}
