@@ -1,1 +1,173 @@
-fn main() {}
+//! The `sppm-gpu` command line: render a scene file to PNG or EXR.
+
+use clap::Parser;
+use indicatif::{ProgressBar, ProgressStyle};
+use sppm_gpu::gpu::GpuContext;
+use sppm_gpu::integrators::Sppm;
+use sppm_gpu::scene::{self, Method};
+use sppm_gpu::{image_io, Error};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+/// Render a scene with stochastic progressive photon mapping on the GPU.
+#[derive(Parser, Debug)]
+#[command(version, about)]
+struct Cli {
+    /// Scene file (TOML, format version 1).
+    scene: PathBuf,
+    /// Output image: .png (sRGB, clamped) or .exr (linear float RGB).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// SPPM passes (overrides render.iterations).
+    #[arg(long)]
+    iterations: Option<u32>,
+    /// Photons per pass (overrides render.photons).
+    #[arg(long)]
+    photons: Option<u32>,
+    /// Initial gather radius in scene units (overrides render.radius).
+    #[arg(long)]
+    radius: Option<f32>,
+    /// Radius reduction parameter, 0 < alpha < 1 (overrides render.alpha).
+    #[arg(long)]
+    alpha: Option<f32>,
+    /// Random seed (overrides render.seed).
+    #[arg(long)]
+    seed: Option<u32>,
+    /// Stop after the pass that crosses this many seconds (overrides render.time_limit).
+    #[arg(long)]
+    time_limit: Option<f64>,
+    /// Image width in pixels (overrides render.width).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Image height in pixels (overrides render.height).
+    #[arg(long)]
+    height: Option<u32>,
+    /// Camera samples per pixel in each pass (overrides render.spp).
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Most scattering events on a path (overrides render.max_depth).
+    #[arg(long)]
+    max_depth: Option<u32>,
+}
+
+/// Apply the command line's overrides to the scene's `[render]` table, checking each.
+fn apply_overrides(cli: &Cli, render: &mut scene::RenderSettings) -> Result<(), Error> {
+    fn positive(flag: &str, v: Option<u32>, max: u32, dst: &mut u32) -> Result<(), Error> {
+        if let Some(v) = v {
+            if v == 0 || v > max {
+                return Err(Error::Setting(format!("--{flag} must be between 1 and {max}, got {v}")));
+            }
+            *dst = v;
+        }
+        Ok(())
+    }
+    positive("iterations", cli.iterations, u32::MAX, &mut render.iterations)?;
+    positive("photons", cli.photons, u32::MAX, &mut render.photons)?;
+    positive("width", cli.width, 16384, &mut render.width)?;
+    positive("height", cli.height, 16384, &mut render.height)?;
+    positive("spp", cli.spp, 1024, &mut render.spp)?;
+    positive("max-depth", cli.max_depth, 1024, &mut render.max_depth)?;
+    if let Some(r) = cli.radius {
+        if !(r > 0.0 && r.is_finite()) {
+            return Err(Error::Setting(format!("--radius must be a positive number, got {r}")));
+        }
+        render.radius = Some(r);
+    }
+    if let Some(a) = cli.alpha {
+        if !(a > 0.0 && a < 1.0) {
+            return Err(Error::Setting(format!("--alpha must be between 0 and 1 (exclusive), got {a}")));
+        }
+        render.alpha = a;
+    }
+    if let Some(t) = cli.time_limit {
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(Error::Setting(format!("--time-limit must be a positive number of seconds, got {t}")));
+        }
+        render.time_limit = Some(t);
+    }
+    if let Some(s) = cli.seed {
+        render.seed = s;
+    }
+    Ok(())
+}
+
+/// Refuse outputs that would replace the scene itself or cannot be written as an image.
+fn check_output(output: &Path, scene_path: &Path) -> Result<(), Error> {
+    let ext = output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if !matches!(ext.as_deref(), Some("png") | Some("exr")) {
+        return Err(Error::Setting(format!(
+            "{}: the output must end in .png or .exr",
+            output.display()
+        )));
+    }
+    if let (Ok(a), Ok(b)) = (output.canonicalize(), scene_path.canonicalize()) {
+        if a == b {
+            return Err(Error::Setting(format!("{}: the output would overwrite the scene file", output.display())));
+        }
+    }
+    Ok(())
+}
+
+fn run(cli: &Cli) -> Result<(), Error> {
+    check_output(&cli.output, &cli.scene)?;
+    let mut scene = scene::load(&cli.scene)?;
+    apply_overrides(cli, &mut scene.render)?;
+    if scene.render.method != Method::Sppm {
+        return Err(Error::Setting(format!(
+            "{}: render.method {:?} is not supported yet; use \"sppm\"",
+            cli.scene.display(),
+            scene.render.method
+        )));
+    }
+
+    let gpu = GpuContext::new()?;
+    let mut sppm = Sppm::new(&gpu.device, &gpu.queue, &scene)?;
+    let r = &scene.render;
+
+    let progress = ProgressBar::new(r.iterations as u64);
+    progress.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} passes  {msg}  {elapsed_precise} (ETA {eta})")
+            .expect("valid template"),
+    );
+    let start = Instant::now();
+    while sppm.passes() < r.iterations {
+        sppm.run_pass()?;
+        let seconds = start.elapsed().as_secs_f64();
+        progress.set_position(sppm.passes() as u64);
+        progress.set_message(format!("{:.2} M photons/s", sppm.photons_traced() as f64 / seconds / 1e6));
+        if r.time_limit.is_some_and(|limit| seconds >= limit) {
+            break;
+        }
+    }
+    let image = sppm.image()?;
+    let seconds = start.elapsed().as_secs_f64();
+    progress.finish_and_clear();
+
+    if cli.output.exists() {
+        eprintln!("note: replacing {}", cli.output.display());
+    }
+    image_io::write_image(&cli.output, &image)?;
+    println!(
+        "{} passes, {} photons in {:.2} s ({:.2} M photons/s, {:.2} passes/s, initial radius {:.4}) -> {}",
+        sppm.passes(),
+        sppm.photons_traced(),
+        seconds,
+        sppm.photons_traced() as f64 / seconds / 1e6,
+        sppm.passes() as f64 / seconds,
+        sppm.initial_radius(),
+        cli.output.display()
+    );
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(&cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,80 @@
+// SPPM camera pass (Hachisuka & Jensen 2009, sec. 4): one path per visible-point slot, from a
+// jittered point in its pixel through specular bounces to the first non-specular surface,
+// where it leaves a visible point. Emission seen along the way is added to the slot's ld.
+
+#import types
+#import rng
+#import sampling
+#import scene
+#import bsdf
+
+@group(0) @binding(8) var<storage, read_write> visible_points: array<VisiblePoint>;
+@group(0) @binding(9) var<storage, read_write> vp_points: array<vec4f>;
+@group(0) @binding(10) var<storage, read_write> vp_stats: array<VpStats>;
+
+const STREAM_CAMERA: u32 = 0u;
+
+@compute @workgroup_size(64)
+fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let index = gid.x + gid.y * groups.x * 64u;
+    if index >= frame.vp_count {
+        return;
+    }
+    var rng = rng_new(frame.seed, frame.pass_index, STREAM_CAMERA, index);
+    let pixel = index / frame.spp;
+    let px = pixel % frame.width;
+    let py = pixel / frame.width;
+
+    // A uniform point in the pixel's square (box filter) on the image plane at distance 1.
+    let jitter = rng_next2(&rng);
+    let sx = 2.0 * (f32(px) + jitter.x) / f32(frame.width) - 1.0;
+    let sy = 1.0 - 2.0 * (f32(py) + jitter.y) / f32(frame.height);
+    let dir_pinhole = frame.cam_forward + sx * frame.cam_right + sy * frame.cam_up;
+    var o = frame.cam_position;
+    var d = normalize(dir_pinhole);
+    let lens_u = rng_next2(&rng);
+    if frame.lens_radius > 0.0 {
+        // Thin lens: aim through the point that the pinhole ray meets on the focal plane.
+        let lens = frame.lens_radius * sample_disk(lens_u);
+        let focus = frame.cam_position + frame.focus_distance * dir_pinhole;
+        o = frame.cam_position + lens.x * normalize(frame.cam_right) + lens.y * normalize(frame.cam_up);
+        d = normalize(focus - o);
+    }
+
+    var beta = vec3f(1.0);
+    var ld = vec3f(0.0);
+    var vp = VisiblePoint(vec3f(0.0), 0u, vec3f(0.0), 0u);
+    var vp_position = vec4f(0.0);
+    for (var depth = 0u; depth < frame.max_depth; depth++) {
+        let hit = trace_closest(o, d, 3.4e38);
+        if hit.prim_ref == 0xffffffffu {
+            break;
+        }
+        let s = surface_at(hit, o, d);
+        // Emission is one-sided: only the front of the geometric normal emits.
+        let shape = shapes[s.shape];
+        if shape.emits != 0u && dot(d, s.ng) < 0.0 {
+            ld += beta * shape.emission;
+        }
+        let m = materials[s.material];
+        if m.kind == MATERIAL_DIFFUSE {
+            // The visible point: the photon pass adds flux * weight for photons near it.
+            let n = select(-s.ng, s.ng, dot(d, s.ng) < 0.0);
+            vp = VisiblePoint(n, 0u, beta * m.albedo * INV_PI, 0u);
+            vp_position = vec4f(s.p, vp_stats[index].radius);
+            break;
+        }
+        var next: SpecularSample;
+        if m.kind == MATERIAL_MIRROR {
+            next = SpecularSample(reflect(d, s.ng), m.albedo);
+        } else {
+            next = sample_dielectric(d, s.ng, m.ior, rng_next(&rng), true);
+        }
+        beta *= next.weight;
+        o = offset_origin(s.p, s.ng, next.wi);
+        d = next.wi;
+    }
+    visible_points[index] = vp;
+    vp_points[index] = vp_position;
+    vp_stats[index].ld += ld;
+}

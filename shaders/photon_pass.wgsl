@@ -1,0 +1,155 @@
+// SPPM photon pass (Hachisuka & Jensen 2009, sec. 4): photons leave the emitters, chosen in
+// proportion to power, and at every non-specular hit add their flux to the visible points
+// within radius. Flux is accumulated in 64-bit fixed point built from two u32 atomics, so the
+// sum does not depend on the order in which photons arrive: the same seed gives the same image.
+
+#import types
+#import rng
+#import sampling
+#import scene
+#import bsdf
+
+@group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
+@group(0) @binding(9) var<storage, read> vp_points: array<vec4f>;
+@group(0) @binding(11) var<uniform> grid: GridParams;
+@group(0) @binding(12) var<storage, read> grid_cell_start: array<u32>;
+@group(0) @binding(13) var<storage, read> grid_entries: array<u32>;
+@group(0) @binding(14) var<storage, read_write> flux_accum: array<atomic<u32>>;
+@group(0) @binding(15) var<storage, read> emitters: array<Emitter>;
+
+const STREAM_PHOTON: u32 = 1u;
+
+// Add c >= 0 to the 32.32 fixed-point counter at words (lo, lo + 1). The carry out of the low
+// word is detected from the value it held, so the total is exact whatever the order.
+fn accumulate_fixed(lo: u32, c: f32) {
+    let hi_part = floor(c);
+    let lo_part = min((c - hi_part) * 4294967296.0, 4294967040.0);
+    let lo_add = u32(lo_part);
+    let old = atomicAdd(&flux_accum[lo], lo_add);
+    let carry = select(0u, 1u, old > 0xffffffffu - lo_add);
+    let hi_add = u32(hi_part) + carry;
+    if hi_add != 0u {
+        atomicAdd(&flux_accum[lo + 1u], hi_add);
+    }
+}
+
+// Add the photon's flux to the visible points around p. `d` is the photon's direction of travel.
+fn deposit(p: vec3f, d: vec3f, beta: vec3f) {
+    let c = floor((p - grid.origin) / grid.cell_size);
+    let res = vec3f(grid.res);
+    // Written so that a NaN position is outside too.
+    if !all((c >= vec3f(0.0)) & (c < res)) {
+        return;
+    }
+    let cell = vec3u(c);
+    // Teschner et al. 2003 spatial hash; src/accel/grid.rs builds the table with the same one.
+    let h = ((cell.x * 73856093u) ^ (cell.y * 19349663u) ^ (cell.z * 83492791u)) & grid.table_mask;
+    for (var i = grid_cell_start[h]; i < grid_cell_start[h + 1u]; i++) {
+        let v = grid_entries[i];
+        let q = vp_points[v];
+        let delta = p - q.xyz;
+        if dot(delta, delta) >= q.w * q.w {
+            continue;
+        }
+        let vp = visible_points[v];
+        // A photon from behind the visible point's surface does not light it.
+        if dot(vp.normal, d) >= 0.0 {
+            continue;
+        }
+        let contribution = beta * vp.weight;
+        // Guard against NaN and overflow: such a photon adds nothing rather than everything.
+        if !all(contribution >= vec3f(0.0)) || !all(contribution < vec3f(1.0e9)) {
+            continue;
+        }
+        let base = v * ACCUM_STRIDE;
+        accumulate_fixed(base, contribution.x);
+        accumulate_fixed(base + 2u, contribution.y);
+        accumulate_fixed(base + 4u, contribution.z);
+        atomicAdd(&flux_accum[base + 6u], 1u);
+    }
+}
+
+// Index of the emitter whose cdf interval holds u (binary search).
+fn find_emitter(u: f32) -> u32 {
+    var lo = 0u;
+    var hi = frame.emitter_count - 1u;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if emitters[mid].cdf <= u {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
+}
+
+@compute @workgroup_size(64)
+fn photon_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let index = frame.photon_offset + gid.x + gid.y * groups.x * 64u;
+    if index >= frame.photon_count {
+        return;
+    }
+    var rng = rng_new(frame.seed, frame.pass_index, STREAM_PHOTON, index);
+
+    // Choose an emitter, a point on it and a cosine-distributed direction from its front.
+    let e = emitters[find_emitter(rng_next(&rng))];
+    let u_pos = rng_next2(&rng);
+    var p: vec3f;
+    var n: vec3f;
+    var shape_index: u32;
+    if (e.prim_ref & SPHERE_BIT) != 0u {
+        let s = spheres[e.prim_ref & ~SPHERE_BIT];
+        n = sample_uniform_sphere(u_pos);
+        p = s.center + s.radius * n;
+        shape_index = s.shape;
+    } else {
+        let tri = triangles[e.prim_ref];
+        let b = sample_triangle(u_pos);
+        p = tri.p0 + b.x * tri.e1 + b.y * tri.e2;
+        n = normalize(cross(tri.e1, tri.e2));
+        shape_index = tri.shape;
+    }
+    var d = sample_cosine_hemisphere(n, rng_next2(&rng));
+    // beta = Le cos / (pmf * (1 / area) * (cos / pi)), relative to the total power.
+    var beta = shapes[shape_index].emission * (PI * e.area / (e.pmf * frame.power_total));
+    var o = offset_origin(p, n, d);
+
+    for (var depth = 0u; depth < frame.max_depth; depth++) {
+        let hit = trace_closest(o, d, 3.4e38);
+        if hit.prim_ref == 0xffffffffu {
+            break;
+        }
+        let s = surface_at(hit, o, d);
+        let m = materials[s.material];
+        var wi: vec3f;
+        var f: vec3f;
+        if m.kind == MATERIAL_DIFFUSE {
+            deposit(s.p, d, beta);
+            // Scatter to the side the photon came from.
+            let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
+            wi = sample_cosine_hemisphere(n_in, rng_next2(&rng));
+            f = m.albedo;
+            // A shading normal can send the photon through the surface; end it there.
+            if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 {
+                break;
+            }
+        } else if m.kind == MATERIAL_MIRROR {
+            wi = reflect(d, s.ng);
+            f = m.albedo;
+        } else {
+            let next = sample_dielectric(d, s.ng, m.ior, rng_next(&rng), false);
+            wi = next.wi;
+            f = next.weight;
+        }
+        // Russian roulette that keeps the photon's largest channel constant (pbrt-v4 sec. 16.3).
+        let beta_new = beta * f;
+        let q = max(0.0, 1.0 - max_component(beta_new) / max_component(beta));
+        if rng_next(&rng) < q {
+            break;
+        }
+        beta = beta_new / (1.0 - q);
+        o = offset_origin(s.p, s.ng, wi);
+        d = wi;
+    }
+}

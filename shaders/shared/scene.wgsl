@@ -1,0 +1,177 @@
+// The scene as every tracing kernel sees it: geometry, BVH and materials, and the closest-hit
+// query over them.
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<storage, read> bvh_nodes: array<BvhNode>;
+@group(0) @binding(2) var<storage, read> prim_refs: array<u32>;
+@group(0) @binding(3) var<storage, read> triangles: array<Triangle>;
+@group(0) @binding(4) var<storage, read> spheres: array<Sphere>;
+@group(0) @binding(5) var<storage, read> materials: array<Material>;
+@group(0) @binding(6) var<storage, read> normals: array<vec4f>;
+@group(0) @binding(7) var<storage, read> shapes: array<Shape>;
+
+const BVH_STACK_SIZE: u32 = 64u;
+
+struct Hit {
+    t: f32,
+    prim_ref: u32,
+    // Barycentrics of the triangle's second and third vertex.
+    b: vec2f,
+}
+
+// Moller & Trumbore 1997. Returns (t, b1, b2); t < 0 when there is no hit in (0, t_max).
+fn intersect_triangle(tri: Triangle, o: vec3f, d: vec3f, t_max: f32) -> vec3f {
+    let pv = cross(d, tri.e2);
+    let det = dot(tri.e1, pv);
+    if det == 0.0 {
+        return vec3f(-1.0);
+    }
+    let inv_det = 1.0 / det;
+    let tv = o - tri.p0;
+    let b1 = dot(tv, pv) * inv_det;
+    if b1 < 0.0 || b1 > 1.0 {
+        return vec3f(-1.0);
+    }
+    let qv = cross(tv, tri.e1);
+    let b2 = dot(d, qv) * inv_det;
+    if b2 < 0.0 || b1 + b2 > 1.0 {
+        return vec3f(-1.0);
+    }
+    let t = dot(tri.e2, qv) * inv_det;
+    if t <= 0.0 || t >= t_max {
+        return vec3f(-1.0);
+    }
+    return vec3f(t, b1, b2);
+}
+
+// Nearest root in (0, t_max), the far one when the origin is inside; -1 for none. The
+// discriminant is formed as in Haines et al., Ray Tracing Gems ch. 7, for precision.
+fn intersect_sphere(s: Sphere, o: vec3f, d: vec3f, t_max: f32) -> f32 {
+    let oc = o - s.center;
+    let a = dot(d, d);
+    let b = dot(oc, d) / a;
+    let perp = oc - b * d;
+    let disc = s.radius * s.radius - dot(perp, perp);
+    if disc < 0.0 {
+        return -1.0;
+    }
+    let h = sqrt(a * disc) / a;
+    let t0 = -b - h;
+    let t1 = -b + h;
+    if t0 > 0.0 && t0 < t_max {
+        return t0;
+    }
+    if t1 > 0.0 && t1 < t_max {
+        return t1;
+    }
+    return -1.0;
+}
+
+// Slab test; returns the entry distance, or a value >= t_max when the box is missed.
+fn intersect_box(lo: vec3f, hi: vec3f, o: vec3f, inv_d: vec3f, t_max: f32) -> f32 {
+    let t0 = (lo - o) * inv_d;
+    let t1 = (hi - o) * inv_d;
+    // min/max ignore the NaN of 0 * inf on most hardware; the comparisons below reject it anyway.
+    let t_near = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), max(min(t0.z, t1.z), 0.0));
+    let t_far = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), min(max(t0.z, t1.z), t_max));
+    if t_near <= t_far {
+        return t_near;
+    }
+    return t_max;
+}
+
+// Closest hit along o + t d for t in (0, t_max); hit.prim_ref is 0xffffffff on a miss.
+fn trace_closest(o: vec3f, d: vec3f, t_max_in: f32) -> Hit {
+    var hit = Hit(t_max_in, 0xffffffffu, vec2f(0.0));
+    let inv_d = 1.0 / d;
+    var stack: array<u32, BVH_STACK_SIZE>;
+    var sp = 0u;
+    // The root's box is tested like any child's, so an empty scene hits nothing.
+    if intersect_box(bvh_nodes[0].min, bvh_nodes[0].max, o, inv_d, hit.t) < hit.t {
+        stack[0] = 0u;
+        sp = 1u;
+    }
+    while sp > 0u {
+        sp -= 1u;
+        let node = bvh_nodes[stack[sp]];
+        if node.count > 0u {
+            for (var i = node.first; i < node.first + node.count; i++) {
+                let r = prim_refs[i];
+                if (r & SPHERE_BIT) != 0u {
+                    let t = intersect_sphere(spheres[r & ~SPHERE_BIT], o, d, hit.t);
+                    if t > 0.0 {
+                        hit = Hit(t, r, vec2f(0.0));
+                    }
+                } else {
+                    let tb = intersect_triangle(triangles[r], o, d, hit.t);
+                    if tb.x > 0.0 {
+                        hit = Hit(tb.x, r, tb.yz);
+                    }
+                }
+            }
+            continue;
+        }
+        // Visit the nearer child first: push it last.
+        let left = bvh_nodes[node.first];
+        let right = bvh_nodes[node.first + 1u];
+        let t_left = intersect_box(left.min, left.max, o, inv_d, hit.t);
+        let t_right = intersect_box(right.min, right.max, o, inv_d, hit.t);
+        let hit_left = t_left < hit.t;
+        let hit_right = t_right < hit.t;
+        if hit_left && hit_right && sp + 2u <= BVH_STACK_SIZE {
+            let near_is_left = t_left <= t_right;
+            stack[sp] = select(node.first, node.first + 1u, near_is_left);
+            stack[sp + 1u] = select(node.first + 1u, node.first, near_is_left);
+            sp += 2u;
+        } else if hit_left && sp < BVH_STACK_SIZE {
+            stack[sp] = node.first;
+            sp += 1u;
+        } else if hit_right && sp < BVH_STACK_SIZE {
+            stack[sp] = node.first + 1u;
+            sp += 1u;
+        }
+    }
+    return hit;
+}
+
+// What a path needs to know where it hit.
+struct Surface {
+    p: vec3f,
+    // Geometric normal: cross(e1, e2) for triangles, outward for spheres.
+    ng: vec3f,
+    // Shading normal, on the same side as ng.
+    ns: vec3f,
+    material: u32,
+    shape: u32,
+}
+
+fn surface_at(hit: Hit, o: vec3f, d: vec3f) -> Surface {
+    if (hit.prim_ref & SPHERE_BIT) != 0u {
+        let s = spheres[hit.prim_ref & ~SPHERE_BIT];
+        let n = normalize(o + hit.t * d - s.center);
+        // Reproject onto the surface to remove the error of o + t d.
+        return Surface(s.center + s.radius * n, n, n, s.material, s.shape);
+    }
+    let tri = triangles[hit.prim_ref];
+    let p = tri.p0 + hit.b.x * tri.e1 + hit.b.y * tri.e2;
+    let ng = normalize(cross(tri.e1, tri.e2));
+    var ns = ng;
+    if tri.normals != NO_NORMALS {
+        let b0 = 1.0 - hit.b.x - hit.b.y;
+        let n = b0 * normals[tri.normals].xyz + hit.b.x * normals[tri.normals + 1u].xyz
+            + hit.b.y * normals[tri.normals + 2u].xyz;
+        let len = length(n);
+        if len > 0.0 {
+            ns = n / len;
+            ns = select(ns, -ns, dot(ns, ng) < 0.0);
+        }
+    }
+    return Surface(p, ng, ns, tri.material, tri.shape);
+}
+
+// Offset a ray origin off the surface, to the side of `side` (pbrt-v4 sec. 6.8.6 in spirit:
+// a fixed distance scaled to the scene, since positions here are single precision).
+fn offset_origin(p: vec3f, ng: vec3f, side: vec3f) -> vec3f {
+    let n = select(-ng, ng, dot(ng, side) >= 0.0);
+    return p + frame.ray_epsilon * n;
+}

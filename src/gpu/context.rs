@@ -1,0 +1,73 @@
+//! Creating a headless device.
+
+use std::fmt;
+
+/// Errors from the GPU side: no adapter, a device the renderer cannot use, a lost device.
+#[derive(Debug, Clone)]
+pub struct GpuError(pub String);
+
+impl fmt::Display for GpuError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for GpuError {}
+
+/// A device and queue owned by the renderer (the embedding API takes the caller's instead).
+pub struct GpuContext {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub adapter_info: wgpu::AdapterInfo,
+}
+
+/// Storage buffers the largest kernel binds in one stage.
+pub const STORAGE_BUFFERS_NEEDED: u32 = 14;
+
+/// What the renderer needs from a device, within what `adapter` offers.
+pub fn required_limits(adapter: &wgpu::Limits) -> Result<wgpu::Limits, GpuError> {
+    if adapter.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS_NEEDED {
+        return Err(GpuError(format!(
+            "the GPU allows {} storage buffers per shader stage; sppm-gpu needs {}",
+            adapter.max_storage_buffers_per_shader_stage, STORAGE_BUFFERS_NEEDED
+        )));
+    }
+    Ok(wgpu::Limits {
+        max_storage_buffers_per_shader_stage: STORAGE_BUFFERS_NEEDED,
+        max_storage_buffer_binding_size: adapter.max_storage_buffer_binding_size,
+        max_buffer_size: adapter.max_buffer_size,
+        ..wgpu::Limits::default()
+    })
+}
+
+impl GpuContext {
+    /// The first Vulkan, Metal or DX12 adapter. GL is left out on purpose: `WGPU_BACKEND=gl`
+    /// must not silently switch to a slower, different implementation.
+    pub fn new() -> Result<Self, GpuError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+            backends: wgpu::Backends::PRIMARY,
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        });
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            ..Default::default()
+        }))
+        .map_err(|e| {
+            GpuError(format!(
+                "no GPU adapter found ({e}). On Debian or Ubuntu without a GPU, install the \
+                 software Vulkan driver: apt-get install -y mesa-vulkan-drivers"
+            ))
+        })?;
+        let limits = required_limits(&adapter.limits())?;
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("sppm-gpu"),
+            required_features: wgpu::Features::empty(),
+            required_limits: limits,
+            experimental_features: wgpu::ExperimentalFeatures::disabled(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        }))
+        .map_err(|e| GpuError(format!("could not create a device on {}: {e}", adapter.get_info().name)))?;
+        Ok(Self { device, queue, adapter_info: adapter.get_info() })
+    }
+}

@@ -1,0 +1,168 @@
+//! Kernels: one WGSL file per compute kernel in `shaders/`, with one entry point of the same
+//! name. Shared code lives in `shaders/shared/` and is pulled in with `#import NAME` lines.
+//!
+//! Bindings are matched by the name of the WGSL global: naga's reflection of the assembled
+//! module gives each kernel's bind group layout, and the host hands over a table of named
+//! buffers, of which each kernel takes the ones it declares.
+
+use super::types::WORKGROUP_SIZE;
+use super::GpuError;
+
+/// Every kernel, by name (its file `shaders/<name>.wgsl`, its entry point and its label).
+pub const KERNELS: &[&str] = &["camera_pass", "photon_pass", "update_stats", "resolve"];
+
+/// Shader files, embedded at build time so the binary stands alone.
+const FILES: &[(&str, &str)] = &[
+    ("camera_pass", include_str!("../../shaders/camera_pass.wgsl")),
+    ("photon_pass", include_str!("../../shaders/photon_pass.wgsl")),
+    ("update_stats", include_str!("../../shaders/update_stats.wgsl")),
+    ("resolve", include_str!("../../shaders/resolve.wgsl")),
+    ("types", include_str!("../../shaders/shared/types.wgsl")),
+    ("rng", include_str!("../../shaders/shared/rng.wgsl")),
+    ("sampling", include_str!("../../shaders/shared/sampling.wgsl")),
+    ("scene", include_str!("../../shaders/shared/scene.wgsl")),
+    ("bsdf", include_str!("../../shaders/shared/bsdf.wgsl")),
+];
+
+fn file(name: &str) -> Result<&'static str, GpuError> {
+    FILES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, src)| *src)
+        .ok_or_else(|| GpuError(format!("no shader file named `{name}`")))
+}
+
+/// The WGSL of kernel `name` with its imports expanded, each shared file once, in order.
+pub fn shader_source(name: &str) -> Result<String, GpuError> {
+    fn expand(name: &str, seen: &mut Vec<String>, out: &mut String) -> Result<(), GpuError> {
+        if seen.iter().any(|s| s == name) {
+            return Ok(());
+        }
+        seen.push(name.to_string());
+        for line in file(name)?.lines() {
+            match line.trim().strip_prefix("#import ") {
+                Some(import) => expand(import.trim(), seen, out)?,
+                None => {
+                    out.push_str(line);
+                    out.push('\n');
+                }
+            }
+        }
+        Ok(())
+    }
+    let mut out = String::new();
+    expand(name, &mut Vec::new(), &mut out)?;
+    Ok(out)
+}
+
+/// Parse and validate WGSL with naga, as wgpu will.
+pub fn validate(name: &str, source: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), GpuError> {
+    let module = naga::front::wgsl::parse_str(source)
+        .map_err(|e| GpuError(format!("{name}.wgsl: {}", e.emit_to_string(source))))?;
+    let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+        .validate(&module)
+        .map_err(|e| GpuError(format!("{name}.wgsl: {}", e.emit_to_string(source))))?;
+    Ok((module, info))
+}
+
+/// A buffer handed to kernels under the name of its WGSL global.
+pub struct Resource<'a> {
+    pub name: &'a str,
+    pub buffer: &'a wgpu::Buffer,
+}
+
+/// One compute pipeline and what it binds.
+pub struct Kernel {
+    pub name: &'static str,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    /// (binding, WGSL global name) of every resource the kernel uses.
+    bindings: Vec<(u32, String)>,
+}
+
+impl Kernel {
+    pub fn new(device: &wgpu::Device, name: &'static str) -> Result<Self, GpuError> {
+        let source = shader_source(name)?;
+        let (module, info) = validate(name, &source)?;
+        let entry = module
+            .entry_points
+            .iter()
+            .position(|e| e.name == name)
+            .ok_or_else(|| GpuError(format!("{name}.wgsl has no entry point `{name}`")))?;
+        let uses = info.get_entry_point(entry);
+
+        // Only the globals this entry point touches: imported files may declare more.
+        let mut entries = Vec::new();
+        let mut bindings = Vec::new();
+        for (handle, var) in module.global_variables.iter() {
+            let Some(binding) = &var.binding else { continue };
+            if uses[handle].is_empty() {
+                continue;
+            }
+            let ty = match var.space {
+                naga::AddressSpace::Uniform => wgpu::BufferBindingType::Uniform,
+                naga::AddressSpace::Storage { access } => wgpu::BufferBindingType::Storage {
+                    read_only: !access.contains(naga::StorageAccess::STORE),
+                },
+                _ => continue,
+            };
+            entries.push(wgpu::BindGroupLayoutEntry {
+                binding: binding.binding,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+                count: None,
+            });
+            bindings.push((binding.binding, var.name.clone().unwrap_or_default()));
+        }
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(name),
+            entries: &entries,
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(name),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(name),
+            source: wgpu::ShaderSource::Wgsl(source.into()),
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(name),
+            layout: Some(&pipeline_layout),
+            module: &shader,
+            entry_point: Some(name),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        Ok(Self { name, pipeline, layout, bindings })
+    }
+
+    /// A bind group taking, for each of the kernel's bindings, the resource of the same name.
+    pub fn bind_group(&self, device: &wgpu::Device, resources: &[Resource]) -> Result<wgpu::BindGroup, GpuError> {
+        let mut entries = Vec::with_capacity(self.bindings.len());
+        for (binding, name) in &self.bindings {
+            let resource = resources
+                .iter()
+                .find(|r| r.name == name)
+                .ok_or_else(|| GpuError(format!("kernel {} binds `{name}`, which the host did not provide", self.name)))?;
+            entries.push(wgpu::BindGroupEntry { binding: *binding, resource: resource.buffer.as_entire_binding() });
+        }
+        Ok(device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(self.name), layout: &self.layout, entries: &entries }))
+    }
+
+    /// Record a dispatch of `threads` invocations. More than 65535 workgroups spill into y;
+    /// the kernels rebuild the linear index from `num_workgroups`.
+    pub fn dispatch(&self, encoder: &mut wgpu::CommandEncoder, bind_group: &wgpu::BindGroup, threads: u32) {
+        if threads == 0 {
+            return;
+        }
+        let groups = threads.div_ceil(WORKGROUP_SIZE);
+        let x = groups.min(65535);
+        let y = groups.div_ceil(x);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.name), timestamp_writes: None });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+}

@@ -1,0 +1,291 @@
+//! Stochastic progressive photon mapping (Hachisuka & Jensen 2009) on the GPU.
+//!
+//! One pass: `camera_pass` traces a path per visible-point slot to its visible point; the host
+//! reads the points back and builds the hashed grid over them; `photon_pass` traces photons and
+//! adds their flux to the points within radius; `update_stats` folds that into each point's
+//! statistics (N, radius, tau). `resolve` turns the statistics into an image at any time.
+
+use crate::accel::{build_grid, GridParams};
+use crate::error::Error;
+use crate::gpu::readback::{read_buffer, staging_buffer};
+use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
+use crate::gpu::types::*;
+use crate::gpu::{Kernel, Resource};
+use crate::image_io::Rgb32Image;
+use crate::scene::Scene;
+use wgpu::util::DeviceExt;
+
+/// Photons each visible point should see in its first pass under the automatic radius.
+pub const AUTO_RADIUS_PHOTONS: f32 = 16.0;
+
+/// The automatic initial radius: the disc that would catch [`AUTO_RADIUS_PHOTONS`] photons of
+/// one pass if the photons landed evenly over all the scene's surfaces,
+/// r0 = sqrt(k A / (pi photons)). It scales with the scene and shrinks as photons grow.
+pub fn auto_radius(surface_area: f32, photons: u32) -> f32 {
+    (AUTO_RADIUS_PHOTONS * surface_area / (std::f32::consts::PI * photons as f32)).sqrt()
+}
+
+/// Statistics a caller may read between passes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RadiusStats {
+    pub min: f32,
+    pub mean: f32,
+    pub max: f32,
+}
+
+pub struct Sppm {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    frame: Frame,
+    vp_count: u32,
+    pixel_count: u32,
+    passes: u32,
+    photons_traced: u64,
+    initial_radius: f32,
+
+    camera_pass: Kernel,
+    photon_pass: Kernel,
+    update_stats: Kernel,
+    resolve: Kernel,
+
+    scene: SceneBuffers,
+    frame_buffer: wgpu::Buffer,
+    visible_points: wgpu::Buffer,
+    vp_points: wgpu::Buffer,
+    vp_points_staging: wgpu::Buffer,
+    vp_stats: wgpu::Buffer,
+    flux_accum: wgpu::Buffer,
+    image: wgpu::Buffer,
+    image_staging: wgpu::Buffer,
+    grid: wgpu::Buffer,
+    grid_cell_start: wgpu::Buffer,
+    grid_entries: wgpu::Buffer,
+
+    camera_group: wgpu::BindGroup,
+    photon_group: Option<wgpu::BindGroup>,
+    update_group: wgpu::BindGroup,
+    resolve_group: wgpu::BindGroup,
+}
+
+fn buffer(device: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false })
+}
+
+const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
+    .union(wgpu::BufferUsages::COPY_DST)
+    .union(wgpu::BufferUsages::COPY_SRC);
+
+impl Sppm {
+    /// Set up the renderer for `scene` on the caller's device.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Self, Error> {
+        let r = &scene.render;
+        let data = SceneData::new(scene)?;
+        let pixel_count = r.width.checked_mul(r.height).ok_or_else(|| Error::Setting("image too large".into()))?;
+        let vp_count = pixel_count
+            .checked_mul(r.spp)
+            .filter(|n| (*n as u64) * (ACCUM_STRIDE as u64) * 4 <= device.limits().max_storage_buffer_binding_size as u64)
+            .ok_or_else(|| {
+                Error::Setting(format!(
+                    "{}x{} pixels with spp {} need more visible points than this device's buffers hold",
+                    r.width, r.height, r.spp
+                ))
+            })?;
+        let initial_radius = r.radius.unwrap_or_else(|| auto_radius(data.surface_area, r.photons));
+
+        let mut frame = super::camera_frame(scene);
+        frame.photon_count = r.photons;
+        frame.emitter_count = data.emitters.len() as u32;
+        frame.ray_epsilon = data.ray_epsilon();
+        frame.power_total = data.power_total;
+        frame.vp_count = vp_count;
+
+        let kernels = [("camera_pass"), ("photon_pass"), ("update_stats"), ("resolve")];
+        let [camera_pass, photon_pass, update_stats, resolve] = kernels.map(|k| Kernel::new(device, k));
+        let (camera_pass, photon_pass, update_stats, resolve) = (camera_pass?, photon_pass?, update_stats?, resolve?);
+
+        let scene_buffers = SceneBuffers::new(device, &data);
+        let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("frame"),
+            contents: bytemuck::bytes_of(&frame),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let n = vp_count as u64;
+        let visible_points = buffer(device, "visible_points", n * size_of::<VisiblePoint>() as u64, STORAGE);
+        let vp_points = buffer(device, "vp_points", n * 16, STORAGE);
+        let vp_points_staging = staging_buffer(device, "vp_points_staging", n * 16);
+        let stats: Vec<VpStats> = vec![VpStats { radius: initial_radius, ..VpStats::default() }; vp_count as usize];
+        let vp_stats = storage_buffer(device, "vp_stats", &stats);
+        let flux_accum = buffer(device, "flux_accum", n * ACCUM_STRIDE as u64 * 4, STORAGE);
+        let image = buffer(device, "image", pixel_count as u64 * 16, STORAGE);
+        let image_staging = staging_buffer(device, "image_staging", pixel_count as u64 * 16);
+        let grid = buffer(device, "grid", size_of::<GridParams>() as u64, wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
+        let grid_cell_start = buffer(device, "grid_cell_start", 16, STORAGE);
+        let grid_entries = buffer(device, "grid_entries", 16, STORAGE);
+
+        let mut resources = scene_buffers.resources();
+        resources.extend([
+            Resource { name: "frame", buffer: &frame_buffer },
+            Resource { name: "visible_points", buffer: &visible_points },
+            Resource { name: "vp_points", buffer: &vp_points },
+            Resource { name: "vp_stats", buffer: &vp_stats },
+            Resource { name: "flux_accum", buffer: &flux_accum },
+            Resource { name: "image", buffer: &image },
+        ]);
+        let camera_group = camera_pass.bind_group(device, &resources)?;
+        let update_group = update_stats.bind_group(device, &resources)?;
+        let resolve_group = resolve.bind_group(device, &resources)?;
+        drop(resources);
+
+        Ok(Self {
+            device: device.clone(),
+            queue: queue.clone(),
+            frame,
+            vp_count,
+            pixel_count,
+            passes: 0,
+            photons_traced: 0,
+            initial_radius,
+            camera_pass,
+            photon_pass,
+            update_stats,
+            resolve,
+            scene: scene_buffers,
+            frame_buffer,
+            visible_points,
+            vp_points,
+            vp_points_staging,
+            vp_stats,
+            flux_accum,
+            image,
+            image_staging,
+            grid,
+            grid_cell_start,
+            grid_entries,
+            camera_group,
+            photon_group: None,
+            update_group,
+            resolve_group,
+        })
+    }
+
+    /// Passes completed.
+    pub fn passes(&self) -> u32 {
+        self.passes
+    }
+
+    /// Photons emitted over all completed passes.
+    pub fn photons_traced(&self) -> u64 {
+        self.photons_traced
+    }
+
+    /// The radius every visible point started with.
+    pub fn initial_radius(&self) -> f32 {
+        self.initial_radius
+    }
+
+    /// Run one SPPM pass to completion.
+    pub fn run_pass(&mut self) -> Result<(), Error> {
+        self.frame.pass_index = self.passes;
+        self.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&self.frame));
+
+        // Camera paths to visible points; their positions and radii come back for the grid.
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("camera_pass") });
+        self.camera_pass.dispatch(&mut encoder, &self.camera_group, self.vp_count);
+        self.queue.submit([encoder.finish()]);
+        let points: Vec<[f32; 4]> =
+            read_buffer(&self.device, &self.queue, &self.vp_points, &self.vp_points_staging, self.vp_count as u64 * 16)?;
+        let grid = build_grid(&points);
+        self.upload_grid(&grid.params, &grid.cell_start, &grid.entries)?;
+
+        // Photons, then the statistics update.
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("photon_pass") });
+        let photon_group = self.photon_group.as_ref().expect("grid uploaded above");
+        self.photon_pass.dispatch(&mut encoder, photon_group, self.frame.photon_count);
+        self.update_stats.dispatch(&mut encoder, &self.update_group, self.vp_count);
+        self.queue.submit([encoder.finish()]);
+
+        self.passes += 1;
+        self.photons_traced += self.frame.photon_count as u64;
+        Ok(())
+    }
+
+    /// Upload the grid, growing its buffers (and rebuilding the photon pass's bind group)
+    /// when they are too small.
+    fn upload_grid(&mut self, params: &GridParams, cell_start: &[u32], entries: &[u32]) -> Result<(), Error> {
+        let grow = |buf: &mut wgpu::Buffer, label: &str, data: &[u32]| {
+            let size = (data.len().max(1) * 4) as u64;
+            if buf.size() < size {
+                *buf = buffer(&self.device, label, size.next_power_of_two(), STORAGE);
+                true
+            } else {
+                false
+            }
+        };
+        let mut rebind = self.photon_group.is_none();
+        rebind |= grow(&mut self.grid_cell_start, "grid_cell_start", cell_start);
+        rebind |= grow(&mut self.grid_entries, "grid_entries", entries);
+        self.queue.write_buffer(&self.grid, 0, bytemuck::bytes_of(params));
+        self.queue.write_buffer(&self.grid_cell_start, 0, bytemuck::cast_slice(cell_start));
+        if !entries.is_empty() {
+            self.queue.write_buffer(&self.grid_entries, 0, bytemuck::cast_slice(entries));
+        }
+        if rebind {
+            let mut resources = self.scene.resources();
+            resources.extend([
+                Resource { name: "frame", buffer: &self.frame_buffer },
+                Resource { name: "visible_points", buffer: &self.visible_points },
+                Resource { name: "vp_points", buffer: &self.vp_points },
+                Resource { name: "flux_accum", buffer: &self.flux_accum },
+                Resource { name: "grid", buffer: &self.grid },
+                Resource { name: "grid_cell_start", buffer: &self.grid_cell_start },
+                Resource { name: "grid_entries", buffer: &self.grid_entries },
+            ]);
+            self.photon_group = Some(self.photon_pass.bind_group(&self.device, &resources)?);
+        }
+        Ok(())
+    }
+
+    /// Record the estimate after the passes so far into the `image` buffer (rgba32float per
+    /// pixel, row-major).
+    pub fn record_resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        self.resolve.dispatch(encoder, &self.resolve_group, self.pixel_count);
+    }
+
+    /// The current estimate, read back.
+    pub fn image(&mut self) -> Result<Rgb32Image, Error> {
+        if self.passes == 0 {
+            return Err(Error::Setting("no pass has run yet".into()));
+        }
+        // resolve reads the pass count from the frame: point it at the last completed pass.
+        self.frame.pass_index = self.passes - 1;
+        self.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&self.frame));
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("resolve") });
+        self.record_resolve(&mut encoder);
+        self.queue.submit([encoder.finish()]);
+        let rgba: Vec<[f32; 4]> =
+            read_buffer(&self.device, &self.queue, &self.image, &self.image_staging, self.pixel_count as u64 * 16)?;
+        let mut img = Rgb32Image::new(self.frame.width, self.frame.height);
+        for (dst, src) in img.pixels.iter_mut().zip(&rgba) {
+            *dst = [src[0], src[1], src[2]];
+        }
+        Ok(img)
+    }
+
+    /// Per visible point statistics, read back (for tests and `--stats`).
+    pub fn stats(&self) -> Result<Vec<VpStats>, Error> {
+        let staging = staging_buffer(&self.device, "vp_stats_staging", self.vp_stats.size());
+        Ok(read_buffer(&self.device, &self.queue, &self.vp_stats, &staging, self.vp_stats.size())?)
+    }
+
+    /// Smallest, mean and largest radius over the visible points.
+    pub fn radius_stats(&self) -> Result<RadiusStats, Error> {
+        let stats = self.stats()?;
+        let (mut min, mut max, mut sum) = (f32::INFINITY, 0.0f32, 0.0f64);
+        for s in &stats {
+            min = min.min(s.radius);
+            max = max.max(s.radius);
+            sum += s.radius as f64;
+        }
+        Ok(RadiusStats { min, mean: (sum / stats.len().max(1) as f64) as f32, max })
+    }
+}

@@ -1,0 +1,63 @@
+//! Every struct that crosses to the GPU has the same member names, offsets and size in Rust
+//! (`src/gpu/types.rs`) and in WGSL (`shaders/shared/types.wgsl`), as naga lays it out.
+
+use sppm_gpu::gpu::shader_source;
+use sppm_gpu::gpu::types::*;
+use std::mem::{offset_of, size_of};
+
+fn check_struct(module: &naga::Module, name: &str, size: usize, fields: &[(&str, usize)]) {
+    let (_, ty) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no WGSL struct {name}"));
+    let naga::TypeInner::Struct { members, span } = &ty.inner else { panic!("{name} is not a struct") };
+    let wgsl: Vec<(&str, usize)> =
+        members.iter().map(|m| (m.name.as_deref().unwrap_or(""), m.offset as usize)).collect();
+    assert_eq!(wgsl, fields, "members and offsets of {name}: WGSL left, Rust right");
+    assert_eq!(*span as usize, size, "size of {name}");
+}
+
+macro_rules! check {
+    ($module:expr, $ty:ty, $wgsl:literal, [$($field:ident),* $(,)?]) => {
+        check_struct(&$module, $wgsl, size_of::<$ty>(), &[$((stringify!($field), offset_of!($ty, $field))),*])
+    };
+}
+
+#[test]
+fn gpu_structs_match_wgsl() {
+    let module = naga::front::wgsl::parse_str(&shader_source("types").unwrap()).unwrap();
+    check!(module, Frame, "Frame", [
+        cam_position, lens_radius, cam_right, focus_distance, cam_up, width, cam_forward, height,
+        spp, pass_index, seed, max_depth, photon_count, emitter_count, ray_epsilon, power_total,
+        alpha, vp_count, photon_offset, _pad,
+    ]);
+    check!(module, BvhNode, "BvhNode", [min, first, max, count]);
+    check!(module, GpuTriangle, "Triangle", [p0, material, e1, shape, e2, normals]);
+    check!(module, GpuSphere, "Sphere", [center, radius, material, shape, _pad]);
+    check!(module, GpuMaterial, "Material", [albedo, kind, ior, roughness, texture, _pad]);
+    check!(module, GpuShape, "Shape", [emission, emits]);
+    check!(module, Emitter, "Emitter", [prim_ref, cdf, pmf, area]);
+    check!(module, VisiblePoint, "VisiblePoint", [normal, _pad0, weight, _pad1]);
+    check!(module, VpStats, "VpStats", [tau, n, ld, radius]);
+    check!(module, GridParams, "GridParams", [origin, cell_size, res, table_mask]);
+}
+
+#[test]
+fn wgsl_constants_match_rust() {
+    let module = naga::front::wgsl::parse_str(&shader_source("types").unwrap()).unwrap();
+    let constant = |name: &str| -> u32 {
+        let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some(name)).unwrap();
+        match module.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => v,
+            ref e => panic!("{name}: {e:?}"),
+        }
+    };
+    assert_eq!(constant("NO_NORMALS"), NO_NORMALS);
+    assert_eq!(constant("NO_TEXTURE"), NO_TEXTURE);
+    assert_eq!(constant("SPHERE_BIT"), sppm_gpu::accel::SPHERE_BIT);
+    assert_eq!(constant("MATERIAL_DIFFUSE"), MATERIAL_DIFFUSE);
+    assert_eq!(constant("MATERIAL_MIRROR"), MATERIAL_MIRROR);
+    assert_eq!(constant("MATERIAL_DIELECTRIC"), MATERIAL_DIELECTRIC);
+    assert_eq!(constant("ACCUM_STRIDE"), ACCUM_STRIDE);
+}
