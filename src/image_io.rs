@@ -21,9 +21,7 @@ use std::io::{self, Cursor, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use exr::prelude::{
-    ReadChannels, ReadLayers, SpecificChannels, Vec2, WritableImage,
-};
+use exr::prelude::{ReadChannels, ReadLayers, SpecificChannels, Vec2, WritableImage};
 use image::{ExtendedColorType, ImageEncoder, ImageFormat};
 
 /// A linear-radiance RGB image with `f32` channels.
@@ -49,7 +47,11 @@ impl Rgb32Image {
             .flat_map(|y| (0..width).map(move |x| (x, y)))
             .map(|(x, y)| f(x, y))
             .collect();
-        Self { width, height, pixels }
+        Self {
+            width,
+            height,
+            pixels,
+        }
     }
 
     /// Index of pixel `(x, y)` in `pixels`. Panics when out of bounds.
@@ -116,7 +118,10 @@ pub struct ImageError {
 
 impl ImageError {
     fn new(path: &Path, kind: ImageErrorKind) -> Self {
-        Self { path: path.to_path_buf(), kind }
+        Self {
+            path: path.to_path_buf(),
+            kind,
+        }
     }
 
     /// The file being read or written.
@@ -176,7 +181,10 @@ enum Format {
 impl Format {
     /// The format named by `path`'s extension, case-insensitively.
     fn from_path(path: &Path) -> Result<Self, ImageError> {
-        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
         match ext.as_deref() {
             Some("png") => Ok(Format::Png),
             Some("exr") => Ok(Format::Exr),
@@ -218,7 +226,12 @@ fn linear_to_srgb8(x: f32) -> u8 {
 /// Writes `img` as an 8-bit sRGB PNG (see [`linear_to_srgb`]).
 pub fn write_png(path: &Path, img: &Rgb32Image) -> Result<(), ImageError> {
     check_pixel_buffer(path, img)?;
-    let bytes: Vec<u8> = img.pixels.iter().flatten().map(|&x| linear_to_srgb8(x)).collect();
+    let bytes: Vec<u8> = img
+        .pixels
+        .iter()
+        .flatten()
+        .map(|&x| linear_to_srgb8(x))
+        .collect();
     let mut encoded = Vec::new();
     image::codecs::png::PngEncoder::new(&mut encoded)
         .write_image(&bytes, img.width, img.height, ExtendedColorType::Rgb8)
@@ -280,7 +293,11 @@ pub fn read_png(path: &Path) -> Result<Rgb32Image, ImageError> {
         .map_err(|e| ImageError::new(path, ImageErrorKind::Png(e)))?
         .into_rgb32f();
     let pixels = decoded.pixels().map(|p| p.0.map(srgb_to_linear)).collect();
-    Ok(Rgb32Image { width: decoded.width(), height: decoded.height(), pixels })
+    Ok(Rgb32Image {
+        width: decoded.width(),
+        height: decoded.height(),
+        pixels,
+    })
 }
 
 /// Reads an image in the format named by `path`'s extension (`.png` or
@@ -313,7 +330,10 @@ fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
     let io_error = |e| ImageError::new(path, ImageErrorKind::Io(e));
     let name = path.file_name().ok_or_else(|| {
-        io_error(io::Error::new(io::ErrorKind::InvalidInput, "path has no file name"))
+        io_error(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "path has no file name",
+        ))
     })?;
     let mut tmp_name = OsString::from(".");
     tmp_name.push(name);
