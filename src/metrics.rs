@@ -16,7 +16,7 @@ pub const REL_MSE_EPSILON: f64 = 0.01;
 /// pixel. Width and height must be divisible by `factor`, which must be
 /// positive.
 pub fn downsample_box(img: &Rgb32Image, factor: u32) -> Result<Rgb32Image, String> {
-    if factor == 0 || img.width % factor != 0 || img.height % factor != 0 {
+    if factor == 0 || !img.width.is_multiple_of(factor) || !img.height.is_multiple_of(factor) {
         return Err(format!(
             "cannot box-downsample a {}x{} image by {factor}: the factor must be positive \
              and divide both width and height",

@@ -74,6 +74,17 @@ fn gradient(width: u32, height: u32) -> Rgb32Image {
     })
 }
 
+/// An image of `width` columns from row-major `pixels`.
+fn from_rows(width: u32, pixels: &[[f32; 3]]) -> Rgb32Image {
+    let height = pixels.len() as u32 / width;
+    assert_eq!((width * height) as usize, pixels.len(), "ragged rows");
+    Rgb32Image {
+        width,
+        height,
+        pixels: pixels.to_vec(),
+    }
+}
+
 fn assert_close(actual: f64, expected: f64, tol: f64) {
     assert!(
         (actual - expected).abs() <= tol,
@@ -128,11 +139,7 @@ fn png_round_trip_within_one_code_value() {
 #[test]
 fn png_maps_nan_to_black_and_infinity_to_white() {
     let dir = scratch_dir("png_non_finite");
-    let img = Rgb32Image {
-        width: 2,
-        height: 1,
-        pixels: vec![[f32::NAN; 3], [f32::INFINITY; 3]],
-    };
+    let img = from_rows(2, &[[f32::NAN; 3], [f32::INFINITY; 3]]);
     let path = dir.join("nf.png");
     write_png(&path, &img).unwrap();
     let back = read_image(&path).unwrap();
@@ -377,26 +384,24 @@ fn rel_mse_of_image_with_itself_is_zero() {
 
 #[test]
 fn rel_mse_hand_computed_2x2() {
-    let reference = Rgb32Image {
-        width: 2,
-        height: 2,
-        pixels: vec![
+    let reference = from_rows(
+        2,
+        &[
             [1.0, 0.0, 0.5],
             [2.0, 0.1, 1.0],
             [0.0, 0.0, 0.0],
             [1.0, 1.0, 1.0],
         ],
-    };
-    let img = Rgb32Image {
-        width: 2,
-        height: 2,
-        pixels: vec![
+    );
+    let img = from_rows(
+        2,
+        &[
             [1.1, 0.1, 0.5],
             [2.0, 0.0, 0.0],
             [0.0, 0.0, 0.2],
             [1.0, 1.0, 1.0],
         ],
-    };
+    );
     // Non-zero terms: (0.1^2)/(1 + 0.01), (0.1^2)/(0 + 0.01), (0.1^2)/(0.01 + 0.01),
     // (1^2)/(1 + 0.01), (0.2^2)/(0 + 0.01); 12 terms in all.
     let expected = (0.01 / 1.01 + 0.01 / 0.01 + 0.01 / 0.02 + 1.0 / 1.01 + 0.04 / 0.01) / 12.0;
@@ -457,17 +462,16 @@ fn mean_ratio_and_counts() {
         [1.5, 1.0, 0.25]
     );
 
-    let odd = Rgb32Image {
-        width: 5,
-        height: 1,
-        pixels: vec![
+    let odd = from_rows(
+        5,
+        &[
             [f32::NAN, 0.0, 0.0],
             [0.0, f32::INFINITY, -1.0],
             [-0.5, 0.0, 0.0],
             [-0.0, 0.0, 0.0],
             [1.0, 1.0, 1.0],
         ],
-    };
+    );
     assert_eq!(count_non_finite(&odd), 2);
     assert_eq!(count_negative(&odd), 2);
 }
@@ -492,11 +496,7 @@ fn false_colour_follows_log_scale() {
             assert_close(got[c].into(), want[c], 2e-3);
         }
     }
-    let nan = Rgb32Image {
-        width: 1,
-        height: 1,
-        pixels: vec![[f32::NAN; 3]],
-    };
+    let nan = from_rows(1, &[[f32::NAN; 3]]);
     assert_eq!(
         false_colour(&nan, &Rgb32Image::new(1, 1)).unwrap().pixels,
         [NON_FINITE_COLOUR]
