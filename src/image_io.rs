@@ -1,1 +1,359 @@
 //! Reading and writing images.
+//!
+//! Everything in the renderer works on [`Rgb32Image`], a linear-radiance RGB
+//! float image. It can be stored as:
+//!
+//! * **OpenEXR** (`.exr`): linear float32 RGB, no alpha, bit-exact round trip.
+//!   Reading accepts the first layer holding `R`, `G` and `B` channels in any
+//!   order, as f16, f32 or u32 samples; other channels (alpha, AOVs) are
+//!   ignored.
+//! * **PNG** (`.png`): 8-bit sRGB for viewing. Writing applies the sRGB OETF
+//!   and clamps to `[0, 1]`; reading decodes sRGB back to linear.
+//!
+//! Writes are atomic: the file is encoded in memory, written to a temporary
+//! file beside the target and renamed over it, so a crash or a full disk never
+//! leaves a truncated file where the previous one was.
+
+use std::ffi::OsString;
+use std::fmt;
+use std::fs::{self, File};
+use std::io::{self, Cursor, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use exr::prelude::{ReadChannels, ReadLayers, SpecificChannels, Vec2, WritableImage};
+use image::{ExtendedColorType, ImageEncoder, ImageFormat};
+
+/// A linear-radiance RGB image with `f32` channels.
+///
+/// Pixels are stored row-major with row 0 at the top:
+/// pixel `(x, y)` is `pixels[y * width + x]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rgb32Image {
+    pub width: u32,
+    pub height: u32,
+    pub pixels: Vec<[f32; 3]>,
+}
+
+impl Rgb32Image {
+    /// A black image of the given size.
+    pub fn new(width: u32, height: u32) -> Self {
+        Self::from_fn(width, height, |_, _| [0.0; 3])
+    }
+
+    /// An image whose pixel `(x, y)` is `f(x, y)`.
+    pub fn from_fn(width: u32, height: u32, mut f: impl FnMut(u32, u32) -> [f32; 3]) -> Self {
+        let pixels = (0..height)
+            .flat_map(|y| (0..width).map(move |x| (x, y)))
+            .map(|(x, y)| f(x, y))
+            .collect();
+        Self {
+            width,
+            height,
+            pixels,
+        }
+    }
+
+    /// Index of pixel `(x, y)` in `pixels`. Panics when out of bounds.
+    fn index(&self, x: u32, y: u32) -> usize {
+        assert!(
+            x < self.width && y < self.height,
+            "pixel ({x}, {y}) outside {}x{} image",
+            self.width,
+            self.height
+        );
+        y as usize * self.width as usize + x as usize
+    }
+
+    /// The pixel at `(x, y)`. Panics when out of bounds.
+    pub fn get(&self, x: u32, y: u32) -> [f32; 3] {
+        self.pixels[self.index(x, y)]
+    }
+
+    /// Sets the pixel at `(x, y)`. Panics when out of bounds.
+    pub fn set(&mut self, x: u32, y: u32, value: [f32; 3]) {
+        let i = self.index(x, y);
+        self.pixels[i] = value;
+    }
+
+    /// Per-channel mean, accumulated in `f64`. NaN for an empty image.
+    pub fn mean(&self) -> [f64; 3] {
+        let mut sum = [0.0f64; 3];
+        for p in &self.pixels {
+            for c in 0..3 {
+                sum[c] += f64::from(p[c]);
+            }
+        }
+        let n = self.pixels.len() as f64;
+        sum.map(|s| s / n)
+    }
+
+    /// Number of pixels `width * height` should hold.
+    fn expected_len(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+}
+
+/// What went wrong in an [`ImageError`].
+#[derive(Debug)]
+pub enum ImageErrorKind {
+    /// Opening, reading, writing or renaming the file failed.
+    Io(io::Error),
+    /// The EXR encoder or decoder failed (corrupt file, no RGB layer, ...).
+    Exr(exr::error::Error),
+    /// The PNG encoder or decoder failed.
+    Png(image::ImageError),
+    /// The path's extension is not one of [`SUPPORTED_EXTENSIONS`].
+    UnsupportedExtension,
+    /// The image's pixel buffer does not match its width and height.
+    BadPixelBuffer { len: usize, width: u32, height: u32 },
+}
+
+/// An image could not be read or written; names the file and the cause.
+#[derive(Debug)]
+pub struct ImageError {
+    path: PathBuf,
+    kind: ImageErrorKind,
+}
+
+impl ImageError {
+    fn new(path: &Path, kind: ImageErrorKind) -> Self {
+        Self {
+            path: path.to_path_buf(),
+            kind,
+        }
+    }
+
+    /// The file being read or written.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// What went wrong.
+    pub fn kind(&self) -> &ImageErrorKind {
+        &self.kind
+    }
+}
+
+impl fmt::Display for ImageError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let path = self.path.display();
+        match &self.kind {
+            ImageErrorKind::Io(e) => write!(f, "{path}: I/O error: {e}"),
+            ImageErrorKind::Exr(e) => write!(f, "{path}: EXR error: {e}"),
+            ImageErrorKind::Png(e) => write!(f, "{path}: PNG error: {e}"),
+            ImageErrorKind::UnsupportedExtension => write!(
+                f,
+                "{path}: unsupported image extension; supported extensions are {}",
+                SUPPORTED_EXTENSIONS.map(|e| format!(".{e}")).join(", ")
+            ),
+            ImageErrorKind::BadPixelBuffer { len, width, height } => write!(
+                f,
+                "{path}: image has {len} pixels but {width}x{height} needs {}",
+                *width as usize * *height as usize
+            ),
+        }
+    }
+}
+
+impl std::error::Error for ImageError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match &self.kind {
+            ImageErrorKind::Io(e) => Some(e),
+            ImageErrorKind::Exr(e) => Some(e),
+            ImageErrorKind::Png(e) => Some(e),
+            ImageErrorKind::UnsupportedExtension | ImageErrorKind::BadPixelBuffer { .. } => None,
+        }
+    }
+}
+
+/// File extensions understood by [`read_image`] and [`write_image`]
+/// (matched case-insensitively).
+pub const SUPPORTED_EXTENSIONS: [&str; 2] = ["png", "exr"];
+
+/// Image file formats, chosen by extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Format {
+    Png,
+    Exr,
+}
+
+impl Format {
+    /// The format named by `path`'s extension, case-insensitively.
+    fn from_path(path: &Path) -> Result<Self, ImageError> {
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("png") => Ok(Format::Png),
+            Some("exr") => Ok(Format::Exr),
+            _ => Err(ImageError::new(path, ImageErrorKind::UnsupportedExtension)),
+        }
+    }
+}
+
+/// sRGB opto-electronic transfer function (linear → encoded), exact piecewise
+/// form. Not clamped.
+pub fn linear_to_srgb(x: f32) -> f32 {
+    if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Inverse of [`linear_to_srgb`] (encoded → linear). Not clamped.
+pub fn srgb_to_linear(v: f32) -> f32 {
+    if v <= 0.040_45 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Linear value to an 8-bit sRGB code: OETF, clamp to `[0, 1]`, round.
+/// NaN maps to 0 and +inf to 255.
+fn linear_to_srgb8(x: f32) -> u8 {
+    let v = linear_to_srgb(x);
+    if v.is_nan() {
+        0
+    } else {
+        (v.clamp(0.0, 1.0) * 255.0).round() as u8
+    }
+}
+
+/// Writes `img` as an 8-bit sRGB PNG (see [`linear_to_srgb`]).
+pub fn write_png(path: &Path, img: &Rgb32Image) -> Result<(), ImageError> {
+    check_pixel_buffer(path, img)?;
+    let bytes: Vec<u8> = img
+        .pixels
+        .iter()
+        .flatten()
+        .map(|&x| linear_to_srgb8(x))
+        .collect();
+    let mut encoded = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut encoded)
+        .write_image(&bytes, img.width, img.height, ExtendedColorType::Rgb8)
+        .map_err(|e| ImageError::new(path, ImageErrorKind::Png(e)))?;
+    write_atomically(path, &encoded)
+}
+
+/// Writes `img` as a linear float32 RGB OpenEXR file (no alpha).
+pub fn write_exr(path: &Path, img: &Rgb32Image) -> Result<(), ImageError> {
+    check_pixel_buffer(path, img)?;
+    let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+        let [r, g, b] = img.pixels[y * img.width as usize + x];
+        (r, g, b)
+    });
+    let size = (img.width as usize, img.height as usize);
+    let mut encoded = Vec::new();
+    exr::prelude::Image::from_channels(size, channels)
+        .write()
+        .to_buffered(Cursor::new(&mut encoded))
+        .map_err(|e| ImageError::new(path, ImageErrorKind::Exr(e)))?;
+    write_atomically(path, &encoded)
+}
+
+/// Writes `img` in the format named by `path`'s extension (`.png` or `.exr`,
+/// case-insensitive); any other extension is an error.
+pub fn write_image(path: &Path, img: &Rgb32Image) -> Result<(), ImageError> {
+    match Format::from_path(path)? {
+        Format::Png => write_png(path, img),
+        Format::Exr => write_exr(path, img),
+    }
+}
+
+/// Reads the first layer with `R`, `G` and `B` channels of an OpenEXR file.
+///
+/// Channels may appear in any order and be f16, f32 or u32; other channels are
+/// ignored. Row 0 is the top of the data window.
+pub fn read_exr(path: &Path) -> Result<Rgb32Image, ImageError> {
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgb_channels(
+            |Vec2(w, h), _| Rgb32Image::new(w as u32, h as u32),
+            |img: &mut Rgb32Image, Vec2(x, y), (r, g, b): (f32, f32, f32)| {
+                img.set(x as u32, y as u32, [r, g, b])
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|e| ImageError::new(path, ImageErrorKind::Exr(e)))?;
+    Ok(image.layer_data.channel_data.pixels)
+}
+
+/// Reads a PNG, decoding sRGB to linear. Alpha is dropped; 16-bit and
+/// grey-scale PNGs are accepted.
+pub fn read_png(path: &Path) -> Result<Rgb32Image, ImageError> {
+    let bytes = fs::read(path).map_err(|e| ImageError::new(path, ImageErrorKind::Io(e)))?;
+    let decoded = image::load_from_memory_with_format(&bytes, ImageFormat::Png)
+        .map_err(|e| ImageError::new(path, ImageErrorKind::Png(e)))?
+        .into_rgb32f();
+    let pixels = decoded.pixels().map(|p| p.0.map(srgb_to_linear)).collect();
+    Ok(Rgb32Image {
+        width: decoded.width(),
+        height: decoded.height(),
+        pixels,
+    })
+}
+
+/// Reads an image in the format named by `path`'s extension (`.png` or
+/// `.exr`, case-insensitive); any other extension is an error.
+pub fn read_image(path: &Path) -> Result<Rgb32Image, ImageError> {
+    match Format::from_path(path)? {
+        Format::Png => read_png(path),
+        Format::Exr => read_exr(path),
+    }
+}
+
+/// Errors unless `img.pixels` holds exactly `width * height` pixels.
+fn check_pixel_buffer(path: &Path, img: &Rgb32Image) -> Result<(), ImageError> {
+    if img.pixels.len() == img.expected_len() {
+        Ok(())
+    } else {
+        let kind = ImageErrorKind::BadPixelBuffer {
+            len: img.pixels.len(),
+            width: img.width,
+            height: img.height,
+        };
+        Err(ImageError::new(path, kind))
+    }
+}
+
+/// Writes `bytes` to `path` via a temporary file `.<name>.tmp-<pid>-<n>` in the
+/// same directory, renamed over `path` once complete. The temporary file is
+/// removed if anything fails.
+fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let io_error = |e| ImageError::new(path, ImageErrorKind::Io(e));
+    let name = path.file_name().ok_or_else(|| {
+        io_error(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "path has no file name",
+        ))
+    })?;
+    let mut tmp_name = OsString::from(".");
+    tmp_name.push(name);
+    tmp_name.push(format!(
+        ".tmp-{}-{}",
+        std::process::id(),
+        COUNTER.fetch_add(1, Ordering::Relaxed)
+    ));
+    let tmp = path.with_file_name(tmp_name);
+
+    let result = File::create(&tmp)
+        .and_then(|mut file| {
+            file.write_all(bytes)?;
+            file.sync_all()
+        })
+        .and_then(|()| fs::rename(&tmp, path));
+    if result.is_err() {
+        // Best effort: the temporary file may not exist, and the original
+        // error is the one worth reporting.
+        let _ = fs::remove_file(&tmp);
+    }
+    result.map_err(io_error)
+}
