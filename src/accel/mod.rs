@@ -1,2 +1,12 @@
 //! Acceleration structures built on the host: the BVH over scene primitives and the hashed
 //! grid over visible points.
+//!
+//! Both are flat arrays of plain-old-data that are uploaded to storage buffers as they are;
+//! the host-side query functions ([`Bvh::intersect`], [`HashGrid::candidates`]) mirror what
+//! the WGSL kernels do, and serve as their reference in tests.
+
+pub mod bvh;
+pub mod grid;
+
+pub use bvh::{build_bvh, Bvh, BvhNode, SPHERE_BIT};
+pub use grid::{build_grid, hash_cell, GridParams, HashGrid};

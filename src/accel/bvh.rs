@@ -1,0 +1,418 @@
+//! Bounding volume hierarchy over the scene's triangles and spheres.
+//!
+//! The tree is built by obvhs (PLOC, Meister & Bittner 2018, followed by reinsertion
+//! optimization and leaf collapsing) over the bounding boxes of all primitives, then
+//! flattened into [`BvhNode`]s: a binary tree stored depth-first with the root at index 0 and
+//! the two children of every interior node in adjacent slots, plus one array of primitive
+//! references that leaves index into.
+//!
+//! [`Bvh::intersect`] is the traversal the WGSL kernels use, written so that it ports line
+//! for line: a fixed stack of [`STACK_SIZE`] node indices, no recursion, no allocation, `f32`
+//! arithmetic only.
+
+use std::time::Duration;
+
+use bytemuck::Zeroable;
+use glam::{Vec3, Vec3A};
+use obvhs::{aabb::Aabb, bvh2::builder::build_bvh2, bvh2::Bvh2, BvhBuildParams};
+
+use crate::scene::{Sphere, Triangle};
+
+/// One BVH node as the GPU reads it (32 bytes). Leaf when `count > 0`: primitives
+/// `prim_refs[first .. first + count]`. Interior when `count == 0`: children at `first` and
+/// `first + 1`.
+///
+/// The tree of an empty scene is a single node with `count == 0` and an inverted box
+/// (`min = +inf`, `max = -inf`). Every traversal tests a node's box before looking at its
+/// children, and no ray with a finite origin and direction passes the slab test of an
+/// inverted box, so that root is never descended into (its "children" do not exist).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct BvhNode {
+    pub min: [f32; 3],
+    pub first: u32,
+    pub max: [f32; 3],
+    pub count: u32,
+}
+
+/// Marks a primitive reference as a sphere: a `prim_ref` is either a triangle index, or a
+/// sphere index with this bit set.
+pub const SPHERE_BIT: u32 = 0x8000_0000;
+
+/// Entries in the traversal stack, here and in the kernels. [`build_bvh`] guarantees that
+/// trees are shallow enough for it (depth below `STACK_SIZE`).
+pub const STACK_SIZE: usize = 64;
+
+/// Leaves hold at most this many primitives.
+pub const MAX_PRIMS_PER_LEAF: u32 = 4;
+
+/// A flattened BVH; see [`BvhNode`] for the layout.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Bvh {
+    pub nodes: Vec<BvhNode>,
+    /// Primitive references of the leaves: triangle index, or sphere index | [`SPHERE_BIT`].
+    pub prim_refs: Vec<u32>,
+}
+
+/// The nearest intersection along a ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Ray parameter: the hit point is `origin + t * dir`.
+    pub t: f32,
+    pub prim_ref: u32,
+    /// Barycentric coordinates of `p[1]` and `p[2]` for triangles (`p[0]` has `1 - b1 - b2`);
+    /// zero for spheres.
+    pub b1: f32,
+    pub b2: f32,
+}
+
+/// Builds the BVH over `triangles` (references `0..triangles.len()`) and `spheres`
+/// (references `i | SPHERE_BIT`).
+///
+/// # Panics
+/// If there are `SPHERE_BIT` or more triangles or spheres, or if the tree is too deep for the
+/// traversal stack (depth `STACK_SIZE` or more; PLOC trees are far shallower than that for
+/// any scene whose coordinates are representable in `f32`).
+pub fn build_bvh(triangles: &[Triangle], spheres: &[Sphere]) -> Bvh {
+    assert!(
+        triangles.len() < SPHERE_BIT as usize && spheres.len() < SPHERE_BIT as usize,
+        "too many primitives for 31-bit primitive references"
+    );
+    if triangles.is_empty() && spheres.is_empty() {
+        return Bvh {
+            nodes: vec![BvhNode {
+                min: [f32::INFINITY; 3],
+                first: 0,
+                max: [f32::NEG_INFINITY; 3],
+                count: 0,
+            }],
+            prim_refs: Vec::new(),
+        };
+    }
+
+    // Primitive i of the obvhs build: triangles first, then spheres.
+    let aabbs: Vec<Aabb> = triangles
+        .iter()
+        .map(|t| aabb(t.p[0].min(t.p[1]).min(t.p[2]), t.p[0].max(t.p[1]).max(t.p[2])))
+        .chain(spheres.iter().map(|s| aabb(s.center - s.radius, s.center + s.radius)))
+        .collect();
+    let params = BvhBuildParams {
+        max_prims_per_leaf: MAX_PRIMS_PER_LEAF,
+        ..BvhBuildParams::medium_build()
+    };
+    let bvh2 = build_bvh2(&aabbs, params, &mut Duration::default());
+
+    flatten(&bvh2, triangles.len() as u32)
+}
+
+fn aabb(min: Vec3, max: Vec3) -> Aabb {
+    Aabb::new(Vec3A::from(min), Vec3A::from(max))
+}
+
+/// Lays out an obvhs tree depth first from its root, children of a node in adjacent slots,
+/// and maps its primitive ids (triangles first, then spheres) to primitive references.
+///
+/// obvhs already keeps siblings adjacent with the root at 0, but its node array may be in any
+/// order and leaves index through `primitive_indices`; rebuilding the layout makes the
+/// invariants hold by construction and puts each leaf's references contiguously in
+/// traversal order.
+fn flatten(bvh2: &Bvh2, triangle_count: u32) -> Bvh {
+    let to_ref = |id: u32| {
+        if id < triangle_count {
+            id
+        } else {
+            (id - triangle_count) | SPHERE_BIT
+        }
+    };
+    let mut nodes = Vec::with_capacity(bvh2.nodes.len());
+    let mut prim_refs = Vec::with_capacity(bvh2.primitive_indices.len());
+    nodes.push(BvhNode::zeroed());
+    // (obvhs node, output slot, depth)
+    let mut todo = vec![(0usize, 0usize, 0usize)];
+    while let Some((src, dst, depth)) = todo.pop() {
+        let node = &bvh2.nodes[src];
+        let (first, count) = if node.is_leaf() {
+            let first = prim_refs.len() as u32;
+            let ids = node.first_index as usize..(node.first_index + node.prim_count) as usize;
+            prim_refs.extend(bvh2.primitive_indices[ids].iter().map(|&id| to_ref(id)));
+            (first, node.prim_count)
+        } else {
+            assert!(depth + 1 < STACK_SIZE, "BVH deeper than the traversal stack");
+            let first = nodes.len();
+            nodes.extend([BvhNode::zeroed(); 2]);
+            let child = node.first_index as usize;
+            // Right pushed first so that the left subtree is laid out first.
+            todo.push((child + 1, first + 1, depth + 1));
+            todo.push((child, first, depth + 1));
+            (first as u32, 0)
+        };
+        // Only x, y, z: the w lane of obvhs's Vec3A is not meaningful.
+        let b = node.aabb();
+        nodes[dst] = BvhNode {
+            min: Vec3::from(b.min).to_array(),
+            first,
+            max: Vec3::from(b.max).to_array(),
+            count,
+        };
+    }
+    Bvh { nodes, prim_refs }
+}
+
+impl Bvh {
+    /// Nearest intersection with `0 < t < t_max` along `origin + t * dir` (`dir` need not be
+    /// unit length), or `None`. `primitives` must be the ones the tree was built from.
+    ///
+    /// Stack traversal as in the kernels: pop a node, skip it unless the ray segment overlaps
+    /// its box (against the current nearest hit, so entries pushed before a hit was found are
+    /// culled when popped), intersect the primitives of leaves, and push both children of
+    /// interior nodes, the nearer one last so that it is visited first.
+    pub fn intersect(
+        &self,
+        triangles: &[Triangle],
+        spheres: &[Sphere],
+        origin: Vec3,
+        dir: Vec3,
+        t_max: f32,
+    ) -> Option<Hit> {
+        // A NaN ray would pass every slab test (see `slab_test`); it can hit nothing anyway.
+        if !(origin.is_finite() && dir.is_finite()) {
+            return None;
+        }
+        // Zero components give infinities, which `slab_test` is written for.
+        let inv_dir = 1.0 / dir;
+        let mut t_max = t_max;
+        let mut hit: Option<Hit> = None;
+        let mut stack = [0u32; STACK_SIZE];
+        stack[0] = 0;
+        let mut stack_len = 1usize;
+        while stack_len > 0 {
+            stack_len -= 1;
+            let node = self.nodes[stack[stack_len] as usize];
+            if !slab_test(node.min.into(), node.max.into(), origin, inv_dir, t_max) {
+                continue;
+            }
+            if node.count > 0 {
+                for i in node.first..node.first + node.count {
+                    let prim_ref = self.prim_refs[i as usize];
+                    if let Some(h) = intersect_prim(triangles, spheres, prim_ref, origin, dir, t_max)
+                    {
+                        t_max = h.t;
+                        hit = Some(h);
+                    }
+                }
+            } else {
+                // Order the children by the projection of their box centres onto the ray.
+                let a = self.nodes[node.first as usize];
+                let b = self.nodes[node.first as usize + 1];
+                let a_centre = Vec3::from(a.min) + Vec3::from(a.max);
+                let b_centre = Vec3::from(b.min) + Vec3::from(b.max);
+                let b_nearer = (b_centre - a_centre).dot(dir) < 0.0;
+                let (near, far) = if b_nearer {
+                    (node.first + 1, node.first)
+                } else {
+                    (node.first, node.first + 1)
+                };
+                stack[stack_len] = far;
+                stack[stack_len + 1] = near;
+                stack_len += 2;
+            }
+        }
+        hit
+    }
+}
+
+/// Slab test (Kay & Kajiya 1986): whether the segment `0 <= t <= t_max` of the ray overlaps
+/// the box, given `inv_dir = 1 / dir`.
+///
+/// The near and far planes of each slab are picked by the sign of `inv_dir` (Williams et al.
+/// 2005), so a zero direction component (`inv_dir = ±inf`) needs no special case: the slab
+/// gives `(-inf, +inf)` when the origin lies strictly inside it and an empty interval
+/// otherwise. When the origin lies exactly on one of its planes, `0 * inf` is NaN, and
+/// `max`/`min` return their non-NaN operand (IEEE 754 maxNum/minNum, as do Rust's `f32`
+/// methods, WGSL's `max`/`min` and GPU `fmax`/`fmin`), so that bound is ignored and the ray,
+/// which lies in the closed slab, is kept. The far distance is padded by `1 + 2 gamma(3)`
+/// (pbrt-v3, section 3.9.2) so that rounding never culls a box whose primitives are hit.
+#[inline]
+fn slab_test(min: Vec3, max: Vec3, origin: Vec3, inv_dir: Vec3, t_max: f32) -> bool {
+    let negative = inv_dir.cmplt(Vec3::ZERO);
+    let near = Vec3::select(negative, max, min);
+    let far = Vec3::select(negative, min, max);
+    let t_near = (near - origin) * inv_dir;
+    let t_far = (far - origin) * inv_dir * SLAB_PAD;
+    let t0 = 0.0f32.max(t_near.x).max(t_near.y).max(t_near.z);
+    let t1 = t_max.min(t_far.x).min(t_far.y).min(t_far.z);
+    t0 <= t1
+}
+
+/// `1 + 2 gamma(3)` with `gamma(n) = n u / (1 - n u)`, `u = 2^-24` (pbrt-v3, section 3.9.1).
+const SLAB_PAD: f32 = 1.0 + 2.0 * (3.0 * 0.5 * f32::EPSILON) / (1.0 - 3.0 * 0.5 * f32::EPSILON);
+
+/// Intersects one primitive reference.
+#[inline]
+fn intersect_prim(
+    triangles: &[Triangle],
+    spheres: &[Sphere],
+    prim_ref: u32,
+    origin: Vec3,
+    dir: Vec3,
+    t_max: f32,
+) -> Option<Hit> {
+    if prim_ref & SPHERE_BIT != 0 {
+        let s = &spheres[(prim_ref & !SPHERE_BIT) as usize];
+        let t = intersect_sphere(s.center, s.radius, origin, dir, t_max)?;
+        Some(Hit { t, prim_ref, b1: 0.0, b2: 0.0 })
+    } else {
+        let [p0, p1, p2] = triangles[prim_ref as usize].p;
+        let (t, b1, b2) = intersect_triangle(p0, p1 - p0, p2 - p0, origin, dir, t_max)?;
+        Some(Hit { t, prim_ref, b1, b2 })
+    }
+}
+
+/// Ray/triangle intersection (Möller & Trumbore 1997, "Fast, minimum storage ray-triangle
+/// intersection") for the triangle `p0`, `p0 + e1`, `p0 + e2`, seen from both sides.
+/// Returns `(t, b1, b2)` with `0 < t < t_max`, where `b1`, `b2` are the barycentric
+/// coordinates of `p0 + e1` and `p0 + e2`. Rays in the triangle's plane (`det == 0`) miss,
+/// and every comparison is written so that NaN means a miss.
+#[inline]
+pub fn intersect_triangle(
+    p0: Vec3,
+    e1: Vec3,
+    e2: Vec3,
+    origin: Vec3,
+    dir: Vec3,
+    t_max: f32,
+) -> Option<(f32, f32, f32)> {
+    let pvec = dir.cross(e2);
+    let det = e1.dot(pvec);
+    if det == 0.0 {
+        return None;
+    }
+    let inv_det = 1.0 / det;
+    let tvec = origin - p0;
+    let b1 = tvec.dot(pvec) * inv_det;
+    if !(b1 >= 0.0 && b1 <= 1.0) {
+        return None;
+    }
+    let qvec = tvec.cross(e1);
+    let b2 = dir.dot(qvec) * inv_det;
+    if !(b2 >= 0.0 && b1 + b2 <= 1.0) {
+        return None;
+    }
+    let t = e2.dot(qvec) * inv_det;
+    if !(t > 0.0 && t < t_max) {
+        return None;
+    }
+    Some((t, b1, b2))
+}
+
+/// Ray/sphere intersection: the nearest root with `0 < t < t_max` (the far one when the
+/// origin is inside the sphere), for any `dir` length.
+///
+/// Numerically stable form of Haines et al., "Precision Improvements for Ray/Sphere
+/// Intersection" (Ray Tracing Gems, ch. 7, 2019): with `f = origin - center`, the roots of
+/// `a t^2 + 2 b t + c` (`a = d.d`, `b = f.d`, `c = f.f - r^2`) use the discriminant
+/// `b^2 - a c = a (r^2 - |f - (b / a) d|^2)`, which does not cancel catastrophically for
+/// small spheres far away, and the roots `q / a` and `c / q` with
+/// `q = -(b + sign(b) sqrt(discriminant))`, which avoid cancellation between `b` and the
+/// square root.
+#[inline]
+pub fn intersect_sphere(
+    center: Vec3,
+    radius: f32,
+    origin: Vec3,
+    dir: Vec3,
+    t_max: f32,
+) -> Option<f32> {
+    let f = origin - center;
+    let a = dir.dot(dir);
+    let b = f.dot(dir);
+    let c = f.dot(f) - radius * radius;
+    let l = f - (b / a) * dir;
+    let discriminant = a * (radius * radius - l.dot(l));
+    if !(discriminant >= 0.0) {
+        return None;
+    }
+    let q = -(b + discriminant.sqrt().copysign(b));
+    // With q == 0 (tangent ray starting on the sphere) c / q is NaN and is rejected below.
+    let (r0, r1) = (c / q, q / a);
+    let (t_near, t_far) = if r0 <= r1 { (r0, r1) } else { (r1, r0) };
+    if t_near > 0.0 && t_near < t_max {
+        Some(t_near)
+    } else if t_far > 0.0 && t_far < t_max {
+        Some(t_far)
+    } else {
+        None
+    }
+}
+
+/// Nearest intersection by testing every primitive: the oracle for [`Bvh::intersect`].
+/// Among primitives hit at exactly the same `t`, the first (triangles, then spheres, in
+/// order) wins.
+pub fn brute_force_intersect(
+    triangles: &[Triangle],
+    spheres: &[Sphere],
+    origin: Vec3,
+    dir: Vec3,
+    t_max: f32,
+) -> Option<Hit> {
+    let refs = (0..triangles.len() as u32).chain((0..spheres.len() as u32).map(|i| i | SPHERE_BIT));
+    let mut t_max = t_max;
+    let mut hit = None;
+    for prim_ref in refs {
+        if let Some(h) = intersect_prim(triangles, spheres, prim_ref, origin, dir, t_max) {
+            t_max = h.t;
+            hit = Some(h);
+        }
+    }
+    hit
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn node_is_32_bytes() {
+        assert_eq!(std::mem::size_of::<BvhNode>(), 32);
+    }
+
+    #[test]
+    fn triangle_barycentrics_and_both_sides() {
+        let (p0, e1, e2) = (Vec3::ZERO, Vec3::X, Vec3::Y);
+        let o = Vec3::new(0.25, 0.5, 1.0);
+        let (t, b1, b2) = intersect_triangle(p0, e1, e2, o, -Vec3::Z, 10.0).unwrap();
+        assert_eq!((t, b1, b2), (1.0, 0.25, 0.5));
+        let o = Vec3::new(0.25, 0.5, -2.0);
+        assert_eq!(intersect_triangle(p0, e1, e2, o, Vec3::Z, 10.0).unwrap().0, 2.0);
+        assert!(intersect_triangle(p0, e1, e2, o, Vec3::Z, 2.0).is_none());
+    }
+
+    #[test]
+    fn sphere_near_and_far_roots() {
+        let c = Vec3::new(0.0, 0.0, 5.0);
+        assert_eq!(intersect_sphere(c, 1.0, Vec3::ZERO, Vec3::Z, 100.0), Some(4.0));
+        assert_eq!(intersect_sphere(c, 1.0, c, Vec3::Z * 2.0, 100.0), Some(0.5));
+        assert_eq!(intersect_sphere(c, 1.0, Vec3::ZERO, -Vec3::Z, 100.0), None);
+    }
+
+    #[test]
+    fn slab_test_with_zero_direction_components() {
+        let (min, max) = (Vec3::ZERO, Vec3::ONE);
+        let v = Vec3::new;
+        // (origin, direction, hit): rays parallel to slabs, with the origin inside them, on
+        // their planes (the 0 * inf = NaN case, for +0 and -0 components), or outside.
+        let cases = [
+            (v(-1.0, 0.5, 0.5), Vec3::X, true),
+            (v(-1.0, 0.0, 1.0), Vec3::X, true),
+            (v(2.0, 1.0, 0.0), -Vec3::X, true),
+            (v(1.0, 0.0, -1.0), v(-0.0, -0.0, 1.0), true),
+            (v(0.0, 1.0, 2.0), v(0.0, -0.0, -1.0), true),
+            (v(-1.0, 1.5, 0.5), Vec3::X, false),
+            (v(1.0, -0.0, 1.5), v(-0.0, 1.0, 0.0), false),
+            (v(2.0, 0.5, 0.5), Vec3::X, false),
+        ];
+        for (o, d, expected) in cases {
+            assert_eq!(slab_test(min, max, o, 1.0 / d, f32::INFINITY), expected, "{o} {d}");
+        }
+    }
+}
