@@ -9,7 +9,7 @@ use super::types::WORKGROUP_SIZE;
 use super::GpuError;
 
 /// Every kernel, by name (its file `shaders/<name>.wgsl`, its entry point and its label).
-pub const KERNELS: &[&str] = &["camera_pass", "photon_pass", "update_stats", "resolve"];
+pub const KERNELS: &[&str] = &["camera_pass", "photon_pass", "update_stats", "resolve", "trace_rays"];
 
 /// Shader files, embedded at build time so the binary stands alone.
 const FILES: &[(&str, &str)] = &[
@@ -17,6 +17,7 @@ const FILES: &[(&str, &str)] = &[
     ("photon_pass", include_str!("../../shaders/photon_pass.wgsl")),
     ("update_stats", include_str!("../../shaders/update_stats.wgsl")),
     ("resolve", include_str!("../../shaders/resolve.wgsl")),
+    ("trace_rays", include_str!("../../shaders/trace_rays.wgsl")),
     ("types", include_str!("../../shaders/shared/types.wgsl")),
     ("rng", include_str!("../../shaders/shared/rng.wgsl")),
     ("sampling", include_str!("../../shaders/shared/sampling.wgsl")),

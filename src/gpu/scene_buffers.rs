@@ -231,8 +231,8 @@ pub struct SceneBuffers {
 }
 
 /// A read-only storage buffer holding `data` (one zeroed element when it is empty).
-pub fn storage_buffer<T: bytemuck::Pod + Default>(device: &wgpu::Device, label: &str, data: &[T]) -> wgpu::Buffer {
-    let placeholder = [T::default()];
+pub fn storage_buffer<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, data: &[T]) -> wgpu::Buffer {
+    let placeholder = [T::zeroed()];
     let data = if data.is_empty() { &placeholder[..] } else { data };
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),

@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# Set up on a fresh Debian machine and render the Cornell box: installs lavapipe, builds the
+# renderer (release), renders scenes/cornell-box.toml to cornell-box.png.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+cargo build --release
+./target/release/sppm-gpu scenes/cornell-box.toml -o cornell-box.png

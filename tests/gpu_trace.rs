@@ -1,0 +1,100 @@
+//! The WGSL BVH traversal (`trace_rays`, which runs the same `trace_closest` as the camera and
+//! photon passes) finds the same closest hits as the CPU oracle in `accel::bvh`.
+
+mod common;
+
+use glam::Vec3;
+use sppm_gpu::accel::brute_force_intersect;
+use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
+use sppm_gpu::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
+use sppm_gpu::gpu::{Kernel, Resource};
+use sppm_gpu::scene::*;
+use std::path::PathBuf;
+
+/// xorshift32: a small deterministic generator for test geometry.
+struct Rand(u32);
+impl Rand {
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 17;
+        self.0 ^= self.0 << 5;
+        (self.0 >> 8) as f32 / (1u32 << 24) as f32
+    }
+    fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {
+        Vec3::new(self.next(), self.next(), self.next()) * (hi - lo) + Vec3::splat(lo)
+    }
+}
+
+fn random_scene(rand: &mut Rand, triangles: usize, spheres: usize) -> Scene {
+    let mut scene = common::load_scene("cornell-box.toml");
+    scene.path = PathBuf::from("random");
+    scene.shapes.truncate(1);
+    scene.shapes[0].emission = Some(Vec3::ONE);
+    scene.triangles = (0..triangles)
+        .map(|_| {
+            let c = rand.vec(-1.0, 1.0);
+            Triangle { p: [c, c + rand.vec(-0.2, 0.2), c + rand.vec(-0.2, 0.2)], n: None, uv: None, shape: 0 }
+        })
+        .collect();
+    scene.spheres =
+        (0..spheres).map(|_| Sphere { center: rand.vec(-1.0, 1.0), radius: 0.02 + 0.2 * rand.next(), shape: 0 }).collect();
+    scene
+}
+
+#[test]
+fn gpu_traversal_matches_cpu_oracle() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut rand = Rand(12345);
+    let scene = random_scene(&mut rand, 600, 24);
+    let data = SceneData::new(&scene).unwrap();
+
+    // Rays from outside and inside the cloud, some axis-aligned (zero direction components).
+    let n = 4096;
+    let mut rays = Vec::with_capacity(2 * n);
+    for i in 0..n {
+        let o = rand.vec(-1.5, 1.5);
+        let mut d = rand.vec(-1.0, 1.0);
+        if i % 7 == 0 {
+            d = Vec3::new(0.0, 0.0, if i % 2 == 0 { 1.0 } else { -1.0 });
+        }
+        let t_max = if i % 5 == 0 { 0.5 } else { 1.0e30 };
+        rays.push([o.x, o.y, o.z, t_max]);
+        rays.push([d.x, d.y, d.z, 0.0]);
+    }
+
+    let kernel = Kernel::new(&gpu.device, "trace_rays").unwrap();
+    let buffers = SceneBuffers::new(&gpu.device, &data);
+    let ray_buffer = storage_buffer(&gpu.device, "rays", &rays);
+    let hits = storage_buffer(&gpu.device, "hits", &vec![[0f32; 4]; n]);
+    let mut resources = buffers.resources();
+    resources.push(Resource { name: "rays", buffer: &ray_buffer });
+    resources.push(Resource { name: "hits", buffer: &hits });
+    let group = kernel.bind_group(&gpu.device, &resources).unwrap();
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    kernel.dispatch(&mut encoder, &group, n as u32);
+    gpu.queue.submit([encoder.finish()]);
+    let staging = staging_buffer(&gpu.device, "hits_staging", hits.size());
+    let gpu_hits: Vec<[f32; 4]> = read_buffer(&gpu.device, &gpu.queue, &hits, &staging, hits.size()).unwrap();
+
+    let mut hit_count = 0;
+    for i in 0..n {
+        let o = Vec3::from_slice(&rays[2 * i][..3]);
+        let d = Vec3::from_slice(&rays[2 * i + 1][..3]);
+        let cpu = data.bvh.intersect(&scene.triangles, &scene.spheres, o, d, rays[2 * i][3]);
+        let brute = brute_force_intersect(&scene.triangles, &scene.spheres, o, d, rays[2 * i][3]);
+        assert_eq!(cpu.map(|h| h.prim_ref), brute.map(|h| h.prim_ref), "CPU BVH vs brute force, ray {i}");
+        let g = gpu_hits[i];
+        let prim_ref = g[1].to_bits();
+        match cpu {
+            None => assert_eq!(prim_ref, u32::MAX, "ray {i}: GPU hit {prim_ref:#x} at t {}, CPU none", g[0]),
+            Some(h) => {
+                hit_count += 1;
+                assert_eq!(prim_ref, h.prim_ref, "ray {i}: GPU t {} CPU t {}", g[0], h.t);
+                assert!((g[0] - h.t).abs() <= 1e-4 * h.t.max(1.0), "ray {i}: t {} vs {}", g[0], h.t);
+                assert!((g[2] - h.b1).abs() < 1e-3 && (g[3] - h.b2).abs() < 1e-3, "ray {i}: barycentrics");
+            }
+        }
+    }
+    // The test means something only if many rays hit and many miss.
+    assert!(hit_count > n / 4 && hit_count < n * 15 / 16, "{hit_count} of {n} rays hit");
+}

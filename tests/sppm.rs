@@ -1,0 +1,94 @@
+//! SPPM end to end on the device: the furnace's analytic answer, the Cornell scenes against
+//! Mitsuba references, and bit-for-bit repeatability.
+
+mod common;
+
+use sppm_gpu::image_io::Rgb32Image;
+use sppm_gpu::integrators::Sppm;
+use sppm_gpu::metrics::{compare, count_negative, count_non_finite, downsample_box};
+use sppm_gpu::scene::Scene;
+
+fn render(gpu: &sppm_gpu::gpu::GpuContext, scene: &Scene) -> Rgb32Image {
+    let mut sppm = Sppm::new(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
+    for _ in 0..scene.render.iterations {
+        sppm.run_pass().unwrap();
+    }
+    let img = sppm.image().unwrap();
+    assert_eq!(count_non_finite(&img), 0, "NaN or infinite pixels");
+    assert_eq!(count_negative(&img), 0, "negative pixels");
+    img
+}
+
+/// Every surface has albedo 0.5 and emits 1 in a closed box: L = 1 / (1 - 0.5) = 2 everywhere.
+#[test]
+fn furnace_is_two_everywhere() {
+    let Some(gpu) = common::gpu() else { return };
+    let scene = common::load_scene("furnace.toml");
+    let img = render(&gpu, &scene);
+    let mean = img.mean();
+    for c in mean {
+        assert!((c - 2.0).abs() < 0.02, "furnace mean {mean:?}");
+    }
+    // Every 8x8 block, not just the mean: a wrong region cannot hide behind a right average.
+    let blocks = downsample_box(&img, 8).unwrap();
+    for p in &blocks.pixels {
+        for c in p {
+            assert!((c - 2.0).abs() < 0.1, "furnace block {p:?}");
+        }
+    }
+}
+
+/// Render `name` at 128x128 and compare with its 256x256 reference, both reduced to 32x32.
+fn against_reference(name: &str, iterations: u32, photons: u32) -> sppm_gpu::metrics::Comparison {
+    let gpu = common::gpu().expect("checked by the caller");
+    let mut scene = common::load_scene(&format!("{name}.toml"));
+    scene.render.width = 128;
+    scene.render.height = 128;
+    scene.render.iterations = iterations;
+    scene.render.photons = photons;
+    let img = render(&gpu, &scene);
+    let reference = downsample_box(&common::reference(&format!("{name}.exr")), 2).unwrap();
+    let c = compare(&img, &reference, 4).unwrap();
+    eprintln!("{name}: {c:?}");
+    c
+}
+
+#[test]
+fn cornell_box_matches_reference() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let c = against_reference("cornell-box", 24, 200_000);
+    assert!(c.rel_mse < 0.003, "relMSE {}", c.rel_mse);
+    for r in c.mean_ratio {
+        assert!((r - 1.0).abs() < 0.02, "channel mean ratios {:?}", c.mean_ratio);
+    }
+}
+
+#[test]
+fn cornell_spheres_matches_reference() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let c = against_reference("cornell-spheres", 24, 200_000);
+    assert!(c.rel_mse < 0.01, "relMSE {}", c.rel_mse);
+    for r in c.mean_ratio {
+        assert!((r - 1.0).abs() < 0.03, "channel mean ratios {:?}", c.mean_ratio);
+    }
+}
+
+#[test]
+fn same_seed_same_image_bit_for_bit() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut scene = common::load_scene("cornell-spheres.toml");
+    scene.render.width = 48;
+    scene.render.height = 48;
+    scene.render.iterations = 3;
+    scene.render.photons = 20_000;
+    let a = render(&gpu, &scene);
+    let b = render(&gpu, &scene);
+    assert!(a.pixels == b.pixels, "two renders with the same seed differ");
+    scene.render.seed += 1;
+    let c = render(&gpu, &scene);
+    assert!(a.pixels != c.pixels, "a different seed gave the same image");
+}
