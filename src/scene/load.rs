@@ -34,7 +34,12 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
         let line = e.span().map(|span| source.line(span.start));
         source.error(line, None, e.message().trim())
     })?;
-    let root = Table { source: &source, table: document.get_ref(), key: String::new(), line: None };
+    let root = Table {
+        source: &source,
+        table: document.get_ref(),
+        key: String::new(),
+        line: None,
+    };
     root.allow_keys(&["render", "camera", "materials", "shapes", "lights"])?;
 
     let render = root.req("render", |v| read_render(&v.table()?))?;
@@ -42,9 +47,15 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
     let mut textures = Vec::new();
     let materials = root.or("materials", Vec::new(), |v| {
         let table = v.table()?;
-        table.entries().iter().map(|(name, m)| read_material(name, m, &mut textures)).collect()
+        table
+            .entries()
+            .iter()
+            .map(|(name, m)| read_material(name, m, &mut textures))
+            .collect()
     })?;
-    let lights = root.or("lights", Vec::new(), |v| v.elements()?.iter().map(read_light).collect())?;
+    let lights = root.or("lights", Vec::new(), |v| {
+        v.elements()?.iter().map(read_light).collect()
+    })?;
     let mut scene = Scene {
         path: path.to_path_buf(),
         render,
@@ -56,7 +67,11 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
         spheres: Vec::new(),
         lights,
     };
-    for (index, entry) in root.or("shapes", Vec::new(), Value::elements)?.iter().enumerate() {
+    for (index, entry) in root
+        .or("shapes", Vec::new(), Value::elements)?
+        .iter()
+        .enumerate()
+    {
         let shape = read_shape(entry, index as u32, &mut scene)?;
         scene.shapes.push(shape);
     }
@@ -65,10 +80,23 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
 
 fn read_render(t: &Table) -> Result<RenderSettings> {
     t.allow_keys(&[
-        "width", "height", "method", "iterations", "spp", "photons", "radius", "alpha",
-        "max_depth", "seed", "time_limit",
+        "width",
+        "height",
+        "method",
+        "iterations",
+        "spp",
+        "photons",
+        "radius",
+        "alpha",
+        "max_depth",
+        "seed",
+        "time_limit",
     ])?;
-    let methods = [("sppm", Method::Sppm), ("pt", Method::Pt), ("pt-nee", Method::PtNee)];
+    let methods = [
+        ("sppm", Method::Sppm),
+        ("pt", Method::Pt),
+        ("pt-nee", Method::PtNee),
+    ];
     Ok(RenderSettings {
         width: t.req("width", |v| v.u32_in(1, MAX_RESOLUTION))?,
         height: t.req("height", |v| v.u32_in(1, MAX_RESOLUTION))?,
@@ -85,13 +113,23 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
 }
 
 fn read_camera(t: &Table) -> Result<Camera> {
-    t.allow_keys(&["position", "look_at", "up", "fov", "aperture_radius", "focus_distance"])?;
+    t.allow_keys(&[
+        "position",
+        "look_at",
+        "up",
+        "fov",
+        "aperture_radius",
+        "focus_distance",
+    ])?;
     let position = t.req("position", Value::vec3)?;
     let look_at = t.req("look_at", Value::vec3)?;
     let up = t.or("up", Vec3::Y, Value::vec3)?;
     let view = (look_at - position).normalize_or_zero();
     if view == Vec3::ZERO {
-        return Err(t.error_at("look_at", "look_at equals position: the camera has no view direction"));
+        return Err(t.error_at(
+            "look_at",
+            "look_at equals position: the camera has no view direction",
+        ));
     }
     if view.cross(up.normalize_or_zero()).length() < 1e-6 {
         return Err(t.error_at("up", "up is zero or parallel to the view direction"));
@@ -127,7 +165,11 @@ const UNIT: Bound = Bound::Closed(0.0, 1.0);
 fn read_material(name: &str, entry: &Value, textures: &mut Vec<Texture>) -> Result<Material> {
     let t = entry.table()?;
     let read = t.typed("material type", MATERIAL_TYPES, &["type"])?;
-    Ok(Material { name: name.to_owned(), kind: read(&t, textures)?, line: entry.line })
+    Ok(Material {
+        name: name.to_owned(),
+        kind: read(&t, textures)?,
+        line: entry.line,
+    })
 }
 
 fn read_diffuse(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> {
@@ -139,11 +181,16 @@ fn read_diffuse(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> 
     if albedo.is_none() && texture.is_none() {
         return Err(t.error_at("albedo", "missing required key `albedo` (or `texture`)"));
     }
-    Ok(MaterialKind::Diffuse { albedo: albedo.unwrap_or(Vec3::ONE), texture })
+    Ok(MaterialKind::Diffuse {
+        albedo: albedo.unwrap_or(Vec3::ONE),
+        texture,
+    })
 }
 
 fn read_mirror(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
-    Ok(MaterialKind::Mirror { albedo: t.req("albedo", |v| v.vec3_in(UNIT))? })
+    Ok(MaterialKind::Mirror {
+        albedo: t.req("albedo", |v| v.vec3_in(UNIT))?,
+    })
 }
 
 fn read_glossy(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
@@ -175,7 +222,11 @@ const SHAPE_TYPES: &[(&str, ShapeKind, &[&str])] = &[
     ("quad", ShapeKind::Quad, &["corner", "u", "v", "uv_scale"]),
     ("sphere", ShapeKind::Sphere, &["center", "radius"]),
     ("cube", ShapeKind::Cube, &["scale", "rotate", "translate"]),
-    ("mesh", ShapeKind::Mesh, &["file", "smooth", "scale", "rotate", "translate"]),
+    (
+        "mesh",
+        ShapeKind::Mesh,
+        &["file", "smooth", "scale", "rotate", "translate"],
+    ),
 ];
 
 /// Keys every shape allows.
@@ -202,7 +253,9 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
                 return Err(t.error_at("v", "u and v are parallel or zero: the quad has no area"));
             }
             let uv_scale = t.or("uv_scale", Vec2::ONE, |v| v.vec2_in(Bound::Any))?;
-            scene.triangles.extend(mesh::quad(corner, u, v, uv_scale, index));
+            scene
+                .triangles
+                .extend(mesh::quad(corner, u, v, uv_scale, index));
         }
         ShapeKind::Sphere => scene.spheres.push(Sphere {
             center: t.req("center", Value::vec3)?,
@@ -210,7 +263,8 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
             shape: index,
         }),
         ShapeKind::Cube => {
-            let (triangles, _) = mesh::triangles(&mesh::unit_cube(), &read_transform(&t)?, false, index);
+            let (triangles, _) =
+                mesh::triangles(&mesh::unit_cube(), &read_transform(&t)?, false, index);
             scene.triangles.extend(triangles);
         }
         ShapeKind::Mesh => read_mesh(&t, index, scene)?,
@@ -258,13 +312,20 @@ type LightReader = fn(&Table) -> Result<LightKind>;
 /// Light types: name, reader, and the keys allowed besides `type`.
 const LIGHT_TYPES: &[(&str, LightReader, &[&str])] = &[
     ("point", read_point_light, &["position", "intensity"]),
-    ("directional", read_directional_light, &["direction", "irradiance"]),
+    (
+        "directional",
+        read_directional_light,
+        &["direction", "irradiance"],
+    ),
 ];
 
 fn read_light(entry: &Value) -> Result<Light> {
     let t = entry.table()?;
     let read = t.typed("light type", LIGHT_TYPES, &["type"])?;
-    Ok(Light { kind: read(&t)?, line: entry.line })
+    Ok(Light {
+        kind: read(&t)?,
+        line: entry.line,
+    })
 }
 
 fn read_point_light(t: &Table) -> Result<LightKind> {
@@ -294,8 +355,9 @@ struct Source<'a> {
 
 impl<'a> Source<'a> {
     fn new(text: &str, path: &'a Path) -> Self {
-        let line_starts =
-            std::iter::once(0).chain(text.match_indices('\n').map(|(i, _)| i + 1)).collect();
+        let line_starts = std::iter::once(0)
+            .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+            .collect();
         Source { path, line_starts }
     }
 
@@ -304,7 +366,12 @@ impl<'a> Source<'a> {
         self.line_starts.partition_point(|&start| start <= offset)
     }
 
-    fn error(&self, line: Option<usize>, key: Option<&str>, message: impl Into<String>) -> SceneError {
+    fn error(
+        &self,
+        line: Option<usize>,
+        key: Option<&str>,
+        message: impl Into<String>,
+    ) -> SceneError {
         SceneError::new(self.path, line, key, message)
     }
 }
@@ -331,7 +398,10 @@ impl<'a, 'i> Table<'a, 'i> {
     fn entries(&self) -> Vec<(&'a str, Value<'a, 'i>)> {
         let mut entries: Vec<_> = self.table.iter().collect();
         entries.sort_by_key(|(name, _)| name.span().start);
-        entries.into_iter().map(|(name, value)| self.entry(name, value)).collect()
+        entries
+            .into_iter()
+            .map(|(name, value)| self.entry(name, value))
+            .collect()
     }
 
     fn get(&self, name: &str) -> Option<Value<'a, 'i>> {
@@ -357,11 +427,13 @@ impl<'a, 'i> Table<'a, 'i> {
     /// An error about key `name`: at its line when it is present, else at the header's.
     fn error_at(&self, name: &str, message: impl Into<String>) -> SceneError {
         let line = self.get(name).map(|v| v.line).or(self.line);
-        self.source.error(line, Some(&self.child_key(name)), message)
+        self.source
+            .error(line, Some(&self.child_key(name)), message)
     }
 
     fn require(&self, name: &str) -> Result<Value<'a, 'i>> {
-        self.get(name).ok_or_else(|| self.error_at(name, format!("missing required key `{name}`")))
+        self.get(name)
+            .ok_or_else(|| self.error_at(name, format!("missing required key `{name}`")))
     }
 
     /// Reads the required key `name` with `read`.
@@ -390,7 +462,11 @@ impl<'a, 'i> Table<'a, 'i> {
 
     /// Fails on the first key (in file order) that is not in `allowed`.
     fn allow_keys(&self, allowed: &[&str]) -> Result<()> {
-        match self.entries().into_iter().find(|(name, _)| !allowed.contains(name)) {
+        match self
+            .entries()
+            .into_iter()
+            .find(|(name, _)| !allowed.contains(name))
+        {
             Some((name, value)) => Err(value.error(format!(
                 "unknown key `{name}`; allowed keys: {}",
                 allowed.join(", ")
@@ -401,7 +477,12 @@ impl<'a, 'i> Table<'a, 'i> {
 
     /// Reads `type` as one of `types` (`what` names them in errors), then allows only the
     /// `common` keys and that type's own.
-    fn typed<T: Copy>(&self, what: &str, types: &[(&str, T, &[&str])], common: &[&str]) -> Result<T> {
+    fn typed<T: Copy>(
+        &self,
+        what: &str,
+        types: &[(&str, T, &[&str])],
+        common: &[&str],
+    ) -> Result<T> {
         let names: Vec<(&str, usize)> = types.iter().enumerate().map(|(i, t)| (t.0, i)).collect();
         let (_, kind, keys) = types[self.req("type", |v| v.choice(what, &names))?];
         self.allow_keys(&[common, keys].concat())?;
@@ -467,7 +548,9 @@ impl<'a, 'i> Value<'a, 'i> {
     }
 
     fn bool(&self) -> Result<bool> {
-        self.value.as_bool().ok_or_else(|| self.expected("a boolean (true or false)"))
+        self.value
+            .as_bool()
+            .ok_or_else(|| self.expected("a boolean (true or false)"))
     }
 
     /// A string that must name one of `options`; `what` names it in errors.
@@ -477,7 +560,10 @@ impl<'a, 'i> Value<'a, 'i> {
             Some(&(_, value)) => Ok(value),
             None => {
                 let names: Vec<&str> = options.iter().map(|(option, _)| *option).collect();
-                Err(self.error(format!("unknown {what} `{name}`; expected one of: {}", names.join(", "))))
+                Err(self.error(format!(
+                    "unknown {what} `{name}`; expected one of: {}",
+                    names.join(", ")
+                )))
             }
         }
     }
@@ -512,26 +598,33 @@ impl<'a, 'i> Value<'a, 'i> {
         number.ok_or_else(|| self.error("this number cannot be represented"))
     }
 
-    /// Fails unless `x` is finite and within `bound`.
-    fn check(&self, x: f64, bound: Bound) -> Result<()> {
-        if !x.is_finite() {
-            Err(self.error(format!("must be a finite number, found {x}")))
-        } else if !bound.contains(x) {
-            Err(self.error(format!("must be {bound}, found {x}")))
-        } else {
-            Ok(())
+    /// A number as written in the file, for messages.
+    fn literal(&self) -> String {
+        match self.value {
+            DeValue::Integer(integer) => integer.to_string(),
+            DeValue::Float(float) => float.to_string(),
+            other => other.type_str().to_owned(),
         }
     }
 
     fn f64_in(&self, bound: Bound) -> Result<f64> {
         let x = self.number()?;
-        self.check(x, bound)?;
-        Ok(x)
+        if !x.is_finite() {
+            Err(self.error(format!("must be a finite number, found {}", self.literal())))
+        } else if !bound.contains(x) {
+            Err(self.error(format!("must be {bound}, found {}", self.literal())))
+        } else {
+            Ok(x)
+        }
     }
 
     fn f32_in(&self, bound: Bound) -> Result<f32> {
-        let x = self.number()? as f32;
-        self.check(x.into(), bound)?;
+        let x = self.f64_in(bound)? as f32;
+        // Rounding may overflow, or underflow to a zero that `bound` rejects.
+        if x.is_infinite() || !bound.contains(x.into()) {
+            let message = format!("{} is out of the range of 32-bit floats", self.literal());
+            return Err(self.error(message));
+        }
         Ok(x)
     }
 
@@ -545,7 +638,11 @@ impl<'a, 'i> Value<'a, 'i> {
         let mut out = [0.0; N];
         for (x, item) in out.iter_mut().zip(items) {
             // Errors name the array's key, at the item's line.
-            *x = Value { key: self.key.clone(), ..item }.f32_in(bound)?;
+            *x = Value {
+                key: self.key.clone(),
+                ..item
+            }
+            .f32_in(bound)?;
         }
         Ok(out)
     }

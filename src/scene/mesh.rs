@@ -35,7 +35,11 @@ impl Transform {
             * Mat3::from_rotation_y(r.y)
             * Mat3::from_rotation_x(r.x)
             * Mat3::from_diagonal(scale);
-        Transform { linear, translation, normal_matrix: linear.inverse().transpose() }
+        Transform {
+            linear,
+            translation,
+            normal_matrix: linear.inverse().transpose(),
+        }
     }
 
     pub fn point(&self, p: Vec3) -> Vec3 {
@@ -60,9 +64,17 @@ pub(super) fn quad(corner: Vec3, u: Vec3, v: Vec3, uv_scale: Vec2, shape: u32) -
     let vertex = |a: f32, b: f32| (corner + a * u + b * v, uv_scale * Vec2::new(a, b));
     let triangle = |corners: [(f32, f32); 3]| {
         let vertices = corners.map(|(a, b)| vertex(a, b));
-        Triangle { p: vertices.map(|x| x.0), n: None, uv: Some(vertices.map(|x| x.1)), shape }
+        Triangle {
+            p: vertices.map(|x| x.0),
+            n: None,
+            uv: Some(vertices.map(|x| x.1)),
+            shape,
+        }
     };
-    [triangle([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0)]), triangle([(0.0, 0.0), (1.0, 1.0), (0.0, 1.0)])]
+    [
+        triangle([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0)]),
+        triangle([(0.0, 0.0), (1.0, 1.0), (0.0, 1.0)]),
+    ]
 }
 
 /// The cube `[-1, 1]^3`, wound so that every face's normal points outwards.
@@ -72,10 +84,24 @@ pub(super) fn unit_cube() -> IndexedMesh {
         .map(|i| Vec3::new(sign(i & 1), sign(i & 2), sign(i & 4)))
         .collect();
     // Each face counter-clockwise seen from outside: -x, +x, -y, +y, -z, +z.
-    let faces: [[u32; 4]; 6] =
-        [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]];
-    let indices = faces.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
-    IndexedMesh { positions, normals: None, uvs: None, indices }
+    let faces: [[u32; 4]; 6] = [
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+    ];
+    let indices = faces
+        .iter()
+        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+        .collect();
+    IndexedMesh {
+        positions,
+        normals: None,
+        uvs: None,
+        indices,
+    }
 }
 
 fn sign(bit: u32) -> f32 {
@@ -97,8 +123,9 @@ pub(super) fn read_obj(path: &Path) -> Result<IndexedMesh, String> {
         ignore_lines: true,
         ..Default::default()
     };
-    let (models, _) = tobj::load_obj_buf(&mut bytes.as_slice(), &options, |_| Ok(Default::default()))
-        .map_err(|e| format!("not a valid OBJ file: {e}"))?;
+    let (models, _) =
+        tobj::load_obj_buf(&mut bytes.as_slice(), &options, |_| Ok(Default::default()))
+            .map_err(|e| format!("not a valid OBJ file: {e}"))?;
 
     let mut mesh = IndexedMesh::default();
     let mut normals = Some(Vec::new());
@@ -110,8 +137,13 @@ pub(super) fn read_obj(path: &Path) -> Result<IndexedMesh, String> {
         if m.indices.iter().any(|&i| i as usize >= count) {
             return Err("a face refers to a vertex that does not exist".into());
         }
-        mesh.positions.extend(m.positions.chunks_exact(3).map(Vec3::from_slice));
-        mesh.indices.extend(m.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]].map(|i| base + i)));
+        mesh.positions
+            .extend(m.positions.chunks_exact(3).map(Vec3::from_slice));
+        mesh.indices.extend(
+            m.indices
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]].map(|i| base + i)),
+        );
         append_if_complete(&mut normals, &m.normals, count, 3, Vec3::from_slice);
         append_if_complete(&mut uvs, &m.texcoords, count, 2, Vec2::from_slice);
     }
@@ -152,7 +184,12 @@ pub(super) fn triangles(
     let world: Vec<Vec3> = mesh.positions.iter().map(|&p| transform.point(p)).collect();
     let mut faces = Vec::with_capacity(mesh.indices.len());
     for &[a, b, c] in &mesh.indices {
-        let face = if transform.flips_winding() { [a, c, b] } else { [a, b, c] }.map(|i| i as usize);
+        let face = if transform.flips_winding() {
+            [a, c, b]
+        } else {
+            [a, b, c]
+        }
+        .map(|i| i as usize);
         if face_normal(&world, face).length_squared() > 0.0 {
             faces.push(face);
         }
@@ -197,16 +234,31 @@ fn averaged_normals(world: &[Vec3], faces: &[[usize; 3]]) -> Vec<Vec3> {
     }
     world
         .iter()
-        .map(|&p| sums.get(&key(p)).copied().unwrap_or_default().normalize_or_zero())
+        .map(|&p| {
+            sums.get(&key(p))
+                .copied()
+                .unwrap_or_default()
+                .normalize_or_zero()
+        })
         .collect()
 }
 
 /// Reads an sRGB image (PNG) and decodes it to linear RGB, row 0 at the top.
 pub(super) fn read_texture(path: &Path) -> Result<Texture, String> {
     let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
-    let image = image::load_from_memory(&bytes).map_err(|e| e.to_string())?.into_rgb32f();
-    let texels = image.pixels().map(|p| Vec3::from_array(p.0.map(srgb_to_linear))).collect();
-    Ok(Texture { path: path.to_path_buf(), width: image.width(), height: image.height(), texels })
+    let image = image::load_from_memory(&bytes)
+        .map_err(|e| e.to_string())?
+        .into_rgb32f();
+    let texels = image
+        .pixels()
+        .map(|p| Vec3::from_array(p.0.map(srgb_to_linear)))
+        .collect();
+    Ok(Texture {
+        path: path.to_path_buf(),
+        width: image.width(),
+        height: image.height(),
+        texels,
+    })
 }
 
 /// The sRGB electro-optical transfer function (IEC 61966-2-1), for values in [0, 1].
