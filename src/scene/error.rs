@@ -1,6 +1,6 @@
 //! Scene loading errors: each names the file, the line and the key.
 use std::fmt;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// An error in a scene or one of the files it names.
 #[derive(Clone, Debug, PartialEq)]
@@ -11,6 +11,23 @@ pub struct SceneError {
     /// Dotted key path, e.g. `render.width` or `shapes[3].material`.
     pub key: Option<String>,
     pub message: String,
+}
+
+impl SceneError {
+    /// An error in `file`, at `line` when it has a place, about `key` when it names one.
+    pub fn new(
+        file: &Path,
+        line: Option<usize>,
+        key: Option<&str>,
+        message: impl Into<String>,
+    ) -> Self {
+        SceneError {
+            file: file.to_path_buf(),
+            line,
+            key: key.map(str::to_owned),
+            message: message.into(),
+        }
+    }
 }
 
 impl fmt::Display for SceneError {

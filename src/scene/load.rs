@@ -1,17 +1,744 @@
-//! Placeholder: replaced by the loader.
-use super::{Scene, SceneError};
-use std::path::Path;
+//! The scene file reader. The TOML document is walked by hand so that every key and value
+//! keeps its line for error messages: each table is checked for unknown keys, each value for
+//! its type and range, and each shape is turned into world-space primitives.
 
-pub fn load(path: &Path) -> Result<Scene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-        file: path.to_path_buf(),
-        line: None,
-        key: None,
-        message: e.to_string(),
+use super::mesh::{self, Transform};
+use super::{
+    Camera, Light, LightKind, Material, MaterialKind, Method, RenderSettings, Scene, SceneError,
+    Shape, ShapeKind, Sphere, Texture,
+};
+use glam::{Vec2, Vec3};
+use std::fmt;
+use std::path::{Path, PathBuf};
+use toml::de::{DeInteger, DeString, DeTable, DeValue};
+use toml::Spanned;
+
+type Result<T> = std::result::Result<T, SceneError>;
+
+/// Largest accepted image width or height, in pixels.
+const MAX_RESOLUTION: u32 = 16384;
+
+/// Reads a scene file and loads it.
+pub fn load(path: &Path) -> Result<Scene> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        SceneError::new(path, None, None, format!("cannot read the scene file: {e}"))
     })?;
     load_str(&text, path)
 }
 
-pub fn load_str(_text: &str, path: &Path) -> Result<Scene, SceneError> {
-    Err(SceneError { file: path.to_path_buf(), line: None, key: None, message: "loader not written yet".into() })
+/// Loads a scene from its text. `path` names the file in errors, and relative mesh and
+/// texture file names are resolved against its directory.
+pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
+    let source = Source::new(text, path);
+    let document = DeTable::parse(text).map_err(|e| {
+        let line = e.span().map(|span| source.line(span.start));
+        source.error(line, None, e.message().trim())
+    })?;
+    let root = Table {
+        source: &source,
+        table: document.get_ref(),
+        key: String::new(),
+        line: None,
+    };
+    root.allow_keys(&["render", "camera", "materials", "shapes", "lights"])?;
+
+    let render = root.req("render", |v| read_render(&v.table()?))?;
+    let camera = root.req("camera", |v| read_camera(&v.table()?))?;
+    let mut textures = Vec::new();
+    let materials = root.or("materials", Vec::new(), |v| {
+        let table = v.table()?;
+        table
+            .entries()
+            .iter()
+            .map(|(name, m)| read_material(name, m, &mut textures))
+            .collect()
+    })?;
+    let lights = root.or("lights", Vec::new(), |v| {
+        v.elements()?.iter().map(read_light).collect()
+    })?;
+    let mut scene = Scene {
+        path: path.to_path_buf(),
+        render,
+        camera,
+        materials,
+        textures,
+        shapes: Vec::new(),
+        triangles: Vec::new(),
+        spheres: Vec::new(),
+        lights,
+    };
+    for (index, entry) in root
+        .or("shapes", Vec::new(), Value::elements)?
+        .iter()
+        .enumerate()
+    {
+        let shape = read_shape(entry, index as u32, &mut scene)?;
+        scene.shapes.push(shape);
+    }
+    Ok(scene)
+}
+
+fn read_render(t: &Table) -> Result<RenderSettings> {
+    t.allow_keys(&[
+        "width",
+        "height",
+        "method",
+        "iterations",
+        "spp",
+        "photons",
+        "radius",
+        "alpha",
+        "max_depth",
+        "seed",
+        "time_limit",
+    ])?;
+    let methods = [
+        ("sppm", Method::Sppm),
+        ("pt", Method::Pt),
+        ("pt-nee", Method::PtNee),
+    ];
+    Ok(RenderSettings {
+        width: t.req("width", |v| v.u32_in(1, MAX_RESOLUTION))?,
+        height: t.req("height", |v| v.u32_in(1, MAX_RESOLUTION))?,
+        method: t.or("method", Method::Sppm, |v| v.choice("method", &methods))?,
+        iterations: t.req("iterations", Value::count)?,
+        spp: t.or("spp", 1, Value::count)?,
+        photons: t.or("photons", 100_000, Value::count)?,
+        radius: t.opt("radius", |v| v.f32_in(Bound::Positive))?,
+        alpha: t.or("alpha", 0.6667, |v| v.f32_in(Bound::Open(0.0, 1.0)))?,
+        max_depth: t.or("max_depth", 64, Value::count)?,
+        seed: t.or("seed", 0, |v| v.u32_in(0, u32::MAX))?,
+        time_limit: t.opt("time_limit", |v| v.f64_in(Bound::Positive))?,
+    })
+}
+
+fn read_camera(t: &Table) -> Result<Camera> {
+    t.allow_keys(&[
+        "position",
+        "look_at",
+        "up",
+        "fov",
+        "aperture_radius",
+        "focus_distance",
+    ])?;
+    let position = t.req("position", Value::vec3)?;
+    let look_at = t.req("look_at", Value::vec3)?;
+    let up = t.or("up", Vec3::Y, Value::vec3)?;
+    let view = (look_at - position).normalize_or_zero();
+    if view == Vec3::ZERO {
+        return Err(t.error_at(
+            "look_at",
+            "look_at equals position: the camera has no view direction",
+        ));
+    }
+    if view.cross(up.normalize_or_zero()).length() < 1e-6 {
+        return Err(t.error_at("up", "up is zero or parallel to the view direction"));
+    }
+    Ok(Camera {
+        position,
+        look_at,
+        up,
+        fov: t.req("fov", |v| v.f32_in(Bound::Open(0.0, 180.0)))?,
+        aperture_radius: t.or("aperture_radius", 0.0, |v| v.f32_in(Bound::NonNegative))?,
+        focus_distance: t.or("focus_distance", look_at.distance(position), |v| {
+            v.f32_in(Bound::Positive)
+        })?,
+        aperture_line: t.get("aperture_radius").map(|v| v.line),
+    })
+}
+
+/// Reads one material type's keys; diffuse materials may load a texture.
+type MaterialReader = fn(&Table, &mut Vec<Texture>) -> Result<MaterialKind>;
+
+/// Material types: name, reader, and the keys allowed besides `type`.
+const MATERIAL_TYPES: &[(&str, MaterialReader, &[&str])] = &[
+    ("diffuse", read_diffuse, &["albedo", "texture"]),
+    ("mirror", read_mirror, &["albedo"]),
+    ("glossy", read_glossy, &["albedo", "roughness"]),
+    ("dielectric", read_dielectric, &["ior", "roughness"]),
+];
+
+/// Reflectances and roughnesses lie in [0, 1].
+const UNIT: Bound = Bound::Closed(0.0, 1.0);
+
+/// Reads the `[materials]` entry `name = { type = ..., ... }`.
+fn read_material(name: &str, entry: &Value, textures: &mut Vec<Texture>) -> Result<Material> {
+    let t = entry.table()?;
+    let read = t.typed("material type", MATERIAL_TYPES, &["type"])?;
+    Ok(Material {
+        name: name.to_owned(),
+        kind: read(&t, textures)?,
+        line: entry.line,
+    })
+}
+
+fn read_diffuse(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> {
+    let albedo = t.opt("albedo", |v| v.vec3_in(UNIT))?;
+    if albedo.is_some() && t.get("texture").is_some() {
+        return Err(t.error_at("texture", "give either `albedo` or `texture`, not both"));
+    }
+    let texture = t.opt("texture", |v| texture_index(v, textures))?;
+    if albedo.is_none() && texture.is_none() {
+        return Err(t.error_at("albedo", "missing required key `albedo` (or `texture`)"));
+    }
+    Ok(MaterialKind::Diffuse {
+        albedo: albedo.unwrap_or(Vec3::ONE),
+        texture,
+    })
+}
+
+fn read_mirror(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
+    Ok(MaterialKind::Mirror {
+        albedo: t.req("albedo", |v| v.vec3_in(UNIT))?,
+    })
+}
+
+fn read_glossy(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
+    Ok(MaterialKind::Glossy {
+        albedo: t.req("albedo", |v| v.vec3_in(UNIT))?,
+        roughness: t.req("roughness", |v| v.f32_in(UNIT))?,
+    })
+}
+
+fn read_dielectric(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
+    Ok(MaterialKind::Dielectric {
+        ior: t.req("ior", |v| v.f32_in(Bound::Positive))?,
+        roughness: t.or("roughness", 0.0, |v| v.f32_in(UNIT))?,
+    })
+}
+
+/// Index of the texture a `texture` value names, loaded once per distinct path.
+fn texture_index(v: &Value, textures: &mut Vec<Texture>) -> Result<u32> {
+    let path = v.path()?;
+    if let Some(index) = textures.iter().position(|t| t.path == path) {
+        return Ok(index as u32);
+    }
+    textures.push(v.read_file("texture", &path, mesh::read_texture)?);
+    Ok(textures.len() as u32 - 1)
+}
+
+/// Shape types: name, kind, and the keys allowed besides [`SHAPE_KEYS`].
+const SHAPE_TYPES: &[(&str, ShapeKind, &[&str])] = &[
+    ("quad", ShapeKind::Quad, &["corner", "u", "v", "uv_scale"]),
+    ("sphere", ShapeKind::Sphere, &["center", "radius"]),
+    ("cube", ShapeKind::Cube, &["scale", "rotate", "translate"]),
+    (
+        "mesh",
+        ShapeKind::Mesh,
+        &["file", "smooth", "scale", "rotate", "translate"],
+    ),
+];
+
+/// Keys every shape allows.
+const SHAPE_KEYS: &[&str] = &["type", "material", "emission", "velocity"];
+
+/// Reads `shapes[index]` and appends its primitives to the scene.
+fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
+    let t = entry.table()?;
+    let kind = t.typed("shape type", SHAPE_TYPES, SHAPE_KEYS)?;
+    let shape = Shape {
+        kind,
+        material: t.req("material", |v| v.material(&scene.materials))?,
+        emission: t.opt("emission", |v| v.vec3_in(Bound::NonNegative))?,
+        velocity: t.opt("velocity", Value::vec3)?,
+        line: entry.line,
+        velocity_line: t.get("velocity").map(|v| v.line),
+    };
+    match kind {
+        ShapeKind::Quad => {
+            let corner = t.req("corner", Value::vec3)?;
+            let u = t.req("u", Value::vec3)?;
+            let v = t.req("v", Value::vec3)?;
+            if u.cross(v).length_squared() == 0.0 {
+                return Err(t.error_at("v", "u and v are parallel or zero: the quad has no area"));
+            }
+            let uv_scale = t.or("uv_scale", Vec2::ONE, |v| v.vec2_in(Bound::Any))?;
+            scene
+                .triangles
+                .extend(mesh::quad(corner, u, v, uv_scale, index));
+        }
+        ShapeKind::Sphere => scene.spheres.push(Sphere {
+            center: t.req("center", Value::vec3)?,
+            radius: t.req("radius", |v| v.f32_in(Bound::Positive))?,
+            shape: index,
+        }),
+        ShapeKind::Cube => {
+            let (triangles, _) =
+                mesh::triangles(&mesh::unit_cube(), &read_transform(&t)?, false, index);
+            scene.triangles.extend(triangles);
+        }
+        ShapeKind::Mesh => read_mesh(&t, index, scene)?,
+    }
+    Ok(shape)
+}
+
+/// Reads a `mesh` shape's OBJ file and appends its world-space triangles.
+fn read_mesh(t: &Table, index: u32, scene: &mut Scene) -> Result<()> {
+    let transform = read_transform(t)?;
+    let smooth = t.or("smooth", false, Value::bool)?;
+    let file = t.require("file")?;
+    let path = file.path()?;
+    let obj = file.read_file("mesh", &path, mesh::read_obj)?;
+    let (triangles, skipped) = mesh::triangles(&obj, &transform, smooth, index);
+    if triangles.is_empty() {
+        return Err(file.error(format!(
+            "all {skipped} triangles of mesh {} are degenerate",
+            path.display()
+        )));
+    }
+    if skipped > 0 {
+        eprintln!(
+            "warning: {}: {skipped} degenerate triangles skipped in mesh {}",
+            scene.path.display(),
+            path.display()
+        );
+    }
+    scene.triangles.extend(triangles);
+    Ok(())
+}
+
+/// A shape's `scale`, `rotate` and `translate`.
+fn read_transform(t: &Table) -> Result<Transform> {
+    Ok(Transform::new(
+        t.or("scale", Vec3::ONE, Value::scale)?,
+        t.or("rotate", Vec3::ZERO, Value::vec3)?,
+        t.or("translate", Vec3::ZERO, Value::vec3)?,
+    ))
+}
+
+/// Reads one light type's keys.
+type LightReader = fn(&Table) -> Result<LightKind>;
+
+/// Light types: name, reader, and the keys allowed besides `type`.
+const LIGHT_TYPES: &[(&str, LightReader, &[&str])] = &[
+    ("point", read_point_light, &["position", "intensity"]),
+    (
+        "directional",
+        read_directional_light,
+        &["direction", "irradiance"],
+    ),
+];
+
+fn read_light(entry: &Value) -> Result<Light> {
+    let t = entry.table()?;
+    let read = t.typed("light type", LIGHT_TYPES, &["type"])?;
+    Ok(Light {
+        kind: read(&t)?,
+        line: entry.line,
+    })
+}
+
+fn read_point_light(t: &Table) -> Result<LightKind> {
+    Ok(LightKind::Point {
+        position: t.req("position", Value::vec3)?,
+        intensity: t.req("intensity", |v| v.vec3_in(Bound::NonNegative))?,
+    })
+}
+
+fn read_directional_light(t: &Table) -> Result<LightKind> {
+    let direction = t.req("direction", Value::vec3)?.normalize_or_zero();
+    if direction == Vec3::ZERO {
+        return Err(t.error_at("direction", "the direction must not be zero"));
+    }
+    Ok(LightKind::Directional {
+        direction,
+        irradiance: t.req("irradiance", |v| v.vec3_in(Bound::NonNegative))?,
+    })
+}
+
+/// The scene file: its name and where its lines start.
+struct Source<'a> {
+    path: &'a Path,
+    /// Byte offset of the start of each line.
+    line_starts: Vec<usize>,
+}
+
+impl<'a> Source<'a> {
+    fn new(text: &str, path: &'a Path) -> Self {
+        let line_starts = std::iter::once(0)
+            .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+            .collect();
+        Source { path, line_starts }
+    }
+
+    /// The 1-based line holding byte `offset`.
+    fn line(&self, offset: usize) -> usize {
+        self.line_starts.partition_point(|&start| start <= offset)
+    }
+
+    fn error(
+        &self,
+        line: Option<usize>,
+        key: Option<&str>,
+        message: impl Into<String>,
+    ) -> SceneError {
+        SceneError::new(self.path, line, key, message)
+    }
+}
+
+/// A TOML table of the scene, with its dotted key (empty for the document) and the line of
+/// its header or inline table (none for the document).
+struct Table<'a, 'i> {
+    source: &'a Source<'a>,
+    table: &'a DeTable<'i>,
+    key: String,
+    line: Option<usize>,
+}
+
+impl<'a, 'i> Table<'a, 'i> {
+    fn child_key(&self, name: &str) -> String {
+        if self.key.is_empty() {
+            name.to_owned()
+        } else {
+            format!("{}.{name}", self.key)
+        }
+    }
+
+    /// The entries with their names, in file order.
+    fn entries(&self) -> Vec<(&'a str, Value<'a, 'i>)> {
+        let mut entries: Vec<_> = self.table.iter().collect();
+        entries.sort_by_key(|(name, _)| name.span().start);
+        entries
+            .into_iter()
+            .map(|(name, value)| self.entry(name, value))
+            .collect()
+    }
+
+    fn get(&self, name: &str) -> Option<Value<'a, 'i>> {
+        let (name, value) = self.table.get_key_value(name)?;
+        Some(self.entry(name, value).1)
+    }
+
+    /// An entry's name, and its value at the line of its key.
+    fn entry(
+        &self,
+        name: &'a Spanned<DeString<'i>>,
+        value: &'a Spanned<DeValue<'i>>,
+    ) -> (&'a str, Value<'a, 'i>) {
+        let value = Value {
+            source: self.source,
+            value: value.get_ref(),
+            key: self.child_key(name.get_ref()),
+            line: self.source.line(name.span().start),
+        };
+        (name.get_ref().as_ref(), value)
+    }
+
+    /// An error about key `name`: at its line when it is present, else at the header's.
+    fn error_at(&self, name: &str, message: impl Into<String>) -> SceneError {
+        let line = self.get(name).map(|v| v.line).or(self.line);
+        self.source
+            .error(line, Some(&self.child_key(name)), message)
+    }
+
+    fn require(&self, name: &str) -> Result<Value<'a, 'i>> {
+        self.get(name)
+            .ok_or_else(|| self.error_at(name, format!("missing required key `{name}`")))
+    }
+
+    /// Reads the required key `name` with `read`.
+    fn req<T>(&self, name: &str, read: impl FnOnce(&Value<'a, 'i>) -> Result<T>) -> Result<T> {
+        read(&self.require(name)?)
+    }
+
+    /// Reads the key `name` with `read` when it is present.
+    fn opt<T>(
+        &self,
+        name: &str,
+        read: impl FnOnce(&Value<'a, 'i>) -> Result<T>,
+    ) -> Result<Option<T>> {
+        self.get(name).map(|v| read(&v)).transpose()
+    }
+
+    /// Reads the key `name` with `read`, or gives `default` when it is absent.
+    fn or<T>(
+        &self,
+        name: &str,
+        default: T,
+        read: impl FnOnce(&Value<'a, 'i>) -> Result<T>,
+    ) -> Result<T> {
+        Ok(self.opt(name, read)?.unwrap_or(default))
+    }
+
+    /// Fails on the first key (in file order) that is not in `allowed`.
+    fn allow_keys(&self, allowed: &[&str]) -> Result<()> {
+        match self
+            .entries()
+            .into_iter()
+            .find(|(name, _)| !allowed.contains(name))
+        {
+            Some((name, value)) => Err(value.error(format!(
+                "unknown key `{name}`; allowed keys: {}",
+                allowed.join(", ")
+            ))),
+            None => Ok(()),
+        }
+    }
+
+    /// Reads `type` as one of `types` (`what` names them in errors), then allows only the
+    /// `common` keys and that type's own.
+    fn typed<T: Copy>(
+        &self,
+        what: &str,
+        types: &[(&str, T, &[&str])],
+        common: &[&str],
+    ) -> Result<T> {
+        let names: Vec<(&str, usize)> = types.iter().enumerate().map(|(i, t)| (t.0, i)).collect();
+        let (_, kind, keys) = types[self.req("type", |v| v.choice(what, &names))?];
+        self.allow_keys(&[common, keys].concat())?;
+        Ok(kind)
+    }
+}
+
+/// A TOML value of the scene with its dotted key and line.
+struct Value<'a, 'i> {
+    source: &'a Source<'a>,
+    value: &'a DeValue<'i>,
+    key: String,
+    line: usize,
+}
+
+impl<'a, 'i> Value<'a, 'i> {
+    fn error(&self, message: impl Into<String>) -> SceneError {
+        self.source.error(Some(self.line), Some(&self.key), message)
+    }
+
+    /// A type error: `what` was expected.
+    fn expected(&self, what: &str) -> SceneError {
+        let found = match self.value {
+            DeValue::String(_) => "a string",
+            DeValue::Integer(_) => "an integer",
+            DeValue::Float(_) => "a float",
+            DeValue::Boolean(_) => "a boolean",
+            DeValue::Datetime(_) => "a date-time",
+            DeValue::Array(_) => "an array",
+            DeValue::Table(_) => "a table",
+        };
+        self.error(format!("expected {what}, found {found}"))
+    }
+
+    fn table(&self) -> Result<Table<'a, 'i>> {
+        match self.value {
+            DeValue::Table(table) => Ok(Table {
+                source: self.source,
+                table,
+                key: self.key.clone(),
+                line: Some(self.line),
+            }),
+            _ => Err(self.expected("a table")),
+        }
+    }
+
+    /// The items of an array, keyed `key[i]`, each at its own line.
+    fn elements(&self) -> Result<Vec<Value<'a, 'i>>> {
+        let DeValue::Array(items) = self.value else {
+            return Err(self.expected("an array"));
+        };
+        let element = |(i, item): (usize, &'a Spanned<DeValue<'i>>)| Value {
+            source: self.source,
+            value: item.get_ref(),
+            key: format!("{}[{i}]", self.key),
+            line: self.source.line(item.span().start),
+        };
+        Ok(items.iter().enumerate().map(element).collect())
+    }
+
+    fn string(&self) -> Result<&'a str> {
+        self.value.as_str().ok_or_else(|| self.expected("a string"))
+    }
+
+    fn bool(&self) -> Result<bool> {
+        self.value
+            .as_bool()
+            .ok_or_else(|| self.expected("a boolean (true or false)"))
+    }
+
+    /// A string that must name one of `options`; `what` names it in errors.
+    fn choice<T: Copy>(&self, what: &str, options: &[(&str, T)]) -> Result<T> {
+        let name = self.string()?;
+        match options.iter().find(|(option, _)| *option == name) {
+            Some(&(_, value)) => Ok(value),
+            None => {
+                let names: Vec<&str> = options.iter().map(|(option, _)| *option).collect();
+                Err(self.error(format!(
+                    "unknown {what} `{name}`; expected one of: {}",
+                    names.join(", ")
+                )))
+            }
+        }
+    }
+
+    /// An integer in `min..=max`.
+    fn u32_in(&self, min: u32, max: u32) -> Result<u32> {
+        let integer = match self.value {
+            DeValue::Integer(integer) => integer,
+            DeValue::Float(float) => {
+                return Err(self.error(format!("expected an integer, found the float {float}")))
+            }
+            _ => return Err(self.expected("an integer")),
+        };
+        parse_integer(integer)
+            .and_then(|n| u32::try_from(n).ok())
+            .filter(|n| (min..=max).contains(n))
+            .ok_or_else(|| self.error(format!("must be between {min} and {max}, found {integer}")))
+    }
+
+    /// A count of at least 1.
+    fn count(&self) -> Result<u32> {
+        self.u32_in(1, u32::MAX)
+    }
+
+    /// A number, integer or float, unchecked.
+    fn number(&self) -> Result<f64> {
+        let number = match self.value {
+            DeValue::Integer(integer) => parse_integer(integer).map(|n| n as f64),
+            DeValue::Float(float) => float.as_str().parse().ok(),
+            _ => return Err(self.expected("a number")),
+        };
+        number.ok_or_else(|| self.error("this number cannot be represented"))
+    }
+
+    /// A number as written in the file, for messages.
+    fn literal(&self) -> String {
+        match self.value {
+            DeValue::Integer(integer) => integer.to_string(),
+            DeValue::Float(float) => float.to_string(),
+            other => other.type_str().to_owned(),
+        }
+    }
+
+    fn f64_in(&self, bound: Bound) -> Result<f64> {
+        let x = self.number()?;
+        if !x.is_finite() {
+            Err(self.error(format!("must be a finite number, found {}", self.literal())))
+        } else if !bound.contains(x) {
+            Err(self.error(format!("must be {bound}, found {}", self.literal())))
+        } else {
+            Ok(x)
+        }
+    }
+
+    fn f32_in(&self, bound: Bound) -> Result<f32> {
+        let x = self.f64_in(bound)? as f32;
+        // Rounding may overflow, or underflow to a zero that `bound` rejects.
+        if x.is_infinite() || !bound.contains(x.into()) {
+            let message = format!("{} is out of the range of 32-bit floats", self.literal());
+            return Err(self.error(message));
+        }
+        Ok(x)
+    }
+
+    /// An array of `N` numbers, each finite and within `bound`.
+    fn floats<const N: usize>(&self, bound: Bound) -> Result<[f32; N]> {
+        let what = format!("an array of {N} numbers");
+        let items = self.elements().map_err(|_| self.expected(&what))?;
+        if items.len() != N {
+            return Err(self.error(format!("expected {what}, found {} items", items.len())));
+        }
+        let mut out = [0.0; N];
+        for (x, item) in out.iter_mut().zip(items) {
+            // Errors name the array's key, at the item's line.
+            *x = Value {
+                key: self.key.clone(),
+                ..item
+            }
+            .f32_in(bound)?;
+        }
+        Ok(out)
+    }
+
+    fn vec2_in(&self, bound: Bound) -> Result<Vec2> {
+        self.floats(bound).map(Vec2::from_array)
+    }
+
+    fn vec3_in(&self, bound: Bound) -> Result<Vec3> {
+        self.floats(bound).map(Vec3::from_array)
+    }
+
+    fn vec3(&self) -> Result<Vec3> {
+        self.vec3_in(Bound::Any)
+    }
+
+    /// A scale: one number or three, each nonzero.
+    fn scale(&self) -> Result<Vec3> {
+        match self.value {
+            DeValue::Array(_) => self.vec3_in(Bound::NonZero),
+            _ => self.f32_in(Bound::NonZero).map(Vec3::splat),
+        }
+    }
+
+    /// A path relative to the scene file's directory.
+    fn path(&self) -> Result<PathBuf> {
+        let directory = self.source.path.parent().unwrap_or(Path::new(""));
+        Ok(directory.join(self.string()?))
+    }
+
+    /// Reads the `what` file at `path` (which this value names) with `read`.
+    fn read_file<T>(
+        &self,
+        what: &str,
+        path: &Path,
+        read: fn(&Path) -> std::result::Result<T, String>,
+    ) -> Result<T> {
+        read(path).map_err(|e| self.error(format!("cannot read {what} {}: {e}", path.display())))
+    }
+
+    /// The index of the material this value names.
+    fn material(&self, materials: &[Material]) -> Result<u32> {
+        let name = self.string()?;
+        if let Some(index) = materials.iter().position(|m| m.name == name) {
+            return Ok(index as u32);
+        }
+        let names: Vec<&str> = materials.iter().map(|m| m.name.as_str()).collect();
+        let defined = if names.is_empty() {
+            "no materials are defined".to_owned()
+        } else {
+            format!("defined materials: {}", names.join(", "))
+        };
+        Err(self.error(format!("unknown material `{name}`; {defined}")))
+    }
+}
+
+/// A TOML integer (any radix), when it fits in an `i64`.
+fn parse_integer(integer: &DeInteger) -> Option<i64> {
+    i64::from_str_radix(integer.as_str(), integer.radix()).ok()
+}
+
+/// A range that a number must lie in.
+#[derive(Clone, Copy, Debug)]
+enum Bound {
+    Any,
+    Positive,
+    NonNegative,
+    NonZero,
+    /// Strictly between the two.
+    Open(f64, f64),
+    /// Between the two, inclusive.
+    Closed(f64, f64),
+}
+
+impl Bound {
+    fn contains(self, x: f64) -> bool {
+        match self {
+            Bound::Any => true,
+            Bound::Positive => x > 0.0,
+            Bound::NonNegative => x >= 0.0,
+            Bound::NonZero => x != 0.0,
+            Bound::Open(low, high) => low < x && x < high,
+            Bound::Closed(low, high) => low <= x && x <= high,
+        }
+    }
+}
+
+impl fmt::Display for Bound {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Bound::Any => write!(f, "a number"),
+            Bound::Positive => write!(f, "greater than 0"),
+            Bound::NonNegative => write!(f, "at least 0"),
+            Bound::NonZero => write!(f, "nonzero"),
+            Bound::Open(low, high) => write!(f, "greater than {low} and less than {high}"),
+            Bound::Closed(low, high) => write!(f, "between {low} and {high}"),
+        }
+    }
 }

@@ -1,1 +1,271 @@
-//! OBJ meshes and shape tessellation.
+//! OBJ meshes, textures and shape tessellation: the files a scene names, and every shape
+//! turned into world-space triangles. Knows nothing of TOML; errors are plain messages that
+//! the loader places in the scene file.
+
+use super::{Texture, Triangle};
+use glam::{Mat3, Vec2, Vec3};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// An indexed triangle mesh in object space. `normals` and `uvs`, when present, have one
+/// entry per position.
+#[derive(Clone, Debug, Default)]
+pub(super) struct IndexedMesh {
+    pub positions: Vec<Vec3>,
+    pub normals: Option<Vec<Vec3>>,
+    pub uvs: Option<Vec<Vec2>>,
+    pub indices: Vec<[u32; 3]>,
+}
+
+/// Scale, then rotation about x, y and z (in that order), then translation:
+/// `M = T * Rz * Ry * Rx * S`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Transform {
+    linear: Mat3,
+    translation: Vec3,
+    /// Inverse transpose of `linear`, for normals.
+    normal_matrix: Mat3,
+}
+
+impl Transform {
+    /// `rotate_degrees` holds the angles about x, y and z.
+    pub fn new(scale: Vec3, rotate_degrees: Vec3, translation: Vec3) -> Self {
+        let r = rotate_degrees * (std::f32::consts::PI / 180.0);
+        let linear = Mat3::from_rotation_z(r.z)
+            * Mat3::from_rotation_y(r.y)
+            * Mat3::from_rotation_x(r.x)
+            * Mat3::from_diagonal(scale);
+        Transform {
+            linear,
+            translation,
+            normal_matrix: linear.inverse().transpose(),
+        }
+    }
+
+    pub fn point(&self, p: Vec3) -> Vec3 {
+        self.linear * p + self.translation
+    }
+
+    /// A transformed normal, unit length, or zero when `n` is zero.
+    pub fn normal(&self, n: Vec3) -> Vec3 {
+        (self.normal_matrix * n).normalize_or_zero()
+    }
+
+    /// Whether the transform mirrors space, so that triangle winding must be reversed to
+    /// keep the front side in front.
+    pub fn flips_winding(&self) -> bool {
+        self.linear.determinant() < 0.0
+    }
+}
+
+/// The two triangles of the parallelogram `corner, corner+u, corner+u+v, corner+v`, with
+/// geometric normals along `cross(u, v)` and texture coordinates `uv_scale * (a, b)`.
+pub(super) fn quad(corner: Vec3, u: Vec3, v: Vec3, uv_scale: Vec2, shape: u32) -> [Triangle; 2] {
+    let vertex = |a: f32, b: f32| (corner + a * u + b * v, uv_scale * Vec2::new(a, b));
+    let triangle = |corners: [(f32, f32); 3]| {
+        let vertices = corners.map(|(a, b)| vertex(a, b));
+        Triangle {
+            p: vertices.map(|x| x.0),
+            n: None,
+            uv: Some(vertices.map(|x| x.1)),
+            shape,
+        }
+    };
+    [
+        triangle([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0)]),
+        triangle([(0.0, 0.0), (1.0, 1.0), (0.0, 1.0)]),
+    ]
+}
+
+/// The cube `[-1, 1]^3`, wound so that every face's normal points outwards.
+pub(super) fn unit_cube() -> IndexedMesh {
+    // Corner i has x, y, z = +1 where bits 0, 1, 2 of i are set, -1 elsewhere.
+    let positions = (0..8)
+        .map(|i| Vec3::new(sign(i & 1), sign(i & 2), sign(i & 4)))
+        .collect();
+    // Each face counter-clockwise seen from outside: -x, +x, -y, +y, -z, +z.
+    let faces: [[u32; 4]; 6] = [
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+    ];
+    let indices = faces
+        .iter()
+        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+        .collect();
+    IndexedMesh {
+        positions,
+        normals: None,
+        uvs: None,
+        indices,
+    }
+}
+
+fn sign(bit: u32) -> f32 {
+    if bit != 0 {
+        1.0
+    } else {
+        -1.0
+    }
+}
+
+/// Reads a Wavefront OBJ file, triangulated, all its objects in one mesh. Normals and
+/// texture coordinates are kept only when every vertex has them. Materials are ignored.
+pub(super) fn read_obj(path: &Path) -> Result<IndexedMesh, String> {
+    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    let (models, _) =
+        tobj::load_obj_buf(&mut bytes.as_slice(), &options, |_| Ok(Default::default()))
+            .map_err(|e| format!("not a valid OBJ file: {e}"))?;
+
+    let mut mesh = IndexedMesh::default();
+    let mut normals = Some(Vec::new());
+    let mut uvs = Some(Vec::new());
+    for model in &models {
+        let m = &model.mesh;
+        let count = m.positions.len() / 3;
+        let base = mesh.positions.len() as u32;
+        if m.indices.iter().any(|&i| i as usize >= count) {
+            return Err("a face refers to a vertex that does not exist".into());
+        }
+        mesh.positions
+            .extend(m.positions.chunks_exact(3).map(Vec3::from_slice));
+        mesh.indices.extend(
+            m.indices
+                .chunks_exact(3)
+                .map(|t| [t[0], t[1], t[2]].map(|i| base + i)),
+        );
+        append_if_complete(&mut normals, &m.normals, count, 3, Vec3::from_slice);
+        append_if_complete(&mut uvs, &m.texcoords, count, 2, Vec2::from_slice);
+    }
+    if mesh.indices.is_empty() {
+        return Err("the file has no triangles".into());
+    }
+    mesh.normals = normals;
+    mesh.uvs = uvs;
+    Ok(mesh)
+}
+
+/// Appends one model's per-vertex attribute (flattened, `width` floats a vertex) to `all`,
+/// or drops `all` when the model does not have it for each of its `count` vertices.
+fn append_if_complete<T>(
+    all: &mut Option<Vec<T>>,
+    flat: &[f32],
+    count: usize,
+    width: usize,
+    convert: fn(&[f32]) -> T,
+) {
+    if flat.len() != count * width {
+        *all = None;
+    }
+    if let Some(all) = all {
+        all.extend(flat.chunks_exact(width).map(convert));
+    }
+}
+
+/// The world-space triangles of `mesh` under `transform`, and how many were skipped for
+/// having zero area. With `smooth`, each vertex gets a shading normal: the file's, or else
+/// the area-weighted average of the normals of the faces around its position.
+pub(super) fn triangles(
+    mesh: &IndexedMesh,
+    transform: &Transform,
+    smooth: bool,
+    shape: u32,
+) -> (Vec<Triangle>, usize) {
+    let world: Vec<Vec3> = mesh.positions.iter().map(|&p| transform.point(p)).collect();
+    let mut faces = Vec::with_capacity(mesh.indices.len());
+    for &[a, b, c] in &mesh.indices {
+        let face = if transform.flips_winding() {
+            [a, c, b]
+        } else {
+            [a, b, c]
+        }
+        .map(|i| i as usize);
+        if face_normal(&world, face).length_squared() > 0.0 {
+            faces.push(face);
+        }
+    }
+    let skipped = mesh.indices.len() - faces.len();
+
+    let normals = smooth.then(|| match &mesh.normals {
+        Some(file_normals) => file_normals.iter().map(|&n| transform.normal(n)).collect(),
+        None => averaged_normals(&world, &faces),
+    });
+    let triangles = faces
+        .iter()
+        .map(|&face| Triangle {
+            p: face.map(|i| world[i]),
+            n: normals.as_ref().map(|n| {
+                let geometric = face_normal(&world, face).normalize_or_zero();
+                face.map(|i| if n[i] == Vec3::ZERO { geometric } else { n[i] })
+            }),
+            uv: mesh.uvs.as_ref().map(|uv| face.map(|i| uv[i])),
+            shape,
+        })
+        .collect();
+    (triangles, skipped)
+}
+
+/// `cross(p1 - p0, p2 - p0)`: along the front side, twice the triangle's area long.
+fn face_normal(world: &[Vec3], [a, b, c]: [usize; 3]) -> Vec3 {
+    (world[b] - world[a]).cross(world[c] - world[a])
+}
+
+/// Per-vertex unit normals averaged over the faces that share the vertex's position
+/// (so that texture seams do not split them), weighted by area; zero where they cancel.
+fn averaged_normals(world: &[Vec3], faces: &[[usize; 3]]) -> Vec<Vec3> {
+    // Adding 0.0 turns -0.0 into 0.0, so that both give the same key.
+    let key = |p: Vec3| p.to_array().map(|c| (c + 0.0).to_bits());
+    let mut sums: HashMap<[u32; 3], Vec3> = HashMap::new();
+    for &face in faces {
+        let n = face_normal(world, face);
+        for i in face {
+            *sums.entry(key(world[i])).or_default() += n;
+        }
+    }
+    world
+        .iter()
+        .map(|&p| {
+            sums.get(&key(p))
+                .copied()
+                .unwrap_or_default()
+                .normalize_or_zero()
+        })
+        .collect()
+}
+
+/// Reads an sRGB image (PNG) and decodes it to linear RGB, row 0 at the top.
+pub(super) fn read_texture(path: &Path) -> Result<Texture, String> {
+    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let image = image::load_from_memory(&bytes)
+        .map_err(|e| e.to_string())?
+        .into_rgb32f();
+    let texels = image
+        .pixels()
+        .map(|p| Vec3::from_array(p.0.map(srgb_to_linear)))
+        .collect();
+    Ok(Texture {
+        path: path.to_path_buf(),
+        width: image.width(),
+        height: image.height(),
+        texels,
+    })
+}
+
+/// The sRGB electro-optical transfer function (IEC 61966-2-1), for values in [0, 1].
+fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
