@@ -192,11 +192,7 @@ fn point_light_scene() {
 #[test]
 fn textured_scene_decodes_its_texture() {
     let scene = canonical("textured");
-    assert_eq!(
-        scene.textures.len(),
-        1,
-        "two materials... one path, one texture"
-    );
+    assert_eq!(scene.textures.len(), 1, "one path, one texture");
     let texture = &scene.textures[0];
     assert_eq!(
         texture.texels.len(),
@@ -1034,7 +1030,7 @@ fn light_values_out_of_range_are_errors() {
 /// The error of a scene in `dir` that fails, checked for its place and for naming `file`.
 #[track_caller]
 fn assert_file_error(dir: &Path, text: &str, line: usize, key: &str, file: &str) {
-    let error = load_in(dir, text).err().expect("an error");
+    let error = load_in(dir, text).expect_err("an error");
     assert_eq!(
         (error.line, error.key.as_deref()),
         (Some(line), Some(key)),
@@ -1109,7 +1105,7 @@ fn missing_and_corrupt_files_are_errors() {
     );
 
     let missing_scene = dir.join("no-such-scene.toml");
-    let error = scene::load(&missing_scene).err().expect("an error");
+    let error = scene::load(&missing_scene).expect_err("an error");
     assert_eq!(error.file, missing_scene);
 }
 
