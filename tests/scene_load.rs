@@ -192,11 +192,7 @@ fn point_light_scene() {
 #[test]
 fn textured_scene_decodes_its_texture() {
     let scene = canonical("textured");
-    assert_eq!(
-        scene.textures.len(),
-        1,
-        "two materials... one path, one texture"
-    );
+    assert_eq!(scene.textures.len(), 1, "one path, one texture");
     let texture = &scene.textures[0];
     assert_eq!(
         texture.texels.len(),
@@ -763,7 +759,12 @@ fn unknown_names_are_errors() {
 
 #[test]
 fn non_finite_numbers_are_errors() {
-    assert_error(&edit("fov = 40", "fov = nan"), 9, "camera.fov", &["must be a finite number, found nan"]);
+    assert_error(
+        &edit("fov = 40", "fov = nan"),
+        9,
+        "camera.fov",
+        &["must be a finite number, found nan"],
+    );
     assert_error(&edit("fov = 40", "fov = inf"), 9, "camera.fov", &["finite"]);
     assert_error(
         &edit("position = [0, 0, 5]", "position = [0, -inf, 5]"),
@@ -1029,7 +1030,7 @@ fn light_values_out_of_range_are_errors() {
 /// The error of a scene in `dir` that fails, checked for its place and for naming `file`.
 #[track_caller]
 fn assert_file_error(dir: &Path, text: &str, line: usize, key: &str, file: &str) {
-    let error = load_in(dir, text).err().expect("an error");
+    let error = load_in(dir, text).expect_err("an error");
     assert_eq!(
         (error.line, error.key.as_deref()),
         (Some(line), Some(key)),
@@ -1104,7 +1105,7 @@ fn missing_and_corrupt_files_are_errors() {
     );
 
     let missing_scene = dir.join("no-such-scene.toml");
-    let error = scene::load(&missing_scene).err().expect("an error");
+    let error = scene::load(&missing_scene).expect_err("an error");
     assert_eq!(error.file, missing_scene);
 }
 
@@ -1163,6 +1164,25 @@ fn textures_decode_srgb_top_row_first_once_per_path() {
         }
     );
     assert_eq!(scene.textures.len(), 1, "one path, one texture");
+}
+
+#[test]
+fn odd_obj_files_do_not_panic() {
+    let dir = temp_dir("odd-obj");
+    for obj in [
+        "f 0 0 0\n",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -5 1 2\n",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/2/3/4 2 3\n",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2 3\n",
+        "v 1e400 0 0\nv nan 0 0\nv 0 inf 0\nf 1 2 3\n",
+        "v 0 0 0 1 1\nf\nvt\nvn\nmtllib missing.mtl\nusemtl nothing\n",
+        "\u{0}\u{1}binary\n",
+    ] {
+        let _ = load_mesh(&dir, obj, "smooth = true");
+    }
+    std::fs::write(dir.join("bytes.obj"), [0xff, 0xfe, 0x00, 0x80]).unwrap();
+    let text = with_shape("type = \"mesh\"\nfile = \"bytes.obj\"\nmaterial = \"white\"\n");
+    assert!(load_in(&dir, &text).is_err());
 }
 
 #[test]

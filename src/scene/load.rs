@@ -78,6 +78,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
     Ok(scene)
 }
 
+/// The `[render]` table, with defaults.
 fn read_render(t: &Table) -> Result<RenderSettings> {
     t.allow_keys(&[
         "width",
@@ -112,6 +113,7 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
     })
 }
 
+/// The `[camera]` table; `focus_distance` defaults to the distance to `look_at`.
 fn read_camera(t: &Table) -> Result<Camera> {
     t.allow_keys(&[
         "position",
@@ -172,6 +174,7 @@ fn read_material(name: &str, entry: &Value, textures: &mut Vec<Texture>) -> Resu
     })
 }
 
+/// Lambertian: `albedo`, or `texture` in its place.
 fn read_diffuse(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> {
     let albedo = t.opt("albedo", |v| v.vec3_in(UNIT))?;
     if albedo.is_some() && t.get("texture").is_some() {
@@ -319,6 +322,7 @@ const LIGHT_TYPES: &[(&str, LightReader, &[&str])] = &[
     ),
 ];
 
+/// Reads one `[[lights]]` entry.
 fn read_light(entry: &Value) -> Result<Light> {
     let t = entry.table()?;
     let read = t.typed("light type", LIGHT_TYPES, &["type"])?;
@@ -335,6 +339,7 @@ fn read_point_light(t: &Table) -> Result<LightKind> {
     })
 }
 
+/// A directional light; its direction is normalized.
 fn read_directional_light(t: &Table) -> Result<LightKind> {
     let direction = t.req("direction", Value::vec3)?.normalize_or_zero();
     if direction == Vec3::ZERO {

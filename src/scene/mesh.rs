@@ -121,7 +121,6 @@ pub(super) fn read_obj(path: &Path) -> Result<IndexedMesh, String> {
         single_index: true,
         ignore_points: true,
         ignore_lines: true,
-        ..Default::default()
     };
     let (models, _) =
         tobj::load_obj_buf(&mut bytes.as_slice(), &options, |_| Ok(Default::default()))
