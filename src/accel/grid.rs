@@ -72,7 +72,8 @@ impl GridParams {
     /// Bucket of the cell containing `p`, or `None` outside the grid (or for non-finite `p`).
     #[inline]
     fn bucket_of(&self, p: Vec3) -> Option<usize> {
-        self.cell_of(p).map(|c| hash_cell(c, self.table_mask) as usize)
+        self.cell_of(p)
+            .map(|c| hash_cell(c, self.table_mask) as usize)
     }
 
     /// Cell containing `p`, or `None` when it is outside `[0, res)` on some axis.
@@ -154,7 +155,12 @@ pub fn build_grid(points: &[[f32; 4]]) -> HashGrid {
     }
     if count == 0 {
         return HashGrid {
-            params: GridParams { origin: [0.0; 3], cell_size: 1.0, res: [0; 3], table_mask: 0 },
+            params: GridParams {
+                origin: [0.0; 3],
+                cell_size: 1.0,
+                res: [0; 3],
+                table_mask: 0,
+            },
             cell_start: vec![0, 0],
             entries: Vec::new(),
         };
@@ -203,7 +209,11 @@ pub fn build_grid(points: &[[f32; 4]]) -> HashGrid {
             *slot += 1;
         }
     }
-    HashGrid { params, cell_start, entries }
+    HashGrid {
+        params,
+        cell_start,
+        entries,
+    }
 }
 
 impl HashGrid {
@@ -246,7 +256,13 @@ mod tests {
     #[test]
     fn hash_wraps() {
         assert_eq!(hash_cell([0, 0, 0], u32::MAX), 0);
-        assert_eq!(hash_cell([1, 1, 1], u32::MAX), 73_856_093 ^ 19_349_663 ^ 83_492_791);
-        assert_eq!(hash_cell([u32::MAX, 0, 0], u32::MAX), 73_856_093u32.wrapping_neg());
+        assert_eq!(
+            hash_cell([1, 1, 1], u32::MAX),
+            73_856_093 ^ 19_349_663 ^ 83_492_791
+        );
+        assert_eq!(
+            hash_cell([u32::MAX, 0, 0], u32::MAX),
+            73_856_093u32.wrapping_neg()
+        );
     }
 }
