@@ -567,33 +567,55 @@ fn grid_hash_is_teschner() {
     assert_eq!(hash_cell(c, 0xffff), expected & 0xffff);
 }
 
-/// Build time for 2^18 points (timing printed, not asserted). Representative numbers need an
+/// Build time for 2^18 points, timing printed, not asserted. Representative numbers need an
 /// optimized build: `cargo test --release --test accel grid_build_time -- --nocapture`.
 #[test]
 fn grid_build_time() {
     let mut rng = Rng(11);
-    let n = 1 << 18;
-    // Visible points on a few surfaces in a unit-ish scene, radius as after some passes.
-    let points: Vec<[f32; 4]> = (0..n)
-        .map(|_| {
-            let p = rng.vec3(0.0, 1.0);
-            [p.x, p.y, (p.z * 4.0).floor() / 4.0, rng.range(0.002, 0.01)]
+    let side = 512;
+    // Visible points as an SPPM camera pass leaves them, in pixel order: a 512 x 512 image
+    // of a unit scene (a floor, a back wall and a box: depth steps), radii around a pixel
+    // footprint.
+    let mut points: Vec<[f32; 4]> = (0..side * side)
+        .map(|i| {
+            let (u, v) = (
+                (i % side) as f32 / side as f32,
+                (i / side) as f32 / side as f32,
+            );
+            let depth = if v < 0.3 {
+                v
+            } else if (0.3..0.6).contains(&u) && v < 0.6 {
+                0.5
+            } else {
+                1.0
+            };
+            [u, v, depth, rng.range(1.0, 2.0) / side as f32]
         })
         .collect();
-    let mut best = f64::INFINITY;
-    let mut grid = build_grid(&points);
-    for _ in 0..5 {
-        let start = Instant::now();
-        grid = build_grid(&points);
-        best = best.min(start.elapsed().as_secs_f64());
+    let time = |points: &[[f32; 4]]| {
+        let mut best = f64::INFINITY;
+        let mut grid = build_grid(points);
+        for _ in 0..5 {
+            let start = Instant::now();
+            grid = build_grid(points);
+            best = best.min(start.elapsed().as_secs_f64());
+        }
+        check_grid(&grid, points);
+        println!(
+            "  {:.2} ms (best of 5), res {:?}, table {}, {} entries ({:.2} per point)",
+            best * 1e3,
+            grid.params.res,
+            grid.params.table_mask as usize + 1,
+            grid.entries.len(),
+            grid.entries.len() as f64 / points.len() as f64
+        );
+    };
+    println!("grid build, {} points in pixel order:", points.len());
+    time(&points);
+    // Shuffled (Fisher-Yates): no locality in the bucket updates, the worst case.
+    for i in (1..points.len()).rev() {
+        points.swap(i, rng.below(i + 1));
     }
-    println!(
-        "grid build, {n} points: {:.2} ms (best of 5), res {:?}, table {}, {} entries ({:.2} per point)",
-        best * 1e3,
-        grid.params.res,
-        grid.params.table_mask as usize + 1,
-        grid.entries.len(),
-        grid.entries.len() as f64 / n as f64
-    );
-    check_grid(&grid, &points);
+    println!("grid build, {} points shuffled:", points.len());
+    time(&points);
 }
