@@ -79,6 +79,14 @@ fn random_spheres(rng: &mut Rng, n: usize) -> Vec<Sphere> {
         .collect()
 }
 
+/// 500 random triangles and 20 spheres, and their BVH.
+fn random_scene(rng: &mut Rng) -> (Vec<Triangle>, Vec<Sphere>, Bvh) {
+    let tris = random_triangles(rng, 500);
+    let spheres = random_spheres(rng, 20);
+    let bvh = build_bvh(&tris, &spheres);
+    (tris, spheres, bvh)
+}
+
 fn assert_same_hit(bvh: Option<Hit>, oracle: Option<Hit>, what: &str) {
     match (bvh, oracle) {
         (None, None) => {}
@@ -200,9 +208,7 @@ fn check_tree(bvh: &Bvh, tris: &[Triangle], spheres: &[Sphere]) {
 #[test]
 fn bvh_matches_brute_force_on_random_scene() {
     let mut rng = Rng(1);
-    let tris = random_triangles(&mut rng, 500);
-    let spheres = random_spheres(&mut rng, 20);
-    let bvh = build_bvh(&tris, &spheres);
+    let (tris, spheres, bvh) = random_scene(&mut rng);
     check_tree(&bvh, &tris, &spheres);
     let rays = random_rays(&mut rng, 2000);
     let hits = compare_rays(&bvh, &tris, &spheres, &rays, "random rays");
@@ -215,9 +221,7 @@ fn bvh_matches_brute_force_on_random_scene() {
 #[test]
 fn bvh_matches_brute_force_from_inside_spheres() {
     let mut rng = Rng(2);
-    let tris = random_triangles(&mut rng, 500);
-    let spheres = random_spheres(&mut rng, 20);
-    let bvh = build_bvh(&tris, &spheres);
+    let (tris, spheres, bvh) = random_scene(&mut rng);
     let rays: Vec<_> = (0..1000)
         .map(|i| {
             let s = &spheres[i % spheres.len()];
@@ -239,9 +243,7 @@ fn bvh_matches_brute_force_from_inside_spheres() {
 #[test]
 fn bvh_matches_brute_force_on_axis_aligned_rays() {
     let mut rng = Rng(3);
-    let tris = random_triangles(&mut rng, 500);
-    let spheres = random_spheres(&mut rng, 20);
-    let bvh = build_bvh(&tris, &spheres);
+    let (tris, spheres, bvh) = random_scene(&mut rng);
     let axes = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
     let mut rays = Vec::new();
     for i in 0..3000 {
@@ -327,9 +329,7 @@ fn bvh_matches_brute_force_on_rays_along_box_faces() {
 #[test]
 fn bvh_ray_missing_everything() {
     let mut rng = Rng(4);
-    let tris = random_triangles(&mut rng, 500);
-    let spheres = random_spheres(&mut rng, 20);
-    let bvh = build_bvh(&tris, &spheres);
+    let (tris, spheres, bvh) = random_scene(&mut rng);
     for (o, d) in [
         (Vec3::new(0.0, 100.0, 0.0), Vec3::Y),
         (Vec3::new(-50.0, 30.0, 0.0), Vec3::new(1.0, 0.0, 0.0)),
@@ -618,4 +618,32 @@ fn grid_build_time() {
     }
     println!("grid build, {} points shuffled:", points.len());
     time(&points);
+}
+
+/// Primitives with identical boxes (a zero-extent scene box for PLOC's Morton codes), and
+/// degenerate triangles.
+#[test]
+fn bvh_of_coincident_primitives() {
+    let spheres = vec![
+        Sphere {
+            center: Vec3::ONE,
+            radius: 0.5,
+            shape: 0
+        };
+        10
+    ];
+    let p = Vec3::new(1.0, 2.0, 3.0);
+    let tris = vec![triangle([p, p, p]); 10];
+    let bvh = build_bvh(&tris, &spheres);
+    check_tree(&bvh, &tris, &spheres);
+    let mut rng = Rng(8);
+    let rays: Vec<_> = (0..500)
+        .map(|_| (rng.vec3(-3.0, 3.0), rng.unit_vec3(), f32::INFINITY))
+        .collect();
+    // All ten spheres are hit at the same t: compare t only.
+    for &(o, d, t_max) in &rays {
+        let oracle = brute_force_intersect(&tris, &spheres, o, d, t_max);
+        let got = bvh.intersect(&tris, &spheres, o, d, t_max);
+        assert_eq!(got.map(|h| h.t), oracle.map(|h| h.t), "ray {o} {d}");
+    }
 }
