@@ -28,7 +28,7 @@
 //! between them (no `n k` temporary array). Both passes update buckets scattered over the table, so they are
 //! bound by cache misses on `cell_start` and `entries`, and points in pixel order (as the
 //! camera pass leaves them) build about twice as fast as shuffled ones: for 2^18 points,
-//! about 18 ms in pixel order and 33 ms shuffled on the 2-core development machine (release
+//! about 20 ms in pixel order and 35 ms shuffled on the 2-core development machine (release
 //! build; `cargo test --release --test accel grid_build_time -- --nocapture`).
 
 use glam::Vec3;
