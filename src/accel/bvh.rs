@@ -25,7 +25,10 @@ use crate::scene::{Sphere, Triangle};
 /// The tree of an empty scene is a single node with `count == 0` and an inverted box
 /// (`min = +inf`, `max = -inf`). Every traversal tests a node's box before looking at its
 /// children, and no ray with a finite origin and direction passes the slab test of an
-/// inverted box, so that root is never descended into (its "children" do not exist).
+/// inverted box, so that root is never descended into (its "children" do not exist). This
+/// relies on the slab test picking near and far planes by the sign of the direction, as
+/// `slab_test` does: taking per-axis min and max of the two plane distances instead would
+/// turn the inverted box into a valid one.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct BvhNode {
@@ -93,8 +96,17 @@ pub fn build_bvh(triangles: &[Triangle], spheres: &[Sphere]) -> Bvh {
     // Primitive i of the obvhs build: triangles first, then spheres.
     let aabbs: Vec<Aabb> = triangles
         .iter()
-        .map(|t| aabb(t.p[0].min(t.p[1]).min(t.p[2]), t.p[0].max(t.p[1]).max(t.p[2])))
-        .chain(spheres.iter().map(|s| aabb(s.center - s.radius, s.center + s.radius)))
+        .map(|t| {
+            aabb(
+                t.p[0].min(t.p[1]).min(t.p[2]),
+                t.p[0].max(t.p[1]).max(t.p[2]),
+            )
+        })
+        .chain(
+            spheres
+                .iter()
+                .map(|s| aabb(s.center - s.radius, s.center + s.radius)),
+        )
         .collect();
     let params = BvhBuildParams {
         max_prims_per_leaf: MAX_PRIMS_PER_LEAF,
@@ -137,7 +149,10 @@ fn flatten(bvh2: &Bvh2, triangle_count: u32) -> Bvh {
             prim_refs.extend(bvh2.primitive_indices[ids].iter().map(|&id| to_ref(id)));
             (first, node.prim_count)
         } else {
-            assert!(depth + 1 < STACK_SIZE, "BVH deeper than the traversal stack");
+            assert!(
+                depth + 1 < STACK_SIZE,
+                "BVH deeper than the traversal stack"
+            );
             let first = nodes.len();
             nodes.extend([BvhNode::zeroed(); 2]);
             let child = node.first_index as usize;
@@ -160,7 +175,8 @@ fn flatten(bvh2: &Bvh2, triangle_count: u32) -> Bvh {
 
 impl Bvh {
     /// Nearest intersection with `0 < t < t_max` along `origin + t * dir` (`dir` need not be
-    /// unit length), or `None`. `primitives` must be the ones the tree was built from.
+    /// unit length), or `None`. `triangles` and `spheres` must be the ones the tree was built
+    /// from.
     ///
     /// Stack traversal as in the kernels: pop a node, skip it unless the ray segment overlaps
     /// its box (against the current nearest hit, so entries pushed before a hit was found are
@@ -194,7 +210,8 @@ impl Bvh {
             if node.count > 0 {
                 for i in node.first..node.first + node.count {
                     let prim_ref = self.prim_refs[i as usize];
-                    if let Some(h) = intersect_prim(triangles, spheres, prim_ref, origin, dir, t_max)
+                    if let Some(h) =
+                        intersect_prim(triangles, spheres, prim_ref, origin, dir, t_max)
                     {
                         t_max = h.t;
                         hit = Some(h);
@@ -227,11 +244,13 @@ impl Bvh {
 /// The near and far planes of each slab are picked by the sign of `inv_dir` (Williams et al.
 /// 2005), so a zero direction component (`inv_dir = ±inf`) needs no special case: the slab
 /// gives `(-inf, +inf)` when the origin lies strictly inside it and an empty interval
-/// otherwise. When the origin lies exactly on one of its planes, `0 * inf` is NaN, and
-/// `max`/`min` return their non-NaN operand (IEEE 754 maxNum/minNum, as do Rust's `f32`
-/// methods, WGSL's `max`/`min` and GPU `fmax`/`fmin`), so that bound is ignored and the ray,
-/// which lies in the closed slab, is kept. The far distance is padded by `1 + 2 gamma(3)`
-/// (pbrt-v3, section 3.9.2) so that rounding never culls a box whose primitives are hit.
+/// otherwise. When the origin lies exactly on one of its planes, `0 * inf` is NaN; the
+/// interval is narrowed through comparisons, which are false for NaN (as in pbrt), so that
+/// bound is ignored and the ray, which lies in the closed slab, is kept. (`f32::max` would
+/// do the same, but WGSL's `max` becomes SPIR-V `FMax`, whose result for NaN is undefined:
+/// the kernels should keep the comparisons, `select(t0, t_near.x, t_near.x > t0)`.) The far
+/// distance is padded by `1 + 2 gamma(3)` (pbrt-v3, section 3.9.2) so that rounding does not
+/// cull the box of a primitive hit at the box's boundary.
 #[inline]
 fn slab_test(min: Vec3, max: Vec3, origin: Vec3, inv_dir: Vec3, t_max: f32) -> bool {
     let negative = inv_dir.cmplt(Vec3::ZERO);
@@ -239,8 +258,16 @@ fn slab_test(min: Vec3, max: Vec3, origin: Vec3, inv_dir: Vec3, t_max: f32) -> b
     let far = Vec3::select(negative, min, max);
     let t_near = (near - origin) * inv_dir;
     let t_far = (far - origin) * inv_dir * SLAB_PAD;
-    let t0 = 0.0f32.max(t_near.x).max(t_near.y).max(t_near.z);
-    let t1 = t_max.min(t_far.x).min(t_far.y).min(t_far.z);
+    let mut t0 = 0.0f32;
+    let mut t1 = t_max;
+    for axis in 0..3 {
+        if t_near[axis] > t0 {
+            t0 = t_near[axis];
+        }
+        if t_far[axis] < t1 {
+            t1 = t_far[axis];
+        }
+    }
     t0 <= t1
 }
 
@@ -260,11 +287,21 @@ fn intersect_prim(
     if prim_ref & SPHERE_BIT != 0 {
         let s = &spheres[(prim_ref & !SPHERE_BIT) as usize];
         let t = intersect_sphere(s.center, s.radius, origin, dir, t_max)?;
-        Some(Hit { t, prim_ref, b1: 0.0, b2: 0.0 })
+        Some(Hit {
+            t,
+            prim_ref,
+            b1: 0.0,
+            b2: 0.0,
+        })
     } else {
         let [p0, p1, p2] = triangles[prim_ref as usize].p;
         let (t, b1, b2) = intersect_triangle(p0, p1 - p0, p2 - p0, origin, dir, t_max)?;
-        Some(Hit { t, prim_ref, b1, b2 })
+        Some(Hit {
+            t,
+            prim_ref,
+            b1,
+            b2,
+        })
     }
 }
 
@@ -290,7 +327,7 @@ pub fn intersect_triangle(
     let inv_det = 1.0 / det;
     let tvec = origin - p0;
     let b1 = tvec.dot(pvec) * inv_det;
-    if !(b1 >= 0.0 && b1 <= 1.0) {
+    if !(0.0..=1.0).contains(&b1) {
         return None;
     }
     let qvec = tvec.cross(e1);
@@ -329,7 +366,8 @@ pub fn intersect_sphere(
     let c = f.dot(f) - radius * radius;
     let l = f - (b / a) * dir;
     let discriminant = a * (radius * radius - l.dot(l));
-    if !(discriminant >= 0.0) {
+    // NaN (zero `dir`) goes on and fails the root tests below.
+    if discriminant < 0.0 {
         return None;
     }
     let q = -(b + discriminant.sqrt().copysign(b));
@@ -383,14 +421,20 @@ mod tests {
         let (t, b1, b2) = intersect_triangle(p0, e1, e2, o, -Vec3::Z, 10.0).unwrap();
         assert_eq!((t, b1, b2), (1.0, 0.25, 0.5));
         let o = Vec3::new(0.25, 0.5, -2.0);
-        assert_eq!(intersect_triangle(p0, e1, e2, o, Vec3::Z, 10.0).unwrap().0, 2.0);
+        assert_eq!(
+            intersect_triangle(p0, e1, e2, o, Vec3::Z, 10.0).unwrap().0,
+            2.0
+        );
         assert!(intersect_triangle(p0, e1, e2, o, Vec3::Z, 2.0).is_none());
     }
 
     #[test]
     fn sphere_near_and_far_roots() {
         let c = Vec3::new(0.0, 0.0, 5.0);
-        assert_eq!(intersect_sphere(c, 1.0, Vec3::ZERO, Vec3::Z, 100.0), Some(4.0));
+        assert_eq!(
+            intersect_sphere(c, 1.0, Vec3::ZERO, Vec3::Z, 100.0),
+            Some(4.0)
+        );
         assert_eq!(intersect_sphere(c, 1.0, c, Vec3::Z * 2.0, 100.0), Some(0.5));
         assert_eq!(intersect_sphere(c, 1.0, Vec3::ZERO, -Vec3::Z, 100.0), None);
     }
@@ -412,7 +456,11 @@ mod tests {
             (v(2.0, 0.5, 0.5), Vec3::X, false),
         ];
         for (o, d, expected) in cases {
-            assert_eq!(slab_test(min, max, o, 1.0 / d, f32::INFINITY), expected, "{o} {d}");
+            assert_eq!(
+                slab_test(min, max, o, 1.0 / d, f32::INFINITY),
+                expected,
+                "{o} {d}"
+            );
         }
     }
 }
