@@ -67,17 +67,22 @@ fn intersect_sphere(s: Sphere, o: vec3f, d: vec3f, t_max: f32) -> f32 {
     return -1.0;
 }
 
-// Slab test; returns the entry distance, or a value >= t_max when the box is missed.
+// Slab test; returns the entry distance, or a value >= t_max when the box is missed. Near and
+// far planes are picked by the direction's sign, and the interval is narrowed by comparisons,
+// which skip the NaN of 0 * inf (a ray in a slab's plane) and keep an inverted (empty) box
+// empty; min and max would do neither. Mirrors `slab_test` in src/accel/bvh.rs.
 fn intersect_box(lo: vec3f, hi: vec3f, o: vec3f, inv_d: vec3f, t_max: f32) -> f32 {
-    let t0 = (lo - o) * inv_d;
-    let t1 = (hi - o) * inv_d;
-    // min/max ignore the NaN of 0 * inf on most hardware; the comparisons below reject it anyway.
-    let t_near = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), max(min(t0.z, t1.z), 0.0));
-    let t_far = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), min(max(t0.z, t1.z), t_max));
-    if t_near <= t_far {
-        return t_near;
+    let negative = inv_d < vec3f(0.0);
+    let t_near = (select(lo, hi, negative) - o) * inv_d;
+    // Padded as in pbrt-v3 sec. 3.9.1, so rounding cannot lose a box the ray grazes.
+    let t_far = (select(hi, lo, negative) - o) * inv_d * 1.0000004;
+    var t0 = 0.0;
+    var t1 = t_max;
+    for (var axis = 0; axis < 3; axis++) {
+        t0 = select(t0, t_near[axis], t_near[axis] > t0);
+        t1 = select(t1, t_far[axis], t_far[axis] < t1);
     }
-    return t_max;
+    return select(t_max, t0, t0 <= t1);
 }
 
 // Closest hit along o + t d for t in (0, t_max); hit.prim_ref is 0xffffffff on a miss.
