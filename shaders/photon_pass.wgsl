@@ -84,17 +84,20 @@ fn find_emitter(u: f32) -> u32 {
     return lo;
 }
 
-@compute @workgroup_size(64)
-fn photon_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    let index = frame.photon_offset + gid.x + gid.y * groups.x * 64u;
-    if index >= frame.photon_count {
-        return;
-    }
-    var rng = rng_new(frame.seed, frame.pass_index, STREAM_PHOTON, index);
+// Photons each thread traces, one after another.
+const PHOTONS_PER_THREAD: u32 = 16u;
 
-    // Choose an emitter, a point on it and a cosine-distributed direction from its front.
-    let e = emitters[find_emitter(rng_next(&rng))];
-    let u_pos = rng_next2(&rng);
+struct Photon {
+    o: vec3f,
+    d: vec3f,
+    beta: vec3f,
+    depth: u32,
+}
+
+// Choose an emitter, a point on it and a cosine-distributed direction from its front.
+fn emit_photon(rng: ptr<function, Rng>) -> Photon {
+    let e = emitters[find_emitter(rng_next(rng))];
+    let u_pos = rng_next2(rng);
     var p: vec3f;
     var n: vec3f;
     var shape_index: u32;
@@ -110,46 +113,76 @@ fn photon_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         n = normalize(cross(tri.e1, tri.e2));
         shape_index = tri.shape;
     }
-    var d = sample_cosine_hemisphere(n, rng_next2(&rng));
+    let d = sample_cosine_hemisphere(n, rng_next2(rng));
     // beta = Le cos / (pmf * (1 / area) * (cos / pi)), relative to the total power.
-    var beta = shapes[shape_index].emission * (PI * e.area / (e.pmf * frame.power_total));
-    var o = offset_origin(p, n, d);
+    let beta = shapes[shape_index].emission * (PI * e.area / (e.pmf * frame.power_total));
+    return Photon(offset_origin(p, n, d), d, beta, 0u);
+}
 
-    for (var depth = 0u; depth < frame.max_depth; depth++) {
-        let hit = trace_closest(o, d, 3.4e38);
-        if hit.prim_ref == 0xffffffffu {
-            break;
+// One bounce of a photon: deposit at a diffuse hit, then scatter. False when the photon ends.
+fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> bool {
+    let hit = trace_closest((*ph).o, (*ph).d, 3.4e38);
+    if hit.prim_ref == 0xffffffffu {
+        return false;
+    }
+    let d = (*ph).d;
+    let s = surface_at(hit, (*ph).o, d);
+    let m = materials[s.material];
+    var wi: vec3f;
+    var f: vec3f;
+    if m.kind == MATERIAL_DIFFUSE {
+        deposit(s.p, d, (*ph).beta);
+        // Scatter to the side the photon came from.
+        let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
+        wi = sample_cosine_hemisphere(n_in, rng_next2(rng));
+        f = m.albedo;
+        // A shading normal can send the photon through the surface; end it there.
+        if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 {
+            return false;
         }
-        let s = surface_at(hit, o, d);
-        let m = materials[s.material];
-        var wi: vec3f;
-        var f: vec3f;
-        if m.kind == MATERIAL_DIFFUSE {
-            deposit(s.p, d, beta);
-            // Scatter to the side the photon came from.
-            let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
-            wi = sample_cosine_hemisphere(n_in, rng_next2(&rng));
-            f = m.albedo;
-            // A shading normal can send the photon through the surface; end it there.
-            if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 {
+    } else if m.kind == MATERIAL_MIRROR {
+        wi = reflect(d, s.ng);
+        f = m.albedo;
+    } else {
+        let next = sample_dielectric(d, s.ng, m.ior, rng_next(rng), false);
+        wi = next.wi;
+        f = next.weight;
+    }
+    // Russian roulette that keeps the photon's largest channel constant (pbrt-v4 sec. 16.3).
+    let beta_new = (*ph).beta * f;
+    let q = max(0.0, 1.0 - max_component(beta_new) / max_component((*ph).beta));
+    if rng_next(rng) < q {
+        return false;
+    }
+    (*ph).beta = beta_new / (1.0 - q);
+    (*ph).o = offset_origin(s.p, s.ng, wi);
+    (*ph).d = wi;
+    (*ph).depth += 1u;
+    return (*ph).depth < frame.max_depth;
+}
+
+// Each thread traces PHOTONS_PER_THREAD photons and starts the next as soon as one ends, so
+// the lanes of a SIMD group stay busy although path lengths differ (path regeneration,
+// Novak et al. 2010). Photon i draws from its own random stream: the result does not depend
+// on which thread traced it.
+@compute @workgroup_size(64)
+fn photon_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let thread = gid.x + gid.y * groups.x * 64u;
+    let first = frame.photon_offset + thread * PHOTONS_PER_THREAD;
+    let end = min(first + PHOTONS_PER_THREAD, frame.photon_count);
+    var next = first;
+    var alive = false;
+    var ph: Photon;
+    var rng: Rng;
+    loop {
+        if !alive {
+            if next >= end {
                 break;
             }
-        } else if m.kind == MATERIAL_MIRROR {
-            wi = reflect(d, s.ng);
-            f = m.albedo;
-        } else {
-            let next = sample_dielectric(d, s.ng, m.ior, rng_next(&rng), false);
-            wi = next.wi;
-            f = next.weight;
+            rng = rng_new(frame.seed, frame.pass_index, STREAM_PHOTON, next);
+            ph = emit_photon(&rng);
+            next += 1u;
         }
-        // Russian roulette that keeps the photon's largest channel constant (pbrt-v4 sec. 16.3).
-        let beta_new = beta * f;
-        let q = max(0.0, 1.0 - max_component(beta_new) / max_component(beta));
-        if rng_next(&rng) < q {
-            break;
-        }
-        beta = beta_new / (1.0 - q);
-        o = offset_origin(s.p, s.ng, wi);
-        d = wi;
+        alive = photon_bounce(&ph, &rng);
     }
 }

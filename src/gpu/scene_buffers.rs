@@ -19,8 +19,6 @@ pub struct SceneData {
     pub emitters: Vec<Emitter>,
     /// Sum of the emitters' power (average over RGB of Le * area * pi).
     pub power_total: f32,
-    /// Total surface area of the scene, for the automatic radius.
-    pub surface_area: f32,
     pub bounds_min: Vec3,
     pub bounds_max: Vec3,
 }
@@ -133,11 +131,9 @@ impl SceneData {
         // Emitters, chosen in proportion to power = average(Le) * area * pi.
         let mut emitters = Vec::new();
         let mut powers = Vec::new();
-        let mut surface_area = 0.0f64;
         let emission = |shape: u32| scene.shapes[shape as usize].emission.unwrap_or(Vec3::ZERO);
         for (i, t) in scene.triangles.iter().enumerate() {
             let area = 0.5 * (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length();
-            surface_area += area as f64;
             let power = emission(t.shape).element_sum() / 3.0 * area * std::f32::consts::PI;
             if power > 0.0 {
                 emitters.push(Emitter { prim_ref: i as u32, cdf: 0.0, pmf: 0.0, area });
@@ -146,7 +142,6 @@ impl SceneData {
         }
         for (i, s) in scene.spheres.iter().enumerate() {
             let area = 4.0 * std::f32::consts::PI * s.radius * s.radius;
-            surface_area += area as f64;
             let power = emission(s.shape).element_sum() / 3.0 * area * std::f32::consts::PI;
             if power > 0.0 {
                 emitters.push(Emitter { prim_ref: i as u32 | SPHERE_BIT, cdf: 0.0, pmf: 0.0, area });
@@ -183,7 +178,6 @@ impl SceneData {
             normals,
             emitters,
             power_total: power_total as f32,
-            surface_area: surface_area as f32,
             bounds_min,
             bounds_max,
         })

@@ -15,14 +15,22 @@ use crate::image_io::Rgb32Image;
 use crate::scene::Scene;
 use wgpu::util::DeviceExt;
 
-/// Photons each visible point should see in its first pass under the automatic radius.
-pub const AUTO_RADIUS_PHOTONS: f32 = 16.0;
+/// Photons each `photon_pass` thread traces (`PHOTONS_PER_THREAD` in the kernel).
+pub const PHOTONS_PER_THREAD: u32 = 16;
 
-/// The automatic initial radius: the disc that would catch [`AUTO_RADIUS_PHOTONS`] photons of
-/// one pass if the photons landed evenly over all the scene's surfaces,
-/// r0 = sqrt(k A / (pi photons)). It scales with the scene and shrinks as photons grow.
-pub fn auto_radius(surface_area: f32, photons: u32) -> f32 {
-    (AUTO_RADIUS_PHOTONS * surface_area / (std::f32::consts::PI * photons as f32)).sqrt()
+/// Pixel footprints across the automatic initial radius.
+pub const AUTO_RADIUS_PIXELS: f32 = 2.0;
+
+/// The automatic initial radius: [`AUTO_RADIUS_PIXELS`] times the side of a pixel's footprint
+/// on a plane facing the camera at the focus distance (the look-at point for a pinhole),
+/// r0 = 2 * 2 d tan(fov / 2) / height. Tying it to the pixel keeps the blur of the density
+/// estimate below the image's own resolution and the work per photon the same at any
+/// resolution; it scales with the scene.
+pub fn auto_radius(scene: &Scene) -> f32 {
+    let c = &scene.camera;
+    let d = if c.aperture_radius > 0.0 { c.focus_distance } else { (c.look_at - c.position).length() };
+    let footprint = 2.0 * d * (0.5 * c.fov.to_radians()).tan() / scene.render.height as f32;
+    AUTO_RADIUS_PIXELS * footprint
 }
 
 /// Statistics a caller may read between passes.
@@ -90,7 +98,7 @@ impl Sppm {
                     r.width, r.height, r.spp
                 ))
             })?;
-        let initial_radius = r.radius.unwrap_or_else(|| auto_radius(data.surface_area, r.photons));
+        let initial_radius = r.radius.unwrap_or_else(|| auto_radius(scene));
 
         let mut frame = super::camera_frame(scene);
         frame.photon_count = r.photons;
@@ -200,7 +208,7 @@ impl Sppm {
         // Photons, then the statistics update.
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("photon_pass") });
         let photon_group = self.photon_group.as_ref().expect("grid uploaded above");
-        self.photon_pass.dispatch(&mut encoder, photon_group, self.frame.photon_count);
+        self.photon_pass.dispatch(&mut encoder, photon_group, self.frame.photon_count.div_ceil(PHOTONS_PER_THREAD));
         self.update_stats.dispatch(&mut encoder, &self.update_group, self.vp_count);
         self.queue.submit([encoder.finish()]);
 
