@@ -12,13 +12,16 @@ use std::time::Instant;
 
 /// Render a scene with stochastic progressive photon mapping on the GPU.
 #[derive(Parser, Debug)]
-#[command(version, about)]
+#[command(version, about, args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
     /// Scene file (TOML, format version 1).
-    scene: PathBuf,
+    #[arg(required = true)]
+    scene: Option<PathBuf>,
     /// Output image: .png (sRGB, clamped) or .exr (linear float RGB).
-    #[arg(short, long)]
-    output: PathBuf,
+    #[arg(short, long, required = true)]
+    output: Option<PathBuf>,
     /// SPPM passes (overrides render.iterations).
     #[arg(long)]
     iterations: Option<u32>,
@@ -49,6 +52,30 @@ struct Cli {
     /// Most scattering events on a path (overrides render.max_depth).
     #[arg(long)]
     max_depth: Option<u32>,
+}
+
+#[derive(clap::Subcommand, Debug)]
+enum Command {
+    /// Error metrics between an image and a reference (EXR or PNG).
+    Diff {
+        image: PathBuf,
+        reference: PathBuf,
+        /// Box-downsample both images by this factor first.
+        #[arg(long, default_value_t = 1)]
+        downsample: u32,
+    },
+}
+
+/// Print relMSE = mean((x - ref)^2 / (ref^2 + 0.01)), RMSE and the channel mean ratios.
+fn diff(image: &Path, reference: &Path, downsample: u32) -> Result<(), Error> {
+    let a = image_io::read_image(image)?;
+    let b = image_io::read_image(reference)?;
+    let c = sppm_gpu::metrics::compare(&a, &b, downsample).map_err(Error::Setting)?;
+    println!(
+        "relMSE {:.6}  RMSE {:.6}  mean ratio {:.4} {:.4} {:.4}  (downsample {downsample})",
+        c.rel_mse, c.rmse, c.mean_ratio[0], c.mean_ratio[1], c.mean_ratio[2]
+    );
+    Ok(())
 }
 
 /// Apply the command line's overrides to the scene's `[render]` table, checking each.
@@ -110,13 +137,23 @@ fn check_output(output: &Path, scene_path: &Path) -> Result<(), Error> {
 }
 
 fn run(cli: &Cli) -> Result<(), Error> {
-    check_output(&cli.output, &cli.scene)?;
-    let mut scene = scene::load(&cli.scene)?;
+    if let Some(Command::Diff { image, reference, downsample }) = &cli.command {
+        return diff(image, reference, *downsample);
+    }
+    let (Some(scene_path), Some(output)) = (&cli.scene, &cli.output) else {
+        return Err(Error::Setting("a scene file and -o OUTPUT are required".into()));
+    };
+    render(cli, scene_path, output)
+}
+
+fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
+    check_output(output, scene_path)?;
+    let mut scene = scene::load(scene_path)?;
     apply_overrides(cli, &mut scene.render)?;
     if scene.render.method != Method::Sppm {
         return Err(Error::Setting(format!(
             "{}: render.method {:?} is not supported yet; use \"sppm\"",
-            cli.scene.display(),
+            scene_path.display(),
             scene.render.method
         )));
     }
@@ -144,10 +181,10 @@ fn run(cli: &Cli) -> Result<(), Error> {
     let seconds = start.elapsed().as_secs_f64();
     progress.finish_and_clear();
 
-    if cli.output.exists() {
-        eprintln!("note: replacing {}", cli.output.display());
+    if output.exists() {
+        eprintln!("note: replacing {}", output.display());
     }
-    image_io::write_image(&cli.output, &image)?;
+    image_io::write_image(output, &image)?;
     println!(
         "{} passes, {} photons in {:.2} s ({:.2} M photons/s, {:.2} passes/s, initial radius {:.4}) -> {}",
         sppm.passes(),
@@ -156,7 +193,7 @@ fn run(cli: &Cli) -> Result<(), Error> {
         sppm.photons_traced() as f64 / seconds / 1e6,
         sppm.passes() as f64 / seconds,
         sppm.initial_radius(),
-        cli.output.display()
+        output.display()
     );
     Ok(())
 }

@@ -1,6 +1,9 @@
 //! Acceleration structures against brute force: BVH traversal against testing every
 //! primitive, hashed-grid lookups against testing every visible point.
 
+mod common;
+
+use common::Rng;
 use std::time::Instant;
 
 use glam::Vec3;
@@ -9,46 +12,6 @@ use sppm_gpu::accel::grid::{brute_force_within, point_within};
 use sppm_gpu::accel::{build_bvh, build_grid, hash_cell, Bvh, HashGrid, SPHERE_BIT};
 use sppm_gpu::scene::{Sphere, Triangle};
 
-/// SplitMix64 (Steele et al. 2014): seeded, good enough for test scenes.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn f32(&mut self) -> f32 {
-        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
-    }
-
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.f32()
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next_u64() % n as u64) as usize
-    }
-
-    fn vec3(&mut self, lo: f32, hi: f32) -> Vec3 {
-        Vec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
-    }
-
-    /// Uniform on the unit sphere (rejection sampling in the cube).
-    fn unit_vec3(&mut self) -> Vec3 {
-        loop {
-            let v = self.vec3(-1.0, 1.0);
-            let l2 = v.length_squared();
-            if l2 > 1e-4 && l2 <= 1.0 {
-                return v / l2.sqrt();
-            }
-        }
-    }
-}
 
 fn triangle(p: [Vec3; 3]) -> Triangle {
     Triangle {

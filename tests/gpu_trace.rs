@@ -4,6 +4,7 @@
 mod common;
 
 use glam::Vec3;
+use common::Rng;
 use sppm_gpu::accel::bvh::brute_force_intersect;
 use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
 use sppm_gpu::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
@@ -11,40 +12,26 @@ use sppm_gpu::gpu::{Kernel, Resource};
 use sppm_gpu::scene::*;
 use std::path::PathBuf;
 
-/// xorshift32: a small deterministic generator for test geometry.
-struct Rand(u32);
-impl Rand {
-    fn next(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 17;
-        self.0 ^= self.0 << 5;
-        (self.0 >> 8) as f32 / (1u32 << 24) as f32
-    }
-    fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {
-        Vec3::new(self.next(), self.next(), self.next()) * (hi - lo) + Vec3::splat(lo)
-    }
-}
-
-fn random_scene(rand: &mut Rand, triangles: usize, spheres: usize) -> Scene {
+fn random_scene(rand: &mut Rng, triangles: usize, spheres: usize) -> Scene {
     let mut scene = common::load_scene("cornell-box.toml");
     scene.path = PathBuf::from("random");
     scene.shapes.truncate(1);
     scene.shapes[0].emission = Some(Vec3::ONE);
     scene.triangles = (0..triangles)
         .map(|_| {
-            let c = rand.vec(-1.0, 1.0);
-            Triangle { p: [c, c + rand.vec(-0.2, 0.2), c + rand.vec(-0.2, 0.2)], n: None, uv: None, shape: 0 }
+            let c = rand.vec3(-1.0, 1.0);
+            Triangle { p: [c, c + rand.vec3(-0.2, 0.2), c + rand.vec3(-0.2, 0.2)], n: None, uv: None, shape: 0 }
         })
         .collect();
     scene.spheres =
-        (0..spheres).map(|_| Sphere { center: rand.vec(-1.0, 1.0), radius: 0.02 + 0.2 * rand.next(), shape: 0 }).collect();
+        (0..spheres).map(|_| Sphere { center: rand.vec3(-1.0, 1.0), radius: 0.02 + 0.2 * rand.f32(), shape: 0 }).collect();
     scene
 }
 
 #[test]
 fn gpu_traversal_matches_cpu_oracle() {
     let Some(gpu) = common::gpu() else { return };
-    let mut rand = Rand(12345);
+    let mut rand = Rng(12345);
     let scene = random_scene(&mut rand, 600, 24);
     let data = SceneData::new(&scene).unwrap();
 
@@ -52,8 +39,8 @@ fn gpu_traversal_matches_cpu_oracle() {
     let n = 4096;
     let mut rays = Vec::with_capacity(2 * n);
     for i in 0..n {
-        let o = rand.vec(-1.5, 1.5);
-        let mut d = rand.vec(-1.0, 1.0);
+        let o = rand.vec3(-1.5, 1.5);
+        let mut d = rand.vec3(-1.0, 1.0);
         if i % 7 == 0 {
             d = Vec3::new(0.0, 0.0, if i % 2 == 0 { 1.0 } else { -1.0 });
         }

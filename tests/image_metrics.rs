@@ -1,5 +1,8 @@
 //! Tests for `image_io` (PNG/EXR reading and writing) and `metrics`.
 
+mod common;
+
+use common::Rng;
 use std::fs;
 use std::path::{Path, PathBuf};
 
@@ -37,29 +40,6 @@ fn dir_entries(dir: &Path) -> Vec<String> {
     names
 }
 
-/// Small deterministic generator (SplitMix64) so tests need no extra crates.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `(0, 1]`.
-    fn uniform(&mut self) -> f64 {
-        ((self.next_u64() >> 11) + 1) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Standard normal (Box-Muller).
-    fn gaussian(&mut self) -> f64 {
-        let (u1, u2) = (self.uniform(), self.uniform());
-        (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
-    }
-}
 
 /// A test image with distinct values per pixel and channel, including
 /// out-of-[0,1] radiance.

@@ -1,6 +1,10 @@
 //! Shared by the GPU tests: a device, or a clear reason there is none.
 #![allow(dead_code)]
 
+mod rng;
+#[allow(unused_imports)]
+pub use rng::Rng;
+
 use sppm_gpu::gpu::GpuContext;
 use sppm_gpu::scene::Scene;
 use std::path::PathBuf;
