@@ -19,8 +19,11 @@ fn repo_references() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/references")
 }
 
-/// The full set of Mitsuba references, where this machine has them.
-const SHARED_REFERENCES: &str = "/work/shared/references";
+/// The full set of Mitsuba references, in the `shared/` folder beside the checkout, where
+/// this machine has it.
+fn shared_references() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/references")
+}
 
 /// A fresh, empty directory for one test's files.
 fn scratch_dir(test: &str) -> PathBuf {
@@ -276,10 +279,10 @@ fn atomic_write_leaves_no_temp_file() {
 #[test]
 fn references_load_with_expected_size() {
     let mut dirs = vec![repo_references()];
-    if Path::new(SHARED_REFERENCES).is_dir() {
-        dirs.push(PathBuf::from(SHARED_REFERENCES));
+    if shared_references().is_dir() {
+        dirs.push(shared_references());
     } else {
-        eprintln!("{SHARED_REFERENCES} not present; checking the repository's copies only");
+        eprintln!("{} not present; checking the repository's copies only", shared_references().display());
     }
     let mut loaded = 0;
     for dir in dirs {
