@@ -168,7 +168,7 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> bool {
 @compute @workgroup_size(64)
 fn photon_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
     let thread = gid.x + gid.y * groups.x * 64u;
-    let first = frame.photon_offset + thread * PHOTONS_PER_THREAD;
+    let first = thread * PHOTONS_PER_THREAD;
     let end = min(first + PHOTONS_PER_THREAD, frame.photon_count);
     var next = first;
     var alive = false;

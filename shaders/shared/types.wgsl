@@ -24,8 +24,7 @@ struct Frame {
     power_total: f32,
     alpha: f32,
     vp_count: u32,
-    photon_offset: u32,
-    _pad: u32,
+    _pad: vec2u,
 }
 
 // Leaf when count > 0: primitives prim_refs[first .. first + count].

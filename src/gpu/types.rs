@@ -27,8 +27,7 @@ pub struct Frame {
     pub power_total: f32,
     pub alpha: f32,
     pub vp_count: u32,
-    pub photon_offset: u32,
-    pub _pad: u32,
+    pub _pad: [u32; 2],
 }
 
 /// A triangle as a corner and two edges.

@@ -56,23 +56,47 @@ pub struct Sppm {
     update_stats: Kernel,
     resolve: Kernel,
 
-    scene: SceneBuffers,
-    frame_buffer: wgpu::Buffer,
-    visible_points: wgpu::Buffer,
-    vp_points: wgpu::Buffer,
+    buffers: Buffers,
     vp_points_staging: wgpu::Buffer,
-    vp_stats: wgpu::Buffer,
-    flux_accum: wgpu::Buffer,
-    image: wgpu::Buffer,
     image_staging: wgpu::Buffer,
-    grid: wgpu::Buffer,
-    grid_cell_start: wgpu::Buffer,
-    grid_entries: wgpu::Buffer,
 
     camera_group: wgpu::BindGroup,
     photon_group: Option<wgpu::BindGroup>,
     update_group: wgpu::BindGroup,
     resolve_group: wgpu::BindGroup,
+}
+
+/// Every buffer the kernels bind, each under the name of its WGSL global.
+struct Buffers {
+    scene: SceneBuffers,
+    frame: wgpu::Buffer,
+    visible_points: wgpu::Buffer,
+    vp_points: wgpu::Buffer,
+    vp_stats: wgpu::Buffer,
+    flux_accum: wgpu::Buffer,
+    image: wgpu::Buffer,
+    grid: wgpu::Buffer,
+    grid_cell_start: wgpu::Buffer,
+    grid_entries: wgpu::Buffer,
+}
+
+impl Buffers {
+    /// The table each kernel's bind group takes its bindings from.
+    fn resources(&self) -> Vec<Resource<'_>> {
+        let mut resources = self.scene.resources();
+        resources.extend([
+            Resource { name: "frame", buffer: &self.frame },
+            Resource { name: "visible_points", buffer: &self.visible_points },
+            Resource { name: "vp_points", buffer: &self.vp_points },
+            Resource { name: "vp_stats", buffer: &self.vp_stats },
+            Resource { name: "flux_accum", buffer: &self.flux_accum },
+            Resource { name: "image", buffer: &self.image },
+            Resource { name: "grid", buffer: &self.grid },
+            Resource { name: "grid_cell_start", buffer: &self.grid_cell_start },
+            Resource { name: "grid_entries", buffer: &self.grid_entries },
+        ]);
+        resources
+    }
 }
 
 fn buffer(device: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
@@ -107,38 +131,30 @@ impl Sppm {
         frame.power_total = data.power_total;
         frame.vp_count = vp_count;
 
-        let kernels = [("camera_pass"), ("photon_pass"), ("update_stats"), ("resolve")];
-        let [camera_pass, photon_pass, update_stats, resolve] = kernels.map(|k| Kernel::new(device, k));
-        let (camera_pass, photon_pass, update_stats, resolve) = (camera_pass?, photon_pass?, update_stats?, resolve?);
+        let camera_pass = Kernel::new(device, "camera_pass")?;
+        let photon_pass = Kernel::new(device, "photon_pass")?;
+        let update_stats = Kernel::new(device, "update_stats")?;
+        let resolve = Kernel::new(device, "resolve")?;
 
-        let scene_buffers = SceneBuffers::new(device, &data);
-        let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        let n = vp_count as u64;
+        let stats: Vec<VpStats> = vec![VpStats { radius: initial_radius, ..VpStats::default() }; vp_count as usize];
+        let buffers = Buffers {
+            scene: SceneBuffers::new(device, &data),
+            frame: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
             contents: bytemuck::bytes_of(&frame),
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-        });
-        let n = vp_count as u64;
-        let visible_points = buffer(device, "visible_points", n * size_of::<VisiblePoint>() as u64, STORAGE);
-        let vp_points = buffer(device, "vp_points", n * 16, STORAGE);
-        let vp_points_staging = staging_buffer(device, "vp_points_staging", n * 16);
-        let stats: Vec<VpStats> = vec![VpStats { radius: initial_radius, ..VpStats::default() }; vp_count as usize];
-        let vp_stats = storage_buffer(device, "vp_stats", &stats);
-        let flux_accum = buffer(device, "flux_accum", n * ACCUM_STRIDE as u64 * 4, STORAGE);
-        let image = buffer(device, "image", pixel_count as u64 * 16, STORAGE);
-        let image_staging = staging_buffer(device, "image_staging", pixel_count as u64 * 16);
-        let grid = buffer(device, "grid", size_of::<GridParams>() as u64, wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
-        let grid_cell_start = buffer(device, "grid_cell_start", 16, STORAGE);
-        let grid_entries = buffer(device, "grid_entries", 16, STORAGE);
-
-        let mut resources = scene_buffers.resources();
-        resources.extend([
-            Resource { name: "frame", buffer: &frame_buffer },
-            Resource { name: "visible_points", buffer: &visible_points },
-            Resource { name: "vp_points", buffer: &vp_points },
-            Resource { name: "vp_stats", buffer: &vp_stats },
-            Resource { name: "flux_accum", buffer: &flux_accum },
-            Resource { name: "image", buffer: &image },
-        ]);
+            }),
+            visible_points: buffer(device, "visible_points", n * size_of::<VisiblePoint>() as u64, STORAGE),
+            vp_points: buffer(device, "vp_points", n * 16, STORAGE),
+            vp_stats: storage_buffer(device, "vp_stats", &stats),
+            flux_accum: buffer(device, "flux_accum", n * ACCUM_STRIDE as u64 * 4, STORAGE),
+            image: buffer(device, "image", pixel_count as u64 * 16, STORAGE),
+            grid: buffer(device, "grid", size_of::<GridParams>() as u64, wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST),
+            grid_cell_start: buffer(device, "grid_cell_start", 16, STORAGE),
+            grid_entries: buffer(device, "grid_entries", 16, STORAGE),
+        };
+        let resources = buffers.resources();
         let camera_group = camera_pass.bind_group(device, &resources)?;
         let update_group = update_stats.bind_group(device, &resources)?;
         let resolve_group = resolve.bind_group(device, &resources)?;
@@ -157,18 +173,9 @@ impl Sppm {
             photon_pass,
             update_stats,
             resolve,
-            scene: scene_buffers,
-            frame_buffer,
-            visible_points,
-            vp_points,
-            vp_points_staging,
-            vp_stats,
-            flux_accum,
-            image,
-            image_staging,
-            grid,
-            grid_cell_start,
-            grid_entries,
+            buffers,
+            vp_points_staging: staging_buffer(device, "vp_points_staging", n * 16),
+            image_staging: staging_buffer(device, "image_staging", pixel_count as u64 * 16),
             camera_group,
             photon_group: None,
             update_group,
@@ -194,14 +201,14 @@ impl Sppm {
     /// Run one SPPM pass to completion.
     pub fn run_pass(&mut self) -> Result<(), Error> {
         self.frame.pass_index = self.passes;
-        self.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&self.frame));
+        self.queue.write_buffer(&self.buffers.frame, 0, bytemuck::bytes_of(&self.frame));
 
         // Camera paths to visible points; their positions and radii come back for the grid.
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("camera_pass") });
         self.camera_pass.dispatch(&mut encoder, &self.camera_group, self.vp_count);
         self.queue.submit([encoder.finish()]);
         let points: Vec<[f32; 4]> =
-            read_buffer(&self.device, &self.queue, &self.vp_points, &self.vp_points_staging, self.vp_count as u64 * 16)?;
+            read_buffer(&self.device, &self.queue, &self.buffers.vp_points, &self.vp_points_staging, self.vp_count as u64 * 16)?;
         let grid = build_grid(&points);
         self.upload_grid(&grid.params, &grid.cell_start, &grid.entries)?;
 
@@ -230,25 +237,16 @@ impl Sppm {
             }
         };
         let mut rebind = self.photon_group.is_none();
-        rebind |= grow(&mut self.grid_cell_start, "grid_cell_start", cell_start);
-        rebind |= grow(&mut self.grid_entries, "grid_entries", entries);
-        self.queue.write_buffer(&self.grid, 0, bytemuck::bytes_of(params));
-        self.queue.write_buffer(&self.grid_cell_start, 0, bytemuck::cast_slice(cell_start));
+        let b = &mut self.buffers;
+        rebind |= grow(&mut b.grid_cell_start, "grid_cell_start", cell_start);
+        rebind |= grow(&mut b.grid_entries, "grid_entries", entries);
+        self.queue.write_buffer(&b.grid, 0, bytemuck::bytes_of(params));
+        self.queue.write_buffer(&b.grid_cell_start, 0, bytemuck::cast_slice(cell_start));
         if !entries.is_empty() {
-            self.queue.write_buffer(&self.grid_entries, 0, bytemuck::cast_slice(entries));
+            self.queue.write_buffer(&b.grid_entries, 0, bytemuck::cast_slice(entries));
         }
         if rebind {
-            let mut resources = self.scene.resources();
-            resources.extend([
-                Resource { name: "frame", buffer: &self.frame_buffer },
-                Resource { name: "visible_points", buffer: &self.visible_points },
-                Resource { name: "vp_points", buffer: &self.vp_points },
-                Resource { name: "flux_accum", buffer: &self.flux_accum },
-                Resource { name: "grid", buffer: &self.grid },
-                Resource { name: "grid_cell_start", buffer: &self.grid_cell_start },
-                Resource { name: "grid_entries", buffer: &self.grid_entries },
-            ]);
-            self.photon_group = Some(self.photon_pass.bind_group(&self.device, &resources)?);
+            self.photon_group = Some(self.photon_pass.bind_group(&self.device, &self.buffers.resources())?);
         }
         Ok(())
     }
@@ -266,12 +264,12 @@ impl Sppm {
         }
         // resolve reads the pass count from the frame: point it at the last completed pass.
         self.frame.pass_index = self.passes - 1;
-        self.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&self.frame));
+        self.queue.write_buffer(&self.buffers.frame, 0, bytemuck::bytes_of(&self.frame));
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("resolve") });
         self.record_resolve(&mut encoder);
         self.queue.submit([encoder.finish()]);
         let rgba: Vec<[f32; 4]> =
-            read_buffer(&self.device, &self.queue, &self.image, &self.image_staging, self.pixel_count as u64 * 16)?;
+            read_buffer(&self.device, &self.queue, &self.buffers.image, &self.image_staging, self.pixel_count as u64 * 16)?;
         let mut img = Rgb32Image::new(self.frame.width, self.frame.height);
         for (dst, src) in img.pixels.iter_mut().zip(&rgba) {
             *dst = [src[0], src[1], src[2]];
@@ -281,8 +279,8 @@ impl Sppm {
 
     /// Per visible point statistics, read back (for tests and `--stats`).
     pub fn stats(&self) -> Result<Vec<VpStats>, Error> {
-        let staging = staging_buffer(&self.device, "vp_stats_staging", self.vp_stats.size());
-        Ok(read_buffer(&self.device, &self.queue, &self.vp_stats, &staging, self.vp_stats.size())?)
+        let staging = staging_buffer(&self.device, "vp_stats_staging", self.buffers.vp_stats.size());
+        Ok(read_buffer(&self.device, &self.queue, &self.buffers.vp_stats, &staging, self.buffers.vp_stats.size())?)
     }
 
     /// Smallest, mean and largest radius over the visible points.
