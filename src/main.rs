@@ -22,6 +22,13 @@ struct Cli {
     /// Output image: .png (sRGB, clamped) or .exr (linear float RGB).
     #[arg(short, long, required = true)]
     output: Option<PathBuf>,
+    #[command(flatten)]
+    overrides: Overrides,
+}
+
+/// Settings that override the scene's `[render]` table.
+#[derive(clap::Args, Debug, Default)]
+struct Overrides {
     /// SPPM passes (overrides render.iterations).
     #[arg(long)]
     iterations: Option<u32>,
@@ -64,6 +71,13 @@ enum Command {
         #[arg(long, default_value_t = 1)]
         downsample: u32,
     },
+    /// Time each stage of an SPPM pass (waiting for the GPU after each) and report
+    /// throughput.
+    Bench {
+        scene: PathBuf,
+        #[command(flatten)]
+        overrides: Overrides,
+    },
 }
 
 /// Print relMSE = mean((x - ref)^2 / (ref^2 + 0.01)), RMSE and the channel mean ratios.
@@ -79,7 +93,7 @@ fn diff(image: &Path, reference: &Path, downsample: u32) -> Result<(), Error> {
 }
 
 /// Apply the command line's overrides to the scene's `[render]` table, checking each.
-fn apply_overrides(cli: &Cli, render: &mut scene::RenderSettings) -> Result<(), Error> {
+fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Result<(), Error> {
     fn positive(flag: &str, v: Option<u32>, max: u32, dst: &mut u32) -> Result<(), Error> {
         if let Some(v) = v {
             if v == 0 || v > max {
@@ -140,6 +154,9 @@ fn run(cli: &Cli) -> Result<(), Error> {
     if let Some(Command::Diff { image, reference, downsample }) = &cli.command {
         return diff(image, reference, *downsample);
     }
+    if let Some(Command::Bench { scene, overrides }) = &cli.command {
+        return bench(scene, overrides);
+    }
     let (Some(scene_path), Some(output)) = (&cli.scene, &cli.output) else {
         return Err(Error::Setting("a scene file and -o OUTPUT are required".into()));
     };
@@ -149,7 +166,7 @@ fn run(cli: &Cli) -> Result<(), Error> {
 fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
     check_output(output, scene_path)?;
     let mut scene = scene::load(scene_path)?;
-    apply_overrides(cli, &mut scene.render)?;
+    apply_overrides(&cli.overrides, &mut scene.render)?;
     if scene.render.method != Method::Sppm {
         return Err(Error::Setting(format!(
             "{}: render.method {:?} is not supported yet; use \"sppm\"",
@@ -194,6 +211,60 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
         sppm.passes() as f64 / seconds,
         sppm.initial_radius(),
         output.display()
+    );
+    Ok(())
+}
+
+/// Run the scene's passes with a wait after each stage and print where the time goes.
+fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
+    let mut scene = scene::load(scene_path)?;
+    apply_overrides(overrides, &mut scene.render)?;
+    let gpu = GpuContext::new()?;
+    let mut sppm = Sppm::new(&gpu.device, &gpu.queue, &scene)?;
+    let r = &scene.render;
+    // One untimed pass first: the driver may compile kernels at their first dispatch.
+    sppm.run_pass()?;
+    sppm.wait()?;
+    // Stage totals: camera paths, grid (readback, build, upload), photons, statistics.
+    let mut stage = [0.0f64; 4];
+    let start = Instant::now();
+    while sppm.passes() <= r.iterations {
+        let mut t = Instant::now();
+        let mut lap = |i: usize, sppm: &Sppm| -> Result<(), Error> {
+            sppm.wait()?;
+            stage[i] += t.elapsed().as_secs_f64();
+            t = Instant::now();
+            Ok(())
+        };
+        sppm.trace_camera_paths();
+        lap(0, &sppm)?;
+        sppm.build_grid()?;
+        lap(1, &sppm)?;
+        sppm.trace_photons();
+        lap(2, &sppm)?;
+        sppm.update_statistics();
+        lap(3, &sppm)?;
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    let passes = r.iterations as f64;
+    println!(
+        "{}: {}x{}, {} passes (after one untimed) x {} photons, max_depth {}, {}",
+        scene_path.display(),
+        r.width,
+        r.height,
+        r.iterations,
+        r.photons,
+        r.max_depth,
+        gpu.adapter_info.name
+    );
+    for (name, s) in ["camera paths", "grid (readback, build, upload)", "photons", "statistics"].iter().zip(stage) {
+        println!("  {name:32} {:8.1} ms/pass  {:5.1}%", 1e3 * s / passes, 100.0 * s / seconds);
+    }
+    println!(
+        "  total {seconds:.2} s: {:.2} passes/s, {:.3} M photons/s, {:.2} M camera paths/s",
+        passes / seconds,
+        passes * r.photons as f64 / seconds / 1e6,
+        passes * (r.width * r.height * r.spp) as f64 / stage[0] / 1e6
     );
     Ok(())
 }

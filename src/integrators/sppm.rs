@@ -198,29 +198,56 @@ impl Sppm {
         self.initial_radius
     }
 
-    /// Run one SPPM pass to completion.
+    /// Run one SPPM pass to completion: the four stages below, in order.
     pub fn run_pass(&mut self) -> Result<(), Error> {
+        self.trace_camera_paths();
+        self.build_grid()?;
+        self.trace_photons();
+        self.update_statistics();
+        Ok(())
+    }
+
+    /// Stage 1 of a pass: camera paths to this pass's visible points (`camera_pass`).
+    pub fn trace_camera_paths(&mut self) {
         self.frame.pass_index = self.passes;
         self.queue.write_buffer(&self.buffers.frame, 0, bytemuck::bytes_of(&self.frame));
-
-        // Camera paths to visible points; their positions and radii come back for the grid.
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("camera_pass") });
         self.camera_pass.dispatch(&mut encoder, &self.camera_group, self.vp_count);
         self.queue.submit([encoder.finish()]);
+    }
+
+    /// Stage 2: read the visible points back, build the hashed grid over them and upload it.
+    pub fn build_grid(&mut self) -> Result<(), Error> {
         let points: Vec<[f32; 4]> =
             read_buffer(&self.device, &self.queue, &self.buffers.vp_points, &self.vp_points_staging, self.vp_count as u64 * 16)?;
         let grid = build_grid(&points);
-        self.upload_grid(&grid.params, &grid.cell_start, &grid.entries)?;
+        self.upload_grid(&grid.params, &grid.cell_start, &grid.entries)
+    }
 
-        // Photons, then the statistics update.
+    /// Stage 3: trace this pass's photons, adding their flux to the visible points around
+    /// their diffuse hits (`photon_pass`).
+    pub fn trace_photons(&mut self) {
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("photon_pass") });
-        let photon_group = self.photon_group.as_ref().expect("grid uploaded above");
+        let photon_group = self.photon_group.as_ref().expect("build_grid runs before trace_photons");
         self.photon_pass.dispatch(&mut encoder, photon_group, self.frame.photon_count.div_ceil(PHOTONS_PER_THREAD));
+        self.queue.submit([encoder.finish()]);
+    }
+
+    /// Stage 4: fold the pass's photons into each visible point's N, radius and tau
+    /// (`update_stats`); the pass is then complete.
+    pub fn update_statistics(&mut self) {
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("update_stats") });
         self.update_stats.dispatch(&mut encoder, &self.update_group, self.vp_count);
         self.queue.submit([encoder.finish()]);
-
         self.passes += 1;
         self.photons_traced += self.frame.photon_count as u64;
+    }
+
+    /// Block until the GPU has finished all submitted work (for stage timings).
+    pub fn wait(&self) -> Result<(), Error> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| Error::Gpu(crate::gpu::GpuError(format!("waiting for the GPU failed: {e}"))))?;
         Ok(())
     }
 
