@@ -310,6 +310,27 @@ impl Sppm {
         Ok(read_buffer(&self.device, &self.queue, &self.buffers.vp_stats, &staging, self.buffers.vp_stats.size())?)
     }
 
+    /// The photon pass's flux accumulator, read back: `ACCUM_STRIDE` words per visible point,
+    /// (lo, hi) 32.32 fixed-point pairs for r, g, b relative to `power_total`, then the photon
+    /// count. It holds the current pass's photons between `trace_photons` and
+    /// `update_statistics`, which clears it.
+    pub fn flux_accum(&self) -> Result<Vec<u32>, Error> {
+        let size = self.buffers.flux_accum.size();
+        let staging = staging_buffer(&self.device, "flux_accum_staging", size);
+        Ok(read_buffer(&self.device, &self.queue, &self.buffers.flux_accum, &staging, size)?)
+    }
+
+    /// Visible points' positions and radii of the current pass (xyz, radius; radius 0 where
+    /// the camera path found none), read back.
+    pub fn visible_point_positions(&self) -> Result<Vec<[f32; 4]>, Error> {
+        Ok(read_buffer(&self.device, &self.queue, &self.buffers.vp_points, &self.vp_points_staging, self.vp_count as u64 * 16)?)
+    }
+
+    /// The per-pass constants the kernels see (camera, counts, alpha, `power_total`).
+    pub fn frame(&self) -> &Frame {
+        &self.frame
+    }
+
     /// Smallest, mean and largest radius over the visible points.
     pub fn radius_stats(&self) -> Result<RadiusStats, Error> {
         let stats = self.stats()?;
