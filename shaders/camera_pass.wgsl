@@ -60,15 +60,17 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         if m.kind == MATERIAL_DIFFUSE {
             // The visible point: the photon pass adds flux * weight for photons near it.
             let n = select(-s.ng, s.ng, dot(d, s.ng) < 0.0);
-            vp = VisiblePoint(n, 0u, beta * m.albedo * INV_PI, 0u);
+            vp = VisiblePoint(n, 0u, beta * diffuse_albedo(m, s.uv) * INV_PI, 0u);
             vp_position = vec4f(s.p, vp_stats[index].radius);
             break;
         }
-        var next: SpecularSample;
-        if m.kind == MATERIAL_MIRROR {
-            next = SpecularSample(reflect(d, s.ng), m.albedo);
-        } else {
-            next = sample_dielectric(d, s.ng, m.ior, rng_next(&rng), true);
+        // Specular and glossy surfaces are passed through by sampling them, so visible points
+        // lie on diffuse surfaces only (as pbrt-v4's SPPM does for all but the last bounce):
+        // the estimate at a glossy surface is then the unbiased average over its lobe of
+        // the density estimates further on, and no BSDF has to be evaluated per photon.
+        let next = sample_nondiffuse(m, d, s, vec3f(rng_next2(&rng), rng_next(&rng)), true);
+        if all(next.weight == vec3f(0.0)) {
+            break;
         }
         beta *= next.weight;
         o = offset_origin(s.p, s.ng, next.wi);

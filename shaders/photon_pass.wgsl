@@ -94,10 +94,26 @@ struct Photon {
     depth: u32,
 }
 
-// Choose an emitter, a point on it and a cosine-distributed direction from its front.
+// Choose a light in proportion to power and a photon leaving it: from an area light, a point
+// on it and a cosine-distributed direction from its front; from a point light, a uniform
+// direction; from a directional light, a point on a disk facing it that covers the scene.
+// beta = Le cos / (pmf * pdf(position) * pdf(direction)), relative to the total power.
 fn emit_photon(rng: ptr<function, Rng>) -> Photon {
     let e = emitters[find_emitter(rng_next(rng))];
     let u_pos = rng_next2(rng);
+    let u_dir = rng_next2(rng);
+    let scale = 1.0 / (e.pmf * frame.power_total);
+    if e.kind == EMITTER_POINT {
+        // I / (1 / 4 pi)
+        return Photon(e.position, sample_uniform_sphere(u_dir), e.radiance * (4.0 * PI * scale), 0u);
+    }
+    if e.kind == EMITTER_DIRECTIONAL {
+        // E / (1 / disk area)
+        let b = basis(e.direction);
+        let q = e.radius * sample_disk(u_pos);
+        let p = e.position + b[0] * q.x + b[1] * q.y;
+        return Photon(p, e.direction, e.radiance * (e.area * scale), 0u);
+    }
     var p: vec3f;
     var n: vec3f;
     var shape_index: u32;
@@ -113,9 +129,10 @@ fn emit_photon(rng: ptr<function, Rng>) -> Photon {
         n = normalize(cross(tri.e1, tri.e2));
         shape_index = tri.shape;
     }
-    let d = sample_cosine_hemisphere(n, rng_next2(rng));
-    // beta = Le cos / (pmf * (1 / area) * (cos / pi)), relative to the total power.
-    let beta = shapes[shape_index].emission * (PI * e.area / (e.pmf * frame.power_total));
+    p += displacement(shape_index);
+    let d = sample_cosine_hemisphere(n, u_dir);
+    // Le cos / ((1 / area) * (cos / pi))
+    let beta = shapes[shape_index].emission * (PI * e.area * scale);
     return Photon(offset_origin(p, n, d), d, beta, 0u);
 }
 
@@ -135,18 +152,18 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> bool {
         // Scatter to the side the photon came from.
         let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
         wi = sample_cosine_hemisphere(n_in, rng_next2(rng));
-        f = m.albedo;
+        f = diffuse_albedo(m, s.uv);
         // A shading normal can send the photon through the surface; end it there.
         if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 {
             return false;
         }
-    } else if m.kind == MATERIAL_MIRROR {
-        wi = reflect(d, s.ng);
-        f = m.albedo;
     } else {
-        let next = sample_dielectric(d, s.ng, m.ior, rng_next(rng), false);
+        let next = sample_nondiffuse(m, d, s, vec3f(rng_next2(rng), rng_next(rng)), false);
         wi = next.wi;
         f = next.weight;
+        if all(f == vec3f(0.0)) {
+            return false;
+        }
     }
     // Russian roulette that keeps the photon's largest channel constant (pbrt-v4 sec. 16.3).
     let beta_new = (*ph).beta * f;

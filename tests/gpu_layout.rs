@@ -30,14 +30,14 @@ fn gpu_structs_match_wgsl() {
     check!(module, Frame, "Frame", [
         cam_position, lens_radius, cam_right, focus_distance, cam_up, width, cam_forward, height,
         spp, pass_index, seed, max_depth, photon_count, emitter_count, ray_epsilon, power_total,
-        alpha, vp_count, _pad,
+        alpha, vp_count, time, motion,
     ]);
     check!(module, BvhNode, "BvhNode", [min, first, max, count]);
-    check!(module, GpuTriangle, "Triangle", [p0, material, e1, shape, e2, normals]);
+    check!(module, GpuTriangle, "Triangle", [p0, material, e1, shape, e2, attributes]);
     check!(module, GpuSphere, "Sphere", [center, radius, material, shape, _pad]);
-    check!(module, GpuMaterial, "Material", [albedo, kind, ior, roughness, texture, _pad]);
-    check!(module, GpuShape, "Shape", [emission, emits]);
-    check!(module, Emitter, "Emitter", [prim_ref, cdf, pmf, area]);
+    check!(module, GpuMaterial, "Material", [albedo, kind, ior, roughness, texture, texture_size]);
+    check!(module, GpuShape, "Shape", [emission, emits, velocity, _pad]);
+    check!(module, Emitter, "Emitter", [kind, prim_ref, cdf, pmf, position, area, radiance, radius, direction, _pad]);
     check!(module, VisiblePoint, "VisiblePoint", [normal, _pad0, weight, _pad1]);
     check!(module, VpStats, "VpStats", [tau, n, ld, radius]);
     check!(module, GridParams, "GridParams", [origin, cell_size, res, table_mask]);
@@ -53,7 +53,13 @@ fn wgsl_constants_match_rust() {
             ref e => panic!("{name}: {e:?}"),
         }
     };
-    assert_eq!(constant("NO_NORMALS"), NO_NORMALS);
+    assert_eq!(constant("HAS_NORMALS"), HAS_NORMALS);
+    assert_eq!(constant("HAS_UVS"), HAS_UVS);
+    assert_eq!(constant("ATTRIBUTE_INDEX_MASK"), ATTRIBUTE_INDEX_MASK);
+    assert_eq!(constant("EMITTER_AREA"), EMITTER_AREA);
+    assert_eq!(constant("EMITTER_POINT"), EMITTER_POINT);
+    assert_eq!(constant("EMITTER_DIRECTIONAL"), EMITTER_DIRECTIONAL);
+    assert_eq!(constant("MATERIAL_GLOSSY"), MATERIAL_GLOSSY);
     assert_eq!(constant("NO_TEXTURE"), NO_TEXTURE);
     assert_eq!(constant("SPHERE_BIT"), sppm_gpu::accel::SPHERE_BIT);
     assert_eq!(constant("MATERIAL_DIFFUSE"), MATERIAL_DIFFUSE);

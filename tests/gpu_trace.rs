@@ -3,6 +3,8 @@
 
 mod common;
 
+use wgpu::util::DeviceExt;
+
 use glam::Vec3;
 use common::Rng;
 use sppm_gpu::accel::bvh::brute_force_intersect;
@@ -53,7 +55,14 @@ fn gpu_traversal_matches_cpu_oracle() {
     let buffers = SceneBuffers::new(&gpu.device, &data);
     let ray_buffer = storage_buffer(&gpu.device, "rays", &rays);
     let hits = storage_buffer(&gpu.device, "hits", &vec![[0f32; 4]; n]);
+    // A still scene at shutter time 0: traversal reads `frame.motion`.
+    let frame = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("frame"),
+        contents: bytemuck::bytes_of(&sppm_gpu::gpu::types::Frame::default()),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
     let mut resources = buffers.resources();
+    resources.push(Resource { name: "frame", buffer: &frame });
     resources.push(Resource { name: "rays", buffer: &ray_buffer });
     resources.push(Resource { name: "hits", buffer: &hits });
     let group = kernel.bind_group(&gpu.device, &resources).unwrap();

@@ -38,3 +38,114 @@ fn sample_dielectric(d: vec3f, ng: vec3f, ior: f32, u: f32, radiance: bool) -> S
     let scale = select(1.0, 1.0 / (eta * eta), radiance);
     return SpecularSample(wt, vec3f(scale));
 }
+
+// GGX (Trowbridge-Reitz) microfacet distribution with Smith masking, isotropic alpha
+// (Walter et al. 2007, eq. 33 and 34). Directions are in a frame whose z is the normal.
+
+fn ggx_d(cos_h: f32, alpha: f32) -> f32 {
+    let a2 = alpha * alpha;
+    let k = cos_h * cos_h * (a2 - 1.0) + 1.0;
+    return a2 / (PI * k * k);
+}
+
+// Smith's masking G1 of a direction at |cos theta| = c (Walter et al. 2007, eq. 34).
+fn ggx_g1(c: f32, alpha: f32) -> f32 {
+    let a2 = alpha * alpha;
+    return 2.0 * c / (c + sqrt(a2 + (1.0 - a2) * c * c));
+}
+
+// A microfacet normal from the distribution of normals visible from wo (wo.z > 0), Heitz 2018,
+// "Sampling the GGX Distribution of Visible Normals", listing 1. Its density is
+// G1(wo) max(0, wo.h) D(h) / wo.z.
+fn sample_ggx_visible_normal(wo: vec3f, alpha: f32, u: vec2f) -> vec3f {
+    let vh = normalize(vec3f(alpha * wo.x, alpha * wo.y, wo.z));
+    let len2 = vh.x * vh.x + vh.y * vh.y;
+    let t1 = select(vec3f(1.0, 0.0, 0.0), vec3f(-vh.y, vh.x, 0.0) / sqrt(len2), len2 > 0.0);
+    let t2 = cross(vh, t1);
+    let r = sqrt(u.x);
+    let phi = 2.0 * PI * u.y;
+    let p1 = r * cos(phi);
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * sqrt(max(0.0, 1.0 - p1 * p1)) + s * r * sin(phi);
+    let nh = p1 * t1 + p2 * t2 + sqrt(max(0.0, 1.0 - p1 * p1 - p2 * p2)) * vh;
+    return normalize(vec3f(alpha * nh.x, alpha * nh.y, max(1e-6, nh.z)));
+}
+
+// Smallest GGX alpha the samplers use: below it the distribution's peak overflows f32.
+const MIN_ALPHA: f32 = 1e-4;
+
+// Sample the glossy conductor (GGX, Fresnel 1, reflectance `albedo`, both sides alike) from
+// direction of travel d at shading normal ns. With visible normals sampled, the weight
+// f |cos| / pdf is albedo * G1(wi) (Heitz 2018, sec. 2, with G = G1(wo) G1(wi)).
+fn sample_glossy(albedo: vec3f, alpha_in: f32, d: vec3f, ns: vec3f, u: vec2f) -> SpecularSample {
+    let alpha = max(alpha_in, MIN_ALPHA);
+    let n = select(-ns, ns, dot(d, ns) < 0.0);
+    let frame = basis(n);
+    let wo = -d * frame;
+    if wo.z <= 0.0 {
+        return SpecularSample(d, vec3f(0.0));
+    }
+    let h = sample_ggx_visible_normal(wo, alpha, u);
+    let wi = reflect(-wo, h);
+    if wi.z <= 0.0 {
+        return SpecularSample(d, vec3f(0.0));
+    }
+    return SpecularSample(frame * wi, albedo * ggx_g1(wi.z, alpha));
+}
+
+// Sample a rough dielectric (Walter et al. 2007) from direction of travel d. A visible normal
+// h is drawn, then reflection or refraction through h with the Fresnel probability, so the
+// weight is G1(wi), times 1 / eta^2 for refracted radiance as in the smooth case.
+fn sample_rough_dielectric(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, alpha_in: f32, u: vec3f, radiance: bool) -> SpecularSample {
+    let alpha = max(alpha_in, MIN_ALPHA);
+    let entering = dot(d, ng) < 0.0;
+    let n = select(-ns, ns, entering);
+    let eta = select(1.0 / ior, ior, entering);
+    let frame = basis(n);
+    let wo = -d * frame;
+    if wo.z <= 0.0 {
+        return SpecularSample(d, vec3f(0.0));
+    }
+    let h = sample_ggx_visible_normal(wo, alpha, u.xy);
+    let cos_o = dot(wo, h);
+    let f = fresnel_dielectric(cos_o, eta);
+    if u.z < f {
+        let wi = reflect(-wo, h);
+        if wi.z <= 0.0 {
+            return SpecularSample(d, vec3f(0.0));
+        }
+        return SpecularSample(frame * wi, vec3f(ggx_g1(wi.z, alpha)));
+    }
+    let sin2_t = (1.0 - cos_o * cos_o) / (eta * eta);
+    let cos_t = sqrt(max(0.0, 1.0 - sin2_t));
+    let wt = normalize(-wo / eta + (cos_o / eta - cos_t) * h);
+    if wt.z >= 0.0 {
+        return SpecularSample(d, vec3f(0.0));
+    }
+    let scale = select(1.0, 1.0 / (eta * eta), radiance);
+    return SpecularSample(frame * wt, vec3f(ggx_g1(-wt.z, alpha) * scale));
+}
+
+// Scatter at a non-diffuse surface: mirror, glossy conductor, smooth or rough dielectric.
+// A zero weight ends the path. `radiance` is true for camera paths, false for photons.
+fn sample_nondiffuse(m: Material, d: vec3f, s: Surface, u: vec3f, radiance: bool) -> SpecularSample {
+    var next: SpecularSample;
+    if m.kind == MATERIAL_MIRROR {
+        let n = select(-s.ns, s.ns, dot(d, s.ns) < 0.0);
+        next = SpecularSample(reflect(d, n), m.albedo);
+    } else if m.kind == MATERIAL_GLOSSY {
+        next = sample_glossy(m.albedo, m.roughness, d, s.ns, u.xy);
+    } else if m.roughness > 0.0 {
+        next = sample_rough_dielectric(d, s.ng, s.ns, m.ior, m.roughness, u, radiance);
+    } else {
+        next = sample_dielectric(d, s.ng, m.ior, u.z, radiance);
+    }
+    // A shading normal can send a reflection below the surface or a refraction back out of
+    // it; such paths end rather than leak.
+    let reflected = dot(next.wi, s.ng) * dot(d, s.ng) < 0.0;
+    let wants_reflection = m.kind != MATERIAL_DIELECTRIC;
+    if wants_reflection && !reflected {
+        next.weight = vec3f(0.0);
+    }
+    return next;
+}

@@ -7,8 +7,9 @@
 @group(0) @binding(3) var<storage, read> triangles: array<Triangle>;
 @group(0) @binding(4) var<storage, read> spheres: array<Sphere>;
 @group(0) @binding(5) var<storage, read> materials: array<Material>;
-@group(0) @binding(6) var<storage, read> normals: array<vec4f>;
+@group(0) @binding(6) var<storage, read> attributes: array<vec4f>;
 @group(0) @binding(7) var<storage, read> shapes: array<Shape>;
+@group(0) @binding(18) var<storage, read> texels: array<vec4f>;
 
 const BVH_STACK_SIZE: u32 = 64u;
 
@@ -85,6 +86,24 @@ fn intersect_box(lo: vec3f, hi: vec3f, o: vec3f, inv_d: vec3f, t_max: f32) -> f3
     return select(t_max, t0, t0 <= t1);
 }
 
+// The ray origin in the rest frame of a shape that moves: at shutter time frame.time the shape
+// sits at rest position + velocity * time, so the ray moves the other way instead. The
+// branch is uniform, and still scenes never load the velocity.
+fn origin_at_rest(o: vec3f, shape: u32) -> vec3f {
+    if frame.motion == 0u {
+        return o;
+    }
+    return o - shapes[shape].velocity * frame.time;
+}
+
+// Where a shape is displaced to at the pass's shutter time.
+fn displacement(shape: u32) -> vec3f {
+    if frame.motion == 0u {
+        return vec3f(0.0);
+    }
+    return shapes[shape].velocity * frame.time;
+}
+
 // Closest hit along o + t d for t in (0, t_max); hit.prim_ref is 0xffffffff on a miss.
 fn trace_closest(o: vec3f, d: vec3f, t_max_in: f32) -> Hit {
     var hit = Hit(t_max_in, 0xffffffffu, vec2f(0.0));
@@ -103,12 +122,14 @@ fn trace_closest(o: vec3f, d: vec3f, t_max_in: f32) -> Hit {
             for (var i = node.first; i < node.first + node.count; i++) {
                 let r = prim_refs[i];
                 if (r & SPHERE_BIT) != 0u {
-                    let t = intersect_sphere(spheres[r & ~SPHERE_BIT], o, d, hit.t);
+                    let sphere = spheres[r & ~SPHERE_BIT];
+                    let t = intersect_sphere(sphere, origin_at_rest(o, sphere.shape), d, hit.t);
                     if t > 0.0 {
                         hit = Hit(t, r, vec2f(0.0));
                     }
                 } else {
-                    let tb = intersect_triangle(triangles[r], o, d, hit.t);
+                    let tri = triangles[r];
+                    let tb = intersect_triangle(tri, origin_at_rest(o, tri.shape), d, hit.t);
                     if tb.x > 0.0 {
                         hit = Hit(tb.x, r, tb.yz);
                     }
@@ -148,30 +169,67 @@ struct Surface {
     ns: vec3f,
     material: u32,
     shape: u32,
+    // Texture coordinates (s, t); zero where the material has no texture.
+    uv: vec2f,
 }
 
 fn surface_at(hit: Hit, o: vec3f, d: vec3f) -> Surface {
     if (hit.prim_ref & SPHERE_BIT) != 0u {
         let s = spheres[hit.prim_ref & ~SPHERE_BIT];
-        let n = normalize(o + hit.t * d - s.center);
+        let center = s.center + displacement(s.shape);
+        let n = normalize(o + hit.t * d - center);
+        // s = longitude / 360 degrees about +y, from +z towards +x; t = latitude from the
+        // bottom (-y) pole, as in the README.
+        let uv = vec2f(fract(atan2(n.x, n.z) * (0.5 * INV_PI) + 1.0), acos(clamp(-n.y, -1.0, 1.0)) * INV_PI);
         // Reproject onto the surface to remove the error of o + t d.
-        return Surface(s.center + s.radius * n, n, n, s.material, s.shape);
+        return Surface(center + s.radius * n, n, n, s.material, s.shape, uv);
     }
     let tri = triangles[hit.prim_ref];
-    let p = tri.p0 + hit.b.x * tri.e1 + hit.b.y * tri.e2;
+    let p = tri.p0 + hit.b.x * tri.e1 + hit.b.y * tri.e2 + displacement(tri.shape);
     let ng = normalize(cross(tri.e1, tri.e2));
     var ns = ng;
-    if tri.normals != NO_NORMALS {
-        let b0 = 1.0 - hit.b.x - hit.b.y;
-        let n = b0 * normals[tri.normals].xyz + hit.b.x * normals[tri.normals + 1u].xyz
-            + hit.b.y * normals[tri.normals + 2u].xyz;
+    var uv = vec2f(0.0);
+    let b0 = 1.0 - hit.b.x - hit.b.y;
+    var a = tri.attributes & ATTRIBUTE_INDEX_MASK;
+    if (tri.attributes & HAS_NORMALS) != 0u {
+        let n = b0 * attributes[a].xyz + hit.b.x * attributes[a + 1u].xyz + hit.b.y * attributes[a + 2u].xyz;
         let len = length(n);
         if len > 0.0 {
             ns = n / len;
             ns = select(ns, -ns, dot(ns, ng) < 0.0);
         }
+        a += 3u;
     }
-    return Surface(p, ng, ns, tri.material, tri.shape);
+    if (tri.attributes & HAS_UVS) != 0u {
+        let uv01 = attributes[a];
+        uv = b0 * uv01.xy + hit.b.x * uv01.zw + hit.b.y * attributes[a + 1u].xy;
+    }
+    return Surface(p, ng, ns, tri.material, tri.shape, uv);
+}
+
+// The albedo of a diffuse material at texture coordinates uv: its texture filtered
+// bilinearly with repeat (texel centres at half-integers, row 0 at t = 1), or its constant.
+fn diffuse_albedo(m: Material, uv: vec2f) -> vec3f {
+    if m.texture == NO_TEXTURE {
+        return m.albedo;
+    }
+    let size = vec2i(i32(m.texture_size & 0xffffu), i32(m.texture_size >> 16u));
+    let x = uv.x * f32(size.x) - 0.5;
+    let y = (1.0 - uv.y) * f32(size.y) - 0.5;
+    let x0 = floor(x);
+    let y0 = floor(y);
+    let fx = x - x0;
+    let fy = y - y0;
+    // Wrap into [0, size); the modulo of a negative integer is negative in WGSL.
+    let ix0 = ((i32(x0) % size.x) + size.x) % size.x;
+    let iy0 = ((i32(y0) % size.y) + size.y) % size.y;
+    let ix1 = (ix0 + 1) % size.x;
+    let iy1 = (iy0 + 1) % size.y;
+    let row0 = m.texture + u32(iy0 * size.x);
+    let row1 = m.texture + u32(iy1 * size.x);
+    let top = mix(texels[row0 + u32(ix0)].xyz, texels[row0 + u32(ix1)].xyz, fx);
+    let bottom = mix(texels[row1 + u32(ix0)].xyz, texels[row1 + u32(ix1)].xyz, fx);
+    return mix(top, bottom, fy);
 }
 
 // Offset a ray origin off the surface, to the side of `side` (pbrt-v4 sec. 6.8.6 in spirit:

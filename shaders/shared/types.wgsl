@@ -24,7 +24,10 @@ struct Frame {
     power_total: f32,
     alpha: f32,
     vp_count: u32,
-    _pad: vec2u,
+    // Shutter time of this pass in [0, 1); camera and photon paths both see the scene then.
+    time: f32,
+    // 1 when some shape moves.
+    motion: u32,
 }
 
 // Leaf when count > 0: primitives prim_refs[first .. first + count].
@@ -43,8 +46,9 @@ struct Triangle {
     e1: vec3f,
     shape: u32,
     e2: vec3f,
-    // First of three shading normals in `normals`, or NO_NORMALS for flat triangles.
-    normals: u32,
+    // First of the triangle's entries in `attributes`, with flags: HAS_NORMALS (three shading
+    // normals, xyz), HAS_UVS (then (u0, v0, u1, v1) and (u2, v2, -, -)); 0 for none.
+    attributes: u32,
 }
 
 struct Sphere {
@@ -60,23 +64,40 @@ struct Material {
     kind: u32,
     ior: f32,
     roughness: f32,
+    // First texel in `texels`, or NO_TEXTURE.
     texture: u32,
-    _pad: u32,
+    // Width in the low 16 bits, height in the high 16.
+    texture_size: u32,
 }
 
 // Per-shape data the kernels look up through a primitive's shape index.
 struct Shape {
     emission: vec3f,
     emits: u32,
+    // The shape sits at its position + velocity * time.
+    velocity: vec3f,
+    _pad: u32,
 }
 
-// One emitting primitive, chosen with probability pmf (proportional to its power).
+// One light, chosen with probability pmf (proportional to its power): an emitting primitive,
+// a point light or a directional light.
 struct Emitter {
+    kind: u32,
     prim_ref: u32,
     // Inclusive running sum of pmf over the emitters up to this one.
     cdf: f32,
     pmf: f32,
+    // Point: position. Directional: centre of the disk photons leave from.
+    position: vec3f,
+    // Area of the primitive, or of the directional light's disk.
     area: f32,
+    // Point: intensity. Directional: irradiance.
+    radiance: vec3f,
+    // Radius of the directional light's disk.
+    radius: f32,
+    // Directional: direction of travel.
+    direction: vec3f,
+    _pad: u32,
 }
 
 // Where a camera path of the current pass ended on a non-specular surface.
@@ -107,13 +128,19 @@ struct GridParams {
     table_mask: u32,
 }
 
-const NO_NORMALS: u32 = 0xffffffffu;
+const HAS_NORMALS: u32 = 0x80000000u;
+const HAS_UVS: u32 = 0x40000000u;
+const ATTRIBUTE_INDEX_MASK: u32 = 0x3fffffffu;
+const EMITTER_AREA: u32 = 0u;
+const EMITTER_POINT: u32 = 1u;
+const EMITTER_DIRECTIONAL: u32 = 2u;
 const NO_TEXTURE: u32 = 0xffffffffu;
 const SPHERE_BIT: u32 = 0x80000000u;
 
 const MATERIAL_DIFFUSE: u32 = 0u;
 const MATERIAL_MIRROR: u32 = 1u;
 const MATERIAL_DIELECTRIC: u32 = 2u;
+const MATERIAL_GLOSSY: u32 = 3u;
 
 // Words per visible point in the flux accumulator: (lo, hi) for r, g, b, then the photon count.
 const ACCUM_STRIDE: u32 = 8u;

@@ -77,6 +77,14 @@ pub struct Hit {
 /// traversal stack (depth `STACK_SIZE` or more; PLOC trees are far shallower than that for
 /// any scene whose coordinates are representable in `f32`).
 pub fn build_bvh(triangles: &[Triangle], spheres: &[Sphere]) -> Bvh {
+    build_bvh_moving(triangles, spheres, |_| Vec3::ZERO)
+}
+
+/// [`build_bvh`] for shapes that move: primitive boxes are swept from time 0 to time 1,
+/// over which the primitive of shape `s` moves by `velocity(s)`, so that a ray offset by
+/// `-velocity * t` into the primitive's rest frame is tested against every primitive it
+/// can meet at any shutter time `t` in [0, 1).
+pub fn build_bvh_moving(triangles: &[Triangle], spheres: &[Sphere], velocity: impl Fn(u32) -> Vec3) -> Bvh {
     assert!(
         triangles.len() < SPHERE_BIT as usize && spheres.len() < SPHERE_BIT as usize,
         "too many primitives for 31-bit primitive references"
@@ -97,16 +105,15 @@ pub fn build_bvh(triangles: &[Triangle], spheres: &[Sphere]) -> Bvh {
     let aabbs: Vec<Aabb> = triangles
         .iter()
         .map(|t| {
-            aabb(
-                t.p[0].min(t.p[1]).min(t.p[2]),
-                t.p[0].max(t.p[1]).max(t.p[2]),
-            )
+            let (lo, hi) = (t.p[0].min(t.p[1]).min(t.p[2]), t.p[0].max(t.p[1]).max(t.p[2]));
+            let v = velocity(t.shape);
+            aabb(lo.min(lo + v), hi.max(hi + v))
         })
-        .chain(
-            spheres
-                .iter()
-                .map(|s| aabb(s.center - s.radius, s.center + s.radius)),
-        )
+        .chain(spheres.iter().map(|s| {
+            let (lo, hi) = (s.center - s.radius, s.center + s.radius);
+            let v = velocity(s.shape);
+            aabb(lo.min(lo + v), hi.max(hi + v))
+        }))
         .collect();
     let params = BvhBuildParams {
         max_prims_per_leaf: MAX_PRIMS_PER_LEAF,

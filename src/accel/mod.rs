@@ -8,5 +8,5 @@
 pub mod bvh;
 pub mod grid;
 
-pub use bvh::{build_bvh, Bvh, BvhNode, SPHERE_BIT};
+pub use bvh::{build_bvh, build_bvh_moving, Bvh, BvhNode, SPHERE_BIT};
 pub use grid::{build_grid, hash_cell, GridParams, HashGrid};

@@ -14,87 +14,92 @@ pub struct SceneData {
     pub spheres: Vec<GpuSphere>,
     pub materials: Vec<GpuMaterial>,
     pub shapes: Vec<GpuShape>,
-    /// Three per smooth triangle, xyz used.
-    pub normals: Vec<[f32; 4]>,
+    /// Shading normals and texture coordinates of the triangles that have them (see
+    /// [`GpuTriangle::attributes`]).
+    pub attributes: Vec<[f32; 4]>,
+    /// Linear RGB texels of every texture, one after another, row 0 at the top.
+    pub texels: Vec<[f32; 4]>,
     pub emitters: Vec<Emitter>,
-    /// Sum of the emitters' power (average over RGB of Le * area * pi).
+    /// Sum of the emitters' power (average over RGB).
     pub power_total: f32,
+    /// Whether some shape moves.
+    pub motion: bool,
     pub bounds_min: Vec3,
     pub bounds_max: Vec3,
 }
 
-fn not_supported(scene: &Scene, line: usize, key: &str, what: &str) -> SceneError {
-    SceneError {
-        file: scene.path.clone(),
-        line: Some(line),
-        key: Some(key.to_string()),
-        message: format!("{what} is not supported yet"),
-    }
-}
-
-/// Reject what the kernels cannot render yet, naming where it is in the file.
-fn check_supported(scene: &Scene) -> Result<(), SceneError> {
-    for m in &scene.materials {
-        let key = format!("materials.{}", m.name);
-        match &m.kind {
-            MaterialKind::Glossy { .. } => return Err(not_supported(scene, m.line, &key, "the glossy material")),
-            MaterialKind::Dielectric { roughness, .. } if *roughness > 0.0 => {
-                return Err(not_supported(scene, m.line, &format!("{key}.roughness"), "a rough dielectric"))
-            }
-            MaterialKind::Diffuse { texture: Some(_), .. } => {
-                return Err(not_supported(scene, m.line, &format!("{key}.texture"), "a texture"))
-            }
-            _ => {}
-        }
-    }
-    for (i, s) in scene.shapes.iter().enumerate() {
-        if s.velocity.is_some() {
-            let line = s.velocity_line.unwrap_or(s.line);
-            return Err(not_supported(scene, line, &format!("shapes[{i}].velocity"), "motion blur"));
-        }
-    }
-    if let Some(light) = scene.lights.first() {
-        let what = match light.kind {
-            LightKind::Point { .. } => "a point light",
-            LightKind::Directional { .. } => "a directional light",
-        };
-        return Err(not_supported(scene, light.line, "lights", what));
-    }
-    Ok(())
+fn setting_error(scene: &Scene, line: usize, key: &str, message: String) -> SceneError {
+    SceneError { file: scene.path.clone(), line: Some(line), key: Some(key.to_string()), message }
 }
 
 fn material_of(scene: &Scene, shape: u32) -> u32 {
     scene.shapes[shape as usize].material
 }
 
+/// Power of a light in the sense the photon pass samples by: the average over RGB of
+/// Le * area * pi for an area light (a Lambertian emitter), I * 4 pi for a point light and
+/// E * pi R^2 for a directional light through a disk of radius R.
+fn average(v: Vec3) -> f64 {
+    v.element_sum() as f64 / 3.0
+}
+
 impl SceneData {
     pub fn new(scene: &Scene) -> Result<Self, SceneError> {
-        check_supported(scene)?;
-        let bvh = crate::accel::build_bvh(&scene.triangles, &scene.spheres);
+        let velocity = |shape: u32| scene.shapes[shape as usize].velocity.unwrap_or(Vec3::ZERO);
+        let motion = scene.shapes.iter().any(|s| s.velocity.is_some_and(|v| v != Vec3::ZERO));
+        let bvh = crate::accel::build_bvh_moving(&scene.triangles, &scene.spheres, velocity);
 
-        let mut normals = Vec::new();
-        let triangles: Vec<GpuTriangle> = scene
-            .triangles
-            .iter()
-            .map(|t| {
-                let index = match t.n {
-                    Some(n) => {
-                        let first = normals.len() as u32;
-                        normals.extend(n.iter().map(|v| [v.x, v.y, v.z, 0.0]));
-                        first
-                    }
-                    None => NO_NORMALS,
-                };
-                GpuTriangle {
-                    p0: t.p[0].into(),
-                    material: material_of(scene, t.shape),
-                    e1: (t.p[1] - t.p[0]).into(),
-                    shape: t.shape,
-                    e2: (t.p[2] - t.p[0]).into(),
-                    normals: index,
-                }
-            })
-            .collect();
+        // Textures, one after another; a material refers to its first texel.
+        let mut texels = Vec::new();
+        let mut texture_at = Vec::new();
+        for t in &scene.textures {
+            if t.width > 0xffff || t.height > 0xffff {
+                return Err(SceneError {
+                    file: t.path.clone(),
+                    line: None,
+                    key: None,
+                    message: format!("a texture of {}x{} is larger than the 65535x65535 supported", t.width, t.height),
+                });
+            }
+            texture_at.push((texels.len() as u32, t.width | (t.height << 16)));
+            texels.extend(t.texels.iter().map(|c| [c.x, c.y, c.z, 0.0]));
+        }
+        if texels.len() > ATTRIBUTE_INDEX_MASK as usize {
+            return Err(setting_error(scene, 1, "materials", "the textures hold more texels than the renderer addresses".into()));
+        }
+        let textured = |shape: u32| {
+            matches!(scene.shape_material(shape).kind, MaterialKind::Diffuse { texture: Some(_), .. })
+        };
+
+        // Per-vertex attributes only where they are used: shading normals of smooth shapes,
+        // texture coordinates of textured ones.
+        let mut attributes: Vec<[f32; 4]> = Vec::new();
+        let mut triangles = Vec::with_capacity(scene.triangles.len());
+        for t in &scene.triangles {
+            let first = attributes.len() as u32;
+            let mut flags = 0;
+            if let Some(n) = t.n {
+                flags |= HAS_NORMALS;
+                attributes.extend(n.iter().map(|v| [v.x, v.y, v.z, 0.0]));
+            }
+            if textured(t.shape) {
+                flags |= HAS_UVS;
+                let uv = t.uv.unwrap_or([glam::Vec2::ZERO; 3]);
+                attributes.push([uv[0].x, uv[0].y, uv[1].x, uv[1].y]);
+                attributes.push([uv[2].x, uv[2].y, 0.0, 0.0]);
+            }
+            if attributes.len() > ATTRIBUTE_INDEX_MASK as usize {
+                return Err(setting_error(scene, 1, "shapes", "the meshes hold more vertex attributes than the renderer addresses".into()));
+            }
+            triangles.push(GpuTriangle {
+                p0: t.p[0].into(),
+                material: material_of(scene, t.shape),
+                e1: (t.p[1] - t.p[0]).into(),
+                shape: t.shape,
+                e2: (t.p[2] - t.p[0]).into(),
+                attributes: if flags == 0 { 0 } else { first | flags },
+            });
+        }
         let spheres: Vec<GpuSphere> = scene
             .spheres
             .iter()
@@ -110,13 +115,32 @@ impl SceneData {
             .materials
             .iter()
             .map(|m| {
-                let (kind, albedo, ior) = match m.kind {
-                    MaterialKind::Diffuse { albedo, .. } => (MATERIAL_DIFFUSE, albedo, 1.0),
-                    MaterialKind::Mirror { albedo } => (MATERIAL_MIRROR, albedo, 1.0),
-                    MaterialKind::Dielectric { ior, .. } => (MATERIAL_DIELECTRIC, Vec3::ONE, ior),
-                    MaterialKind::Glossy { .. } => unreachable!("rejected by check_supported"),
-                };
-                GpuMaterial { albedo: albedo.into(), kind, ior, roughness: 0.0, texture: NO_TEXTURE, _pad: 0 }
+                let mut g = GpuMaterial { texture: NO_TEXTURE, ..GpuMaterial::default() };
+                match m.kind {
+                    MaterialKind::Diffuse { albedo, texture } => {
+                        g.kind = MATERIAL_DIFFUSE;
+                        g.albedo = albedo.into();
+                        if let Some(t) = texture {
+                            (g.texture, g.texture_size) = texture_at[t as usize];
+                        }
+                    }
+                    MaterialKind::Mirror { albedo } => {
+                        g.kind = MATERIAL_MIRROR;
+                        g.albedo = albedo.into();
+                    }
+                    MaterialKind::Glossy { albedo, roughness } => {
+                        g.kind = MATERIAL_GLOSSY;
+                        g.albedo = albedo.into();
+                        g.roughness = roughness;
+                    }
+                    MaterialKind::Dielectric { ior, roughness } => {
+                        g.kind = MATERIAL_DIELECTRIC;
+                        g.albedo = [1.0; 3];
+                        g.ior = ior;
+                        g.roughness = roughness;
+                    }
+                }
+                g
             })
             .collect();
         let shapes = scene
@@ -125,27 +149,63 @@ impl SceneData {
             .map(|s| GpuShape {
                 emission: s.emission.unwrap_or(Vec3::ZERO).into(),
                 emits: s.emission.is_some_and(|e| e.max_element() > 0.0) as u32,
+                velocity: s.velocity.unwrap_or(Vec3::ZERO).into(),
+                _pad: 0,
             })
             .collect::<Vec<_>>();
+        let (bounds_min, bounds_max) = scene_bounds(scene);
 
-        // Emitters, chosen in proportion to power = average(Le) * area * pi.
+        // Lights, chosen in proportion to power.
         let mut emitters = Vec::new();
         let mut powers = Vec::new();
         let emission = |shape: u32| scene.shapes[shape as usize].emission.unwrap_or(Vec3::ZERO);
+        let pi = std::f32::consts::PI;
         for (i, t) in scene.triangles.iter().enumerate() {
             let area = 0.5 * (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length();
-            let power = emission(t.shape).element_sum() / 3.0 * area * std::f32::consts::PI;
+            let power = average(emission(t.shape)) * (area * pi) as f64;
             if power > 0.0 {
-                emitters.push(Emitter { prim_ref: i as u32, cdf: 0.0, pmf: 0.0, area });
-                powers.push(power as f64);
+                emitters.push(Emitter { kind: EMITTER_AREA, prim_ref: i as u32, area, ..Emitter::default() });
+                powers.push(power);
             }
         }
         for (i, s) in scene.spheres.iter().enumerate() {
-            let area = 4.0 * std::f32::consts::PI * s.radius * s.radius;
-            let power = emission(s.shape).element_sum() / 3.0 * area * std::f32::consts::PI;
+            let area = 4.0 * pi * s.radius * s.radius;
+            let power = average(emission(s.shape)) * (area * pi) as f64;
             if power > 0.0 {
-                emitters.push(Emitter { prim_ref: i as u32 | SPHERE_BIT, cdf: 0.0, pmf: 0.0, area });
-                powers.push(power as f64);
+                emitters.push(Emitter { kind: EMITTER_AREA, prim_ref: i as u32 | SPHERE_BIT, area, ..Emitter::default() });
+                powers.push(power);
+            }
+        }
+        // A directional light covers the scene's bounding sphere (moving shapes included)
+        // with a disk of photons that starts outside it.
+        let (swept_min, swept_max) = swept_bounds(scene, bounds_min, bounds_max);
+        let center = 0.5 * (swept_min + swept_max);
+        let radius = (0.5 * (swept_max - swept_min).length()).max(1e-3);
+        for light in &scene.lights {
+            match light.kind {
+                LightKind::Point { position, intensity } => {
+                    emitters.push(Emitter {
+                        kind: EMITTER_POINT,
+                        position: position.into(),
+                        radiance: intensity.into(),
+                        ..Emitter::default()
+                    });
+                    powers.push(average(intensity) * 4.0 * std::f64::consts::PI);
+                }
+                LightKind::Directional { direction, irradiance } => {
+                    let d = direction.normalize();
+                    let area = pi * radius * radius;
+                    emitters.push(Emitter {
+                        kind: EMITTER_DIRECTIONAL,
+                        position: (center - 1.01 * radius * d).into(),
+                        area,
+                        radiance: irradiance.into(),
+                        radius,
+                        direction: d.into(),
+                        ..Emitter::default()
+                    });
+                    powers.push(average(irradiance) * area as f64);
+                }
             }
         }
         let power_total: f64 = powers.iter().sum();
@@ -154,7 +214,7 @@ impl SceneData {
                 file: scene.path.clone(),
                 line: None,
                 key: Some("shapes.emission".into()),
-                message: "the scene has no light: give a shape an `emission` greater than zero".into(),
+                message: "the scene has no light: give a shape an `emission` greater than zero, or add a [[lights]] entry with positive intensity or irradiance".into(),
             });
         }
         let mut running = 0.0;
@@ -168,16 +228,17 @@ impl SceneData {
             last.cdf = f32::INFINITY;
         }
 
-        let (bounds_min, bounds_max) = scene_bounds(scene);
         Ok(Self {
             bvh,
             triangles,
             spheres,
             materials,
             shapes,
-            normals,
+            attributes,
+            texels,
             emitters,
             power_total: power_total as f32,
+            motion,
             bounds_min,
             bounds_max,
         })
@@ -190,6 +251,26 @@ impl SceneData {
         let magnitude = self.bounds_min.abs().max(self.bounds_max.abs()).max_element();
         (1e-5 * diagonal).max(1e-6 * magnitude)
     }
+}
+
+/// The scene's bounds over the whole shutter: moving shapes at time 0 and at time 1.
+fn swept_bounds(scene: &Scene, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
+    let (mut lo, mut hi) = (lo, hi);
+    for t in &scene.triangles {
+        if let Some(v) = scene.shapes[t.shape as usize].velocity {
+            for p in t.p {
+                lo = lo.min(p + v);
+                hi = hi.max(p + v);
+            }
+        }
+    }
+    for s in &scene.spheres {
+        if let Some(v) = scene.shapes[s.shape as usize].velocity {
+            lo = lo.min(s.center + v - s.radius);
+            hi = hi.max(s.center + v + s.radius);
+        }
+    }
+    (lo, hi)
 }
 
 fn scene_bounds(scene: &Scene) -> (Vec3, Vec3) {
@@ -219,7 +300,8 @@ pub struct SceneBuffers {
     pub triangles: wgpu::Buffer,
     pub spheres: wgpu::Buffer,
     pub materials: wgpu::Buffer,
-    pub normals: wgpu::Buffer,
+    pub attributes: wgpu::Buffer,
+    pub texels: wgpu::Buffer,
     pub shapes: wgpu::Buffer,
     pub emitters: wgpu::Buffer,
 }
@@ -243,7 +325,8 @@ impl SceneBuffers {
             triangles: storage_buffer(device, "triangles", &data.triangles),
             spheres: storage_buffer(device, "spheres", &data.spheres),
             materials: storage_buffer(device, "materials", &data.materials),
-            normals: storage_buffer(device, "normals", &data.normals),
+            attributes: storage_buffer(device, "attributes", &data.attributes),
+            texels: storage_buffer(device, "texels", &data.texels),
             shapes: storage_buffer(device, "shapes", &data.shapes),
             emitters: storage_buffer(device, "emitters", &data.emitters),
         }
@@ -258,7 +341,8 @@ impl SceneBuffers {
             R { name: "triangles", buffer: &self.triangles },
             R { name: "spheres", buffer: &self.spheres },
             R { name: "materials", buffer: &self.materials },
-            R { name: "normals", buffer: &self.normals },
+            R { name: "attributes", buffer: &self.attributes },
+            R { name: "texels", buffer: &self.texels },
             R { name: "shapes", buffer: &self.shapes },
             R { name: "emitters", buffer: &self.emitters },
         ]

@@ -27,7 +27,10 @@ pub struct Frame {
     pub power_total: f32,
     pub alpha: f32,
     pub vp_count: u32,
-    pub _pad: [u32; 2],
+    /// Shutter time of this pass in [0, 1): camera and photon paths both see the scene then.
+    pub time: f32,
+    /// 1 when some shape moves (has a velocity), so that traversal offsets rays by it.
+    pub motion: u32,
 }
 
 /// A triangle as a corner and two edges.
@@ -39,8 +42,10 @@ pub struct GpuTriangle {
     pub e1: [f32; 3],
     pub shape: u32,
     pub e2: [f32; 3],
-    /// First of three entries in the normals buffer, or [`NO_NORMALS`].
-    pub normals: u32,
+    /// Where the triangle's vertex attributes start in the `attributes` buffer, with flags:
+    /// [`HAS_NORMALS`] (three shading normals, xyz) and [`HAS_UVS`] (then two entries,
+    /// `(u0, v0, u1, v1)` and `(u2, v2, -, -)`); 0 for none.
+    pub attributes: u32,
 }
 
 #[repr(C)]
@@ -60,8 +65,10 @@ pub struct GpuMaterial {
     pub kind: u32,
     pub ior: f32,
     pub roughness: f32,
+    /// First texel in the `texels` buffer, or [`NO_TEXTURE`].
     pub texture: u32,
-    pub _pad: u32,
+    /// Texture width in the low 16 bits, height in the high 16.
+    pub texture_size: u32,
 }
 
 #[repr(C)]
@@ -69,15 +76,33 @@ pub struct GpuMaterial {
 pub struct GpuShape {
     pub emission: [f32; 3],
     pub emits: u32,
+    /// Displacement over the shutter: the shape sits at its position + velocity * time.
+    pub velocity: [f32; 3],
+    pub _pad: u32,
 }
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct Emitter {
+    /// [`EMITTER_AREA`], [`EMITTER_POINT`] or [`EMITTER_DIRECTIONAL`].
+    pub kind: u32,
+    /// The emitting primitive of an area emitter.
     pub prim_ref: u32,
+    /// Inclusive running sum of `pmf`; the last is infinite so that every u < 1 falls in.
     pub cdf: f32,
+    /// Probability of choosing this emitter, proportional to its power.
     pub pmf: f32,
+    /// Point light: its position. Directional: the centre of the disk photons leave from.
+    pub position: [f32; 3],
+    /// Area of the primitive, or of the directional light's disk.
     pub area: f32,
+    /// Point light: intensity (W/sr). Directional: irradiance.
+    pub radiance: [f32; 3],
+    /// Radius of the directional light's disk.
+    pub radius: f32,
+    /// Direction of travel of a directional light.
+    pub direction: [f32; 3],
+    pub _pad: u32,
 }
 
 #[repr(C)]
@@ -98,11 +123,17 @@ pub struct VpStats {
     pub radius: f32,
 }
 
-pub const NO_NORMALS: u32 = u32::MAX;
+pub const HAS_NORMALS: u32 = 1 << 31;
+pub const HAS_UVS: u32 = 1 << 30;
+pub const ATTRIBUTE_INDEX_MASK: u32 = HAS_UVS - 1;
+pub const EMITTER_AREA: u32 = 0;
+pub const EMITTER_POINT: u32 = 1;
+pub const EMITTER_DIRECTIONAL: u32 = 2;
 pub const NO_TEXTURE: u32 = u32::MAX;
 pub const MATERIAL_DIFFUSE: u32 = 0;
 pub const MATERIAL_MIRROR: u32 = 1;
 pub const MATERIAL_DIELECTRIC: u32 = 2;
+pub const MATERIAL_GLOSSY: u32 = 3;
 /// u32 words per visible point in the flux accumulator.
 pub const ACCUM_STRIDE: u32 = 8;
 /// Invocations per workgroup of every kernel.

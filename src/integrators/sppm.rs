@@ -130,6 +130,7 @@ impl Sppm {
         frame.ray_epsilon = data.ray_epsilon();
         frame.power_total = data.power_total;
         frame.vp_count = vp_count;
+        frame.motion = data.motion as u32;
 
         let camera_pass = Kernel::new(device, "camera_pass")?;
         let photon_pass = Kernel::new(device, "photon_pass")?;
@@ -210,6 +211,7 @@ impl Sppm {
     /// Stage 1 of a pass: camera paths to this pass's visible points (`camera_pass`).
     pub fn trace_camera_paths(&mut self) {
         self.frame.pass_index = self.passes;
+        self.frame.time = super::shutter_time(self.frame.seed, self.passes);
         self.queue.write_buffer(&self.buffers.frame, 0, bytemuck::bytes_of(&self.frame));
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("camera_pass") });
         self.camera_pass.dispatch(&mut encoder, &self.camera_group, self.vp_count);
