@@ -7,6 +7,7 @@
 #import sampling
 #import scene
 #import bsdf
+#import camera
 
 @group(0) @binding(8) var<storage, read_write> visible_points: array<VisiblePoint>;
 @group(0) @binding(9) var<storage, read_write> vp_points: array<vec4f>;
@@ -25,21 +26,9 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     let px = pixel % frame.width;
     let py = pixel / frame.width;
 
-    // A uniform point in the pixel's square (box filter) on the image plane at distance 1.
-    let jitter = rng_next2(&rng);
-    let sx = 2.0 * (f32(px) + jitter.x) / f32(frame.width) - 1.0;
-    let sy = 1.0 - 2.0 * (f32(py) + jitter.y) / f32(frame.height);
-    let dir_pinhole = frame.cam_forward + sx * frame.cam_right + sy * frame.cam_up;
-    var o = frame.cam_position;
-    var d = normalize(dir_pinhole);
-    let lens_u = rng_next2(&rng);
-    if frame.lens_radius > 0.0 {
-        // Thin lens: aim through the point that the pinhole ray meets on the focal plane.
-        let lens = frame.lens_radius * sample_disk(lens_u);
-        let focus = frame.cam_position + frame.focus_distance * dir_pinhole;
-        o = frame.cam_position + lens.x * normalize(frame.cam_right) + lens.y * normalize(frame.cam_up);
-        d = normalize(focus - o);
-    }
+    let ray = camera_ray(px, py, &rng);
+    var o = ray.o;
+    var d = ray.d;
 
     var beta = vec3f(1.0);
     var ld = vec3f(0.0);

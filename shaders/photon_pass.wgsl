@@ -8,6 +8,7 @@
 #import sampling
 #import scene
 #import bsdf
+#import lights
 
 @group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
 @group(0) @binding(9) var<storage, read> vp_points: array<vec4f>;
@@ -15,7 +16,6 @@
 @group(0) @binding(12) var<storage, read> grid_cell_start: array<u32>;
 @group(0) @binding(13) var<storage, read> grid_entries: array<u32>;
 @group(0) @binding(14) var<storage, read_write> flux_accum: array<atomic<u32>>;
-@group(0) @binding(15) var<storage, read> emitters: array<Emitter>;
 
 const STREAM_PHOTON: u32 = 1u;
 
@@ -69,21 +69,6 @@ fn deposit(p: vec3f, d: vec3f, beta: vec3f) {
     }
 }
 
-// Index of the emitter whose cdf interval holds u (binary search).
-fn find_emitter(u: f32) -> u32 {
-    var lo = 0u;
-    var hi = frame.emitter_count - 1u;
-    while lo < hi {
-        let mid = (lo + hi) / 2u;
-        if emitters[mid].cdf <= u {
-            lo = mid + 1u;
-        } else {
-            hi = mid;
-        }
-    }
-    return lo;
-}
-
 // Photons each thread traces, one after another.
 const PHOTONS_PER_THREAD: u32 = 16u;
 
@@ -114,26 +99,11 @@ fn emit_photon(rng: ptr<function, Rng>) -> Photon {
         let p = e.position + b[0] * q.x + b[1] * q.y;
         return Photon(p, e.direction, e.radiance * (e.area * scale), 0u);
     }
-    var p: vec3f;
-    var n: vec3f;
-    var shape_index: u32;
-    if (e.prim_ref & SPHERE_BIT) != 0u {
-        let s = spheres[e.prim_ref & ~SPHERE_BIT];
-        n = sample_uniform_sphere(u_pos);
-        p = s.center + s.radius * n;
-        shape_index = s.shape;
-    } else {
-        let tri = triangles[e.prim_ref];
-        let b = sample_triangle(u_pos);
-        p = tri.p0 + b.x * tri.e1 + b.y * tri.e2;
-        n = normalize(cross(tri.e1, tri.e2));
-        shape_index = tri.shape;
-    }
-    p += displacement(shape_index);
-    let d = sample_cosine_hemisphere(n, u_dir);
+    let l = sample_area_emitter(e, u_pos);
+    let d = sample_cosine_hemisphere(l.n, u_dir);
     // Le cos / ((1 / area) * (cos / pi))
-    let beta = shapes[shape_index].emission * (PI * e.area * scale);
-    return Photon(offset_origin(p, n, d), d, beta, 0u);
+    let beta = shapes[l.shape].emission * (PI * e.area * scale);
+    return Photon(offset_origin(l.p, l.n, d), d, beta, 0u);
 }
 
 // One bounce of a photon: deposit at a diffuse hit, then scatter. False when the photon ends.

@@ -3,7 +3,7 @@
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 use sppm_gpu::gpu::GpuContext;
-use sppm_gpu::integrators::Sppm;
+use sppm_gpu::integrators::{self, Sppm};
 use sppm_gpu::scene::{self, Method};
 use sppm_gpu::{image_io, Error};
 use std::path::{Path, PathBuf};
@@ -53,6 +53,10 @@ struct Overrides {
     /// Image height in pixels (overrides render.height).
     #[arg(long)]
     height: Option<u32>,
+    /// Rendering method: sppm, pt (naive path tracing) or pt-nee (next-event estimation with
+    /// MIS) (overrides render.method).
+    #[arg(long, value_parser = ["sppm", "pt", "pt-nee"])]
+    method: Option<String>,
     /// Camera samples per pixel in each pass (overrides render.spp).
     #[arg(long)]
     spp: Option<u32>,
@@ -130,6 +134,13 @@ fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Resul
     if let Some(s) = cli.seed {
         render.seed = s;
     }
+    if let Some(m) = &cli.method {
+        render.method = match m.as_str() {
+            "pt" => Method::Pt,
+            "pt-nee" => Method::PtNee,
+            _ => Method::Sppm,
+        };
+    }
     Ok(())
 }
 
@@ -167,17 +178,10 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
     check_output(output, scene_path)?;
     let mut scene = scene::load(scene_path)?;
     apply_overrides(&cli.overrides, &mut scene.render)?;
-    if scene.render.method != Method::Sppm {
-        return Err(Error::Setting(format!(
-            "{}: render.method {:?} is not supported yet; use \"sppm\"",
-            scene_path.display(),
-            scene.render.method
-        )));
-    }
-
     let gpu = GpuContext::new()?;
-    let mut sppm = Sppm::new(&gpu.device, &gpu.queue, &scene)?;
+    let mut integrator = integrators::create(&gpu.device, &gpu.queue, &scene)?;
     let r = &scene.render;
+    let unit = integrator.work_unit();
 
     let progress = ProgressBar::new(r.iterations as u64);
     progress.set_style(
@@ -185,16 +189,17 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
             .expect("valid template"),
     );
     let start = Instant::now();
-    while sppm.passes() < r.iterations {
-        sppm.run_pass()?;
+    while integrator.passes() < r.iterations {
+        integrator.run_pass()?;
         let seconds = start.elapsed().as_secs_f64();
-        progress.set_position(sppm.passes() as u64);
-        progress.set_message(format!("{:.2} M photons/s", sppm.photons_traced() as f64 / seconds / 1e6));
+        let work = integrator.passes() as u64 * integrator.work_per_pass();
+        progress.set_position(integrator.passes() as u64);
+        progress.set_message(format!("{:.2} M {unit}/s", work as f64 / seconds / 1e6));
         if r.time_limit.is_some_and(|limit| seconds >= limit) {
             break;
         }
     }
-    let image = sppm.image()?;
+    let image = integrator.image()?;
     let seconds = start.elapsed().as_secs_f64();
     progress.finish_and_clear();
 
@@ -202,17 +207,26 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
         eprintln!("note: replacing {}", output.display());
     }
     image_io::write_image(output, &image)?;
+    let work = integrator.passes() as u64 * integrator.work_per_pass();
     println!(
-        "{} passes, {} photons in {:.2} s ({:.2} M photons/s, {:.2} passes/s, initial radius {:.4}) -> {}",
-        sppm.passes(),
-        sppm.photons_traced(),
+        "{}: {} passes, {work} {unit} in {:.2} s ({:.2} M {unit}/s, {:.2} passes/s) -> {}",
+        method_name(r.method),
+        integrator.passes(),
         seconds,
-        sppm.photons_traced() as f64 / seconds / 1e6,
-        sppm.passes() as f64 / seconds,
-        sppm.initial_radius(),
+        work as f64 / seconds / 1e6,
+        integrator.passes() as f64 / seconds,
         output.display()
     );
     Ok(())
+}
+
+/// The name of a method as the scene format spells it.
+fn method_name(method: Method) -> &'static str {
+    match method {
+        Method::Sppm => "sppm",
+        Method::Pt => "pt",
+        Method::PtNee => "pt-nee",
+    }
 }
 
 /// Run the scene's passes with a wait after each stage and print where the time goes.

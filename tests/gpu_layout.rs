@@ -30,7 +30,7 @@ fn gpu_structs_match_wgsl() {
     check!(module, Frame, "Frame", [
         cam_position, lens_radius, cam_right, focus_distance, cam_up, width, cam_forward, height,
         spp, pass_index, seed, max_depth, photon_count, emitter_count, ray_epsilon, power_total,
-        alpha, vp_count, time, motion,
+        alpha, vp_count, time, motion, nee, _pad0, _pad1, _pad2,
     ]);
     check!(module, BvhNode, "BvhNode", [min, first, max, count]);
     check!(module, GpuTriangle, "Triangle", [p0, material, e1, shape, e2, attributes]);

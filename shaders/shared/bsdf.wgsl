@@ -149,3 +149,28 @@ fn sample_nondiffuse(m: Material, d: vec3f, s: Surface, u: vec3f, radiance: bool
     }
     return next;
 }
+
+struct BsdfEval {
+    // f, without the cosine.
+    f: vec3f,
+    // Solid-angle density with which the sampler picks wi given wo.
+    pdf: f32,
+}
+
+// The glossy conductor's f and sample_glossy's density, for wo and wi pointing away from the
+// surface: f = albedo D G / (4 cos_o cos_i) (Walter et al. 2007, eq. 20 with F = 1) and
+// pdf = G1(wo) D / (4 cos_o) (the visible-normal density over the reflection Jacobian).
+fn glossy_eval(albedo: vec3f, alpha_in: f32, wo: vec3f, wi: vec3f, ns: vec3f) -> BsdfEval {
+    let alpha = max(alpha_in, MIN_ALPHA);
+    let n = select(-ns, ns, dot(wo, ns) > 0.0);
+    let cos_o = dot(wo, n);
+    let cos_i = dot(wi, n);
+    if cos_o <= 0.0 || cos_i <= 0.0 {
+        return BsdfEval(vec3f(0.0), 0.0);
+    }
+    let h = normalize(wo + wi);
+    let d = ggx_d(dot(h, n), alpha);
+    let g1_o = ggx_g1(cos_o, alpha);
+    let f = albedo * (d * g1_o * ggx_g1(cos_i, alpha) / (4.0 * cos_o * cos_i));
+    return BsdfEval(f, g1_o * d / (4.0 * cos_o));
+}

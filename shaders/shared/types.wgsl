@@ -28,6 +28,11 @@ struct Frame {
     time: f32,
     // 1 when some shape moves.
     motion: u32,
+    // Path tracing: 1 for next-event estimation, 0 for naive.
+    nee: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // Leaf when count > 0: primitives prim_refs[first .. first + count].

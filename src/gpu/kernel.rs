@@ -9,7 +9,7 @@ use super::types::WORKGROUP_SIZE;
 use super::GpuError;
 
 /// Every kernel, by name (its file `shaders/<name>.wgsl`, its entry point and its label).
-pub const KERNELS: &[&str] = &["camera_pass", "photon_pass", "update_stats", "resolve", "trace_rays"];
+pub const KERNELS: &[&str] = &["camera_pass", "photon_pass", "update_stats", "resolve", "path_trace", "trace_rays"];
 
 /// Shader files, embedded at build time so the binary stands alone.
 const FILES: &[(&str, &str)] = &[
@@ -23,6 +23,9 @@ const FILES: &[(&str, &str)] = &[
     ("sampling", include_str!("../../shaders/shared/sampling.wgsl")),
     ("scene", include_str!("../../shaders/shared/scene.wgsl")),
     ("bsdf", include_str!("../../shaders/shared/bsdf.wgsl")),
+    ("camera", include_str!("../../shaders/shared/camera.wgsl")),
+    ("lights", include_str!("../../shaders/shared/lights.wgsl")),
+    ("path_trace", include_str!("../../shaders/path_trace.wgsl")),
 ];
 
 fn file(name: &str) -> Result<&'static str, GpuError> {

@@ -31,6 +31,11 @@ pub struct Frame {
     pub time: f32,
     /// 1 when some shape moves (has a velocity), so that traversal offsets rays by it.
     pub motion: u32,
+    /// Path tracing: 1 for next-event estimation, 0 for naive.
+    pub nee: u32,
+    pub _pad0: u32,
+    pub _pad1: u32,
+    pub _pad2: u32,
 }
 
 /// A triangle as a corner and two edges.

@@ -1,8 +1,39 @@
-//! Integrators: SPPM now; the path tracers share the scene, camera and kernels' shared code.
+//! Integrators: SPPM and the path tracers (naive, and with next-event estimation) share the
+//! scene, its GPU buffers, the camera, the shutter and the kernels' shared WGSL; each one is
+//! driven through [`Integrator`].
 
+pub mod path;
 pub mod sppm;
 
+pub use path::PathTracer;
 pub use sppm::Sppm;
+
+use crate::error::Error;
+use crate::image_io::Rgb32Image;
+use crate::scene::Method;
+
+/// A progressive renderer: each pass refines the estimate, which can be read at any time.
+pub trait Integrator {
+    /// Run one more pass to completion (submitted; `image` waits for it).
+    fn run_pass(&mut self) -> Result<(), Error>;
+    /// Passes completed.
+    fn passes(&self) -> u32;
+    /// What one pass adds, for progress and reports: photons for SPPM, camera samples (one
+    /// per pixel) for the path tracers.
+    fn work_per_pass(&self) -> u64;
+    /// Unit of [`Integrator::work_per_pass`]: "photons" or "samples".
+    fn work_unit(&self) -> &'static str;
+    /// The current estimate, read back (waits for the submitted passes).
+    fn image(&mut self) -> Result<Rgb32Image, Error>;
+}
+
+/// The integrator for `scene.render.method`, on the caller's device.
+pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Box<dyn Integrator>, Error> {
+    Ok(match scene.render.method {
+        Method::Sppm => Box::new(Sppm::new(device, queue, scene)?),
+        Method::Pt | Method::PtNee => Box::new(PathTracer::new(device, queue, scene)?),
+    })
+}
 
 use crate::gpu::types::Frame;
 use crate::scene::Scene;

@@ -345,3 +345,21 @@ impl Sppm {
         Ok(RadiusStats { min, mean: (sum / stats.len().max(1) as f64) as f32, max })
     }
 }
+
+impl super::Integrator for Sppm {
+    fn run_pass(&mut self) -> Result<(), Error> {
+        Sppm::run_pass(self)
+    }
+    fn passes(&self) -> u32 {
+        self.passes
+    }
+    fn work_per_pass(&self) -> u64 {
+        self.frame.photon_count as u64
+    }
+    fn work_unit(&self) -> &'static str {
+        "photons"
+    }
+    fn image(&mut self) -> Result<Rgb32Image, Error> {
+        Sppm::image(self)
+    }
+}

@@ -1,0 +1,115 @@
+//! Path tracing on the same scene, camera, lights and BSDF code as SPPM, for comparison:
+//! naive (`method = "pt"`) or with next-event estimation and MIS (`"pt-nee"`). Each pass adds
+//! one sample per pixel (`path_trace`); the image is the running mean.
+
+use super::{camera_frame, shutter_time, Integrator};
+use crate::error::Error;
+use crate::gpu::readback::{read_buffer, staging_buffer};
+use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
+use crate::gpu::types::Frame;
+use crate::gpu::{Kernel, Resource};
+use crate::image_io::Rgb32Image;
+use crate::scene::{Method, Scene};
+use wgpu::util::DeviceExt;
+
+pub struct PathTracer {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    frame: Frame,
+    passes: u32,
+    pixel_count: u32,
+    path_trace: Kernel,
+    group: wgpu::BindGroup,
+    frame_buffer: wgpu::Buffer,
+    radiance: wgpu::Buffer,
+    radiance_staging: wgpu::Buffer,
+    // Kept alive for the bind group.
+    _scene: SceneBuffers,
+}
+
+impl PathTracer {
+    /// Set up `scene.render.method` (`Pt` or `PtNee`) for `scene` on the caller's device.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Self, Error> {
+        let r = &scene.render;
+        let data = SceneData::new(scene)?;
+        let pixel_count = r.width.checked_mul(r.height).ok_or_else(|| Error::Setting("image too large".into()))?;
+        let bytes = pixel_count as u64 * 16;
+        if bytes > device.limits().max_storage_buffer_binding_size as u64 {
+            return Err(Error::Setting(format!("{}x{} pixels need more memory than this device's buffers hold", r.width, r.height)));
+        }
+        let mut frame = camera_frame(scene);
+        frame.emitter_count = data.emitters.len() as u32;
+        frame.ray_epsilon = data.ray_epsilon();
+        frame.power_total = data.power_total;
+        frame.motion = data.motion as u32;
+        frame.nee = (r.method == Method::PtNee) as u32;
+
+        let path_trace = Kernel::new(device, "path_trace")?;
+        let scene_buffers = SceneBuffers::new(device, &data);
+        let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("frame"),
+            contents: bytemuck::bytes_of(&frame),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let radiance = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("radiance"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut resources = scene_buffers.resources();
+        resources.push(Resource { name: "frame", buffer: &frame_buffer });
+        resources.push(Resource { name: "radiance", buffer: &radiance });
+        let group = path_trace.bind_group(device, &resources)?;
+        drop(resources);
+        Ok(Self {
+            device: device.clone(),
+            queue: queue.clone(),
+            frame,
+            passes: 0,
+            pixel_count,
+            path_trace,
+            group,
+            frame_buffer,
+            radiance_staging: staging_buffer(device, "radiance_staging", bytes),
+            radiance,
+            _scene: scene_buffers,
+        })
+    }
+}
+
+impl Integrator for PathTracer {
+    fn run_pass(&mut self) -> Result<(), Error> {
+        self.frame.pass_index = self.passes;
+        self.frame.time = shutter_time(self.frame.seed, self.passes);
+        self.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&self.frame));
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("path_trace") });
+        self.path_trace.dispatch(&mut encoder, &self.group, self.pixel_count);
+        self.queue.submit([encoder.finish()]);
+        self.passes += 1;
+        Ok(())
+    }
+
+    fn passes(&self) -> u32 {
+        self.passes
+    }
+
+    fn work_per_pass(&self) -> u64 {
+        self.pixel_count as u64
+    }
+
+    fn work_unit(&self) -> &'static str {
+        "samples"
+    }
+
+    fn image(&mut self) -> Result<Rgb32Image, Error> {
+        let sums: Vec<[f32; 4]> =
+            read_buffer(&self.device, &self.queue, &self.radiance, &self.radiance_staging, self.pixel_count as u64 * 16)?;
+        let mut img = Rgb32Image::new(self.frame.width, self.frame.height);
+        for (dst, s) in img.pixels.iter_mut().zip(&sums) {
+            let n = s[3].max(1.0);
+            *dst = [s[0] / n, s[1] / n, s[2] / n];
+        }
+        Ok(img)
+    }
+}
