@@ -12,6 +12,8 @@
 @group(0) @binding(8) var<storage, read_write> visible_points: array<VisiblePoint>;
 @group(0) @binding(9) var<storage, read_write> vp_points: array<vec4f>;
 @group(0) @binding(10) var<storage, read_write> vp_stats: array<VpStats>;
+// The largest radius of this pass's visible points, as f32 bits, for grid_setup.
+@group(0) @binding(17) var<storage, read_write> grid_max_radius: array<atomic<u32>>;
 
 const STREAM_CAMERA: u32 = 0u;
 
@@ -51,6 +53,8 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             let n = select(-s.ng, s.ng, dot(d, s.ng) < 0.0);
             vp = VisiblePoint(n, 0u, beta * diffuse_albedo(m, s.uv) * INV_PI, 0u);
             vp_position = vec4f(s.p, vp_stats[index].radius);
+            // Positive floats order like their bits.
+            atomicMax(&grid_max_radius[0], bitcast<u32>(vp_position.w));
             break;
         }
         // Specular and glossy surfaces are passed through by sampling them, so visible points

@@ -2,6 +2,7 @@
 
 pub mod accel;
 pub mod error;
+pub mod experiments;
 pub mod gpu;
 pub mod image_io;
 pub mod integrators;

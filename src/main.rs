@@ -5,7 +5,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use sppm_gpu::gpu::GpuContext;
 use sppm_gpu::integrators::{self, Sppm};
 use sppm_gpu::scene::{self, Method};
-use sppm_gpu::{image_io, Error};
+use sppm_gpu::{experiments, image_io, Error};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -74,6 +74,75 @@ enum Command {
         /// Box-downsample both images by this factor first.
         #[arg(long, default_value_t = 1)]
         downsample: u32,
+        /// Also write the false-colour map of the per-pixel relative error (after the
+        /// downsampling, enlarged back) to this PNG.
+        #[arg(long)]
+        error_image: Option<PathBuf>,
+    },
+    /// Equal-time comparison of methods against a reference: a CSV of relMSE at doubling
+    /// times, a log-log chart and the final images side by side.
+    Compare {
+        scene: PathBuf,
+        /// Reference image (EXR or PNG) of the scene's size.
+        #[arg(long)]
+        reference: PathBuf,
+        /// Methods to run, in order (each for --time-limit seconds of passes).
+        #[arg(long, value_delimiter = ',', default_value = "sppm,pt,pt-nee", value_parser = ["sppm", "pt", "pt-nee"])]
+        methods: Vec<String>,
+        /// Box-downsample before measuring the error.
+        #[arg(long, default_value_t = 1)]
+        downsample: u32,
+        /// Time of the first snapshot in seconds; later ones double it.
+        #[arg(long, default_value_t = 0.5)]
+        first_snapshot: f64,
+        /// Folder for compare.csv, relmse-vs-time.png and equal-time.png.
+        #[arg(long, default_value = "out/compare")]
+        out: PathBuf,
+        /// Render overrides; --time-limit (required here, unless the scene sets one) is the
+        /// time of each method, --iterations caps its passes.
+        #[command(flatten)]
+        overrides: Overrides,
+    },
+    /// Render once per value of one setting, measuring relMSE after every pass: a CSV,
+    /// charts and the final images side by side.
+    Sweep {
+        scene: PathBuf,
+        /// The setting to vary.
+        #[arg(long, value_parser = ["radius", "alpha", "photons"])]
+        param: String,
+        /// Its values, comma-separated.
+        #[arg(long, value_delimiter = ',', required = true)]
+        values: Vec<f64>,
+        /// Reference image (EXR or PNG) of the scene's size.
+        #[arg(long)]
+        reference: PathBuf,
+        /// Box-downsample before measuring the error.
+        #[arg(long, default_value_t = 1)]
+        downsample: u32,
+        /// Folder for sweep.csv, the charts and images.png.
+        #[arg(long, default_value = "out/sweep")]
+        out: PathBuf,
+        #[command(flatten)]
+        overrides: Overrides,
+    },
+    /// Time every pass and keep the image after chosen pass counts: a CSV, a chart of time
+    /// per pass and the images side by side.
+    Passes {
+        scene: PathBuf,
+        /// Pass counts whose images to keep, comma-separated; the run ends at the largest.
+        #[arg(long, value_delimiter = ',', required = true)]
+        snapshots: Vec<u32>,
+        /// Reference image, for relMSE in the captions.
+        #[arg(long)]
+        reference: Option<PathBuf>,
+        /// Box-downsample before measuring the error.
+        #[arg(long, default_value_t = 1)]
+        downsample: u32,
+        /// Folder for passes.csv, time-per-pass.png and images.png.
+        #[arg(long, default_value = "out/passes")]
+        out: PathBuf,
+        #[command(flatten)]
+        overrides: Overrides,
     },
     /// Time each stage of an SPPM pass (waiting for the GPU after each) and report
     /// throughput.
@@ -85,7 +154,7 @@ enum Command {
 }
 
 /// Print relMSE = mean((x - ref)^2 / (ref^2 + 0.01)), RMSE and the channel mean ratios.
-fn diff(image: &Path, reference: &Path, downsample: u32) -> Result<(), Error> {
+fn diff(image: &Path, reference: &Path, downsample: u32, error_image: Option<&Path>) -> Result<(), Error> {
     let a = image_io::read_image(image)?;
     let b = image_io::read_image(reference)?;
     let c = sppm_gpu::metrics::compare(&a, &b, downsample).map_err(Error::Setting)?;
@@ -93,7 +162,63 @@ fn diff(image: &Path, reference: &Path, downsample: u32) -> Result<(), Error> {
         "relMSE {:.6}  RMSE {:.6}  mean ratio {:.4} {:.4} {:.4}  (downsample {downsample})",
         c.rel_mse, c.rmse, c.mean_ratio[0], c.mean_ratio[1], c.mean_ratio[2]
     );
+    if let Some(path) = error_image {
+        experiments::plot::write_error_image(path, &a, &b, downsample)?;
+    }
     Ok(())
+}
+
+/// Load a scene and apply the command line's overrides; also its name (the file stem).
+fn load_scene(path: &Path, overrides: &Overrides) -> Result<(scene::Scene, String), Error> {
+    let mut scene = scene::load(path)?;
+    apply_overrides(overrides, &mut scene.render)?;
+    let name = path.file_stem().map_or_else(|| path.display().to_string(), |s| s.to_string_lossy().into_owned());
+    Ok((scene, name))
+}
+
+/// The `compare`, `sweep` and `passes` subcommands (in `experiments`).
+fn experiment(command: &Command) -> Result<(), Error> {
+    match command {
+        Command::Compare { scene, reference, methods, downsample, first_snapshot, out, overrides } => {
+            let (scene, name) = load_scene(scene, overrides)?;
+            let Some(time_limit) = scene.render.time_limit else {
+                return Err(Error::Setting("compare needs --time-limit SECS".into()));
+            };
+            let methods = methods.iter().map(|m| experiments::parse_method(m)).collect::<Result<_, _>>()?;
+            let opts = experiments::CompareOptions {
+                reference: reference.clone(),
+                methods,
+                time_limit,
+                first_snapshot: *first_snapshot,
+                downsample: *downsample,
+                max_passes: overrides.iterations,
+                out: out.clone(),
+            };
+            experiments::compare(&scene, &name, &opts).map(drop)
+        }
+        Command::Sweep { scene, param, values, reference, downsample, out, overrides } => {
+            let (scene, name) = load_scene(scene, overrides)?;
+            let opts = experiments::SweepOptions {
+                param: experiments::SweepParam::parse(param)?,
+                values: values.clone(),
+                reference: reference.clone(),
+                downsample: *downsample,
+                out: out.clone(),
+            };
+            experiments::sweep(&scene, &name, &opts).map(drop)
+        }
+        Command::Passes { scene, snapshots, reference, downsample, out, overrides } => {
+            let (scene, name) = load_scene(scene, overrides)?;
+            let opts = experiments::PassesOptions {
+                snapshots: snapshots.clone(),
+                reference: reference.clone(),
+                downsample: *downsample,
+                out: out.clone(),
+            };
+            experiments::passes(&scene, &name, &opts).map(drop)
+        }
+        Command::Diff { .. } | Command::Bench { .. } => unreachable!("not an experiment"),
+    }
 }
 
 /// Apply the command line's overrides to the scene's `[render]` table, checking each.
@@ -162,11 +287,14 @@ fn check_output(output: &Path, scene_path: &Path) -> Result<(), Error> {
 }
 
 fn run(cli: &Cli) -> Result<(), Error> {
-    if let Some(Command::Diff { image, reference, downsample }) = &cli.command {
-        return diff(image, reference, *downsample);
+    if let Some(Command::Diff { image, reference, downsample, error_image }) = &cli.command {
+        return diff(image, reference, *downsample, error_image.as_deref());
     }
     if let Some(Command::Bench { scene, overrides }) = &cli.command {
         return bench(scene, overrides);
+    }
+    if let Some(command) = &cli.command {
+        return experiment(command);
     }
     let (Some(scene_path), Some(output)) = (&cli.scene, &cli.output) else {
         return Err(Error::Setting("a scene file and -o OUTPUT are required".into()));
@@ -239,7 +367,7 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
     // One untimed pass first: the driver may compile kernels at their first dispatch.
     sppm.run_pass()?;
     sppm.wait()?;
-    // Stage totals: camera paths, grid (readback, build, upload), photons, statistics.
+    // Stage totals: camera paths, grid build, photons, statistics.
     let mut stage = [0.0f64; 4];
     let start = Instant::now();
     while sppm.passes() <= r.iterations {
@@ -271,7 +399,7 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
         r.max_depth,
         gpu.adapter_info.name
     );
-    for (name, s) in ["camera paths", "grid (readback, build, upload)", "photons", "statistics"].iter().zip(stage) {
+    for (name, s) in ["camera paths", "grid build", "photons", "statistics"].iter().zip(stage) {
         println!("  {name:32} {:8.1} ms/pass  {:5.1}%", 1e3 * s / passes, 100.0 * s / seconds);
     }
     println!(

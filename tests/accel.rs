@@ -446,7 +446,7 @@ fn grid_matches_brute_force() {
         .filter(|p| p[3] > 0.0 && p[3].is_finite() && p[0].is_finite())
         .collect();
     let max_r = valid.iter().map(|p| p[3]).fold(0.0f32, f32::max);
-    assert_eq!(grid.params.cell_size, 2.0 * max_r);
+    assert_eq!(grid.params.cell_size, sppm_gpu::accel::grid::CELL_RADII * max_r);
     assert_eq!(
         grid.params.table_mask as usize + 1,
         valid.len().next_power_of_two()
@@ -514,8 +514,8 @@ fn grid_of_one_point() {
     check_grid(&grid, &points);
     assert_eq!(grid.params.table_mask, 0);
     assert_eq!(grid.params.origin, [0.5, 1.5, 2.5]);
-    assert_eq!(grid.params.res, [2, 2, 2]);
-    // Eight cells share the single bucket; the point is listed once.
+    // Cells a little over two radii wide: the point's box fits in one.
+    assert_eq!(grid.params.res, [1, 1, 1]);
     assert_eq!(grid.entries, [1]);
     assert_eq!(gathered(&grid, &points, Vec3::new(1.0, 2.0, 3.0)), [1]);
     assert_eq!(gathered(&grid, &points, Vec3::new(1.4, 2.0, 3.0)), [1]);

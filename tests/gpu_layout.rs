@@ -41,6 +41,7 @@ fn gpu_structs_match_wgsl() {
     check!(module, VisiblePoint, "VisiblePoint", [normal, _pad0, weight, _pad1]);
     check!(module, VpStats, "VpStats", [tau, n, ld, radius]);
     check!(module, GridParams, "GridParams", [origin, cell_size, res, table_mask]);
+    check!(module, GridScene, "GridScene", [lo, table_size, hi, _pad]);
 }
 
 #[test]

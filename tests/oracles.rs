@@ -381,3 +381,46 @@ fn grid_over_gpu_visible_points_matches_brute_force() {
     eprintln!("{hits} of {QUERIES} queries found points ({total_found} in all), {} grid entries", grid.entries.len());
     assert!(hits > QUERIES / 3, "only {hits} queries found a point");
 }
+
+/// The grid the kernels build (grid_setup, grid_count, grid_scan, grid_fill) against the
+/// host's `build_grid_in` over the same points with the same parameters: the parameters
+/// follow `GridParams::covering`, every bucket's offset is the same, and every bucket lists
+/// the same points (in any order: the GPU fills buckets by atomics).
+#[test]
+fn gpu_grid_build_matches_cpu_oracle() {
+    let Some(gpu) = common::gpu() else { return };
+    for name in ["cornell-spheres.toml", "motion-blur.toml"] {
+        let scene = scene(name, 48, 20_000);
+        let mut sppm = renderer(&gpu, &scene);
+        // Two passes first, so that radii differ from point to point (after one, every point
+        // with photons has r0 sqrt(alpha)).
+        sppm.run_pass().unwrap();
+        sppm.run_pass().unwrap();
+        sppm.trace_camera_paths();
+        sppm.build_grid().unwrap();
+        let points = sppm.visible_point_positions().unwrap();
+        let (params, cell_start, entries) = sppm.grid().unwrap();
+
+        let max_r = points.iter().map(|p| p[3]).fold(0.0f32, f32::max);
+        let radii: HashSet<u32> = points.iter().map(|p| p[3].to_bits()).collect();
+        assert!(radii.len() > 10, "{name}: radii should vary after a pass");
+        let data = sppm_gpu::gpu::scene_buffers::SceneData::new(&scene).unwrap();
+        let (lo, hi) = data.swept_bounds();
+        let table_size = params.table_mask + 1;
+        let expected = sppm_gpu::accel::GridParams::covering(lo, hi, max_r, table_size);
+        assert_eq!(params, expected, "{name}: grid parameters");
+
+        let cpu = sppm_gpu::accel::build_grid_in(&points, params);
+        assert_eq!(cell_start[..cpu.cell_start.len()], cpu.cell_start[..], "{name}: bucket offsets");
+        let total = *cpu.cell_start.last().unwrap() as usize;
+        assert!(total > points.len(), "{name}: points should be listed in several buckets");
+        for h in 0..table_size as usize {
+            let range = cpu.cell_start[h] as usize..cpu.cell_start[h + 1] as usize;
+            let mut a = entries[range.clone()].to_vec();
+            let mut b = cpu.entries[range].to_vec();
+            a.sort_unstable();
+            b.sort_unstable();
+            assert_eq!(a, b, "{name}: bucket {h}");
+        }
+    }
+}

@@ -126,6 +126,15 @@ struct VpStats {
     radius: f32,
 }
 
+// What grid_setup needs from the host: the box holding every visible point (the scene's
+// bounds over the shutter) and the hash table's size (a power of two).
+struct GridScene {
+    lo: vec3f,
+    table_size: u32,
+    hi: vec3f,
+    _pad: u32,
+}
+
 struct GridParams {
     origin: vec3f,
     cell_size: f32,

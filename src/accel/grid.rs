@@ -37,8 +37,13 @@
 
 use glam::Vec3;
 
-/// Cell side in units of the largest radius.
-pub const CELL_RADII: f32 = 2.0;
+/// Cell side in units of the largest radius: 2, and a little more, so that a point's box
+/// (2 r wide) spans at most two cells per axis despite rounding; cell ranges are clamped to
+/// two per axis as well, which bounds the entries at 8 per point.
+pub const CELL_RADII: f32 = 2.002;
+
+/// Cells per axis at most; a scene far larger than its radius gets larger cells instead.
+pub const MAX_RES: u32 = 1 << 20;
 
 /// GPU-side grid parameters (32 bytes, std430/uniform compatible).
 #[repr(C)]
@@ -72,6 +77,20 @@ pub fn hash_cell(c: [u32; 3], table_mask: u32) -> u32 {
 }
 
 impl GridParams {
+    /// Parameters of a grid for points of radius at most `max_r` centred in the box `lo`..`hi`,
+    /// with `table_size` buckets (a power of two): cells of [`CELL_RADII`] `max_r` (larger if
+    /// that would need more than [`MAX_RES`] per axis) from `lo - max_r`. `grid_setup.wgsl`
+    /// computes the same.
+    pub fn covering(lo: Vec3, hi: Vec3, max_r: f32, table_size: u32) -> Self {
+        assert!(table_size.is_power_of_two());
+        let origin = lo - max_r;
+        let extent = (hi + max_r - origin).max_element();
+        let cell_size = (CELL_RADII * max_r).max(extent / MAX_RES as f32);
+        let mut params = GridParams { origin: origin.to_array(), cell_size, res: [0; 3], table_mask: table_size - 1 };
+        params.res = [0, 1, 2].map(|axis| ((params.cell_coord(hi[axis] + max_r, axis) as u32).saturating_add(1)).min(MAX_RES));
+        params
+    }
+
     /// Grid coordinate of `x` along `axis`, in cells from `origin`: cell `c` spans
     /// `[c, c + 1)`. Build and lookups go through this one function, which is monotone in `x`,
     /// so a query point inside a point's box finds a cell of that box. Cells are taken as
@@ -113,7 +132,7 @@ impl GridParams {
         for axis in 0..3 {
             // `as u32` truncates, and saturates negative values (and NaN) to 0.
             lo[axis] = self.cell_coord(center[axis] - r, axis) as u32;
-            hi[axis] = (self.cell_coord(center[axis] + r, axis) as u32).min(self.res[axis] - 1);
+            hi[axis] = (self.cell_coord(center[axis] + r, axis) as u32).min(self.res[axis] - 1).min(lo[axis] + 1);
         }
         for z in lo[2]..hi[2] + 1 {
             for y in lo[1]..hi[1] + 1 {
@@ -154,15 +173,15 @@ pub fn point_within(point: &[f32; 4], p: Vec3) -> bool {
 pub fn build_grid(points: &[[f32; 4]]) -> HashGrid {
     let valid = || points.iter().enumerate().filter(|(_, p)| is_valid(p));
 
-    // Bounds of the point boxes and largest radius.
+    // Bounds of the points' centres and largest radius.
     let mut lo = Vec3::INFINITY;
     let mut hi = Vec3::NEG_INFINITY;
     let mut max_r = 0.0f32;
     let mut count = 0usize;
     for (_, p) in valid() {
         let (center, r) = split(p);
-        lo = lo.min(center - r);
-        hi = hi.max(center + r);
+        lo = lo.min(center);
+        hi = hi.max(center);
         max_r = max_r.max(r);
         count += 1;
     }
@@ -180,21 +199,15 @@ pub fn build_grid(points: &[[f32; 4]]) -> HashGrid {
     }
     assert!(count <= 1 << 31, "too many points for a u32 hash table");
 
-    let table_size = count.next_power_of_two();
-    let mut params = GridParams {
-        origin: lo.to_array(),
-        cell_size: CELL_RADII * max_r,
-        res: [0; 3],
-        table_mask: (table_size - 1) as u32,
-    };
-    // The cell of the upper corner is the last one: this covers every point box whatever the
-    // rounding, since `cell_coord` is monotone.
-    params.res = [0, 1, 2].map(|axis| (params.cell_coord(hi[axis], axis) as u32).saturating_add(1));
+    let params = GridParams::covering(lo, hi, max_r, count.next_power_of_two() as u32);
+    build_grid_in(points, params)
+}
 
-    // Counting sort of (bucket, point) pairs by bucket. Pass 1 counts bucket h into
-    // cell_start[h + 1]; the exclusive prefix sum then leaves the start of bucket h there;
-    // pass 2 appends to bucket h by incrementing cell_start[h + 1], which ends as the end of
-    // bucket h, the start of bucket h + 1.
+/// The grid over the valid points of `points` with the given parameters (see
+/// [`GridParams::covering`]); the kernels build the same one on the GPU.
+pub fn build_grid_in(points: &[[f32; 4]], params: GridParams) -> HashGrid {
+    let valid = || points.iter().enumerate().filter(|(_, p)| is_valid(p));
+    let table_size = params.table_mask as usize + 1;
     let mut cell_start = vec![0u32; table_size + 1];
     let mut buckets = Vec::with_capacity(27);
     for (_, p) in valid() {

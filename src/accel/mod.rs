@@ -9,4 +9,4 @@ pub mod bvh;
 pub mod grid;
 
 pub use bvh::{build_bvh, build_bvh_moving, Bvh, BvhNode, SPHERE_BIT};
-pub use grid::{build_grid, hash_cell, GridParams, HashGrid};
+pub use grid::{build_grid, build_grid_in, hash_cell, GridParams, HashGrid};

@@ -9,11 +9,26 @@ use super::types::WORKGROUP_SIZE;
 use super::GpuError;
 
 /// Every kernel, by name (its file `shaders/<name>.wgsl`, its entry point and its label).
-pub const KERNELS: &[&str] = &["camera_pass", "photon_pass", "update_stats", "resolve", "path_trace", "trace_rays"];
+pub const KERNELS: &[&str] = &[
+    "camera_pass",
+    "grid_setup",
+    "grid_count",
+    "grid_scan",
+    "grid_fill",
+    "photon_pass",
+    "update_stats",
+    "resolve",
+    "path_trace",
+    "trace_rays",
+];
 
 /// Shader files, embedded at build time so the binary stands alone.
 const FILES: &[(&str, &str)] = &[
     ("camera_pass", include_str!("../../shaders/camera_pass.wgsl")),
+    ("grid_setup", include_str!("../../shaders/grid_setup.wgsl")),
+    ("grid_count", include_str!("../../shaders/grid_count.wgsl")),
+    ("grid_scan", include_str!("../../shaders/grid_scan.wgsl")),
+    ("grid_fill", include_str!("../../shaders/grid_fill.wgsl")),
     ("photon_pass", include_str!("../../shaders/photon_pass.wgsl")),
     ("update_stats", include_str!("../../shaders/update_stats.wgsl")),
     ("resolve", include_str!("../../shaders/resolve.wgsl")),
@@ -24,6 +39,7 @@ const FILES: &[(&str, &str)] = &[
     ("scene", include_str!("../../shaders/shared/scene.wgsl")),
     ("bsdf", include_str!("../../shaders/shared/bsdf.wgsl")),
     ("camera", include_str!("../../shaders/shared/camera.wgsl")),
+    ("grid", include_str!("../../shaders/shared/grid.wgsl")),
     ("lights", include_str!("../../shaders/shared/lights.wgsl")),
     ("path_trace", include_str!("../../shaders/path_trace.wgsl")),
 ];
@@ -153,6 +169,14 @@ impl Kernel {
             entries.push(wgpu::BindGroupEntry { binding: *binding, resource: resource.buffer.as_entire_binding() });
         }
         Ok(device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(self.name), layout: &self.layout, entries: &entries }))
+    }
+
+    /// Record a dispatch of exactly `groups` workgroups (for the single-workgroup kernels).
+    pub fn dispatch_groups(&self, encoder: &mut wgpu::CommandEncoder, bind_group: &wgpu::BindGroup, groups: u32) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.name), timestamp_writes: None });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.dispatch_workgroups(groups, 1, 1);
     }
 
     /// Record a dispatch of `threads` invocations. More than 65535 workgroups spill into y;

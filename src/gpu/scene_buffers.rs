@@ -26,6 +26,9 @@ pub struct SceneData {
     pub motion: bool,
     pub bounds_min: Vec3,
     pub bounds_max: Vec3,
+    /// Bounds over the whole shutter (moving shapes at times 0 and 1).
+    pub swept_min: Vec3,
+    pub swept_max: Vec3,
 }
 
 fn setting_error(scene: &Scene, line: usize, key: &str, message: String) -> SceneError {
@@ -241,7 +244,14 @@ impl SceneData {
             motion,
             bounds_min,
             bounds_max,
+            swept_min,
+            swept_max,
         })
+    }
+
+    /// The box holding every surface at every shutter time.
+    pub fn swept_bounds(&self) -> (Vec3, Vec3) {
+        (self.swept_min, self.swept_max)
     }
 
     /// Distance to push ray origins off surfaces: small against the scene, large against the

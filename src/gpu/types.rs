@@ -110,6 +110,17 @@ pub struct Emitter {
     pub _pad: u32,
 }
 
+/// What `grid_setup` needs from the host: the box holding every visible point and the hash
+/// table's size (a power of two).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GridScene {
+    pub lo: [f32; 3],
+    pub table_size: u32,
+    pub hi: [f32; 3],
+    pub _pad: u32,
+}
+
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct VisiblePoint {

@@ -1,11 +1,13 @@
 //! Stochastic progressive photon mapping (Hachisuka & Jensen 2009) on the GPU.
 //!
-//! One pass: `camera_pass` traces a path per visible-point slot to its visible point; the host
-//! reads the points back and builds the hashed grid over them; `photon_pass` traces photons and
-//! adds their flux to the points within radius; `update_stats` folds that into each point's
-//! statistics (N, radius, tau). `resolve` turns the statistics into an image at any time.
+//! One pass, recorded into one command encoder with no trip to the host: `camera_pass` traces
+//! a path per visible-point slot to its visible point; `grid_setup`, `grid_count`, `grid_scan`
+//! and `grid_fill` build the hashed grid over the points (src/accel/grid.rs is its CPU
+//! oracle); `photon_pass` traces photons and adds their flux to the points within radius;
+//! `update_stats` folds that into each point's statistics (N, radius, tau). `resolve` turns
+//! the statistics into an image at any time.
 
-use crate::accel::{build_grid, GridParams};
+use crate::accel::GridParams;
 use crate::error::Error;
 use crate::gpu::readback::{read_buffer, staging_buffer};
 use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
@@ -51,19 +53,18 @@ pub struct Sppm {
     photons_traced: u64,
     initial_radius: f32,
 
-    camera_pass: Kernel,
-    photon_pass: Kernel,
-    update_stats: Kernel,
-    resolve: Kernel,
+    camera_pass: Stage,
+    grid_setup: Stage,
+    grid_count: Stage,
+    grid_scan: Stage,
+    grid_fill: Stage,
+    photon_pass: Stage,
+    update_stats: Stage,
+    resolve: Stage,
 
     buffers: Buffers,
     vp_points_staging: wgpu::Buffer,
     image_staging: wgpu::Buffer,
-
-    camera_group: wgpu::BindGroup,
-    photon_group: Option<wgpu::BindGroup>,
-    update_group: wgpu::BindGroup,
-    resolve_group: wgpu::BindGroup,
 }
 
 /// Every buffer the kernels bind, each under the name of its WGSL global.
@@ -75,9 +76,31 @@ struct Buffers {
     vp_stats: wgpu::Buffer,
     flux_accum: wgpu::Buffer,
     image: wgpu::Buffer,
+    grid_scene: wgpu::Buffer,
+    grid_max_radius: wgpu::Buffer,
+    grid_params: wgpu::Buffer,
     grid: wgpu::Buffer,
+    grid_cell_count: wgpu::Buffer,
     grid_cell_start: wgpu::Buffer,
     grid_entries: wgpu::Buffer,
+}
+
+/// A kernel and its bind group.
+struct Stage {
+    kernel: Kernel,
+    group: wgpu::BindGroup,
+}
+
+impl Stage {
+    fn new(device: &wgpu::Device, name: &'static str, buffers: &Buffers) -> Result<Self, Error> {
+        let kernel = Kernel::new(device, name)?;
+        let group = kernel.bind_group(device, &buffers.resources())?;
+        Ok(Self { kernel, group })
+    }
+
+    fn dispatch(&self, encoder: &mut wgpu::CommandEncoder, threads: u32) {
+        self.kernel.dispatch(encoder, &self.group, threads);
+    }
 }
 
 impl Buffers {
@@ -91,7 +114,11 @@ impl Buffers {
             Resource { name: "vp_stats", buffer: &self.vp_stats },
             Resource { name: "flux_accum", buffer: &self.flux_accum },
             Resource { name: "image", buffer: &self.image },
+            Resource { name: "grid_scene", buffer: &self.grid_scene },
+            Resource { name: "grid_max_radius", buffer: &self.grid_max_radius },
+            Resource { name: "grid_params", buffer: &self.grid_params },
             Resource { name: "grid", buffer: &self.grid },
+            Resource { name: "grid_cell_count", buffer: &self.grid_cell_count },
             Resource { name: "grid_cell_start", buffer: &self.grid_cell_start },
             Resource { name: "grid_entries", buffer: &self.grid_entries },
         ]);
@@ -132,34 +159,31 @@ impl Sppm {
         frame.vp_count = vp_count;
         frame.motion = data.motion as u32;
 
-        let camera_pass = Kernel::new(device, "camera_pass")?;
-        let photon_pass = Kernel::new(device, "photon_pass")?;
-        let update_stats = Kernel::new(device, "update_stats")?;
-        let resolve = Kernel::new(device, "resolve")?;
-
         let n = vp_count as u64;
+        // Each point is listed in at most 8 buckets (2 cells per axis); the table has a bucket
+        // per point, rounded up to a power of two.
+        let table_size = vp_count.next_power_of_two();
+        let (lo, hi) = data.swept_bounds();
+        let grid_scene = GridScene { lo: lo.into(), table_size, hi: hi.into(), _pad: 0 };
         let stats: Vec<VpStats> = vec![VpStats { radius: initial_radius, ..VpStats::default() }; vp_count as usize];
+        let uniform = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
         let buffers = Buffers {
             scene: SceneBuffers::new(device, &data),
-            frame: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("frame"),
-            contents: bytemuck::bytes_of(&frame),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            }),
+            frame: buffer(device, "frame", size_of::<Frame>() as u64, uniform),
             visible_points: buffer(device, "visible_points", n * size_of::<VisiblePoint>() as u64, STORAGE),
             vp_points: buffer(device, "vp_points", n * 16, STORAGE),
             vp_stats: storage_buffer(device, "vp_stats", &stats),
             flux_accum: buffer(device, "flux_accum", n * ACCUM_STRIDE as u64 * 4, STORAGE),
             image: buffer(device, "image", pixel_count as u64 * 16, STORAGE),
-            grid: buffer(device, "grid", size_of::<GridParams>() as u64, wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST),
-            grid_cell_start: buffer(device, "grid_cell_start", 16, STORAGE),
-            grid_entries: buffer(device, "grid_entries", 16, STORAGE),
+            grid_scene: storage_buffer(device, "grid_scene", &[grid_scene]),
+            grid_max_radius: buffer(device, "grid_max_radius", 16, STORAGE),
+            grid_params: buffer(device, "grid_params", size_of::<GridParams>() as u64, STORAGE),
+            grid: buffer(device, "grid", size_of::<GridParams>() as u64, uniform),
+            grid_cell_count: buffer(device, "grid_cell_count", table_size as u64 * 4, STORAGE),
+            grid_cell_start: buffer(device, "grid_cell_start", (table_size as u64 + 1) * 4, STORAGE),
+            grid_entries: buffer(device, "grid_entries", n * 8 * 4, STORAGE),
         };
-        let resources = buffers.resources();
-        let camera_group = camera_pass.bind_group(device, &resources)?;
-        let update_group = update_stats.bind_group(device, &resources)?;
-        let resolve_group = resolve.bind_group(device, &resources)?;
-        drop(resources);
+        queue.write_buffer(&buffers.frame, 0, bytemuck::bytes_of(&frame));
 
         Ok(Self {
             device: device.clone(),
@@ -170,17 +194,17 @@ impl Sppm {
             passes: 0,
             photons_traced: 0,
             initial_radius,
-            camera_pass,
-            photon_pass,
-            update_stats,
-            resolve,
-            buffers,
+            camera_pass: Stage::new(device, "camera_pass", &buffers)?,
+            grid_setup: Stage::new(device, "grid_setup", &buffers)?,
+            grid_count: Stage::new(device, "grid_count", &buffers)?,
+            grid_scan: Stage::new(device, "grid_scan", &buffers)?,
+            grid_fill: Stage::new(device, "grid_fill", &buffers)?,
+            photon_pass: Stage::new(device, "photon_pass", &buffers)?,
+            update_stats: Stage::new(device, "update_stats", &buffers)?,
+            resolve: Stage::new(device, "resolve", &buffers)?,
             vp_points_staging: staging_buffer(device, "vp_points_staging", n * 16),
             image_staging: staging_buffer(device, "image_staging", pixel_count as u64 * 16),
-            camera_group,
-            photon_group: None,
-            update_group,
-            resolve_group,
+            buffers,
         })
     }
 
@@ -199,50 +223,92 @@ impl Sppm {
         self.initial_radius
     }
 
-    /// Run one SPPM pass to completion: the four stages below, in order.
+    /// Run one SPPM pass: record it (the four stages below) and submit it.
     pub fn run_pass(&mut self) -> Result<(), Error> {
-        self.trace_camera_paths();
-        self.build_grid()?;
-        self.trace_photons();
-        self.update_statistics();
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sppm pass") });
+        self.record_pass(&mut encoder);
+        self.queue.submit([encoder.finish()]);
         Ok(())
     }
 
-    /// Stage 1 of a pass: camera paths to this pass's visible points (`camera_pass`).
-    pub fn trace_camera_paths(&mut self) {
+    /// Record one whole pass into `encoder`, without submitting: the caller may record
+    /// several, or interleave its own work. The pass counts as done once recorded.
+    pub fn record_pass(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        self.record_camera_paths(encoder);
+        self.record_grid(encoder);
+        self.record_photons(encoder);
+        self.record_statistics(encoder);
+    }
+
+    /// Write this pass's frame constants from within the encoder, so that passes recorded
+    /// into one encoder each see their own.
+    fn record_frame(&mut self, encoder: &mut wgpu::CommandEncoder) {
         self.frame.pass_index = self.passes;
         self.frame.time = super::shutter_time(self.frame.seed, self.passes);
-        self.queue.write_buffer(&self.buffers.frame, 0, bytemuck::bytes_of(&self.frame));
-        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("camera_pass") });
-        self.camera_pass.dispatch(&mut encoder, &self.camera_group, self.vp_count);
+        let upload = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("frame upload"),
+            contents: bytemuck::bytes_of(&self.frame),
+            usage: wgpu::BufferUsages::COPY_SRC,
+        });
+        encoder.copy_buffer_to_buffer(&upload, 0, &self.buffers.frame, 0, size_of::<Frame>() as u64);
+    }
+
+    fn record_camera_paths(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        self.record_frame(encoder);
+        encoder.clear_buffer(&self.buffers.grid_max_radius, 0, None);
+        self.camera_pass.dispatch(encoder, self.vp_count);
+    }
+
+    fn record_grid(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        let b = &self.buffers;
+        encoder.clear_buffer(&b.grid_cell_count, 0, None);
+        self.grid_setup.kernel.dispatch_groups(encoder, &self.grid_setup.group, 1);
+        self.grid_count.dispatch(encoder, self.vp_count);
+        self.grid_scan.kernel.dispatch_groups(encoder, &self.grid_scan.group, 1);
+        self.grid_fill.dispatch(encoder, self.vp_count);
+        // The photon pass reads the parameters as a uniform.
+        encoder.copy_buffer_to_buffer(&b.grid_params, 0, &b.grid, 0, size_of::<GridParams>() as u64);
+    }
+
+    fn record_photons(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        self.photon_pass.dispatch(encoder, self.frame.photon_count.div_ceil(PHOTONS_PER_THREAD));
+    }
+
+    fn record_statistics(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        self.update_stats.dispatch(encoder, self.vp_count);
+        self.passes += 1;
+        self.photons_traced += self.frame.photon_count as u64;
+    }
+
+    /// Run `record` in an encoder of its own and submit it.
+    fn submit(&mut self, label: &str, record: impl FnOnce(&mut Self, &mut wgpu::CommandEncoder)) {
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
+        record(self, &mut encoder);
         self.queue.submit([encoder.finish()]);
     }
 
-    /// Stage 2: read the visible points back, build the hashed grid over them and upload it.
+    /// Stage 1 of a pass, submitted alone (for tests and stage timings): camera paths to this
+    /// pass's visible points.
+    pub fn trace_camera_paths(&mut self) {
+        self.submit("camera_pass", Self::record_camera_paths);
+    }
+
+    /// Stage 2: build the hashed grid over the visible points.
     pub fn build_grid(&mut self) -> Result<(), Error> {
-        let points: Vec<[f32; 4]> =
-            read_buffer(&self.device, &self.queue, &self.buffers.vp_points, &self.vp_points_staging, self.vp_count as u64 * 16)?;
-        let grid = build_grid(&points);
-        self.upload_grid(&grid.params, &grid.cell_start, &grid.entries)
+        self.submit("grid", Self::record_grid);
+        Ok(())
     }
 
     /// Stage 3: trace this pass's photons, adding their flux to the visible points around
-    /// their diffuse hits (`photon_pass`).
+    /// their diffuse hits.
     pub fn trace_photons(&mut self) {
-        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("photon_pass") });
-        let photon_group = self.photon_group.as_ref().expect("build_grid runs before trace_photons");
-        self.photon_pass.dispatch(&mut encoder, photon_group, self.frame.photon_count.div_ceil(PHOTONS_PER_THREAD));
-        self.queue.submit([encoder.finish()]);
+        self.submit("photon_pass", Self::record_photons);
     }
 
-    /// Stage 4: fold the pass's photons into each visible point's N, radius and tau
-    /// (`update_stats`); the pass is then complete.
+    /// Stage 4: fold the pass's photons into each visible point's N, radius and tau; the pass
+    /// is then complete.
     pub fn update_statistics(&mut self) {
-        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("update_stats") });
-        self.update_stats.dispatch(&mut encoder, &self.update_group, self.vp_count);
-        self.queue.submit([encoder.finish()]);
-        self.passes += 1;
-        self.photons_traced += self.frame.photon_count as u64;
+        self.submit("update_stats", Self::record_statistics);
     }
 
     /// Block until the GPU has finished all submitted work (for stage timings).
@@ -253,37 +319,21 @@ impl Sppm {
         Ok(())
     }
 
-    /// Upload the grid, growing its buffers (and rebuilding the photon pass's bind group)
-    /// when they are too small.
-    fn upload_grid(&mut self, params: &GridParams, cell_start: &[u32], entries: &[u32]) -> Result<(), Error> {
-        let grow = |buf: &mut wgpu::Buffer, label: &str, data: &[u32]| {
-            let size = (data.len().max(1) * 4) as u64;
-            if buf.size() < size {
-                *buf = buffer(&self.device, label, size.next_power_of_two(), STORAGE);
-                true
-            } else {
-                false
-            }
+    /// The grid as the GPU built it this pass: parameters, bucket offsets and entries (for
+    /// tests against the CPU oracle).
+    pub fn grid(&self) -> Result<(GridParams, Vec<u32>, Vec<u32>), Error> {
+        let read = |b: &wgpu::Buffer| -> Result<Vec<u32>, Error> {
+            let staging = staging_buffer(&self.device, "grid_staging", b.size());
+            Ok(read_buffer(&self.device, &self.queue, b, &staging, b.size())?)
         };
-        let mut rebind = self.photon_group.is_none();
-        let b = &mut self.buffers;
-        rebind |= grow(&mut b.grid_cell_start, "grid_cell_start", cell_start);
-        rebind |= grow(&mut b.grid_entries, "grid_entries", entries);
-        self.queue.write_buffer(&b.grid, 0, bytemuck::bytes_of(params));
-        self.queue.write_buffer(&b.grid_cell_start, 0, bytemuck::cast_slice(cell_start));
-        if !entries.is_empty() {
-            self.queue.write_buffer(&b.grid_entries, 0, bytemuck::cast_slice(entries));
-        }
-        if rebind {
-            self.photon_group = Some(self.photon_pass.bind_group(&self.device, &self.buffers.resources())?);
-        }
-        Ok(())
+        let params: GridParams = bytemuck::pod_read_unaligned(bytemuck::cast_slice(&read(&self.buffers.grid_params)?[..8]));
+        Ok((params, read(&self.buffers.grid_cell_start)?, read(&self.buffers.grid_entries)?))
     }
 
     /// Record the estimate after the passes so far into the `image` buffer (rgba32float per
     /// pixel, row-major).
     pub fn record_resolve(&self, encoder: &mut wgpu::CommandEncoder) {
-        self.resolve.dispatch(encoder, &self.resolve_group, self.pixel_count);
+        self.resolve.dispatch(encoder, self.pixel_count);
     }
 
     /// The current estimate, read back.

@@ -1,0 +1,30 @@
+// Grid build, step 4 of 4: list each point in its buckets. Slots are taken by counting each
+// bucket down, so a bucket's order depends on timing; the deposits are summed in fixed point
+// and do not depend on it.
+
+#import types
+#import grid
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(2) var<storage, read> grid_params: GridParams;
+@group(0) @binding(3) var<storage, read_write> grid_cell_count: array<atomic<u32>>;
+@group(0) @binding(9) var<storage, read> vp_points: array<vec4f>;
+@group(0) @binding(12) var<storage, read> grid_cell_start: array<u32>;
+@group(0) @binding(13) var<storage, read_write> grid_entries: array<u32>;
+
+@compute @workgroup_size(64)
+fn grid_fill(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let index = gid.x + gid.y * groups.x * 64u;
+    if index >= frame.vp_count {
+        return;
+    }
+    let b = point_buckets(grid_params, vp_points[index]);
+    for (var i = 0u; i < b.count; i++) {
+        let h = b.h[i];
+        let slot = atomicSub(&grid_cell_count[h], 1u) - 1u;
+        let e = grid_cell_start[h] + slot;
+        if e < arrayLength(&grid_entries) {
+            grid_entries[e] = index;
+        }
+    }
+}
