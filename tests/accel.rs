@@ -451,12 +451,10 @@ fn grid_matches_brute_force() {
         grid.params.table_mask as usize + 1,
         valid.len().next_power_of_two()
     );
+    // The grid starts one largest radius below the lowest centre.
     for a in 0..3 {
-        let lo = valid
-            .iter()
-            .map(|p| p[a] - p[3])
-            .fold(f32::INFINITY, f32::min);
-        assert_eq!(grid.params.origin[a], lo);
+        let lo = valid.iter().map(|p| p[a]).fold(f32::INFINITY, f32::min);
+        assert_eq!(grid.params.origin[a], lo - max_r);
     }
 
     let mut total = 0;
