@@ -40,6 +40,23 @@ pub fn required_limits(adapter: &wgpu::Limits) -> Result<wgpu::Limits, GpuError>
     })
 }
 
+/// Check that a caller's device has what the renderer needs (see [`required_limits`]): a
+/// clear error instead of a validation panic later.
+pub fn check_device(device: &wgpu::Device) -> Result<(), GpuError> {
+    let have = device.limits();
+    if have.max_storage_buffers_per_shader_stage < STORAGE_BUFFERS_NEEDED {
+        return Err(GpuError(format!(
+            "the device was created with max_storage_buffers_per_shader_stage = {}; sppm-gpu needs {} \
+             (create it with sppm_gpu::gpu::required_limits(&adapter.limits()))",
+            have.max_storage_buffers_per_shader_stage, STORAGE_BUFFERS_NEEDED
+        )));
+    }
+    if have.max_compute_invocations_per_workgroup < 256 || have.max_compute_workgroup_size_x < 256 {
+        return Err(GpuError("sppm-gpu needs compute workgroups of 256 invocations".into()));
+    }
+    Ok(())
+}
+
 impl GpuContext {
     /// The first Vulkan, Metal or DX12 adapter. GL is left out on purpose: `WGPU_BACKEND=gl`
     /// must not silently switch to a slower, different implementation.

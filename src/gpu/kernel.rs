@@ -18,6 +18,7 @@ pub const KERNELS: &[&str] = &[
     "photon_pass",
     "update_stats",
     "resolve",
+    "resolve_texture",
     "path_trace",
     "trace_rays",
 ];
@@ -32,6 +33,8 @@ const FILES: &[(&str, &str)] = &[
     ("photon_pass", include_str!("../../shaders/photon_pass.wgsl")),
     ("update_stats", include_str!("../../shaders/update_stats.wgsl")),
     ("resolve", include_str!("../../shaders/resolve.wgsl")),
+    ("resolve_texture", include_str!("../../shaders/resolve_texture.wgsl")),
+    ("estimate", include_str!("../../shaders/shared/estimate.wgsl")),
     ("trace_rays", include_str!("../../shaders/trace_rays.wgsl")),
     ("types", include_str!("../../shaders/shared/types.wgsl")),
     ("rng", include_str!("../../shaders/shared/rng.wgsl")),
@@ -102,7 +105,16 @@ pub struct Kernel {
 
 impl Kernel {
     pub fn new(device: &wgpu::Device, name: &'static str) -> Result<Self, GpuError> {
-        let source = shader_source(name)?;
+        Self::specialized(device, name, &[])
+    }
+
+    /// The kernel with each `(token, text)` replaced in its source first, for variants that
+    /// WGSL cannot parameterize (the texel format of a storage texture).
+    pub fn specialized(device: &wgpu::Device, name: &'static str, replace: &[(&str, &str)]) -> Result<Self, GpuError> {
+        let mut source = shader_source(name)?;
+        for (token, text) in replace {
+            source = source.replace(token, text);
+        }
         let (module, info) = validate(name, &source)?;
         let entry = module
             .entry_points
@@ -120,16 +132,37 @@ impl Kernel {
                 continue;
             }
             let ty = match var.space {
-                naga::AddressSpace::Uniform => wgpu::BufferBindingType::Uniform,
-                naga::AddressSpace::Storage { access } => wgpu::BufferBindingType::Storage {
-                    read_only: !access.contains(naga::StorageAccess::STORE),
+                naga::AddressSpace::Uniform => wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                naga::AddressSpace::Storage { access } => wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: !access.contains(naga::StorageAccess::STORE) },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                // A write-only 2D storage texture (the caller's image).
+                naga::AddressSpace::Handle => match module.types[var.ty].inner {
+                    naga::TypeInner::Image { class: naga::ImageClass::Storage { format, .. }, .. } => {
+                        wgpu::BindingType::StorageTexture {
+                            access: wgpu::StorageTextureAccess::WriteOnly,
+                            format: match format {
+                                naga::StorageFormat::Rgba16Float => wgpu::TextureFormat::Rgba16Float,
+                                naga::StorageFormat::Rgba32Float => wgpu::TextureFormat::Rgba32Float,
+                                f => return Err(GpuError(format!("{name}.wgsl: storage format {f:?} is not supported"))),
+                            },
+                            view_dimension: wgpu::TextureViewDimension::D2,
+                        }
+                    }
+                    _ => continue,
                 },
                 _ => continue,
             };
             entries.push(wgpu::BindGroupLayoutEntry {
                 binding: binding.binding,
                 visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+                ty,
                 count: None,
             });
             bindings.push((binding.binding, var.name.clone().unwrap_or_default()));
@@ -160,13 +193,26 @@ impl Kernel {
 
     /// A bind group taking, for each of the kernel's bindings, the resource of the same name.
     pub fn bind_group(&self, device: &wgpu::Device, resources: &[Resource]) -> Result<wgpu::BindGroup, GpuError> {
+        self.bind_group_with_views(device, resources, &[])
+    }
+
+    /// [`Kernel::bind_group`] with texture views as well, each under its WGSL global's name.
+    pub fn bind_group_with_views(
+        &self,
+        device: &wgpu::Device,
+        resources: &[Resource],
+        views: &[(&str, &wgpu::TextureView)],
+    ) -> Result<wgpu::BindGroup, GpuError> {
         let mut entries = Vec::with_capacity(self.bindings.len());
         for (binding, name) in &self.bindings {
-            let resource = resources
-                .iter()
-                .find(|r| r.name == name)
-                .ok_or_else(|| GpuError(format!("kernel {} binds `{name}`, which the host did not provide", self.name)))?;
-            entries.push(wgpu::BindGroupEntry { binding: *binding, resource: resource.buffer.as_entire_binding() });
+            let resource = if let Some(r) = resources.iter().find(|r| r.name == name) {
+                r.buffer.as_entire_binding()
+            } else if let Some((_, view)) = views.iter().find(|(n, _)| n == name) {
+                wgpu::BindingResource::TextureView(view)
+            } else {
+                return Err(GpuError(format!("kernel {} binds `{name}`, which the host did not provide", self.name)));
+            };
+            entries.push(wgpu::BindGroupEntry { binding: *binding, resource });
         }
         Ok(device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(self.name), layout: &self.layout, entries: &entries }))
     }

@@ -6,5 +6,5 @@ pub mod readback;
 pub mod scene_buffers;
 pub mod types;
 
-pub use context::{GpuContext, GpuError};
+pub use context::{check_device, required_limits, GpuContext, GpuError, STORAGE_BUFFERS_NEEDED};
 pub use kernel::{shader_source, validate, Kernel, Resource, KERNELS};

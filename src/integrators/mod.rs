@@ -36,30 +36,38 @@ pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Resu
 }
 
 use crate::gpu::types::Frame;
-use crate::scene::Scene;
+use crate::scene::{Camera, Scene};
 
 /// The camera part of [`Frame`]: position and the image-plane basis at distance 1
 /// (`cam_right` spans half the image width, `cam_up` half its height).
 pub fn camera_frame(scene: &Scene) -> Frame {
-    let c = &scene.camera;
+    let r = &scene.render;
+    Frame {
+        spp: r.spp,
+        seed: r.seed,
+        max_depth: r.max_depth,
+        alpha: r.alpha,
+        ..camera_frame_for(&scene.camera, r.width, r.height)
+    }
+}
+
+/// The camera fields of [`Frame`] (and the image size) for `camera` on a `width` x `height`
+/// image.
+pub fn camera_frame_for(c: &Camera, width: u32, height: u32) -> Frame {
     let forward = (c.look_at - c.position).normalize();
     let right = forward.cross(c.up).normalize();
     let up = right.cross(forward);
     let tan_half = (c.fov.to_radians() * 0.5).tan();
-    let aspect = scene.render.width as f32 / scene.render.height as f32;
+    let aspect = width as f32 / height as f32;
     Frame {
         cam_position: c.position.into(),
         lens_radius: c.aperture_radius,
         cam_right: (right * tan_half * aspect).into(),
         focus_distance: c.focus_distance,
         cam_up: (up * tan_half).into(),
-        width: scene.render.width,
+        width,
         cam_forward: forward.into(),
-        height: scene.render.height,
-        spp: scene.render.spp,
-        seed: scene.render.seed,
-        max_depth: scene.render.max_depth,
-        alpha: scene.render.alpha,
+        height,
         ..Frame::default()
     }
 }

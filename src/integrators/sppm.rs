@@ -61,6 +61,8 @@ pub struct Sppm {
     photon_pass: Stage,
     update_stats: Stage,
     resolve: Stage,
+    /// `resolve_texture` for Rgba32Float and Rgba16Float targets, made when first used.
+    resolve_texture: [Option<Kernel>; 2],
 
     buffers: Buffers,
     vp_points_staging: wgpu::Buffer,
@@ -137,6 +139,7 @@ const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
 impl Sppm {
     /// Set up the renderer for `scene` on the caller's device.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Self, Error> {
+        crate::gpu::check_device(device)?;
         let r = &scene.render;
         let data = SceneData::new(scene)?;
         let pixel_count = r.width.checked_mul(r.height).ok_or_else(|| Error::Setting("image too large".into()))?;
@@ -202,6 +205,7 @@ impl Sppm {
             photon_pass: Stage::new(device, "photon_pass", &buffers)?,
             update_stats: Stage::new(device, "update_stats", &buffers)?,
             resolve: Stage::new(device, "resolve", &buffers)?,
+            resolve_texture: [None, None],
             vp_points_staging: staging_buffer(device, "vp_points_staging", n * 16),
             image_staging: staging_buffer(device, "image_staging", pixel_count as u64 * 16),
             buffers,
@@ -330,22 +334,102 @@ impl Sppm {
         Ok((params, read(&self.buffers.grid_cell_start)?, read(&self.buffers.grid_entries)?))
     }
 
-    /// Record the estimate after the passes so far into the `image` buffer (rgba32float per
-    /// pixel, row-major).
-    pub fn record_resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+    /// Point the frame's pass count at the last completed pass, from within the encoder, for
+    /// the resolve kernels.
+    fn record_resolve_frame(&mut self, encoder: &mut wgpu::CommandEncoder) -> Result<(), Error> {
+        if self.passes == 0 {
+            return Err(Error::Setting("no pass has run yet: record or run a pass before resolving".into()));
+        }
+        let pass = self.passes - 1;
+        let frame = Frame { pass_index: pass, time: super::shutter_time(self.frame.seed, pass), ..self.frame };
+        let upload = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("frame upload"),
+            contents: bytemuck::bytes_of(&frame),
+            usage: wgpu::BufferUsages::COPY_SRC,
+        });
+        encoder.copy_buffer_to_buffer(&upload, 0, &self.buffers.frame, 0, size_of::<Frame>() as u64);
+        Ok(())
+    }
+
+    /// Record the estimate after the passes recorded so far into the renderer's own `image`
+    /// buffer (rgba32float per pixel, row-major).
+    pub fn record_resolve(&mut self, encoder: &mut wgpu::CommandEncoder) -> Result<(), Error> {
+        self.record_resolve_frame(encoder)?;
         self.resolve.dispatch(encoder, self.pixel_count);
+        Ok(())
+    }
+
+    /// Record the estimate into the caller's buffer at `offset`: `width * height` texels of
+    /// rgba32float (16 bytes), row-major, alpha 1. The buffer needs `COPY_DST`.
+    pub fn record_resolve_to_buffer(&mut self, encoder: &mut wgpu::CommandEncoder, dst: &wgpu::Buffer, offset: u64) -> Result<(), Error> {
+        let size = self.pixel_count as u64 * 16;
+        if offset + size > dst.size() || !dst.usage().contains(wgpu::BufferUsages::COPY_DST) {
+            return Err(Error::Setting(format!(
+                "the destination buffer needs COPY_DST and {size} bytes from offset {offset}; it has {} bytes",
+                dst.size()
+            )));
+        }
+        self.record_resolve(encoder)?;
+        encoder.copy_buffer_to_buffer(&self.buffers.image, 0, dst, offset, size);
+        Ok(())
+    }
+
+    /// Record the estimate into the caller's 2D texture, which must be `width` x `height`,
+    /// `Rgba16Float` or `Rgba32Float`, with `STORAGE_BINDING` usage; alpha is 1.
+    pub fn record_resolve_to_texture(&mut self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) -> Result<(), Error> {
+        let format = texture.format();
+        let (token, slot) = match format {
+            wgpu::TextureFormat::Rgba32Float => ("rgba32float", 0),
+            wgpu::TextureFormat::Rgba16Float => ("rgba16float", 1),
+            f => return Err(Error::Setting(format!("the target texture is {f:?}; use Rgba16Float or Rgba32Float"))),
+        };
+        let size = texture.size();
+        if size.width != self.frame.width || size.height != self.frame.height || !texture.usage().contains(wgpu::TextureUsages::STORAGE_BINDING) {
+            return Err(Error::Setting(format!(
+                "the target texture is {}x{} with usage {:?}; it must be {}x{} with STORAGE_BINDING",
+                size.width, size.height, texture.usage(), self.frame.width, self.frame.height
+            )));
+        }
+        if self.resolve_texture[slot].is_none() {
+            self.resolve_texture[slot] = Some(Kernel::specialized(&self.device, "resolve_texture", &[("rgba32float", token)])?);
+        }
+        self.record_resolve_frame(encoder)?;
+        let kernel = self.resolve_texture[slot].as_ref().expect("made above");
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let group = kernel.bind_group_with_views(&self.device, &self.buffers.resources(), &[("out_image", &view)])?;
+        kernel.dispatch(encoder, &group, self.pixel_count);
+        Ok(())
+    }
+
+    /// Start over: every visible point back to the initial radius with no photons, and the
+    /// pass count at 0 (the next pass uses the same random numbers as the first did).
+    pub fn reset(&mut self) {
+        let stats = vec![VpStats { radius: self.initial_radius, ..VpStats::default() }; self.vp_count as usize];
+        self.queue.write_buffer(&self.buffers.vp_stats, 0, bytemuck::cast_slice(&stats));
+        self.passes = 0;
+        self.photons_traced = 0;
+    }
+
+    /// Move the camera and start over ([`Sppm::reset`]): the statistics of one view do not
+    /// carry over to another. The image size and samples per pixel stay as they are.
+    pub fn set_camera(&mut self, camera: &crate::scene::Camera) -> Result<(), Error> {
+        crate::scene::validate_camera(camera).map_err(Error::Setting)?;
+        let f = super::camera_frame_for(camera, self.frame.width, self.frame.height);
+        self.frame.cam_position = f.cam_position;
+        self.frame.lens_radius = f.lens_radius;
+        self.frame.cam_right = f.cam_right;
+        self.frame.focus_distance = f.focus_distance;
+        self.frame.cam_up = f.cam_up;
+        self.frame.cam_forward = f.cam_forward;
+        self.queue.write_buffer(&self.buffers.frame, 0, bytemuck::bytes_of(&self.frame));
+        self.reset();
+        Ok(())
     }
 
     /// The current estimate, read back.
     pub fn image(&mut self) -> Result<Rgb32Image, Error> {
-        if self.passes == 0 {
-            return Err(Error::Setting("no pass has run yet".into()));
-        }
-        // resolve reads the pass count from the frame: point it at the last completed pass.
-        self.frame.pass_index = self.passes - 1;
-        self.queue.write_buffer(&self.buffers.frame, 0, bytemuck::bytes_of(&self.frame));
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("resolve") });
-        self.record_resolve(&mut encoder);
+        self.record_resolve(&mut encoder)?;
         self.queue.submit([encoder.finish()]);
         let rgba: Vec<[f32; 4]> =
             read_buffer(&self.device, &self.queue, &self.buffers.image, &self.image_staging, self.pixel_count as u64 * 16)?;

@@ -173,3 +173,27 @@ impl Scene {
         &self.materials[self.shapes[shape as usize].material as usize]
     }
 }
+
+/// Check a camera built in code the way the loader checks `[camera]`: finite values, a view
+/// direction, an `up` not parallel to it, `fov` in (0, 180), a non-negative aperture and a
+/// positive focus distance. The message names the offending field.
+pub fn validate_camera(c: &Camera) -> Result<(), String> {
+    let finite = c.position.is_finite() && c.look_at.is_finite() && c.up.is_finite();
+    if !finite || !c.fov.is_finite() || !c.aperture_radius.is_finite() || !c.focus_distance.is_finite() {
+        return Err("camera: every value must be finite".into());
+    }
+    let view = (c.look_at - c.position).normalize_or_zero();
+    if view == Vec3::ZERO {
+        return Err("camera.look_at equals camera.position: the camera has no view direction".into());
+    }
+    if view.cross(c.up.normalize_or_zero()).length() < 1e-6 {
+        return Err("camera.up is zero or parallel to the view direction".into());
+    }
+    if !(c.fov > 0.0 && c.fov < 180.0) {
+        return Err(format!("camera.fov must be in (0, 180), got {}", c.fov));
+    }
+    if c.aperture_radius < 0.0 || c.focus_distance <= 0.0 {
+        return Err("camera.aperture_radius must be >= 0 and camera.focus_distance > 0".into());
+    }
+    Ok(())
+}

@@ -1,0 +1,18 @@
+// The SPPM estimate of a pixel after the passes so far (Hachisuka & Jensen 2009, eq. 11):
+// L = ld / k + tau / (k * photons_per_pass * pi * r^2), averaged over the pixel's samples,
+// with k = frame.pass_index + 1. Never NaN or infinite: such a value reads as 0.
+
+@group(0) @binding(10) var<storage, read> vp_stats: array<VpStats>;
+
+fn pixel_estimate(pixel: u32) -> vec3f {
+    let k = f32(frame.pass_index + 1u);
+    let photons = k * f32(frame.photon_count);
+    var sum = vec3f(0.0);
+    for (var s = 0u; s < frame.spp; s++) {
+        let st = vp_stats[pixel * frame.spp + s];
+        let area = PI * st.radius * st.radius;
+        sum += st.ld / k + st.tau * frame.power_total / (photons * area);
+    }
+    let l = sum / f32(frame.spp);
+    return select(vec3f(0.0), l, (l == l) & (abs(l) < vec3f(3.0e38)));
+}
