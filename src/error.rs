@@ -2,10 +2,17 @@
 
 use std::fmt;
 
+/// Any error the library returns: a scene it cannot load, a device it cannot use, an image it
+/// cannot read or write, or a setting out of range. `Display` gives the one-line message the
+/// command line prints.
 #[derive(Debug)]
 pub enum Error {
+    /// The scene file, or a mesh or texture it names, is malformed or missing; names the file,
+    /// line and key.
     Scene(crate::scene::SceneError),
+    /// No adapter, a device without the limits the renderer needs, or a failed readback.
     Gpu(crate::gpu::GpuError),
+    /// An image could not be read, written or compared.
     Image(crate::image_io::ImageError),
     /// A setting out of range, given on the command line or through the API.
     Setting(String),

@@ -30,8 +30,11 @@ use image::{ExtendedColorType, ImageEncoder, ImageFormat};
 /// pixel `(x, y)` is `pixels[y * width + x]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Rgb32Image {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// Linear RGB radiance, row-major from the top, `width * height` entries.
     pub pixels: Vec<[f32; 3]>,
 }
 
@@ -106,7 +109,14 @@ pub enum ImageErrorKind {
     /// The path's extension is not one of [`SUPPORTED_EXTENSIONS`].
     UnsupportedExtension,
     /// The image's pixel buffer does not match its width and height.
-    BadPixelBuffer { len: usize, width: u32, height: u32 },
+    BadPixelBuffer {
+        /// Pixels the buffer holds.
+        len: usize,
+        /// The image's width.
+        width: u32,
+        /// The image's height.
+        height: u32,
+    },
 }
 
 /// An image could not be read or written; names the file and the cause.

@@ -32,9 +32,15 @@ use crate::scene::{Sphere, Triangle};
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct BvhNode {
+    /// Minimum corner of the node's bounding box (world space; swept over the shutter for
+    /// moving primitives).
     pub min: [f32; 3],
+    /// Leaf: index of its first entry in [`Bvh::prim_refs`]. Interior: index of its first
+    /// child in [`Bvh::nodes`] (the second is at `first + 1`).
     pub first: u32,
+    /// Maximum corner of the node's bounding box.
     pub max: [f32; 3],
+    /// Primitives in a leaf (1 to [`MAX_PRIMS_PER_LEAF`]); 0 marks an interior node.
     pub count: u32,
 }
 
@@ -52,6 +58,7 @@ pub const MAX_PRIMS_PER_LEAF: u32 = 4;
 /// A flattened BVH; see [`BvhNode`] for the layout.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bvh {
+    /// Nodes depth-first, root at index 0, siblings in adjacent slots.
     pub nodes: Vec<BvhNode>,
     /// Primitive references of the leaves: triangle index, or sphere index | [`SPHERE_BIT`].
     pub prim_refs: Vec<u32>,
@@ -62,10 +69,12 @@ pub struct Bvh {
 pub struct Hit {
     /// Ray parameter: the hit point is `origin + t * dir`.
     pub t: f32,
+    /// The primitive hit: a triangle index, or a sphere index | [`SPHERE_BIT`].
     pub prim_ref: u32,
     /// Barycentric coordinates of `p[1]` and `p[2]` for triangles (`p[0]` has `1 - b1 - b2`);
     /// zero for spheres.
     pub b1: f32,
+    /// Barycentric coordinate of `p[2]` (see `b1`); zero for spheres.
     pub b2: f32,
 }
 

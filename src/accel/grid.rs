@@ -62,6 +62,7 @@ pub struct GridParams {
 /// The grid: parameters, bucket offsets and point indices (see the module documentation).
 #[derive(Clone, Debug, PartialEq)]
 pub struct HashGrid {
+    /// Origin, cell size, resolution and table mask, as the kernels read them.
     pub params: GridParams,
     /// `table_size + 1` offsets into `entries`.
     pub cell_start: Vec<u32>,

@@ -16,8 +16,11 @@ impl std::error::Error for GpuError {}
 
 /// A device and queue owned by the renderer (the embedding API takes the caller's instead).
 pub struct GpuContext {
+    /// The device, created with [`required_limits`] and no features.
     pub device: wgpu::Device,
+    /// The device's queue; every pass and readback is submitted here.
     pub queue: wgpu::Queue,
+    /// Name, backend and driver of the adapter the device was made on (for logs and reports).
     pub adapter_info: wgpu::AdapterInfo,
 }
 

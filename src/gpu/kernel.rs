@@ -90,12 +90,15 @@ pub fn validate(name: &str, source: &str) -> Result<(naga::Module, naga::valid::
 
 /// A buffer handed to kernels under the name of its WGSL global.
 pub struct Resource<'a> {
+    /// The name of the WGSL global (`var<storage>` or `var<uniform>`) it binds to.
     pub name: &'a str,
+    /// The buffer, bound whole.
     pub buffer: &'a wgpu::Buffer,
 }
 
 /// One compute pipeline and what it binds.
 pub struct Kernel {
+    /// The kernel's name: its file `shaders/<name>.wgsl`, its entry point and its label.
     pub name: &'static str,
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
@@ -104,6 +107,8 @@ pub struct Kernel {
 }
 
 impl Kernel {
+    /// Assemble, validate and compile kernel `name` (one of [`KERNELS`]), with its bind group
+    /// layout reflected from the globals its entry point uses.
     pub fn new(device: &wgpu::Device, name: &'static str) -> Result<Self, GpuError> {
         Self::specialized(device, name, &[])
     }

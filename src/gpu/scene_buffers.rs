@@ -9,25 +9,36 @@ use wgpu::util::DeviceExt;
 
 /// Everything the tracing kernels read about the scene, in GPU layout.
 pub struct SceneData {
+    /// The BVH over triangles and spheres, boxes swept over the shutter for moving shapes.
     pub bvh: Bvh,
+    /// Every triangle, in the scene's order (the BVH's triangle references index this).
     pub triangles: Vec<GpuTriangle>,
+    /// Every analytic sphere, in the scene's order (references `i | SPHERE_BIT`).
     pub spheres: Vec<GpuSphere>,
+    /// One per scene material, in the scene's order.
     pub materials: Vec<GpuMaterial>,
+    /// One per `[[shapes]]` entry: emission and velocity.
     pub shapes: Vec<GpuShape>,
     /// Shading normals and texture coordinates of the triangles that have them (see
     /// [`GpuTriangle::attributes`]).
     pub attributes: Vec<[f32; 4]>,
     /// Linear RGB texels of every texture, one after another, row 0 at the top.
     pub texels: Vec<[f32; 4]>,
+    /// Emitting triangles, then emitting spheres, then `[[lights]]`, with their discrete
+    /// distribution by power (`pmf`, `cdf`).
     pub emitters: Vec<Emitter>,
     /// Sum of the emitters' power (average over RGB).
     pub power_total: f32,
     /// Whether some shape moves.
     pub motion: bool,
+    /// Minimum corner of the box holding every surface at rest (time 0); zero for an empty
+    /// scene.
     pub bounds_min: Vec3,
+    /// Maximum corner of the box holding every surface at rest.
     pub bounds_max: Vec3,
     /// Bounds over the whole shutter (moving shapes at times 0 and 1).
     pub swept_min: Vec3,
+    /// Maximum corner of the bounds over the whole shutter.
     pub swept_max: Vec3,
 }
 
@@ -47,6 +58,11 @@ fn average(v: Vec3) -> f64 {
 }
 
 impl SceneData {
+    /// Build the BVH and the GPU arrays of `scene`, and the light distribution by power.
+    ///
+    /// Errors when the scene has no light with positive power, or holds more texels or
+    /// vertex attributes than [`ATTRIBUTE_INDEX_MASK`] addresses, or a texture larger than
+    /// 65535 on a side.
     pub fn new(scene: &Scene) -> Result<Self, SceneError> {
         let velocity = |shape: u32| scene.shapes[shape as usize].velocity.unwrap_or(Vec3::ZERO);
         let motion = scene.shapes.iter().any(|s| s.velocity.is_some_and(|v| v != Vec3::ZERO));
@@ -305,14 +321,23 @@ fn scene_bounds(scene: &Scene) -> (Vec3, Vec3) {
 /// Storage buffers of a [`SceneData`]. Empty arrays get one zeroed element, since wgpu
 /// cannot bind a zero-sized buffer.
 pub struct SceneBuffers {
+    /// [`Bvh::nodes`]: `array<BvhNode>`.
     pub bvh_nodes: wgpu::Buffer,
+    /// [`Bvh::prim_refs`]: `array<u32>`.
     pub prim_refs: wgpu::Buffer,
+    /// [`SceneData::triangles`]: `array<Triangle>`.
     pub triangles: wgpu::Buffer,
+    /// [`SceneData::spheres`]: `array<Sphere>`.
     pub spheres: wgpu::Buffer,
+    /// [`SceneData::materials`]: `array<Material>`.
     pub materials: wgpu::Buffer,
+    /// [`SceneData::attributes`]: `array<vec4f>`.
     pub attributes: wgpu::Buffer,
+    /// [`SceneData::texels`]: `array<vec4f>`.
     pub texels: wgpu::Buffer,
+    /// [`SceneData::shapes`]: `array<Shape>`.
     pub shapes: wgpu::Buffer,
+    /// [`SceneData::emitters`]: `array<Emitter>`.
     pub emitters: wgpu::Buffer,
 }
 
@@ -328,6 +353,7 @@ pub fn storage_buffer<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, data
 }
 
 impl SceneBuffers {
+    /// Upload every array of `data` to a storage buffer named like its WGSL global.
     pub fn new(device: &wgpu::Device, data: &SceneData) -> Self {
         Self {
             bvh_nodes: storage_buffer(device, "bvh_nodes", &data.bvh.nodes),

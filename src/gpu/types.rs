@@ -9,23 +9,49 @@ pub use crate::accel::{BvhNode, GridParams};
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct Frame {
+    /// Camera position, world space: the pinhole, or the centre of the thin lens.
     pub cam_position: [f32; 3],
+    /// Thin-lens aperture radius in scene units; 0 for a pinhole.
     pub lens_radius: f32,
+    /// `right * tan(fov / 2) * aspect`: on the image plane at distance 1, half the image
+    /// width (+x in raster space).
     pub cam_right: [f32; 3],
+    /// Distance from the lens to the plane in focus, scene units (only read when
+    /// `lens_radius > 0`).
     pub focus_distance: f32,
+    /// `up * tan(fov / 2)`: on the image plane at distance 1, half the image height (raster
+    /// row 0 is at `+cam_up`).
     pub cam_up: [f32; 3],
+    /// Image width in pixels.
     pub width: u32,
+    /// Unit view direction, towards the look-at point.
     pub cam_forward: [f32; 3],
+    /// Image height in pixels.
     pub height: u32,
+    /// Camera samples per pixel per SPPM pass: visible point `pixel * spp + s` is sample `s`
+    /// of pixel `pixel` (row-major).
     pub spp: u32,
+    /// Index of the pass being run, from 0; the random streams are keyed by it and `seed`.
+    /// While resolving, the last completed pass (so `pass_index + 1` passes are averaged).
     pub pass_index: u32,
+    /// The scene's `seed`: same seed, same image.
     pub seed: u32,
+    /// Most scattering events on a camera path and on a photon path.
     pub max_depth: u32,
+    /// Photons emitted per SPPM pass (0 for the path tracers).
     pub photon_count: u32,
+    /// Entries in the `emitters` buffer.
     pub emitter_count: u32,
+    /// Distance ray origins are pushed off a surface along its normal, scene units (see
+    /// [`SceneData::ray_epsilon`](crate::gpu::scene_buffers::SceneData::ray_epsilon)).
     pub ray_epsilon: f32,
+    /// Sum of the emitters' power (average over RGB). Photon flux and [`VpStats::tau`]
+    /// are stored relative to it and scaled back when resolving.
     pub power_total: f32,
+    /// SPPM radius reduction: the fraction of each pass's photons kept in N
+    /// (Hachisuka & Jensen 2009, eq. 7), in (0, 1).
     pub alpha: f32,
+    /// Visible points per pass: `width * height * spp`.
     pub vp_count: u32,
     /// Shutter time of this pass in [0, 1): camera and photon paths both see the scene then.
     pub time: f32,
@@ -33,8 +59,11 @@ pub struct Frame {
     pub motion: u32,
     /// Path tracing: 1 for next-event estimation, 0 for naive.
     pub nee: u32,
+    /// Padding to a multiple of 16 bytes (uniform layout); always 0.
     pub _pad0: u32,
+    /// Padding; always 0.
     pub _pad1: u32,
+    /// Padding; always 0.
     pub _pad2: u32,
 }
 
@@ -42,10 +71,15 @@ pub struct Frame {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuTriangle {
+    /// First vertex, world space (at rest: time 0 for a moving shape).
     pub p0: [f32; 3],
+    /// Index into the `materials` buffer.
     pub material: u32,
+    /// First edge, `p1 - p0`.
     pub e1: [f32; 3],
+    /// Index into the `shapes` buffer (emission, velocity).
     pub shape: u32,
+    /// Second edge, `p2 - p0`. The geometric normal `cross(e1, e2)` is the emitting side.
     pub e2: [f32; 3],
     /// Where the triangle's vertex attributes start in the `attributes` buffer, with flags:
     /// [`HAS_NORMALS`] (three shading normals, xyz) and [`HAS_UVS`] (then two entries,
@@ -53,22 +87,35 @@ pub struct GpuTriangle {
     pub attributes: u32,
 }
 
+/// An analytic sphere (emitting from its outside).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuSphere {
+    /// Centre, world space (at rest: time 0 for a moving shape).
     pub center: [f32; 3],
+    /// Radius, scene units.
     pub radius: f32,
+    /// Index into the `materials` buffer.
     pub material: u32,
+    /// Index into the `shapes` buffer (emission, velocity).
     pub shape: u32,
+    /// Padding to 32 bytes; always 0.
     pub _pad: [u32; 2],
 }
 
+/// A material's scattering model (see [`crate::scene::MaterialKind`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuMaterial {
+    /// Reflectance, linear RGB in [0, 1]: the Lambertian albedo (unused when textured), the
+    /// mirror's or glossy conductor's reflectance; `[1, 1, 1]` for a dielectric.
     pub albedo: [f32; 3],
+    /// [`MATERIAL_DIFFUSE`], [`MATERIAL_MIRROR`], [`MATERIAL_DIELECTRIC`] or
+    /// [`MATERIAL_GLOSSY`].
     pub kind: u32,
+    /// Index of refraction of a dielectric, relative to the outside; 0 for other kinds.
     pub ior: f32,
+    /// GGX alpha of a glossy conductor or rough dielectric; 0 is smooth.
     pub roughness: f32,
     /// First texel in the `texels` buffer, or [`NO_TEXTURE`].
     pub texture: u32,
@@ -76,16 +123,23 @@ pub struct GpuMaterial {
     pub texture_size: u32,
 }
 
+/// Per-shape data, looked up through a primitive's `shape` index.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuShape {
+    /// Radiance Le leaving the front side, linear RGB; zero when the shape does not emit.
     pub emission: [f32; 3],
+    /// 1 when some channel of `emission` is positive, else 0.
     pub emits: u32,
     /// Displacement over the shutter: the shape sits at its position + velocity * time.
     pub velocity: [f32; 3],
+    /// Padding to 32 bytes; always 0.
     pub _pad: u32,
 }
 
+/// One light photons can leave from: an emitting triangle or sphere, a point light or a
+/// directional light, chosen with probability `pmf` in proportion to its power (average over
+/// RGB of Le * area * pi, I * 4 pi or E * pi R^2).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct Emitter {
@@ -107,6 +161,7 @@ pub struct Emitter {
     pub radius: f32,
     /// Direction of travel of a directional light.
     pub direction: [f32; 3],
+    /// Padding to 64 bytes; always 0.
     pub _pad: u32,
 }
 
@@ -115,40 +170,77 @@ pub struct Emitter {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GridScene {
+    /// Minimum corner of the box: the scene's bounds swept over the shutter.
     pub lo: [f32; 3],
+    /// Buckets in the hash table: `vp_count` rounded up to a power of two.
     pub table_size: u32,
+    /// Maximum corner of the box.
     pub hi: [f32; 3],
+    /// Padding to 32 bytes; always 0.
     pub _pad: u32,
 }
 
+/// Where a camera path of the current pass ended on a diffuse surface (Hachisuka & Jensen
+/// 2009, sec. 4). Its position and radius are in the parallel `vp_points` buffer (xyz,
+/// radius; radius 0 where the path found none).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct VisiblePoint {
+    /// Geometric normal, flipped to the side the camera path arrived from; photons arriving
+    /// from the other side are not counted.
     pub normal: [f32; 3],
+    /// Padding; always 0.
     pub _pad0: u32,
+    /// Path throughput times the BSDF, beta * albedo / pi: what a photon's flux is
+    /// multiplied by when it lands within the radius. Zero where there is no visible point.
     pub weight: [f32; 3],
+    /// Padding; always 0.
     pub _pad1: u32,
 }
 
+/// Per visible-point SPPM statistics, carried from pass to pass (Hachisuka & Jensen 2009,
+/// sec. 4; pbrt-v4 sec. 16.3). After `update_stats` with M new photons carrying flux phi:
+/// N' = N + alpha M, r' = r sqrt(N' / (N + M)), tau' = (tau + phi) r'^2 / r^2. The pixel's
+/// estimate after k passes of P photons is L = ld / k + tau power_total / (k P pi r^2).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct VpStats {
+    /// Accumulated flux tau (weighted by [`VisiblePoint::weight`]), relative to
+    /// [`Frame::power_total`] and not yet divided by the photon count or area.
     pub tau: [f32; 3],
+    /// Accumulated photon count N (fractional: alpha of each pass's photons).
     pub n: f32,
+    /// Sum over passes of the emission the camera path saw directly (the direct term).
     pub ld: [f32; 3],
+    /// Current gather radius r, scene units.
     pub radius: f32,
 }
 
+/// Flag in [`GpuTriangle::attributes`]: three shading normals (unit, xyz) come first.
 pub const HAS_NORMALS: u32 = 1 << 31;
+/// Flag in [`GpuTriangle::attributes`]: two entries of texture coordinates follow (after
+/// the normals, if any).
 pub const HAS_UVS: u32 = 1 << 30;
+/// The bits of [`GpuTriangle::attributes`] that hold the index of its first entry.
 pub const ATTRIBUTE_INDEX_MASK: u32 = HAS_UVS - 1;
+/// [`Emitter::kind`] of an emitting triangle or sphere (`prim_ref`).
 pub const EMITTER_AREA: u32 = 0;
+/// [`Emitter::kind`] of a point light.
 pub const EMITTER_POINT: u32 = 1;
+/// [`Emitter::kind`] of a directional light.
 pub const EMITTER_DIRECTIONAL: u32 = 2;
+/// [`GpuMaterial::texture`] of a material without a texture.
 pub const NO_TEXTURE: u32 = u32::MAX;
+/// [`GpuMaterial::kind`]: Lambertian, f = albedo / pi; the only kind SPPM leaves visible
+/// points on.
 pub const MATERIAL_DIFFUSE: u32 = 0;
+/// [`GpuMaterial::kind`]: perfect specular reflection times albedo.
 pub const MATERIAL_MIRROR: u32 = 1;
+/// [`GpuMaterial::kind`]: smooth dielectric (Fresnel reflection and refraction) or, with
+/// roughness > 0, rough GGX dielectric (Walter et al. 2007).
 pub const MATERIAL_DIELECTRIC: u32 = 2;
+/// [`GpuMaterial::kind`]: GGX conductor with Fresnel 1, sampled by visible normals
+/// (Heitz 2018).
 pub const MATERIAL_GLOSSY: u32 = 3;
 /// u32 words per visible point in the flux accumulator.
 pub const ACCUM_STRIDE: u32 = 8;

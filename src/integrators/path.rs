@@ -12,6 +12,9 @@ use crate::image_io::Rgb32Image;
 use crate::scene::{Method, Scene};
 use wgpu::util::DeviceExt;
 
+/// A progressive path tracer, naive or with next-event estimation (`Method::Pt` or
+/// `Method::PtNee`): each pass adds one sample per pixel, up to `max_depth` bounces, and the
+/// image is the mean of the samples so far. Driven through [`Integrator`].
 pub struct PathTracer {
     device: wgpu::Device,
     queue: wgpu::Queue,

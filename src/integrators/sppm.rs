@@ -38,11 +38,22 @@ pub fn auto_radius(scene: &Scene) -> f32 {
 /// Statistics a caller may read between passes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RadiusStats {
+    /// Smallest gather radius over the visible points, scene units.
     pub min: f32,
+    /// Mean gather radius.
     pub mean: f32,
+    /// Largest gather radius.
     pub max: f32,
 }
 
+/// The SPPM renderer for one scene on one device: the scene's buffers, one visible point per
+/// pixel sample with its statistics ([`VpStats`]), the hashed grid and the kernels.
+///
+/// Drive it with [`Sppm::run_pass`] and read the estimate with [`Sppm::image`], or record
+/// passes and resolves into your own encoder ([`Sppm::record_pass`],
+/// [`Sppm::record_resolve_to_texture`], [`Sppm::record_resolve_to_buffer`]). The device
+/// needs the limits of [`crate::gpu::required_limits`] and no features. The same scene,
+/// settings and seed give the same image bit for bit on the same device.
 pub struct Sppm {
     device: wgpu::Device,
     queue: wgpu::Queue,

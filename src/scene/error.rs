@@ -5,11 +5,13 @@ use std::path::{Path, PathBuf};
 /// An error in a scene or one of the files it names.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneError {
+    /// The file the error is in: the scene, or the mesh or texture it names.
     pub file: PathBuf,
     /// 1-based line, when the error has a place in the file.
     pub line: Option<usize>,
     /// Dotted key path, e.g. `render.width` or `shapes[3].material`.
     pub key: Option<String>,
+    /// What is wrong, without the place (which `Display` prepends).
     pub message: String,
 }
 

@@ -11,9 +11,14 @@ use std::path::Path;
 /// entry per position.
 #[derive(Clone, Debug, Default)]
 pub(super) struct IndexedMesh {
+    /// Vertex positions, object space.
     pub positions: Vec<Vec3>,
+    /// Per-vertex normals (OBJ `vn`), object space, not necessarily unit length.
     pub normals: Option<Vec<Vec3>>,
+    /// Per-vertex texture coordinates (OBJ `vt`).
     pub uvs: Option<Vec<Vec2>>,
+    /// Triangles as three indices into the vertex arrays, counter-clockwise seen from the
+    /// front.
     pub indices: Vec<[u32; 3]>,
 }
 
@@ -42,6 +47,7 @@ impl Transform {
         }
     }
 
+    /// A transformed point: `M p`.
     pub fn point(&self, p: Vec3) -> Vec3 {
         self.linear * p + self.translation
     }

@@ -29,8 +29,11 @@ pub enum Method {
 /// The `[render]` table, with defaults applied.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
+    /// The integrator (`method`; default [`Method::Sppm`]).
     pub method: Method,
     /// SPPM passes, or samples per pixel for the path tracers.
     pub iterations: u32,
@@ -40,21 +43,33 @@ pub struct RenderSettings {
     pub photons: u32,
     /// Initial gather radius; `None` asks for the automatic choice.
     pub radius: Option<f32>,
+    /// SPPM radius reduction (Hachisuka & Jensen 2009): the fraction of each pass's photons
+    /// kept, in (0, 1); default 0.6667.
     pub alpha: f32,
+    /// Most scattering events on a camera path and on a photon path (default 64); Russian
+    /// roulette may end paths earlier.
     pub max_depth: u32,
+    /// Seed of every random stream: the same seed gives the same image (default 0).
     pub seed: u32,
+    /// Stop after the pass that crosses this many seconds; `None` runs every iteration.
     pub time_limit: Option<f64>,
 }
 
 /// The `[camera]` table.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Camera {
+    /// Eye position (the pinhole, or the centre of the lens), world space.
     pub position: Vec3,
+    /// The point the camera looks at, world space.
     pub look_at: Vec3,
+    /// Up direction, any length, not parallel to the view direction (default `+y`).
     pub up: Vec3,
     /// Vertical field of view, degrees.
     pub fov: f32,
+    /// Thin-lens aperture radius, scene units; 0 is a pinhole.
     pub aperture_radius: f32,
+    /// Distance to the plane in focus, scene units (used only when `aperture_radius > 0`);
+    /// defaults to the distance from `position` to `look_at`.
     pub focus_distance: f32,
     /// Line of `aperture_radius` in the file, when given.
     pub aperture_line: Option<usize>,
@@ -64,18 +79,39 @@ pub struct Camera {
 #[derive(Clone, Debug, PartialEq)]
 pub enum MaterialKind {
     /// Lambertian; `texture` (index into `Scene::textures`) replaces `albedo` when present.
-    Diffuse { albedo: Vec3, texture: Option<u32> },
+    Diffuse {
+        /// Reflectance, linear RGB in [0, 1] (`[1, 1, 1]` when textured).
+        albedo: Vec3,
+        /// Index into [`Scene::textures`].
+        texture: Option<u32>,
+    },
     /// Perfect specular reflector.
-    Mirror { albedo: Vec3 },
+    Mirror {
+        /// Reflectance, linear RGB in [0, 1].
+        albedo: Vec3,
+    },
     /// GGX microfacet conductor; roughness is GGX alpha.
-    Glossy { albedo: Vec3, roughness: f32 },
+    Glossy {
+        /// Reflectance (Fresnel 1), linear RGB in [0, 1].
+        albedo: Vec3,
+        /// GGX alpha in [0, 1].
+        roughness: f32,
+    },
     /// Dielectric interface; roughness 0 is smooth, otherwise GGX alpha (Walter et al. 2007).
-    Dielectric { ior: f32, roughness: f32 },
+    Dielectric {
+        /// Index of refraction of the inside relative to the outside.
+        ior: f32,
+        /// GGX alpha in [0, 1]; 0 is smooth.
+        roughness: f32,
+    },
 }
 
+/// One `[materials]` entry.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
+    /// The entry's key, which shapes name it by.
     pub name: String,
+    /// Its scattering model and parameters.
     pub kind: MaterialKind,
     /// Line of the material's entry in `[materials]`.
     pub line: usize,
@@ -84,8 +120,11 @@ pub struct Material {
 /// A texture decoded to linear RGB (sRGB decoded), row 0 at the top (t = 1).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
+    /// The image file, resolved against the scene file's directory.
     pub path: PathBuf,
+    /// Width in texels.
     pub width: u32,
+    /// Height in texels.
     pub height: u32,
     /// Linear RGB, row-major, `width * height` texels.
     pub texels: Vec<Vec3>,
@@ -94,20 +133,28 @@ pub struct Texture {
 /// The kind of a `[[shapes]]` entry.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShapeKind {
+    /// A parallelogram `corner, corner + u, corner + u + v, corner + v`: two triangles.
     Quad,
+    /// An analytic sphere.
     Sphere,
+    /// The cube `[-1, 1]^3` scaled, rotated and translated: twelve triangles.
     Cube,
+    /// A Wavefront OBJ file, triangulated and transformed.
     Mesh,
 }
 
 /// One `[[shapes]]` entry, after its primitives were generated.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shape {
+    /// The entry's `type`.
     pub kind: ShapeKind,
+    /// Index into [`Scene::materials`].
     pub material: u32,
     /// Radiance leaving the front side (quads, meshes: side of the winding's normal;
     /// spheres: outside). `None` when the shape does not emit.
     pub emission: Option<Vec3>,
+    /// Displacement over the shutter: at shutter time t in [0, 1) the shape sits at its
+    /// position + velocity * t. `None` when it does not move.
     pub velocity: Option<Vec3>,
     /// Line of the `[[shapes]]` header.
     pub line: usize,
@@ -119,20 +166,25 @@ pub struct Shape {
 /// which is the front side for emission.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Triangle {
+    /// Vertices, world space (at rest: time 0 for a moving shape).
     pub p: [Vec3; 3],
     /// Per-vertex shading normals (unit length), only for `smooth = true` meshes.
     pub n: Option<[Vec3; 3]>,
     /// Per-vertex texture coordinates, when the shape has them (quads: `uv_scale * (a, b)`;
     /// meshes: OBJ `vt`).
     pub uv: Option<[Vec2; 3]>,
+    /// Index into [`Scene::shapes`] of the shape the triangle belongs to.
     pub shape: u32,
 }
 
 /// A world-space analytic sphere.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sphere {
+    /// Centre, world space (at rest: time 0 for a moving shape).
     pub center: Vec3,
+    /// Radius, scene units.
     pub radius: f32,
+    /// Index into [`Scene::shapes`].
     pub shape: u32,
 }
 
@@ -140,13 +192,26 @@ pub struct Sphere {
 #[derive(Clone, Debug, PartialEq)]
 pub enum LightKind {
     /// Radiant intensity (W/sr) from a point.
-    Point { position: Vec3, intensity: Vec3 },
+    Point {
+        /// World-space position.
+        position: Vec3,
+        /// Radiant intensity I, linear RGB (W/sr); power 4 pi I.
+        intensity: Vec3,
+    },
     /// Parallel light travelling along `direction` (unit), `irradiance` on a facing surface.
-    Directional { direction: Vec3, irradiance: Vec3 },
+    Directional {
+        /// Unit direction the light travels in.
+        direction: Vec3,
+        /// Irradiance E on a surface facing the light, linear RGB.
+        irradiance: Vec3,
+    },
 }
 
+/// One `[[lights]]` entry (a point or directional light; area lights are shapes with
+/// `emission`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Light {
+    /// The light's type and parameters.
     pub kind: LightKind,
     /// Line of the `[[lights]]` header.
     pub line: usize,
@@ -157,13 +222,22 @@ pub struct Light {
 pub struct Scene {
     /// The scene file, for error messages.
     pub path: PathBuf,
+    /// The `[render]` table.
     pub render: RenderSettings,
+    /// The `[camera]` table.
     pub camera: Camera,
+    /// The `[materials]` entries; shapes refer to them by index.
     pub materials: Vec<Material>,
+    /// Every distinct texture file the materials name, loaded once each.
     pub textures: Vec<Texture>,
+    /// The `[[shapes]]` entries, in file order.
     pub shapes: Vec<Shape>,
+    /// Every shape's triangles (quads, cubes, meshes), world space; degenerate mesh
+    /// triangles are skipped.
     pub triangles: Vec<Triangle>,
+    /// Every analytic sphere, world space.
     pub spheres: Vec<Sphere>,
+    /// The `[[lights]]` entries, in file order.
     pub lights: Vec<Light>,
 }
 
