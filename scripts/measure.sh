@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 cargo build --release -q
 bin=./target/release/sppm-gpu
 mkdir -p out
-for s in furnace cornell-box cornell-spheres; do
+for s in furnace cornell-box cornell-spheres cornell-glossy point-light textured depth-of-field; do
     $bin scenes/$s.toml -o out/$s.exr
     factor=8; [ $s = furnace ] && factor=1
     $bin diff out/$s.exr tests/references/$s.exr --downsample $factor

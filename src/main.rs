@@ -319,6 +319,7 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
     let start = Instant::now();
     while integrator.passes() < r.iterations {
         integrator.run_pass()?;
+        gpu.check()?;
         let seconds = start.elapsed().as_secs_f64();
         let work = integrator.passes() as u64 * integrator.work_per_pass();
         progress.set_position(integrator.passes() as u64);
@@ -328,6 +329,7 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
         }
     }
     let image = integrator.image()?;
+    gpu.check()?;
     let seconds = start.elapsed().as_secs_f64();
     progress.finish_and_clear();
 

@@ -22,6 +22,10 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// Name, backend and driver of the adapter the device was made on (for logs and reports).
     pub adapter_info: wgpu::AdapterInfo,
+    /// The first error the device reported outside any error scope (out of memory, a
+    /// validation failure, a lost device), kept for [`GpuContext::check`] instead of wgpu's
+    /// default handler, which panics.
+    errors: std::sync::Arc<std::sync::Mutex<Option<String>>>,
 }
 
 /// Storage buffers the largest kernel binds in one stage.
@@ -88,6 +92,30 @@ impl GpuContext {
             trace: wgpu::Trace::Off,
         }))
         .map_err(|e| GpuError(format!("could not create a device on {}: {e}", adapter.get_info().name)))?;
-        Ok(Self { device, queue, adapter_info: adapter.get_info() })
+        let errors = std::sync::Arc::new(std::sync::Mutex::new(None));
+        let sink = errors.clone();
+        device.on_uncaptured_error(std::sync::Arc::new(move |e: wgpu::Error| {
+            let mut first = sink.lock().unwrap_or_else(|p| p.into_inner());
+            first.get_or_insert_with(|| match e {
+                wgpu::Error::OutOfMemory { .. } => "the GPU ran out of memory".to_string(),
+                other => format!("the GPU reported an error: {other}"),
+            });
+        }));
+        let lost = errors.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            let mut first = lost.lock().unwrap_or_else(|p| p.into_inner());
+            first.get_or_insert_with(|| format!("the GPU device was lost ({reason:?}): {message}"));
+        });
+        Ok(Self { device, queue, adapter_info: adapter.get_info(), errors })
+    }
+
+    /// The first error the device has reported since it was made, as an `Err`: callers check
+    /// after submitting work, so a lost device or an exhausted GPU ends the run with a message
+    /// rather than a panic or a hang.
+    pub fn check(&self) -> Result<(), GpuError> {
+        match self.errors.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+            Some(e) => Err(GpuError(e.clone())),
+            None => Ok(()),
+        }
     }
 }
