@@ -16,7 +16,7 @@ use toml::Spanned;
 type Result<T> = std::result::Result<T, SceneError>;
 
 /// Largest accepted image width or height, in pixels.
-const MAX_RESOLUTION: u32 = 16384;
+pub(super) const MAX_RESOLUTION: u32 = 16384;
 
 /// Reads a scene file and loads it.
 pub fn load(path: &Path) -> Result<Scene> {
@@ -711,7 +711,7 @@ fn parse_integer(integer: &DeInteger) -> Option<i64> {
 
 /// A range that a number must lie in.
 #[derive(Clone, Copy, Debug)]
-enum Bound {
+pub(super) enum Bound {
     Any,
     Positive,
     NonNegative,
@@ -723,7 +723,7 @@ enum Bound {
 }
 
 impl Bound {
-    fn contains(self, x: f64) -> bool {
+    pub(super) fn contains(self, x: f64) -> bool {
         match self {
             Bound::Any => true,
             Bound::Positive => x > 0.0,

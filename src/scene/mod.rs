@@ -5,10 +5,12 @@
 //! world space, each tagged with its shape index so that emission, velocity and texture
 //! coordinates can be looked up per shape.
 
+mod builder;
 mod error;
 mod load;
 mod mesh;
 
+pub use builder::SceneBuilder;
 pub use error::SceneError;
 pub use load::{load, load_str};
 
