@@ -128,6 +128,31 @@ fn progress_bar(len: u64, template: &str) -> ProgressBar {
     bar
 }
 
+/// A line for the log: above the progress bar on a terminal, else on stderr.
+fn note(bar: &ProgressBar, line: String) {
+    if bar.is_hidden() {
+        eprintln!("{line}");
+    } else {
+        bar.println(line);
+    }
+}
+
+/// The note under a chart: image size, settings and device.
+fn device_note(gpu: &GpuContext, scene: &Scene) -> String {
+    let r = &scene.render;
+    let radius = r.radius.map_or("automatic".to_string(), |v| v.to_string());
+    format!(
+        "{}x{}; sppm: {} photons/pass, initial radius {radius}, alpha {}; {} ({:?}), {} CPU threads",
+        r.width,
+        r.height,
+        r.photons,
+        r.alpha,
+        gpu.adapter_info.name,
+        gpu.adapter_info.backend,
+        std::thread::available_parallelism().map_or(0, |n| n.get())
+    )
+}
+
 /// Short form of an error figure for captions and logs.
 fn sci(v: f64) -> String {
     format!("{v:.2e}")
@@ -156,9 +181,9 @@ pub fn write_compare_csv(path: &Path, snapshots: &[Snapshot]) -> Result<(), Erro
 
 /// The log-log chart of relMSE against seconds, one line per label, in order of first
 /// appearance.
-pub fn write_time_chart(path: &Path, title: &str, y_desc: &str, snapshots: &[Snapshot]) -> Result<(), Error> {
+pub fn write_time_chart(path: &Path, title: &str, y_desc: &str, note: &str, snapshots: &[Snapshot]) -> Result<(), Error> {
     let series = group(snapshots, |s| (s.seconds, s.rel_mse));
-    plot::write_chart(path, &Chart { title, x_desc: "seconds (wall time of passes)", y_desc, log_x: true, log_y: true }, &series)
+    plot::write_chart(path, &Chart { title, x_desc: "seconds (wall time of passes)", y_desc, log_x: true, log_y: true, note }, &series)
 }
 
 /// Snapshots as one series per label, in order of first appearance.
@@ -244,6 +269,7 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
             let c = metrics::compare(&img, &reference, opts.downsample).map_err(Error::Setting)?;
             let snap = Snapshot { label: run.label.into(), seconds, passes: run.timed.passes(), rel_mse: c.rel_mse, rmse: c.rmse };
             bar.set_message(format!("{}: {} passes, {seconds:.1} s, relMSE {}", run.label, snap.passes, sci(c.rel_mse)));
+            note(&bar, format!("{:8} {seconds:8.2} s {:6} passes  relMSE {}", run.label, snap.passes, sci(c.rel_mse)));
             snapshots.push(snap.clone());
             run.last = Some((img, snap));
             while run.next < times.len() && times[run.next] <= seconds {
@@ -262,8 +288,9 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
 
     write_compare_csv(&opts.out.join("compare.csv"), &snapshots)?;
     let y_desc = format!("relMSE ({0}x{0} box-downsampled)", opts.downsample);
-    let title = format!("{name}: relMSE against time ({})", gpu.adapter_info.name);
-    write_time_chart(&opts.out.join("relmse-vs-time.png"), &title, &y_desc, &snapshots)?;
+    let title = format!("{name}: relMSE against time");
+    let note = device_note(&gpu, scene);
+    write_time_chart(&opts.out.join("relmse-vs-time.png"), &title, &y_desc, &note, &snapshots)?;
 
     let mut images = vec![Tile::render(&reference, vec!["reference".into()])];
     let mut errors = vec![Tile::blank(reference.width, reference.height)];
@@ -398,6 +425,7 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
         }
         let img = img.expect("at least one pass");
         let last = snapshots.last().expect("a snapshot");
+        note(&bar, format!("{}: relMSE {} after {} passes, {:.2} s", opts.param.label(value), sci(last.rel_mse), last.passes, last.seconds));
         images.push(Tile::render(&img, vec![opts.param.label(value), format!("relMSE {}", sci(last.rel_mse))]));
         errors.push(Tile::colours(&plot::error_map(&img, &reference, opts.downsample)?, Vec::new()));
     }
@@ -411,11 +439,12 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
         s.name = opts.param.label(s.name.parse().expect("a number"));
     }
     let title = format!("{name}: relMSE over passes, by {p}");
-    plot::write_chart(&opts.out.join("relmse-vs-passes.png"), &Chart { title: &title, x_desc: "passes", y_desc: &y_desc, log_x: true, log_y: true }, &series)?;
+    let note = device_note(&gpu, scene);
+    plot::write_chart(&opts.out.join("relmse-vs-passes.png"), &Chart { title: &title, x_desc: "passes", y_desc: &y_desc, log_x: true, log_y: true, note: &note }, &series)?;
     let finals: Vec<(f64, f64)> = opts.values.iter().zip(&series).map(|(&v, s)| (v, s.points.last().expect("a point").1)).collect();
     let (lo, hi) = finals.iter().fold((f64::INFINITY, 0.0f64), |(l, h), p| (l.min(p.0), h.max(p.0)));
     let title = format!("{name}: relMSE after {passes} passes, by {p}");
-    let chart = Chart { title: &title, x_desc: p, y_desc: &y_desc, log_x: lo > 0.0 && hi >= 10.0 * lo, log_y: true };
+    let chart = Chart { title: &title, x_desc: p, y_desc: &y_desc, log_x: lo > 0.0 && hi >= 10.0 * lo, log_y: true, note: &note };
     plot::write_chart(&opts.out.join(format!("relmse-vs-{p}.png")), &chart, &[Series { name: format!("after {passes} passes"), points: finals.clone() }])?;
     let r = &scene.render;
     let title = format!("{name}: {passes} passes of {} photons, by {p}", r.photons);
@@ -486,6 +515,7 @@ pub fn passes(scene: &Scene, name: &str, opts: &PassesOptions) -> Result<Vec<Pas
                 let c = metrics::compare(&img, r, opts.downsample).map_err(Error::Setting)?;
                 caption.push(format!("relMSE {}", sci(c.rel_mse)));
             }
+            note(&bar, caption.join(", "));
             tiles.push(Tile::render(&img, caption));
         }
     }
@@ -497,9 +527,10 @@ pub fn passes(scene: &Scene, name: &str, opts: &PassesOptions) -> Result<Vec<Pas
         Method::Sppm => format!("{} photons", r.photons),
         _ => format!("{} spp", r.spp),
     };
-    let title = format!("{name}: time per pass, {} {}x{}, {what} ({})", method_name(r.method), r.width, r.height, gpu.adapter_info.name);
+    let title = format!("{name}: time per pass ({}, {what})", method_name(r.method));
+    let note = device_note(&gpu, &s);
     let series = Series { name: method_name(r.method).into(), points: times.iter().map(|t| (t.pass as f64, t.seconds * 1e3)).collect() };
-    plot::write_chart(&opts.out.join("time-per-pass.png"), &Chart { title: &title, x_desc: "pass", y_desc: "milliseconds", log_x: false, log_y: false }, &[series])?;
+    plot::write_chart(&opts.out.join("time-per-pass.png"), &Chart { title: &title, x_desc: "pass", y_desc: "milliseconds", log_x: false, log_y: false, note: &note }, &[series])?;
     let title = format!("{name}: {} over passes", method_name(r.method));
     plot::write_montage(&opts.out.join("images.png"), &title, &[tiles], None)?;
 

@@ -226,6 +226,8 @@ pub struct Chart<'a> {
     pub y_desc: &'a str,
     pub log_x: bool,
     pub log_y: bool,
+    /// A line in small grey type under the chart (the device, say); may be empty.
+    pub note: &'a str,
 }
 
 /// Short tick labels: plain for ordinary magnitudes, scientific otherwise.
@@ -271,14 +273,47 @@ fn axis_range(values: impl Iterator<Item = f64>, log: bool) -> std::ops::Range<f
     }
 }
 
-/// Draw a line chart (one line with markers per series, and a legend) to a PNG.
+/// Tick values for a log axis over `range`: the densest of decades, 1-2-5 or 1-to-9 steps
+/// that gives at most `max` ticks (decades whatever their number).
+pub fn log_ticks(range: &std::ops::Range<f64>, max: usize) -> Vec<f64> {
+    let steps: [&[f64]; 3] = [&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0], &[1.0, 2.0, 5.0], &[1.0]];
+    let (lo, hi) = (range.start, range.end);
+    let ticks = |mults: &[f64]| -> Vec<f64> {
+        let mut out = Vec::new();
+        let mut decade = 10f64.powi(lo.log10().floor() as i32);
+        while decade <= hi {
+            for m in mults {
+                // Round to the decimal it names (avoids 0.30000000000000004).
+                let v: f64 = format!("{:e}", m * decade).parse().unwrap_or(m * decade);
+                if v >= lo && v <= hi {
+                    out.push(v);
+                }
+            }
+            decade *= 10.0;
+        }
+        out
+    };
+    steps.iter().map(|m| ticks(m)).find(|t| t.len() <= max).unwrap_or_else(|| ticks(&[1.0]))
+}
+
+/// Draw a line chart (one line with markers per series, and a legend to the right of the
+/// plot) to a PNG.
 pub fn write_chart(path: &Path, chart: &Chart, series: &[Series]) -> Result<(), Error> {
     let xs = axis_range(series.iter().flat_map(|s| s.points.iter().map(|p| p.0)), chart.log_x);
-    let ys = axis_range(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)), chart.log_y);
+    let mut ys = axis_range(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)), chart.log_y);
+    if !chart.log_y && ys.start > 0.0 {
+        // A linear axis of positive values starts at zero, so that heights compare honestly.
+        ys.start = 0.0;
+    }
+    let log = |r: std::ops::Range<f64>, max| {
+        let light = log_ticks(&r, 100);
+        let bold = log_ticks(&r, max);
+        r.log_scale().with_key_points(bold).with_light_points(light)
+    };
     match (chart.log_x, chart.log_y) {
-        (true, true) => draw_chart(path, chart, series, xs.log_scale(), ys.log_scale()),
-        (true, false) => draw_chart(path, chart, series, xs.log_scale(), ys),
-        (false, true) => draw_chart(path, chart, series, xs, ys.log_scale()),
+        (true, true) => draw_chart(path, chart, series, log(xs, 10), log(ys, 9)),
+        (true, false) => draw_chart(path, chart, series, log(xs, 10), ys),
+        (false, true) => draw_chart(path, chart, series, xs, log(ys, 9)),
         (false, false) => draw_chart(path, chart, series, xs, ys),
     }
 }
@@ -291,14 +326,20 @@ where
     Y::CoordDescType: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
     register();
-    let (width, height) = (800u32, 520u32);
+    let legend_w = 170u32;
+    let (width, height) = (860u32, 540u32);
     let mut buf = vec![255u8; (width * height * 3) as usize];
     let err = |e: &dyn std::fmt::Display| chart_error(path, e);
     {
         let root = BitMapBackend::with_buffer(&mut buf, (width, height)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| err(&e))?;
-        let mut ctx = ChartBuilder::on(&root)
-            .caption(chart.title, (FONT, 18))
+        let (upper, note_area) = root.split_vertically(height - 22);
+        let (plot_area, legend_area) = upper.split_horizontally(width - legend_w);
+        note_area
+            .draw(&Text::new(chart.note, (14, 2), (FONT, 12).into_font().color(&RGBColor(110, 110, 110))))
+            .map_err(|e| err(&e))?;
+        let mut ctx = ChartBuilder::on(&plot_area)
+            .caption(chart.title, (FONT, 17))
             .margin(14)
             .x_label_area_size(44)
             .y_label_area_size(70)
@@ -311,8 +352,8 @@ where
             .y_label_formatter(&|v| tick_label(*v))
             .label_style((FONT, 13))
             .axis_desc_style((FONT, 15))
-            .light_line_style(RGBColor(235, 235, 235))
-            .bold_line_style(RGBColor(205, 205, 205))
+            .light_line_style(RGBColor(238, 238, 238))
+            .bold_line_style(RGBColor(200, 200, 200))
             .draw()
             .map_err(|e| err(&e))?;
         for (i, s) in series.iter().enumerate() {
@@ -323,20 +364,18 @@ where
                 .copied()
                 .filter(|&(x, y)| x.is_finite() && y.is_finite() && (!chart.log_x || x > 0.0) && (!chart.log_y || y > 0.0))
                 .collect();
-            ctx.draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))
-                .map_err(|e| err(&e))?
-                .label(s.name.as_str())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 22, y)], colour.stroke_width(2)));
-            ctx.draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled())))
+            ctx.draw_series(LineSeries::new(points.clone(), colour.stroke_width(2))).map_err(|e| err(&e))?;
+            ctx.draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled()))).map_err(|e| err(&e))?;
+            // The legend, beside the plot so that it never hides a line.
+            let y = 50 + 22 * i as i32;
+            legend_area
+                .draw(&PathElement::new(vec![(4, y), (30, y)], colour.stroke_width(3)))
+                .map_err(|e| err(&e))?;
+            legend_area.draw(&Circle::new((17, y), 3, colour.filled())).map_err(|e| err(&e))?;
+            legend_area
+                .draw(&Text::new(s.name.as_str(), (38, y - 7), (FONT, 14).into_font().color(&BLACK)))
                 .map_err(|e| err(&e))?;
         }
-        ctx.configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .label_font((FONT, 14))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(|e| err(&e))?;
         root.present().map_err(|e| err(&e))?;
     }
     write_rgb8_png(path, &buf, width, height)
