@@ -137,16 +137,18 @@ fn note(bar: &ProgressBar, line: String) {
     }
 }
 
-/// The note under a chart: image size, settings and device.
-fn device_note(gpu: &GpuContext, scene: &Scene) -> String {
+/// The note under a chart: image size, settings (`varied` is the one a sweep changes) and
+/// device.
+fn device_note(gpu: &GpuContext, scene: &Scene, varied: Option<SweepParam>) -> String {
     let r = &scene.render;
-    let radius = r.radius.map_or("automatic".to_string(), |v| v.to_string());
+    let show = |p: SweepParam, v: String| if varied == Some(p) { "varied".to_string() } else { v };
+    let photons = show(SweepParam::Photons, r.photons.to_string());
+    let radius = show(SweepParam::Radius, r.radius.map_or("automatic".to_string(), |v| v.to_string()));
+    let alpha = show(SweepParam::Alpha, r.alpha.to_string());
     format!(
-        "{}x{}; sppm: {} photons/pass, initial radius {radius}, alpha {}; {} ({:?}), {} CPU threads",
+        "{}x{}; sppm: photons/pass {photons}, initial radius {radius}, alpha {alpha}; {} ({:?}), {} CPU threads",
         r.width,
         r.height,
-        r.photons,
-        r.alpha,
         gpu.adapter_info.name,
         gpu.adapter_info.backend,
         std::thread::available_parallelism().map_or(0, |n| n.get())
@@ -165,8 +167,11 @@ pub struct Snapshot {
     pub label: String,
     /// Seconds of passes so far.
     pub seconds: f64,
+    /// Passes completed.
     pub passes: u32,
+    /// relMSE against the reference, after the run's box-downsampling.
     pub rel_mse: f64,
+    /// RMSE against the reference, after the run's box-downsampling.
     pub rmse: f64,
 }
 
@@ -201,7 +206,9 @@ fn group(snapshots: &[Snapshot], point: impl Fn(&Snapshot) -> (f64, f64)) -> Vec
 /// Settings of [`compare`].
 #[derive(Clone, Debug)]
 pub struct CompareOptions {
+    /// The reference image (EXR or PNG), of the scene's size.
     pub reference: PathBuf,
+    /// The methods to run, in the order of the CSV and the figures.
     pub methods: Vec<Method>,
     /// Seconds of passes for each method.
     pub time_limit: f64,
@@ -211,6 +218,7 @@ pub struct CompareOptions {
     pub downsample: u32,
     /// Stop a method after this many passes even if time is left.
     pub max_passes: Option<u32>,
+    /// The folder for the CSV and figures (created if missing).
     pub out: PathBuf,
 }
 
@@ -289,7 +297,7 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
     write_compare_csv(&opts.out.join("compare.csv"), &snapshots)?;
     let y_desc = format!("relMSE ({0}x{0} box-downsampled)", opts.downsample);
     let title = format!("{name}: relMSE against time");
-    let note = device_note(&gpu, scene);
+    let note = device_note(&gpu, scene, None);
     write_time_chart(&opts.out.join("relmse-vs-time.png"), &title, &y_desc, &note, &snapshots)?;
 
     let mut images = vec![Tile::render(&reference, vec!["reference".into()])];
@@ -336,6 +344,7 @@ impl SweepParam {
         }
     }
 
+    /// Its command-line name.
     pub fn name(self) -> &'static str {
         match self {
             Self::Radius => "radius",
@@ -368,10 +377,15 @@ impl SweepParam {
 /// Settings of [`sweep`].
 #[derive(Clone, Debug)]
 pub struct SweepOptions {
+    /// The setting varied.
     pub param: SweepParam,
+    /// Its values, one render each.
     pub values: Vec<f64>,
+    /// The reference image (EXR or PNG), of the scene's size.
     pub reference: PathBuf,
+    /// Box-downsampling factor before the metrics.
     pub downsample: u32,
+    /// The folder for the CSV and figures (created if missing).
     pub out: PathBuf,
 }
 
@@ -439,7 +453,7 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
         s.name = opts.param.label(s.name.parse().expect("a number"));
     }
     let title = format!("{name}: relMSE over passes, by {p}");
-    let note = device_note(&gpu, scene);
+    let note = device_note(&gpu, scene, Some(opts.param));
     plot::write_chart(&opts.out.join("relmse-vs-passes.png"), &Chart { title: &title, x_desc: "passes", y_desc: &y_desc, log_x: true, log_y: true, note: &note }, &series)?;
     let finals: Vec<(f64, f64)> = opts.values.iter().zip(&series).map(|(&v, s)| (v, s.points.last().expect("a point").1)).collect();
     let (lo, hi) = finals.iter().fold((f64::INFINITY, 0.0f64), |(l, h), p| (l.min(p.0), h.max(p.0)));
@@ -466,15 +480,20 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
 pub struct PassesOptions {
     /// Pass counts after which the image is kept; the run lasts until the largest.
     pub snapshots: Vec<u32>,
+    /// A reference image, for relMSE in the captions.
     pub reference: Option<PathBuf>,
+    /// Box-downsampling factor before the metrics.
     pub downsample: u32,
+    /// The folder for the CSV and figures (created if missing).
     pub out: PathBuf,
 }
 
 /// Time of one pass, for [`passes`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct PassTime {
+    /// The pass's number, from 1.
     pub pass: u32,
+    /// Its wall time (submission to completion).
     pub seconds: f64,
 }
 
@@ -528,7 +547,7 @@ pub fn passes(scene: &Scene, name: &str, opts: &PassesOptions) -> Result<Vec<Pas
         _ => format!("{} spp", r.spp),
     };
     let title = format!("{name}: time per pass ({}, {what})", method_name(r.method));
-    let note = device_note(&gpu, &s);
+    let note = device_note(&gpu, &s, None);
     let series = Series { name: method_name(r.method).into(), points: times.iter().map(|t| (t.pass as f64, t.seconds * 1e3)).collect() };
     plot::write_chart(&opts.out.join("time-per-pass.png"), &Chart { title: &title, x_desc: "pass", y_desc: "milliseconds", log_x: false, log_y: false, note: &note }, &[series])?;
     let title = format!("{name}: {} over passes", method_name(r.method));

@@ -117,10 +117,13 @@ fn colour_bar(width: u32) -> Rgb32Image {
 
 /// One image of a montage, with lines of caption above it.
 pub struct Tile {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
     /// 8-bit RGB, display values.
     pub rgb: Vec<u8>,
+    /// Lines of text above the image.
     pub caption: Vec<String>,
 }
 
@@ -215,16 +218,23 @@ pub fn write_montage(path: &Path, title: &str, rows: &[Vec<Tile>], error_legend:
 
 /// One line of a chart.
 pub struct Series {
+    /// Its name in the legend.
     pub name: String,
+    /// (x, y) points, joined in order.
     pub points: Vec<(f64, f64)>,
 }
 
 /// Axes and labels of a line chart.
 pub struct Chart<'a> {
+    /// The caption above the chart.
     pub title: &'a str,
+    /// The x axis's label.
     pub x_desc: &'a str,
+    /// The y axis's label.
     pub y_desc: &'a str,
+    /// A logarithmic x axis.
     pub log_x: bool,
+    /// A logarithmic y axis.
     pub log_y: bool,
     /// A line in small grey type under the chart (the device, say); may be empty.
     pub note: &'a str,
