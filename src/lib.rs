@@ -110,8 +110,7 @@
 //! [`Sppm::set_camera`](integrators::Sppm::set_camera) moves the camera and starts over;
 //! [`Sppm::reset`](integrators::Sppm::reset) starts over in place.
 
-// `deny` once src/experiments is documented; it is still being written.
-#![warn(missing_docs)]
+#![deny(missing_docs)]
 
 pub mod accel;
 pub mod error;
