@@ -2,7 +2,7 @@
 # Regenerate the figures of docs/experiments.md into docs/experiments/, one folder per
 # experiment (CSV, PNG figures and the command's printed summary in summary.txt).
 #
-#   bash scripts/experiments.sh                 # all of them (about 25 minutes on 2 cores)
+#   bash scripts/experiments.sh                 # all of them (about 15 minutes on 2 cores)
 #   bash scripts/experiments.sh radius compare-box   # only those named
 #
 # Names: radius, alpha, alpha-large-radius, passes, compare-box, compare-spheres.
