@@ -50,9 +50,7 @@ fn material_of(scene: &Scene, shape: u32) -> u32 {
     scene.shapes[shape as usize].material
 }
 
-/// Power of a light in the sense the photon pass samples by: the average over RGB of
-/// Le * area * pi for an area light (a Lambertian emitter), I * 4 pi for a point light and
-/// E * pi R^2 for a directional light through a disk of radius R.
+/// The average over RGB, in f64 for the power sums.
 fn average(v: Vec3) -> f64 {
     v.element_sum() as f64 / 3.0
 }
@@ -174,7 +172,9 @@ impl SceneData {
             .collect::<Vec<_>>();
         let (bounds_min, bounds_max) = scene_bounds(scene);
 
-        // Lights, chosen in proportion to power.
+        // Lights, chosen in proportion to power: the average over RGB of Le * area * pi for an
+        // area light (a Lambertian emitter), I * 4 pi for a point light and E * pi R^2 for a
+        // directional light through a disk of radius R.
         let mut emitters = Vec::new();
         let mut powers = Vec::new();
         let emission = |shape: u32| scene.shapes[shape as usize].emission.unwrap_or(Vec3::ZERO);

@@ -260,9 +260,15 @@ impl Sppm {
     fn record_frame(&mut self, encoder: &mut wgpu::CommandEncoder) {
         self.frame.pass_index = self.passes;
         self.frame.time = super::shutter_time(self.frame.seed, self.passes);
+        self.upload_frame(encoder, &self.frame);
+    }
+
+    /// Copy `frame` into the `frame` uniform from within the encoder (through a small buffer
+    /// that wgpu keeps alive until the commands have run).
+    fn upload_frame(&self, encoder: &mut wgpu::CommandEncoder, frame: &Frame) {
         let upload = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame upload"),
-            contents: bytemuck::bytes_of(&self.frame),
+            contents: bytemuck::bytes_of(frame),
             usage: wgpu::BufferUsages::COPY_SRC,
         });
         encoder.copy_buffer_to_buffer(&upload, 0, &self.buffers.frame, 0, size_of::<Frame>() as u64);
@@ -347,18 +353,13 @@ impl Sppm {
 
     /// Point the frame's pass count at the last completed pass, from within the encoder, for
     /// the resolve kernels.
-    fn record_resolve_frame(&mut self, encoder: &mut wgpu::CommandEncoder) -> Result<(), Error> {
+    fn record_resolve_frame(&self, encoder: &mut wgpu::CommandEncoder) -> Result<(), Error> {
         if self.passes == 0 {
             return Err(Error::Setting("no pass has run yet: record or run a pass before resolving".into()));
         }
         let pass = self.passes - 1;
         let frame = Frame { pass_index: pass, time: super::shutter_time(self.frame.seed, pass), ..self.frame };
-        let upload = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("frame upload"),
-            contents: bytemuck::bytes_of(&frame),
-            usage: wgpu::BufferUsages::COPY_SRC,
-        });
-        encoder.copy_buffer_to_buffer(&upload, 0, &self.buffers.frame, 0, size_of::<Frame>() as u64);
+        self.upload_frame(encoder, &frame);
         Ok(())
     }
 
