@@ -39,12 +39,12 @@ fn sample_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, rng: ptr<func
     var dist: f32;
     // Solid-angle density of this light sample; 0 marks a delta light (no MIS).
     var pdf_light = 0.0;
-    if e.kind == EMITTER_POINT {
+    if USES_POINT_LIGHTS && e.kind == EMITTER_POINT {
         let to = e.position - s.p;
         dist = length(to);
         wi = to / dist;
         li = e.radiance / (dist * dist * e.pmf);
-    } else if e.kind == EMITTER_DIRECTIONAL {
+    } else if USES_DIRECTIONAL_LIGHTS && e.kind == EMITTER_DIRECTIONAL {
         wi = -e.direction;
         dist = 3.4e38;
         li = e.radiance / e.pmf;
@@ -64,12 +64,9 @@ fn sample_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, rng: ptr<func
     if dot(wi, s.ng) * dot(wo, s.ng) <= 0.0 {
         return vec3f(0.0);
     }
-    var f: vec3f;
-    var pdf_bsdf: f32;
-    if m.kind == MATERIAL_DIFFUSE {
-        f = albedo * INV_PI;
-        pdf_bsdf = abs(dot(wi, s.ns)) * INV_PI;
-    } else {
+    var f = albedo * INV_PI;
+    var pdf_bsdf = abs(dot(wi, s.ns)) * INV_PI;
+    if USES_GLOSSY && m.kind == MATERIAL_GLOSSY {
         let g = glossy_eval(m.albedo, m.roughness, wo, wi, s.ns);
         f = g.f;
         pdf_bsdf = g.pdf;
@@ -136,7 +133,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
             pdf_prev = abs(dot(wi, s.ns)) * INV_PI;
             d = wi;
         } else {
-            if m.kind == MATERIAL_GLOSSY && frame.nee != 0u {
+            if USES_GLOSSY && m.kind == MATERIAL_GLOSSY && frame.nee != 0u {
                 l += beta * sample_light(s, wo, m, m.albedo, &rng);
             }
             let next = sample_nondiffuse(m, d, s, vec3f(rng_next2(&rng), rng_next(&rng)), true);
@@ -145,7 +142,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
             }
             beta *= next.weight;
             pdf_prev = 0.0;
-            if m.kind == MATERIAL_GLOSSY {
+            if USES_GLOSSY && m.kind == MATERIAL_GLOSSY {
                 pdf_prev = glossy_eval(m.albedo, m.roughness, wo, next.wi, s.ns).pdf;
             }
             d = next.wi;

@@ -88,11 +88,11 @@ fn emit_photon(rng: ptr<function, Rng>) -> Photon {
     let u_pos = rng_next2(rng);
     let u_dir = rng_next2(rng);
     let scale = 1.0 / (e.pmf * frame.power_total);
-    if e.kind == EMITTER_POINT {
+    if USES_POINT_LIGHTS && e.kind == EMITTER_POINT {
         // I / (1 / 4 pi)
         return Photon(e.position, sample_uniform_sphere(u_dir), e.radiance * (4.0 * PI * scale), 0u);
     }
-    if e.kind == EMITTER_DIRECTIONAL {
+    if USES_DIRECTIONAL_LIGHTS && e.kind == EMITTER_DIRECTIONAL {
         // E / (1 / disk area)
         let b = basis(e.direction);
         let q = e.radius * sample_disk(u_pos);

@@ -7,7 +7,7 @@ use common::Rng;
 use std::time::Instant;
 
 use glam::Vec3;
-use sppm_gpu::accel::bvh::{brute_force_intersect, intersect_triangle, Hit, STACK_SIZE};
+use sppm_gpu::accel::bvh::{brute_force_intersect, intersect_triangle, Hit, LEAF_BIT, LEAF_COUNT_SHIFT, STACK_SIZE};
 use sppm_gpu::accel::grid::{brute_force_within, point_within};
 use sppm_gpu::accel::{build_bvh, build_grid, hash_cell, Bvh, HashGrid, SPHERE_BIT};
 use sppm_gpu::scene::{Sphere, Triangle};
@@ -166,6 +166,77 @@ fn check_tree(bvh: &Bvh, tris: &[Triangle], spheres: &[Sphere]) {
     );
     assert_eq!(bvh.prim_refs.len(), tris.len() + spheres.len());
     assert_eq!(bvh.nodes.len(), 2 * leaves - 1);
+    check_packed(bvh);
+}
+
+/// Checks the kernels' layout of a tree against the tree: the packed nodes walk the same
+/// tree, each child reference names the same leaf range or the packed copy of the same
+/// interior node, and each decoded child box contains the child's exact box.
+fn check_packed(bvh: &Bvh) {
+    let packed = bvh.pack();
+    let contains = |q: [u32; 3], node: &sppm_gpu::accel::BvhNode| {
+        let (lo, hi) = packed.decode(q);
+        (0..3).all(|a| lo[a] <= node.min[a] && node.max[a] <= hi[a])
+    };
+    let leaf_ref = |node: &sppm_gpu::accel::BvhNode| LEAF_BIT | node.count << LEAF_COUNT_SHIFT | node.first;
+    let root = &bvh.nodes[0];
+    let is_empty = |q: [u32; 3]| {
+        let (lo, hi) = packed.decode(q);
+        (0..3).all(|a| lo[a] > hi[a])
+    };
+    if root.count == 0 && root.min[0] > root.max[0] {
+        // Empty scene: a root with two empty children.
+        let n = packed.nodes[0];
+        assert_eq!(packed.nodes.len(), 1);
+        assert!(is_empty(n.box_a) && is_empty(n.box_b), "children of an empty scene's root");
+        assert_eq!((n.child_a, n.child_b), (LEAF_BIT, LEAF_BIT));
+        return;
+    }
+    if root.count > 0 {
+        let n = packed.nodes[0];
+        assert_eq!(packed.nodes.len(), 1);
+        assert_eq!(n.child_a, leaf_ref(root));
+        assert!(contains(n.box_a, root), "root leaf box");
+        assert!(is_empty(n.box_b), "second child of a leaf root is empty");
+        return;
+    }
+    let mut seen = vec![false; packed.nodes.len()];
+    // (host interior node, packed node)
+    let mut todo = vec![(0usize, 0usize)];
+    while let Some((host, dst)) = todo.pop() {
+        assert!(!seen[dst], "packed node {dst} reached twice");
+        seen[dst] = true;
+        let n = packed.nodes[dst];
+        let first = bvh.nodes[host].first as usize;
+        for (c, q, r) in [(first, n.box_a, n.child_a), (first + 1, n.box_b, n.child_b)] {
+            let child = &bvh.nodes[c];
+            assert!(contains(q, child), "decoded box of node {c} does not contain it");
+            if child.count > 0 {
+                assert_eq!(r, leaf_ref(child), "reference to leaf {c}");
+            } else {
+                assert_eq!(r & LEAF_BIT, 0);
+                todo.push((c, r as usize));
+            }
+        }
+    }
+    assert!(seen.iter().all(|&s| s), "unreachable packed nodes");
+}
+
+#[test]
+fn packed_boxes_contain_exact_boxes_far_from_origin() {
+    // Coordinates large against the scene: the quantization grid and the f32 decode still
+    // give boxes around the exact ones.
+    let mut rng = Rng(7);
+    let (mut tris, mut spheres, _) = random_scene(&mut rng);
+    let offset = Vec3::new(1.0e4, -3.0e4, 512.0);
+    for t in &mut tris {
+        t.p = t.p.map(|p| p + offset);
+    }
+    for s in &mut spheres {
+        s.center += offset;
+    }
+    let bvh = build_bvh(&tris, &spheres);
+    check_tree(&bvh, &tris, &spheres);
 }
 
 #[test]
@@ -369,6 +440,7 @@ fn bvh_of_empty_scene() {
         "root box must be inverted"
     );
     assert!(bvh.prim_refs.is_empty());
+    check_packed(&bvh);
     let mut rng = Rng(7);
     let mut rays = random_rays(&mut rng, 200);
     rays.extend([

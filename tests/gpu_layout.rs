@@ -30,9 +30,10 @@ fn gpu_structs_match_wgsl() {
     check!(module, Frame, "Frame", [
         cam_position, lens_radius, cam_right, focus_distance, cam_up, width, cam_forward, height,
         spp, pass_index, seed, max_depth, photon_count, emitter_count, ray_epsilon, power_total,
-        alpha, vp_count, time, motion, nee, _pad0, _pad1, _pad2,
+        alpha, vp_count, time, nee, _pad0, _pad1, _pad2, _pad3,
     ]);
-    check!(module, BvhNode, "BvhNode", [min, first, max, count]);
+    check!(module, GpuBvhNode, "BvhNode", [box_a, child_a, box_b, child_b]);
+    check!(module, BvhParams, "BvhParams", [origin, _pad0, scale, _pad1]);
     check!(module, GpuTriangle, "Triangle", [p0, material, e1, shape, e2, attributes]);
     check!(module, GpuSphere, "Sphere", [center, radius, material, shape, _pad]);
     check!(module, GpuMaterial, "Material", [albedo, kind, ior, roughness, texture, texture_size]);
@@ -67,4 +68,7 @@ fn wgsl_constants_match_rust() {
     assert_eq!(constant("MATERIAL_MIRROR"), MATERIAL_MIRROR);
     assert_eq!(constant("MATERIAL_DIELECTRIC"), MATERIAL_DIELECTRIC);
     assert_eq!(constant("ACCUM_STRIDE"), ACCUM_STRIDE);
+    assert_eq!(constant("LEAF_BIT"), sppm_gpu::accel::bvh::LEAF_BIT);
+    assert_eq!(constant("LEAF_COUNT_SHIFT"), sppm_gpu::accel::bvh::LEAF_COUNT_SHIFT);
+    assert_eq!(constant("LEAF_FIRST_MASK"), sppm_gpu::accel::bvh::LEAF_FIRST_MASK);
 }

@@ -1,5 +1,11 @@
 // Scattering at specular surfaces, shared by camera paths and photon paths.
 
+// The non-diffuse materials the scene has (src/gpu/features.rs); see scene.wgsl.
+override USES_MIRROR: bool = true;
+override USES_GLOSSY: bool = true;
+override USES_SMOOTH_DIELECTRIC: bool = true;
+override USES_ROUGH_DIELECTRIC: bool = true;
+
 // Fresnel reflectance of a dielectric for unpolarized light (pbrt-v4 eq. 9.6); eta is the
 // ratio of the transmitted side's index to the incident side's.
 fn fresnel_dielectric(cos_i_in: f32, eta: f32) -> f32 {
@@ -128,16 +134,20 @@ fn sample_rough_dielectric(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, alpha_in: f
 
 // Scatter at a non-diffuse surface: mirror, glossy conductor, smooth or rough dielectric.
 // A zero weight ends the path. `radiance` is true for camera paths, false for photons.
+// Only the materials the scene has are compiled in (USES_*, set by the host).
 fn sample_nondiffuse(m: Material, d: vec3f, s: Surface, u: vec3f, radiance: bool) -> SpecularSample {
-    var next: SpecularSample;
-    if m.kind == MATERIAL_MIRROR {
+    var next = SpecularSample(d, vec3f(0.0));
+    if USES_MIRROR && m.kind == MATERIAL_MIRROR {
         let n = select(-s.ns, s.ns, dot(d, s.ns) < 0.0);
         next = SpecularSample(reflect(d, n), m.albedo);
-    } else if m.kind == MATERIAL_GLOSSY {
+    }
+    if USES_GLOSSY && m.kind == MATERIAL_GLOSSY {
         next = sample_glossy(m.albedo, m.roughness, d, s.ns, u.xy);
-    } else if m.roughness > 0.0 {
+    }
+    if USES_ROUGH_DIELECTRIC && m.kind == MATERIAL_DIELECTRIC && m.roughness > 0.0 {
         next = sample_rough_dielectric(d, s.ng, s.ns, m.ior, m.roughness, u, radiance);
-    } else {
+    }
+    if USES_SMOOTH_DIELECTRIC && m.kind == MATERIAL_DIELECTRIC && m.roughness == 0.0 {
         next = sample_dielectric(d, s.ng, m.ior, u.z, radiance);
     }
     // A shading normal can send a reflection below the surface or a refraction back out of

@@ -3,6 +3,12 @@
 
 @group(0) @binding(15) var<storage, read> emitters: array<Emitter>;
 
+// The kinds of emitter the scene has (src/gpu/features.rs); see scene.wgsl.
+override USES_TRIANGLE_LIGHTS: bool = true;
+override USES_SPHERE_LIGHTS: bool = true;
+override USES_POINT_LIGHTS: bool = true;
+override USES_DIRECTIONAL_LIGHTS: bool = true;
+
 // Index of the emitter whose cdf interval holds u (binary search).
 fn find_emitter(u: f32) -> u32 {
     var lo = 0u;
@@ -28,7 +34,7 @@ struct LightPoint {
 // A uniform point on an area emitter's primitive (density 1 / e.area), where its shape is at
 // the pass's shutter time.
 fn sample_area_emitter(e: Emitter, u: vec2f) -> LightPoint {
-    if (e.prim_ref & SPHERE_BIT) != 0u {
+    if USES_SPHERE_LIGHTS && (!USES_TRIANGLE_LIGHTS || (e.prim_ref & SPHERE_BIT) != 0u) {
         let s = spheres[e.prim_ref & ~SPHERE_BIT];
         let n = sample_uniform_sphere(u);
         return LightPoint(s.center + s.radius * n + displacement(s.shape), n, s.shape);

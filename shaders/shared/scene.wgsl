@@ -10,8 +10,26 @@
 @group(0) @binding(6) var<storage, read> attributes: array<vec4f>;
 @group(0) @binding(7) var<storage, read> shapes: array<Shape>;
 @group(0) @binding(18) var<storage, read> texels: array<vec4f>;
+@group(0) @binding(20) var<uniform> bvh: BvhParams;
 
 const BVH_STACK_SIZE: u32 = 64u;
+
+// What the scene has, set by the host per scene (src/gpu/features.rs); code for what it lacks
+// is folded away when the pipeline is compiled. CPU drivers run both sides of a branch,
+// masked, so without this every bounce would pay for every feature. The defaults build
+// kernels that handle any scene.
+override USES_TRIANGLES: bool = true;
+override USES_SPHERES: bool = true;
+override USES_MOTION: bool = true;
+override USES_SHADING_NORMALS: bool = true;
+override USES_UVS: bool = true;
+override USES_TEXTURES: bool = true;
+
+// Whether primitive reference r is a sphere, decided without a load when the scene holds
+// only one kind of primitive.
+fn is_sphere(r: u32) -> bool {
+    return USES_SPHERES && (!USES_TRIANGLES || (r & SPHERE_BIT) != 0u);
+}
 
 struct Hit {
     t: f32,
@@ -88,9 +106,9 @@ fn intersect_box(lo: vec3f, hi: vec3f, o: vec3f, inv_d: vec3f, t_max: f32) -> f3
 
 // The ray origin in the rest frame of a shape that moves: at shutter time frame.time the shape
 // sits at rest position + velocity * time, so the ray moves the other way instead. The
-// branch is uniform, and still scenes never load the velocity.
+// code is compiled only for scenes with motion.
 fn origin_at_rest(o: vec3f, shape: u32) -> vec3f {
-    if frame.motion == 0u {
+    if !USES_MOTION {
         return o;
     }
     return o - shapes[shape].velocity * frame.time;
@@ -98,62 +116,69 @@ fn origin_at_rest(o: vec3f, shape: u32) -> vec3f {
 
 // Where a shape is displaced to at the pass's shutter time.
 fn displacement(shape: u32) -> vec3f {
-    if frame.motion == 0u {
+    if !USES_MOTION {
         return vec3f(0.0);
     }
     return shapes[shape].velocity * frame.time;
 }
 
+// Entry distance of the ray into the child box q (quantized, see BvhNode), or t_max when
+// it misses the box or the box is empty.
+fn intersect_child(q: vec3u, o: vec3f, inv_d: vec3f, t_max: f32) -> f32 {
+    let lo = vec3f(f32(q.x & 0xffffu), f32(q.x >> 16u), f32(q.y & 0xffffu));
+    let hi = vec3f(f32(q.y >> 16u), f32(q.z & 0xffffu), f32(q.z >> 16u));
+    return intersect_box(bvh.origin + lo * bvh.scale, bvh.origin + hi * bvh.scale, o, inv_d, t_max);
+}
+
 // Closest hit along o + t d for t in (0, t_max); hit.prim_ref is 0xffffffff on a miss.
+// The stack holds child references whose boxes the ray entered when they were pushed.
 fn trace_closest(o: vec3f, d: vec3f, t_max_in: f32) -> Hit {
     var hit = Hit(t_max_in, 0xffffffffu, vec2f(0.0));
     let inv_d = 1.0 / d;
     var stack: array<u32, BVH_STACK_SIZE>;
-    var sp = 0u;
-    // The root's box is tested like any child's, so an empty scene hits nothing.
-    if intersect_box(bvh_nodes[0].min, bvh_nodes[0].max, o, inv_d, hit.t) < hit.t {
-        stack[0] = 0u;
-        sp = 1u;
-    }
+    // The root (node 0) is always interior; an empty scene's has two empty children.
+    stack[0] = 0u;
+    var sp = 1u;
     while sp > 0u {
         sp -= 1u;
-        let node = bvh_nodes[stack[sp]];
-        if node.count > 0u {
-            for (var i = node.first; i < node.first + node.count; i++) {
-                let r = prim_refs[i];
-                if (r & SPHERE_BIT) != 0u {
-                    let sphere = spheres[r & ~SPHERE_BIT];
+        let r = stack[sp];
+        if (r & LEAF_BIT) != 0u {
+            let first = r & LEAF_FIRST_MASK;
+            let end = first + ((r >> LEAF_COUNT_SHIFT) & 0xfu);
+            for (var i = first; i < end; i++) {
+                let p = prim_refs[i];
+                if is_sphere(p) {
+                    let sphere = spheres[p & ~SPHERE_BIT];
                     let t = intersect_sphere(sphere, origin_at_rest(o, sphere.shape), d, hit.t);
                     if t > 0.0 {
-                        hit = Hit(t, r, vec2f(0.0));
+                        hit = Hit(t, p, vec2f(0.0));
                     }
                 } else {
-                    let tri = triangles[r];
+                    let tri = triangles[p];
                     let tb = intersect_triangle(tri, origin_at_rest(o, tri.shape), d, hit.t);
                     if tb.x > 0.0 {
-                        hit = Hit(tb.x, r, tb.yz);
+                        hit = Hit(tb.x, p, tb.yz);
                     }
                 }
             }
             continue;
         }
-        // Visit the nearer child first: push it last.
-        let left = bvh_nodes[node.first];
-        let right = bvh_nodes[node.first + 1u];
-        let t_left = intersect_box(left.min, left.max, o, inv_d, hit.t);
-        let t_right = intersect_box(right.min, right.max, o, inv_d, hit.t);
-        let hit_left = t_left < hit.t;
-        let hit_right = t_right < hit.t;
-        if hit_left && hit_right && sp + 2u <= BVH_STACK_SIZE {
-            let near_is_left = t_left <= t_right;
-            stack[sp] = select(node.first, node.first + 1u, near_is_left);
-            stack[sp + 1u] = select(node.first + 1u, node.first, near_is_left);
+        // Both children's boxes are in the node; visit the nearer first: push it last.
+        let node = bvh_nodes[r];
+        let t_a = intersect_child(node.box_a, o, inv_d, hit.t);
+        let t_b = intersect_child(node.box_b, o, inv_d, hit.t);
+        let hit_a = t_a < hit.t;
+        let hit_b = t_b < hit.t;
+        if hit_a && hit_b && sp + 2u <= BVH_STACK_SIZE {
+            let a_nearer = t_a <= t_b;
+            stack[sp] = select(node.child_a, node.child_b, a_nearer);
+            stack[sp + 1u] = select(node.child_b, node.child_a, a_nearer);
             sp += 2u;
-        } else if hit_left && sp < BVH_STACK_SIZE {
-            stack[sp] = node.first;
+        } else if hit_a && sp < BVH_STACK_SIZE {
+            stack[sp] = node.child_a;
             sp += 1u;
-        } else if hit_right && sp < BVH_STACK_SIZE {
-            stack[sp] = node.first + 1u;
+        } else if hit_b && sp < BVH_STACK_SIZE {
+            stack[sp] = node.child_b;
             sp += 1u;
         }
     }
@@ -174,13 +199,16 @@ struct Surface {
 }
 
 fn surface_at(hit: Hit, o: vec3f, d: vec3f) -> Surface {
-    if (hit.prim_ref & SPHERE_BIT) != 0u {
+    if is_sphere(hit.prim_ref) {
         let s = spheres[hit.prim_ref & ~SPHERE_BIT];
         let center = s.center + displacement(s.shape);
         let n = normalize(o + hit.t * d - center);
         // s = longitude / 360 degrees about +y, from +z towards +x; t = latitude from the
         // bottom (-y) pole, as in the README.
-        let uv = vec2f(fract(atan2(n.x, n.z) * (0.5 * INV_PI) + 1.0), acos(clamp(-n.y, -1.0, 1.0)) * INV_PI);
+        var uv = vec2f(0.0);
+        if USES_TEXTURES {
+            uv = vec2f(fract(atan2(n.x, n.z) * (0.5 * INV_PI) + 1.0), acos(clamp(-n.y, -1.0, 1.0)) * INV_PI);
+        }
         // Reproject onto the surface to remove the error of o + t d.
         return Surface(center + s.radius * n, n, n, s.material, s.shape, uv);
     }
@@ -191,7 +219,7 @@ fn surface_at(hit: Hit, o: vec3f, d: vec3f) -> Surface {
     var uv = vec2f(0.0);
     let b0 = 1.0 - hit.b.x - hit.b.y;
     var a = tri.attributes & ATTRIBUTE_INDEX_MASK;
-    if (tri.attributes & HAS_NORMALS) != 0u {
+    if USES_SHADING_NORMALS && (tri.attributes & HAS_NORMALS) != 0u {
         let n = b0 * attributes[a].xyz + hit.b.x * attributes[a + 1u].xyz + hit.b.y * attributes[a + 2u].xyz;
         let len = length(n);
         if len > 0.0 {
@@ -200,7 +228,7 @@ fn surface_at(hit: Hit, o: vec3f, d: vec3f) -> Surface {
         }
         a += 3u;
     }
-    if (tri.attributes & HAS_UVS) != 0u {
+    if USES_UVS && USES_TEXTURES && (tri.attributes & HAS_UVS) != 0u {
         let uv01 = attributes[a];
         uv = b0 * uv01.xy + hit.b.x * uv01.zw + hit.b.y * attributes[a + 1u].xy;
     }
@@ -210,7 +238,7 @@ fn surface_at(hit: Hit, o: vec3f, d: vec3f) -> Surface {
 // The albedo of a diffuse material at texture coordinates uv: its texture filtered
 // bilinearly with repeat (texel centres at half-integers, row 0 at t = 1), or its constant.
 fn diffuse_albedo(m: Material, uv: vec2f) -> vec3f {
-    if m.texture == NO_TEXTURE {
+    if !USES_TEXTURES || m.texture == NO_TEXTURE {
         return m.albedo;
     }
     let size = vec2i(i32(m.texture_size & 0xffffu), i32(m.texture_size >> 16u));

@@ -26,22 +26,31 @@ struct Frame {
     vp_count: u32,
     // Shutter time of this pass in [0, 1); camera and photon paths both see the scene then.
     time: f32,
-    // 1 when some shape moves.
-    motion: u32,
     // Path tracing: 1 for next-event estimation, 0 for naive.
     nee: u32,
     _pad0: u32,
     _pad1: u32,
     _pad2: u32,
+    _pad3: u32,
 }
 
-// Leaf when count > 0: primitives prim_refs[first .. first + count].
-// Interior when count == 0: children at first and first + 1.
+// An interior BVH node: its children's boxes, quantized to 16 bits per coordinate
+// (lo.x | lo.y << 16, lo.z | hi.x << 16, hi.y | hi.z << 16; decoded with BvhParams), and
+// references to them: a node index, or LEAF_BIT | count << LEAF_COUNT_SHIFT | first
+// primitive reference.
 struct BvhNode {
-    min: vec3f,
-    first: u32,
-    max: vec3f,
-    count: u32,
+    box_a: vec3u,
+    child_a: u32,
+    box_b: vec3u,
+    child_b: u32,
+}
+
+// Quantized coordinate q decodes to origin + q * scale.
+struct BvhParams {
+    origin: vec3f,
+    _pad0: u32,
+    scale: vec3f,
+    _pad1: u32,
 }
 
 // A triangle as a corner and two edges (Moller & Trumbore 1997).
@@ -142,6 +151,9 @@ struct GridParams {
     table_mask: u32,
 }
 
+const LEAF_BIT: u32 = 0x80000000u;
+const LEAF_COUNT_SHIFT: u32 = 27u;
+const LEAF_FIRST_MASK: u32 = 0x07ffffffu;
 const HAS_NORMALS: u32 = 0x80000000u;
 const HAS_UVS: u32 = 0x40000000u;
 const ATTRIBUTE_INDEX_MASK: u32 = 0x3fffffffu;

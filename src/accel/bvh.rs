@@ -55,6 +55,67 @@ pub const STACK_SIZE: usize = 64;
 /// Leaves hold at most this many primitives.
 pub const MAX_PRIMS_PER_LEAF: u32 = 4;
 
+/// One interior node as the kernels read it (32 bytes): the boxes of its two children,
+/// quantized to 16 bits per coordinate on a grid over the root's box ([`BvhParams`]), and a
+/// reference to each child. A traversal step loads one node and tests both children without
+/// loading them: 8 words instead of the 24 of three [`BvhNode`]s, which matters where loads
+/// at per-ray addresses are expensive (lavapipe gathers them one lane at a time).
+///
+/// A child box is `(lo.x | lo.y << 16, lo.z | hi.x << 16, hi.y | hi.z << 16)`; decoded as
+/// `origin + q * scale`, it contains the child's exact box (lower corners rounded down,
+/// upper corners up, with a margin for the rounding of the decode). An empty child has the
+/// inverted box `lo = 65535, hi = 0`, which no ray enters.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GpuBvhNode {
+    /// Quantized box of the first child.
+    pub box_a: [u32; 3],
+    /// Reference to the first child (see [`LEAF_BIT`]).
+    pub child_a: u32,
+    /// Quantized box of the second child.
+    pub box_b: [u32; 3],
+    /// Reference to the second child.
+    pub child_b: u32,
+}
+
+/// Marks a child reference as a leaf: `LEAF_BIT | count << LEAF_COUNT_SHIFT | first`, its
+/// primitives `prim_refs[first .. first + count]`. Without the bit, a reference is the index
+/// of an interior node in [`PackedBvh::nodes`].
+pub const LEAF_BIT: u32 = 0x8000_0000;
+/// Position of a leaf's primitive count in its reference (4 bits).
+pub const LEAF_COUNT_SHIFT: u32 = 27;
+/// Mask of a leaf's first primitive in its reference.
+pub const LEAF_FIRST_MASK: u32 = (1 << LEAF_COUNT_SHIFT) - 1;
+
+/// How quantized child boxes decode: `origin + q * scale` (a uniform buffer for the kernels,
+/// 32 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct BvhParams {
+    /// World position of q = 0.
+    pub origin: [f32; 3],
+    /// Padding; always 0.
+    pub _pad0: u32,
+    /// World size of one quantization step, per axis.
+    pub scale: [f32; 3],
+    /// Padding; always 0.
+    pub _pad1: u32,
+}
+
+/// The BVH in the layout the kernels traverse: interior nodes only, root at index 0 (see
+/// [`GpuBvhNode`]), with the primitive references of [`Bvh::prim_refs`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct PackedBvh {
+    /// Interior nodes, root first; a tree whose root is a leaf gets a root with that leaf
+    /// and an empty child.
+    pub nodes: Vec<GpuBvhNode>,
+    /// The decode of the quantized boxes.
+    pub params: BvhParams,
+}
+
+/// The quantized box that never contains a point.
+const EMPTY_BOX: [u32; 3] = [0xffff_ffff, 0x0000_ffff, 0];
+
 /// A flattened BVH; see [`BvhNode`] for the layout.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bvh {
@@ -251,6 +312,98 @@ impl Bvh {
             }
         }
         hit
+    }
+}
+
+impl Bvh {
+    /// The tree in the kernels' layout, [`PackedBvh`].
+    ///
+    /// # Panics
+    /// If a leaf holds more primitives or starts further in than a reference can say
+    /// (16 and 2^27; [`build_bvh`] makes leaves of at most [`MAX_PRIMS_PER_LEAF`]).
+    pub fn pack(&self) -> PackedBvh {
+        let root = self.nodes[0];
+        // The grid spans the root's box grown by a margin far above the rounding of the f32
+        // decode (a few ulps of the largest coordinate), so decoded boxes still contain the
+        // exact ones.
+        let (lo, hi) = (Vec3::from(root.min), Vec3::from(root.max));
+        if !(lo.cmple(hi).all()) {
+            // Empty scene: a root with two empty children.
+            let empty = GpuBvhNode { box_a: EMPTY_BOX, child_a: LEAF_BIT, box_b: EMPTY_BOX, child_b: LEAF_BIT };
+            let params = BvhParams { scale: [1.0; 3], ..BvhParams::default() };
+            return PackedBvh { nodes: vec![empty], params };
+        }
+        let magnitude = lo.abs().max(hi.abs()).max_element();
+        let margin = 1e-6 * magnitude + 1e-30;
+        let origin = (lo - margin).as_dvec3();
+        let extent = (hi + margin).as_dvec3() - origin;
+        // One step per 65535th of the extent, rounded up so that q = 65535 reaches the top.
+        let scale = (extent / 65535.0).to_array().map(|s| {
+            let f = s as f32;
+            if (f as f64) < s { f.next_up() } else { f }
+        });
+        let quantize = |node: &BvhNode| -> [u32; 3] {
+            let q = |x: f32, axis: usize, up: bool| -> u32 {
+                if scale[axis] == 0.0 {
+                    return 0;
+                }
+                // In f64, then one step further out, so f32 rounding cannot undercut.
+                let (m, step) = if up { (margin, 1.0) } else { (-margin, -1.0) };
+                let v = ((x + m) as f64 - origin[axis]) / scale[axis] as f64;
+                let v = if up { v.ceil() } else { v.floor() } + step;
+                v.clamp(0.0, 65535.0) as u32
+            };
+            let l = [0, 1, 2].map(|a| q(node.min[a], a, false));
+            let h = [0, 1, 2].map(|a| q(node.max[a], a, true));
+            [l[0] | l[1] << 16, l[2] | h[0] << 16, h[1] | h[2] << 16]
+        };
+        let leaf_ref = |node: &BvhNode| -> u32 {
+            assert!(node.count < 16 && node.first <= LEAF_FIRST_MASK, "BVH leaf too large to reference");
+            LEAF_BIT | node.count << LEAF_COUNT_SHIFT | node.first
+        };
+
+        let mut nodes = Vec::with_capacity(self.nodes.len() / 2 + 1);
+        if root.count > 0 {
+            nodes.push(GpuBvhNode { box_a: quantize(&root), child_a: leaf_ref(&root), box_b: EMPTY_BOX, child_b: LEAF_BIT });
+        } else {
+            // Interior nodes in the order of the host tree's depth-first layout; (host index,
+            // packed index) of nodes whose children are still to be written.
+            let mut todo = vec![(0usize, 0usize)];
+            nodes.push(GpuBvhNode::zeroed());
+            while let Some((src, dst)) = todo.pop() {
+                let first = self.nodes[src].first as usize;
+                let mut refs = [0u32; 2];
+                for (k, child) in [first, first + 1].into_iter().enumerate() {
+                    let c = &self.nodes[child];
+                    refs[k] = if c.count > 0 {
+                        leaf_ref(c)
+                    } else {
+                        nodes.push(GpuBvhNode::zeroed());
+                        todo.push((child, nodes.len() - 1));
+                        (nodes.len() - 1) as u32
+                    };
+                }
+                let (a, b) = (&self.nodes[first], &self.nodes[first + 1]);
+                nodes[dst] = GpuBvhNode { box_a: quantize(a), child_a: refs[0], box_b: quantize(b), child_b: refs[1] };
+            }
+        }
+        PackedBvh {
+            nodes,
+            params: BvhParams { origin: origin.as_vec3().to_array(), _pad0: 0, scale, _pad1: 0 },
+        }
+    }
+}
+
+impl PackedBvh {
+    /// The box of a child as the kernels decode it (`origin + q * scale`, in f32); an
+    /// inverted box for an empty child.
+    pub fn decode(&self, q: [u32; 3]) -> (Vec3, Vec3) {
+        let lo = [q[0] & 0xffff, q[0] >> 16, q[1] & 0xffff];
+        let hi = [q[1] >> 16, q[2] & 0xffff, q[2] >> 16];
+        let origin = Vec3::from(self.params.origin);
+        let scale = Vec3::from(self.params.scale);
+        let f = |v: [u32; 3]| Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
+        (origin + f(lo) * scale, origin + f(hi) * scale)
     }
 }
 

@@ -110,12 +110,19 @@ impl Kernel {
     /// Assemble, validate and compile kernel `name` (one of [`KERNELS`]), with its bind group
     /// layout reflected from the globals its entry point uses.
     pub fn new(device: &wgpu::Device, name: &'static str) -> Result<Self, GpuError> {
-        Self::specialized(device, name, &[])
+        Self::specialized(device, name, &[], &[])
     }
 
     /// The kernel with each `(token, text)` replaced in its source first, for variants that
-    /// WGSL cannot parameterize (the texel format of a storage texture).
-    pub fn specialized(device: &wgpu::Device, name: &'static str, replace: &[(&str, &str)]) -> Result<Self, GpuError> {
+    /// WGSL cannot parameterize (the texel format of a storage texture), and its `override`
+    /// constants set from `constants` (those the kernel does not declare are ignored, so one
+    /// list such as [`Features::constants`](super::Features::constants) serves every kernel).
+    pub fn specialized(
+        device: &wgpu::Device,
+        name: &'static str,
+        replace: &[(&str, &str)],
+        constants: &[(&str, f64)],
+    ) -> Result<Self, GpuError> {
         let mut source = shader_source(name)?;
         for (token, text) in replace {
             source = source.replace(token, text);
@@ -127,6 +134,8 @@ impl Kernel {
             .position(|e| e.name == name)
             .ok_or_else(|| GpuError(format!("{name}.wgsl has no entry point `{name}`")))?;
         let uses = info.get_entry_point(entry);
+        let declared = |c: &&(&str, f64)| module.overrides.iter().any(|(_, o)| o.name.as_deref() == Some(c.0));
+        let constants: Vec<(&str, f64)> = constants.iter().filter(declared).copied().collect();
 
         // Only the globals this entry point touches: imported files may declare more.
         let mut entries = Vec::new();
@@ -190,7 +199,7 @@ impl Kernel {
             layout: Some(&pipeline_layout),
             module: &shader,
             entry_point: Some(name),
-            compilation_options: Default::default(),
+            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
             cache: None,
         });
         Ok(Self { name, pipeline, layout, bindings })

@@ -1,10 +1,12 @@
 //! wgpu plumbing: the device, the kernels and the structs they share with the host.
 
 mod context;
+mod features;
 mod kernel;
 pub mod readback;
 pub mod scene_buffers;
 pub mod types;
 
 pub use context::{check_device, required_limits, GpuContext, GpuError, STORAGE_BUFFERS_NEEDED};
+pub use features::Features;
 pub use kernel::{shader_source, validate, Kernel, Resource, KERNELS};

@@ -2,6 +2,7 @@
 //! needed, so they can be tested alone), then uploaded as storage buffers.
 
 use super::types::*;
+use crate::accel::bvh::PackedBvh;
 use crate::accel::{Bvh, SPHERE_BIT};
 use crate::scene::{LightKind, MaterialKind, Scene, SceneError};
 use glam::Vec3;
@@ -11,6 +12,8 @@ use wgpu::util::DeviceExt;
 pub struct SceneData {
     /// The BVH over triangles and spheres, boxes swept over the shutter for moving shapes.
     pub bvh: Bvh,
+    /// The same tree in the kernels' layout (quantized child boxes in each interior node).
+    pub packed_bvh: PackedBvh,
     /// Every triangle, in the scene's order (the BVH's triangle references index this).
     pub triangles: Vec<GpuTriangle>,
     /// Every analytic sphere, in the scene's order (references `i | SPHERE_BIT`).
@@ -248,6 +251,7 @@ impl SceneData {
         }
 
         Ok(Self {
+            packed_bvh: bvh.pack(),
             bvh,
             triangles,
             spheres,
@@ -321,8 +325,10 @@ fn scene_bounds(scene: &Scene) -> (Vec3, Vec3) {
 /// Storage buffers of a [`SceneData`]. Empty arrays get one zeroed element, since wgpu
 /// cannot bind a zero-sized buffer.
 pub struct SceneBuffers {
-    /// [`Bvh::nodes`]: `array<BvhNode>`.
+    /// [`PackedBvh::nodes`]: `array<BvhNode>`.
     pub bvh_nodes: wgpu::Buffer,
+    /// [`PackedBvh::params`]: `var<uniform> bvh: BvhParams`.
+    pub bvh: wgpu::Buffer,
     /// [`Bvh::prim_refs`]: `array<u32>`.
     pub prim_refs: wgpu::Buffer,
     /// [`SceneData::triangles`]: `array<Triangle>`.
@@ -356,7 +362,12 @@ impl SceneBuffers {
     /// Upload every array of `data` to a storage buffer named like its WGSL global.
     pub fn new(device: &wgpu::Device, data: &SceneData) -> Self {
         Self {
-            bvh_nodes: storage_buffer(device, "bvh_nodes", &data.bvh.nodes),
+            bvh_nodes: storage_buffer(device, "bvh_nodes", &data.packed_bvh.nodes),
+            bvh: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("bvh"),
+                contents: bytemuck::bytes_of(&data.packed_bvh.params),
+                usage: wgpu::BufferUsages::UNIFORM,
+            }),
             prim_refs: storage_buffer(device, "prim_refs", &data.bvh.prim_refs),
             triangles: storage_buffer(device, "triangles", &data.triangles),
             spheres: storage_buffer(device, "spheres", &data.spheres),
@@ -373,6 +384,7 @@ impl SceneBuffers {
         use super::Resource as R;
         vec![
             R { name: "bvh_nodes", buffer: &self.bvh_nodes },
+            R { name: "bvh", buffer: &self.bvh },
             R { name: "prim_refs", buffer: &self.prim_refs },
             R { name: "triangles", buffer: &self.triangles },
             R { name: "spheres", buffer: &self.spheres },

@@ -3,7 +3,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
-pub use crate::accel::{BvhNode, GridParams};
+pub use crate::accel::bvh::{BvhParams, GpuBvhNode};
+pub use crate::accel::GridParams;
 
 /// Per-pass constants (uniform `frame`).
 #[repr(C)]
@@ -55,8 +56,6 @@ pub struct Frame {
     pub vp_count: u32,
     /// Shutter time of this pass in [0, 1): camera and photon paths both see the scene then.
     pub time: f32,
-    /// 1 when some shape moves (has a velocity), so that traversal offsets rays by it.
-    pub motion: u32,
     /// Path tracing: 1 for next-event estimation, 0 for naive.
     pub nee: u32,
     /// Padding to a multiple of 16 bytes (uniform layout); always 0.
@@ -65,6 +64,8 @@ pub struct Frame {
     pub _pad1: u32,
     /// Padding; always 0.
     pub _pad2: u32,
+    /// Padding; always 0.
+    pub _pad3: u32,
 }
 
 /// A triangle as a corner and two edges.

@@ -7,7 +7,7 @@ use crate::error::Error;
 use crate::gpu::readback::{read_buffer, staging_buffer};
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
 use crate::gpu::types::Frame;
-use crate::gpu::{Kernel, Resource};
+use crate::gpu::{Features, Kernel, Resource};
 use crate::image_io::Rgb32Image;
 use crate::scene::{Method, Scene};
 use wgpu::util::DeviceExt;
@@ -44,10 +44,9 @@ impl PathTracer {
         frame.emitter_count = data.emitters.len() as u32;
         frame.ray_epsilon = data.ray_epsilon();
         frame.power_total = data.power_total;
-        frame.motion = data.motion as u32;
         frame.nee = (r.method == Method::PtNee) as u32;
 
-        let path_trace = Kernel::new(device, "path_trace")?;
+        let path_trace = Kernel::specialized(device, "path_trace", &[], &Features::of(&data).constants())?;
         let scene_buffers = SceneBuffers::new(device, &data);
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),

@@ -12,7 +12,7 @@ use crate::error::Error;
 use crate::gpu::readback::{read_buffer, staging_buffer};
 use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
 use crate::gpu::types::*;
-use crate::gpu::{Kernel, Resource};
+use crate::gpu::{Features, Kernel, Resource};
 use crate::image_io::Rgb32Image;
 use crate::scene::Scene;
 use wgpu::util::DeviceExt;
@@ -105,8 +105,8 @@ struct Stage {
 }
 
 impl Stage {
-    fn new(device: &wgpu::Device, name: &'static str, buffers: &Buffers) -> Result<Self, Error> {
-        let kernel = Kernel::new(device, name)?;
+    fn new(device: &wgpu::Device, name: &'static str, buffers: &Buffers, constants: &[(&str, f64)]) -> Result<Self, Error> {
+        let kernel = Kernel::specialized(device, name, &[], constants)?;
         let group = kernel.bind_group(device, &buffers.resources())?;
         Ok(Self { kernel, group })
     }
@@ -171,7 +171,6 @@ impl Sppm {
         frame.ray_epsilon = data.ray_epsilon();
         frame.power_total = data.power_total;
         frame.vp_count = vp_count;
-        frame.motion = data.motion as u32;
 
         let n = vp_count as u64;
         // Each point is listed in at most 8 buckets (2 cells per axis); the table has a bucket
@@ -198,6 +197,8 @@ impl Sppm {
             grid_entries: buffer(device, "grid_entries", n * 8 * 4, STORAGE),
         };
         queue.write_buffer(&buffers.frame, 0, bytemuck::bytes_of(&frame));
+        // The tracing kernels, compiled for what this scene has.
+        let constants = Features::of(&data).constants();
 
         Ok(Self {
             device: device.clone(),
@@ -208,14 +209,14 @@ impl Sppm {
             passes: 0,
             photons_traced: 0,
             initial_radius,
-            camera_pass: Stage::new(device, "camera_pass", &buffers)?,
-            grid_setup: Stage::new(device, "grid_setup", &buffers)?,
-            grid_count: Stage::new(device, "grid_count", &buffers)?,
-            grid_scan: Stage::new(device, "grid_scan", &buffers)?,
-            grid_fill: Stage::new(device, "grid_fill", &buffers)?,
-            photon_pass: Stage::new(device, "photon_pass", &buffers)?,
-            update_stats: Stage::new(device, "update_stats", &buffers)?,
-            resolve: Stage::new(device, "resolve", &buffers)?,
+            camera_pass: Stage::new(device, "camera_pass", &buffers, &constants)?,
+            grid_setup: Stage::new(device, "grid_setup", &buffers, &constants)?,
+            grid_count: Stage::new(device, "grid_count", &buffers, &constants)?,
+            grid_scan: Stage::new(device, "grid_scan", &buffers, &constants)?,
+            grid_fill: Stage::new(device, "grid_fill", &buffers, &constants)?,
+            photon_pass: Stage::new(device, "photon_pass", &buffers, &constants)?,
+            update_stats: Stage::new(device, "update_stats", &buffers, &constants)?,
+            resolve: Stage::new(device, "resolve", &buffers, &constants)?,
             resolve_texture: [None, None],
             vp_points_staging: staging_buffer(device, "vp_points_staging", n * 16),
             image_staging: staging_buffer(device, "image_staging", pixel_count as u64 * 16),
@@ -403,7 +404,7 @@ impl Sppm {
             )));
         }
         if self.resolve_texture[slot].is_none() {
-            self.resolve_texture[slot] = Some(Kernel::specialized(&self.device, "resolve_texture", &[("rgba32float", token)])?);
+            self.resolve_texture[slot] = Some(Kernel::specialized(&self.device, "resolve_texture", &[("rgba32float", token)], &[])?);
         }
         self.record_resolve_frame(encoder)?;
         let kernel = self.resolve_texture[slot].as_ref().expect("made above");

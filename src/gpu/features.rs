@@ -1,0 +1,114 @@
+//! Which optional features a scene uses, as the pipeline-overridable constants of the tracing
+//! kernels (`override USES_*: bool` in `shaders/shared/`).
+//!
+//! A kernel compiled with a feature switched off has that code removed by the driver's
+//! constant folding. This matters most on CPU drivers: lavapipe runs both sides of every
+//! branch, masked, so code for a material or light the scene does not have would otherwise
+//! cost time at every bounce. The defaults in WGSL are all `true`: a kernel built without
+//! constants handles every scene.
+
+use super::scene_buffers::SceneData;
+use super::types::{EMITTER_AREA, EMITTER_DIRECTIONAL, EMITTER_POINT, HAS_NORMALS, HAS_UVS, MATERIAL_DIELECTRIC, MATERIAL_GLOSSY, MATERIAL_MIRROR, NO_TEXTURE};
+use crate::accel::SPHERE_BIT;
+
+/// What a scene's GPU data holds, one flag per `USES_*` override.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Features {
+    /// Some triangle (quads, cubes, meshes).
+    pub triangles: bool,
+    /// Some analytic sphere.
+    pub spheres: bool,
+    /// Some shape moves over the shutter.
+    pub motion: bool,
+    /// Some triangle has per-vertex shading normals.
+    pub shading_normals: bool,
+    /// Some triangle has texture coordinates.
+    pub uvs: bool,
+    /// Some material has a texture.
+    pub textures: bool,
+    /// Some material is a mirror.
+    pub mirror: bool,
+    /// Some material is a GGX glossy conductor.
+    pub glossy: bool,
+    /// Some material is a smooth dielectric.
+    pub smooth_dielectric: bool,
+    /// Some material is a rough dielectric.
+    pub rough_dielectric: bool,
+    /// Some emitter is an emitting triangle.
+    pub triangle_lights: bool,
+    /// Some emitter is an emitting sphere.
+    pub sphere_lights: bool,
+    /// Some emitter is a point light.
+    pub point_lights: bool,
+    /// Some emitter is a directional light.
+    pub directional_lights: bool,
+}
+
+impl Features {
+    /// Every feature on: kernels that handle any scene (the WGSL defaults).
+    pub const ALL: Features = Features {
+        triangles: true,
+        spheres: true,
+        motion: true,
+        shading_normals: true,
+        uvs: true,
+        textures: true,
+        mirror: true,
+        glossy: true,
+        smooth_dielectric: true,
+        rough_dielectric: true,
+        triangle_lights: true,
+        sphere_lights: true,
+        point_lights: true,
+        directional_lights: true,
+    };
+
+    /// The features `data` uses.
+    pub fn of(data: &SceneData) -> Self {
+        let material = |pred: &dyn Fn(u32, f32) -> bool| data.materials.iter().any(|m| pred(m.kind, m.roughness));
+        let emitter = |kind: u32, sphere: bool| {
+            data.emitters
+                .iter()
+                .any(|e| e.kind == kind && (kind != EMITTER_AREA || ((e.prim_ref & SPHERE_BIT) != 0) == sphere))
+        };
+        Features {
+            triangles: !data.triangles.is_empty(),
+            spheres: !data.spheres.is_empty(),
+            motion: data.motion,
+            shading_normals: data.triangles.iter().any(|t| t.attributes & HAS_NORMALS != 0),
+            uvs: data.triangles.iter().any(|t| t.attributes & HAS_UVS != 0),
+            textures: data.materials.iter().any(|m| m.texture != NO_TEXTURE),
+            mirror: material(&|kind, _| kind == MATERIAL_MIRROR),
+            glossy: material(&|kind, _| kind == MATERIAL_GLOSSY),
+            smooth_dielectric: material(&|kind, roughness| kind == MATERIAL_DIELECTRIC && roughness == 0.0),
+            rough_dielectric: material(&|kind, roughness| kind == MATERIAL_DIELECTRIC && roughness > 0.0),
+            triangle_lights: emitter(EMITTER_AREA, false),
+            sphere_lights: emitter(EMITTER_AREA, true),
+            point_lights: emitter(EMITTER_POINT, false),
+            directional_lights: emitter(EMITTER_DIRECTIONAL, false),
+        }
+    }
+
+    /// The pipeline constants: each `USES_*` override with 1.0 (true) or 0.0 (false).
+    pub fn constants(&self) -> Vec<(&'static str, f64)> {
+        [
+            ("USES_TRIANGLES", self.triangles),
+            ("USES_SPHERES", self.spheres),
+            ("USES_MOTION", self.motion),
+            ("USES_SHADING_NORMALS", self.shading_normals),
+            ("USES_UVS", self.uvs),
+            ("USES_TEXTURES", self.textures),
+            ("USES_MIRROR", self.mirror),
+            ("USES_GLOSSY", self.glossy),
+            ("USES_SMOOTH_DIELECTRIC", self.smooth_dielectric),
+            ("USES_ROUGH_DIELECTRIC", self.rough_dielectric),
+            ("USES_TRIANGLE_LIGHTS", self.triangle_lights),
+            ("USES_SPHERE_LIGHTS", self.sphere_lights),
+            ("USES_POINT_LIGHTS", self.point_lights),
+            ("USES_DIRECTIONAL_LIGHTS", self.directional_lights),
+        ]
+        .into_iter()
+        .map(|(name, on)| (name, if on { 1.0 } else { 0.0 }))
+        .collect()
+    }
+}
