@@ -410,6 +410,14 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
         passes * r.photons as f64 / seconds / 1e6,
         passes * (r.width * r.height * r.spp) as f64 / stage[0] / 1e6
     );
+    let radius = sppm.radius_stats()?;
+    println!(
+        "  radius after the last pass: min {:.3e}, mean {:.3e}, max {:.3e} (initial {:.3e})",
+        radius.min,
+        radius.mean,
+        radius.max,
+        sppm.initial_radius()
+    );
     Ok(())
 }
 
