@@ -307,6 +307,9 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
     let mut scene = scene::load(scene_path)?;
     apply_overrides(&cli.overrides, &mut scene.render)?;
     let gpu = GpuContext::new()?;
+    for warning in integrators::limitations(&scene) {
+        eprintln!("warning: {}: {warning}", scene.path.display());
+    }
     let mut integrator = integrators::create(&gpu.device, &gpu.queue, &scene)?;
     let r = &scene.render;
     let unit = integrator.work_unit();

@@ -1,6 +1,9 @@
 //! Scene loading: the canonical scenes, the geometry each shape turns into, and one error
 //! (with its exact line and key) for each way a scene can be wrong.
 
+mod common;
+
+use common::scene_text::{edit, with_light, with_shape, BASE, QUAD};
 use glam::{Vec2, Vec3};
 use sppm_gpu::scene::{self, LightKind, MaterialKind, Method, Scene, SceneError, ShapeKind};
 use std::path::{Path, PathBuf};
@@ -21,28 +24,6 @@ fn canonical(name: &str) -> Scene {
     scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// A valid scene of 12 lines; tests edit it or append to it.
-const BASE: &str = r#"[render]
-width = 8
-height = 8
-iterations = 1
-
-[camera]
-position = [0, 0, 5]
-look_at = [0, 0, 0]
-fov = 40
-
-[materials]
-white = { type = "diffuse", albedo = [0.5, 0.5, 0.5] }
-"#;
-
-/// A quad's keys, for `[[shapes]]` bodies (lines 14 to 18 after [`with_shape`]).
-const QUAD: &str = r#"type = "quad"
-corner = [0, 0, 0]
-u = [1, 0, 0]
-v = [0, 1, 0]
-material = "white"
-"#;
 
 fn load(text: &str) -> Result<Scene, SceneError> {
     scene::load_str(text, Path::new("test.toml"))
@@ -50,22 +31,6 @@ fn load(text: &str) -> Result<Scene, SceneError> {
 
 fn load_ok(text: &str) -> Scene {
     load(text).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// [`BASE`] with its first `old` replaced by `new`.
-fn edit(old: &str, new: &str) -> String {
-    assert!(BASE.contains(old), "BASE has no {old:?}");
-    BASE.replacen(old, new, 1)
-}
-
-/// [`BASE`] and one `[[shapes]]` entry: the header is line 13, `body` starts at line 14.
-fn with_shape(body: &str) -> String {
-    format!("{BASE}[[shapes]]\n{body}")
-}
-
-/// [`BASE`] and one `[[lights]]` entry: the header is line 13, `body` starts at line 14.
-fn with_light(body: &str) -> String {
-    format!("{BASE}[[lights]]\n{body}")
 }
 
 /// The error of loading `text`, which must fail.
@@ -510,24 +475,40 @@ fn degenerate_mesh_triangles_are_skipped() {
 
 #[test]
 fn malformed_toml_is_an_error() {
-    for (text, line, words) in [
-        (edit("height = 8", "height = = 8"), 3, "extra `=`"),
-        (edit("fov = 40", "fov = 40 40"), 9, "quoted"),
+    // The key is the one assigned on the error's line, or the one whose array is still open.
+    for (text, line, key, words) in [
+        (
+            edit("height = 8", "height = = 8"),
+            3,
+            "render.height",
+            "extra `=`",
+        ),
+        (edit("fov = 40", "fov = 40 40"), 9, "camera.fov", "quoted"),
         // Arrays may span lines: an unclosed one is found where the next table starts.
-        (edit("fov = 40", "fov = [1, 2"), 11, "expected `,`"),
-        (edit("fov = 40", "fov = 40\nfov = 41"), 10, "duplicate key"),
+        (
+            edit("fov = 40", "fov = [1, 2"),
+            11,
+            "camera.fov",
+            "expected `,`",
+        ),
+        (
+            edit("fov = 40", "fov = 40\nfov = 41"),
+            10,
+            "camera.fov",
+            "duplicate key",
+        ),
     ] {
         let error = error_of(&text);
         assert_eq!(
             (error.line, error.key.as_deref()),
-            (Some(line), None),
+            (Some(line), Some(key)),
             "{error}"
         );
         assert_message(&error, &[words]);
         assert!(
             error
                 .to_string()
-                .starts_with(&format!("test.toml:{line}: ")),
+                .starts_with(&format!("test.toml:{line}: key `{key}`: ")),
             "{error}"
         );
     }

@@ -35,6 +35,53 @@ pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Resu
     })
 }
 
+/// What `scene.render.method` cannot render of this scene, or renders badly, one sentence
+/// each, for the user to read before the image (the command line prints them as warnings).
+/// Empty when the method suits the scene.
+pub fn limitations(scene: &Scene) -> Vec<String> {
+    use crate::scene::MaterialKind;
+    let delta_lights = scene.lights.len();
+    // Surfaces where pt-nee samples no light: mirrors and glass, smooth or rough.
+    let specular = scene.materials.iter().any(|m| matches!(m.kind, MaterialKind::Mirror { .. } | MaterialKind::Dielectric { .. }));
+    let mut out = Vec::new();
+    match scene.render.method {
+        Method::Pt if delta_lights > 0 => out.push(format!(
+            "method pt finds light only by hitting an emitting surface, so the scene's {delta_lights} point or \
+             directional light(s) add nothing to the image; use sppm or pt-nee"
+        )),
+        Method::PtNee if delta_lights > 0 && specular => out.push(format!(
+            "method pt-nee cannot carry light from the scene's {delta_lights} point or directional light(s) through mirror or \
+             glass surfaces: their caustics are missing from the image; use sppm"
+        )),
+        Method::Sppm => {
+            let diagonal = scene_diagonal(scene);
+            if let Some(r) = scene.render.radius {
+                if diagonal > 0.0 && r > 0.05 * diagonal {
+                    out.push(format!(
+                        "radius {r} is over 5% of the scene's size ({diagonal:.3}): until it shrinks over the \
+                         passes, light spreads across corners and thin walls and small features blur"
+                    ));
+                }
+            }
+        }
+        _ => {}
+    }
+    out
+}
+
+/// Diagonal of the box around the scene's surfaces; 0 for an empty scene.
+fn scene_diagonal(scene: &Scene) -> f32 {
+    let points = scene.triangles.iter().flat_map(|t| t.p).chain(
+        scene.spheres.iter().flat_map(|s| [s.center - s.radius, s.center + s.radius]),
+    );
+    let (lo, hi) = points.fold((glam::Vec3::INFINITY, glam::Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(p), hi.max(p)));
+    if lo.x > hi.x {
+        0.0
+    } else {
+        (hi - lo).length()
+    }
+}
+
 use crate::gpu::types::Frame;
 use crate::scene::{Camera, Scene};
 

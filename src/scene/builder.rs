@@ -571,7 +571,9 @@ impl Check<'_> {
                 intensity: self.vec3(&format!("{key}.intensity"), intensity, Bound::NonNegative)?,
             },
             LightKind::Directional { direction, irradiance } => {
-                let direction = self.vec3(&format!("{key}.direction"), direction, Bound::Any)?.normalize_or_zero();
+                let direction = self.vec3(&format!("{key}.direction"), direction, Bound::Any)?;
+                // Normalized in f64, so that no finite direction over- or underflows to zero.
+                let direction = direction.as_dvec3().normalize_or_zero().as_vec3();
                 if direction == Vec3::ZERO {
                     return Err(self.error(&format!("{key}.direction"), "the direction must not be zero".into()));
                 }
@@ -614,6 +616,10 @@ impl Check<'_> {
             line: 0,
             velocity_line: None,
         };
+        let first_triangle = scene.triangles.len();
+        let first_sphere = scene.spheres.len();
+        // A warning for skipped degenerate triangles, printed once the shape is accepted.
+        let mut warning = None;
         match entry.geometry {
             Geometry::Quad { corner, u, v, uv_scale } => {
                 let corner = self.vec3(&format!("{key}.corner"), corner, Bound::Any)?;
@@ -634,7 +640,21 @@ impl Check<'_> {
             }),
             Geometry::Cube { scale, rotate, translate } => {
                 let transform = self.transform(&key, scale, rotate, translate)?;
-                let (triangles, _) = mesh::triangles(&mesh::unit_cube(), &transform, false, index);
+                let (triangles, skipped) =
+                    mesh::triangles(&mesh::unit_cube(), &transform, false, index).map_err(|e| self.error(&key, e))?;
+                let scale_key = format!("{key}.scale");
+                if triangles.is_empty() {
+                    return Err(self.error(
+                        &scale_key,
+                        "all 12 triangles of the cube have no area in 32-bit floats (scale too small \
+                         for its size, or too small for its distance from the origin)"
+                            .into(),
+                    ));
+                }
+                if skipped > 0 {
+                    let message = format!("{skipped} of the cube's 12 triangles have no area and are skipped");
+                    warning = Some(self.error(&scale_key, message));
+                }
                 scene.triangles.extend(triangles);
             }
             Geometry::Mesh { ref file, smooth, scale, rotate, translate } => {
@@ -643,19 +663,34 @@ impl Check<'_> {
                 let file_key = format!("{key}.file");
                 let obj = mesh::read_obj(&path)
                     .map_err(|e| self.error(&file_key, format!("cannot read mesh {}: {e}", path.display())))?;
-                let (triangles, skipped) = mesh::triangles(&obj, &transform, smooth, index);
+                let (triangles, skipped) =
+                    mesh::triangles(&obj, &transform, smooth, index).map_err(|e| self.error(&key, e))?;
                 if triangles.is_empty() {
                     return Err(self.error(&file_key, format!("all {skipped} triangles of mesh {} are degenerate", path.display())));
                 }
                 if skipped > 0 {
-                    eprintln!(
-                        "warning: {}: {skipped} degenerate triangles skipped in mesh {}",
-                        self.path.display(),
-                        path.display()
-                    );
+                    let s = if skipped == 1 { "" } else { "s" };
+                    let message = format!("{skipped} degenerate triangle{s} (zero area) skipped in mesh {}", path.display());
+                    warning = Some(self.error(&file_key, message));
                 }
                 scene.triangles.extend(triangles);
             }
+        }
+        let triangles = &scene.triangles[first_triangle..];
+        let spheres = &scene.spheres[first_sphere..];
+        mesh::check_extent(triangles, spheres, Vec3::ZERO).map_err(|e| self.error(&key, e))?;
+        if let Some(velocity) = shape.velocity {
+            mesh::check_extent(triangles, spheres, velocity)
+                .map_err(|e| self.error(&format!("{key}.velocity"), format!("moved by its velocity, {e}")))?;
+        }
+        if matches!(entry.geometry, Geometry::Quad { .. }) && triangles.iter().any(mesh::is_degenerate) {
+            return Err(self.error(
+                &format!("{key}.corner"),
+                "the quad has no area in 32-bit floats: u and v are too small for its distance from the origin".into(),
+            ));
+        }
+        if let Some(warning) = warning {
+            eprintln!("warning: {warning}");
         }
         Ok(shape)
     }

@@ -20,8 +20,13 @@ pub(super) const MAX_RESOLUTION: u32 = 16384;
 
 /// Reads a scene file and loads it.
 pub fn load(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let bytes = std::fs::read(path).map_err(|e| {
         SceneError::new(path, None, None, format!("cannot read the scene file: {e}"))
+    })?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        let valid = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        let line = valid.iter().filter(|&&b| b == b'\n').count() + 1;
+        SceneError::new(path, Some(line), None, "the scene file is not UTF-8 text")
     })?;
     load_str(&text, path)
 }
@@ -32,7 +37,8 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
     let source = Source::new(text, path);
     let document = DeTable::parse(text).map_err(|e| {
         let line = e.span().map(|span| source.line(span.start));
-        source.error(line, None, e.message().trim())
+        let key = line.and_then(|line| key_on_line(text, line));
+        source.error(line, key.as_deref(), e.message().trim())
     })?;
     let root = Table {
         source: &source,
@@ -76,6 +82,98 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
         scene.shapes.push(shape);
     }
     Ok(scene)
+}
+
+/// The dotted key that line `line` (1-based) of a scene assigns, for placing a TOML syntax
+/// error: the last table header above it (`[[shapes]]` counted, as `shapes[2]`) and the
+/// key before the line's `=` (or its first word when it has none). A line inside an array or
+/// inline table opened on an earlier line belongs to the key that opened it. `None` when the
+/// line is a header, or its key is not plain (quoted keys and keys with spaces are left out).
+fn key_on_line(text: &str, line: usize) -> Option<String> {
+    let mut table = String::new();
+    let mut arrays: Vec<(String, usize)> = Vec::new();
+    // Brackets and braces still open, and the key whose value opened them.
+    let mut depth = 0;
+    let mut open_key = None;
+    for (i, l) in text.lines().enumerate() {
+        let here = i + 1 == line;
+        if depth > 0 {
+            if here {
+                return open_key;
+            }
+            depth = bracket_depth(l, depth);
+            continue;
+        }
+        let l = l.trim();
+        if let Some(name) = l.strip_prefix("[[").and_then(|l| l.split("]]").next()) {
+            let name = name.trim().to_owned();
+            let count = match arrays.iter_mut().find(|(n, _)| *n == name) {
+                Some((_, count)) => {
+                    *count += 1;
+                    *count
+                }
+                None => {
+                    arrays.push((name.clone(), 0));
+                    0
+                }
+            };
+            table = format!("{name}[{count}]");
+        } else if let Some(name) = l.strip_prefix('[').and_then(|l| l.split(']').next()) {
+            table = name.trim().to_owned();
+        } else {
+            let (key, value) = l
+                .split_once('=')
+                .unwrap_or((l.split_whitespace().next().unwrap_or(""), ""));
+            let key = key.trim();
+            let plain = |c: char| c.is_ascii_alphanumeric() || "_-.".contains(c);
+            let key =
+                (!key.is_empty() && !key.starts_with('#') && key.chars().all(plain)).then(|| {
+                    if table.is_empty() {
+                        key.to_owned()
+                    } else {
+                        format!("{table}.{key}")
+                    }
+                });
+            if here {
+                return key;
+            }
+            depth = bracket_depth(value, 0);
+            open_key = key;
+            continue;
+        }
+        if here {
+            return None;
+        }
+    }
+    None
+}
+
+/// How many brackets and braces are open after `text`, starting with `depth` open; strings
+/// and comments are skipped (roughly: multi-line strings are not followed).
+fn bracket_depth(text: &str, mut depth: usize) -> usize {
+    let mut quote = None;
+    let mut escaped = false;
+    for c in text.chars() {
+        match quote {
+            Some(q) => {
+                if escaped {
+                    escaped = false;
+                } else if c == '\\' && q == '"' {
+                    escaped = true;
+                } else if c == q {
+                    quote = None;
+                }
+            }
+            None => match c {
+                '"' | '\'' => quote = Some(c),
+                '#' => break,
+                '[' | '{' => depth += 1,
+                ']' | '}' => depth = depth.saturating_sub(1),
+                _ => {}
+            },
+        }
+    }
+    depth
 }
 
 /// The `[render]` table, with defaults.
@@ -126,6 +224,9 @@ fn read_camera(t: &Table) -> Result<Camera> {
     let position = t.req("position", Value::vec3)?;
     let look_at = t.req("look_at", Value::vec3)?;
     let up = t.or("up", Vec3::Y, Value::vec3)?;
+    if !(look_at - position).length_squared().is_finite() {
+        return Err(t.error_at("look_at", VIEW_OUT_OF_RANGE));
+    }
     let view = (look_at - position).normalize_or_zero();
     if view == Vec3::ZERO {
         return Err(t.error_at(
@@ -148,6 +249,10 @@ fn read_camera(t: &Table) -> Result<Camera> {
         aperture_line: t.get("aperture_radius").map(|v| v.line),
     })
 }
+
+/// Why a camera is refused when `look_at - position` overflows 32-bit floats.
+pub(super) const VIEW_OUT_OF_RANGE: &str =
+    "look_at is too far from position: their distance overflows 32-bit floats";
 
 /// Reads one material type's keys; diffuse materials may load a texture.
 type MaterialReader = fn(&Table, &mut Vec<Texture>) -> Result<MaterialKind>;
@@ -247,6 +352,10 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
         line: entry.line,
         velocity_line: t.get("velocity").map(|v| v.line),
     };
+    let first_triangle = scene.triangles.len();
+    let first_sphere = scene.spheres.len();
+    // A warning for skipped degenerate triangles, printed once the shape is accepted.
+    let mut warning = None;
     match kind {
         ShapeKind::Quad => {
             let corner = t.req("corner", Value::vec3)?;
@@ -266,38 +375,70 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
             shape: index,
         }),
         ShapeKind::Cube => {
-            let (triangles, _) =
-                mesh::triangles(&mesh::unit_cube(), &read_transform(&t)?, false, index);
+            let (triangles, skipped) =
+                mesh::triangles(&mesh::unit_cube(), &read_transform(&t)?, false, index)
+                    .map_err(|e| t.error_here(e))?;
+            if triangles.is_empty() {
+                return Err(t.error_at(
+                    "scale",
+                    "all 12 triangles of the cube have no area in 32-bit floats (scale too small \
+                     for its size, or too small for its distance from the origin)",
+                ));
+            }
+            if skipped > 0 {
+                warning = Some(t.error_at(
+                    "scale",
+                    format!("{skipped} of the cube's 12 triangles have no area and are skipped"),
+                ));
+            }
             scene.triangles.extend(triangles);
         }
-        ShapeKind::Mesh => read_mesh(&t, index, scene)?,
+        ShapeKind::Mesh => warning = read_mesh(&t, index, scene)?,
+    }
+    let triangles = &scene.triangles[first_triangle..];
+    let spheres = &scene.spheres[first_sphere..];
+    mesh::check_extent(triangles, spheres, Vec3::ZERO).map_err(|e| t.error_here(e))?;
+    if let Some(velocity) = shape.velocity {
+        mesh::check_extent(triangles, spheres, velocity)
+            .map_err(|e| t.error_at("velocity", format!("moved by its velocity, {e}")))?;
+    }
+    if kind == ShapeKind::Quad && triangles.iter().any(mesh::is_degenerate) {
+        return Err(t.error_at(
+            "corner",
+            "the quad has no area in 32-bit floats: u and v are too small for its distance \
+             from the origin",
+        ));
+    }
+    if let Some(warning) = warning {
+        eprintln!("warning: {warning}");
     }
     Ok(shape)
 }
 
-/// Reads a `mesh` shape's OBJ file and appends its world-space triangles.
-fn read_mesh(t: &Table, index: u32, scene: &mut Scene) -> Result<()> {
+/// Reads a `mesh` shape's OBJ file and appends its world-space triangles; gives the
+/// warning to print when some of its triangles are degenerate and skipped.
+fn read_mesh(t: &Table, index: u32, scene: &mut Scene) -> Result<Option<SceneError>> {
     let transform = read_transform(t)?;
     let smooth = t.or("smooth", false, Value::bool)?;
     let file = t.require("file")?;
     let path = file.path()?;
     let obj = file.read_file("mesh", &path, mesh::read_obj)?;
-    let (triangles, skipped) = mesh::triangles(&obj, &transform, smooth, index);
+    let (triangles, skipped) =
+        mesh::triangles(&obj, &transform, smooth, index).map_err(|e| t.error_here(e))?;
     if triangles.is_empty() {
         return Err(file.error(format!(
             "all {skipped} triangles of mesh {} are degenerate",
             path.display()
         )));
     }
-    if skipped > 0 {
-        eprintln!(
-            "warning: {}: {skipped} degenerate triangles skipped in mesh {}",
-            scene.path.display(),
-            path.display()
-        );
-    }
     scene.triangles.extend(triangles);
-    Ok(())
+    Ok((skipped > 0).then(|| {
+        let s = if skipped == 1 { "" } else { "s" };
+        file.error(format!(
+            "{skipped} degenerate triangle{s} (zero area) skipped in mesh {}",
+            path.display()
+        ))
+    }))
 }
 
 /// A shape's `scale`, `rotate` and `translate`.
@@ -341,7 +482,9 @@ fn read_point_light(t: &Table) -> Result<LightKind> {
 
 /// A directional light; its direction is normalized.
 fn read_directional_light(t: &Table) -> Result<LightKind> {
-    let direction = t.req("direction", Value::vec3)?.normalize_or_zero();
+    // Normalized in f64, so that no finite direction over- or underflows to zero.
+    let direction = t.req("direction", Value::vec3)?;
+    let direction = direction.as_dvec3().normalize_or_zero().as_vec3();
     if direction == Vec3::ZERO {
         return Err(t.error_at("direction", "the direction must not be zero"));
     }
@@ -427,6 +570,11 @@ impl<'a, 'i> Table<'a, 'i> {
             line: self.source.line(name.span().start),
         };
         (name.get_ref().as_ref(), value)
+    }
+
+    /// An error about the table itself, at its header's line.
+    fn error_here(&self, message: impl Into<String>) -> SceneError {
+        self.source.error(self.line, Some(&self.key), message)
     }
 
     /// An error about key `name`: at its line when it is present, else at the header's.
@@ -582,6 +730,11 @@ impl<'a, 'i> Value<'a, 'i> {
             }
             _ => return Err(self.expected("an integer")),
         };
+        if !has_digits(integer) {
+            return Err(self.error(format!(
+                "`{integer}` is not a valid integer: it has no digits"
+            )));
+        }
         parse_integer(integer)
             .and_then(|n| u32::try_from(n).ok())
             .filter(|n| (min..=max).contains(n))
@@ -596,11 +749,21 @@ impl<'a, 'i> Value<'a, 'i> {
     /// A number, integer or float, unchecked.
     fn number(&self) -> Result<f64> {
         let number = match self.value {
+            DeValue::Integer(integer) if !has_digits(integer) => {
+                return Err(self.error(format!(
+                    "`{integer}` is not a valid integer: it has no digits"
+                )))
+            }
             DeValue::Integer(integer) => parse_integer(integer).map(|n| n as f64),
             DeValue::Float(float) => float.as_str().parse().ok(),
             _ => return Err(self.expected("a number")),
         };
-        number.ok_or_else(|| self.error("this number cannot be represented"))
+        number.ok_or_else(|| match self.value {
+            DeValue::Integer(integer) => self.error(format!(
+                "{integer} is beyond the range of 64-bit integers; write it as a float"
+            )),
+            _ => self.error(format!("`{}` is not a valid number", self.literal())),
+        })
     }
 
     /// A number as written in the file, for messages.
@@ -707,6 +870,16 @@ impl<'a, 'i> Value<'a, 'i> {
 /// A TOML integer (any radix), when it fits in an `i64`.
 fn parse_integer(integer: &DeInteger) -> Option<i64> {
     i64::from_str_radix(integer.as_str(), integer.radix()).ok()
+}
+
+/// Whether a TOML integer has digits at all (`0x` alone has none); one that has them and
+/// still does not parse is beyond the 64-bit range.
+fn has_digits(integer: &DeInteger) -> bool {
+    integer
+        .as_str()
+        .trim_start_matches(['+', '-'])
+        .chars()
+        .any(|c| c.is_digit(integer.radix()))
 }
 
 /// A range that a number must lie in.

@@ -2,7 +2,7 @@
 //! turned into world-space triangles. Knows nothing of TOML; errors are plain messages that
 //! the loader places in the scene file.
 
-use super::{Texture, Triangle};
+use super::{Sphere, Texture, Triangle};
 use glam::{Mat3, Vec2, Vec3};
 use std::collections::HashMap;
 use std::path::Path;
@@ -120,8 +120,18 @@ fn sign(bit: u32) -> f32 {
 
 /// Reads a Wavefront OBJ file, triangulated, all its objects in one mesh. Normals and
 /// texture coordinates are kept only when every vertex has them. Materials are ignored.
+/// Errors name the OBJ line where there is one (see `check_obj_text`).
 pub(super) fn read_obj(path: &Path) -> Result<IndexedMesh, String> {
     let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let text = std::str::from_utf8(&bytes).map_err(|e| {
+        let line = bytes[..e.valid_up_to()]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+            + 1;
+        format!("line {line}: not UTF-8 text")
+    })?;
+    check_obj_text(text)?;
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -129,7 +139,7 @@ pub(super) fn read_obj(path: &Path) -> Result<IndexedMesh, String> {
         ignore_lines: true,
     };
     let (models, _) =
-        tobj::load_obj_buf(&mut bytes.as_slice(), &options, |_| Ok(Default::default()))
+        tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| Ok(Default::default()))
             .map_err(|e| format!("not a valid OBJ file: {e}"))?;
 
     let mut mesh = IndexedMesh::default();
@@ -155,9 +165,131 @@ pub(super) fn read_obj(path: &Path) -> Result<IndexedMesh, String> {
     if mesh.indices.is_empty() {
         return Err("the file has no triangles".into());
     }
+    // `check_obj_text` found every number finite; this guards the reader's arithmetic.
+    if !mesh.positions.iter().all(|p| p.is_finite())
+        || !normals.iter().flatten().all(|n| n.is_finite())
+        || !uvs.iter().flatten().all(|t| t.is_finite())
+    {
+        return Err("a vertex, normal or texture coordinate is not a finite number".into());
+    }
     mesh.normals = normals;
     mesh.uvs = uvs;
     Ok(mesh)
+}
+
+/// Checks the lines of an OBJ file before the OBJ reader sees them, so that errors name the
+/// line, and catches what the reader would take without a word: `v`, `vt` and `vn` lines
+/// with too few numbers, numbers that are not finite (or overflow to infinity), a weight
+/// `w` that does not give finite coordinates, a `v` with 5 or more than 6 numbers, faces
+/// with fewer than 3 vertices or a malformed vertex, and indices of 0 or beyond what the
+/// file defines (relative ones count back from their line; positive ones may refer
+/// forward). The message starts with the 1-based line.
+fn check_obj_text(text: &str) -> Result<(), String> {
+    // How many positions, texture coordinates and normals the file defines so far.
+    let mut counts = [0usize; 3];
+    const NAMES: [(&str, &str); 3] = [
+        ("vertex", "vertices"),
+        ("texture coordinate", "texture coordinates"),
+        ("normal", "normals"),
+    ];
+    // Positive indices may refer forward: the largest of each kind, and its line, is checked
+    // against the totals at the end.
+    let mut largest = [(0usize, 0usize); 3];
+    for (i, line) in text.lines().enumerate() {
+        let number = i + 1;
+        let mut words = line.split_whitespace();
+        let (kind, width) = match words.next() {
+            Some("v") => (0, 3),
+            Some("vt") => (1, 2),
+            Some("vn") => (2, 3),
+            Some("f") => {
+                let words: Vec<&str> = words.collect();
+                if words.len() < 3 {
+                    return Err(format!(
+                        "line {number}: a face needs at least 3 vertices, found {}",
+                        words.len()
+                    ));
+                }
+                for word in words {
+                    if word.split('/').count() > 3 || word.starts_with('/') {
+                        return Err(format!("line {number}: `{word}` is not a face vertex"));
+                    }
+                    for (slot, part) in word.split('/').enumerate() {
+                        if part.is_empty() {
+                            continue;
+                        }
+                        let Ok(index) = part.parse::<i64>() else {
+                            return Err(format!("line {number}: `{word}` is not a face vertex"));
+                        };
+                        let (what, whats) = NAMES[slot];
+                        if index == 0 {
+                            return Err(format!(
+                                "line {number}: {what} index 0 in `{word}` (OBJ indices start at 1)"
+                            ));
+                        }
+                        if index < 0 && index.unsigned_abs() > counts[slot] as u64 {
+                            return Err(format!(
+                                "line {number}: {what} index {index} in `{word}` reaches back past the {} {whats} defined before it",
+                                counts[slot]
+                            ));
+                        }
+                        if index > 0 && index as u64 > largest[slot].0 as u64 {
+                            largest[slot] = (index as usize, number);
+                        }
+                    }
+                }
+                continue;
+            }
+            _ => continue,
+        };
+        let values: Vec<&str> = words.collect();
+        let mut numbers = [0.0f32; 3];
+        for (x, word) in numbers.iter_mut().zip(&values).take(width) {
+            *x = word
+                .parse()
+                .map_err(|_| format!("line {number}: `{word}` is not a number"))?;
+            if !x.is_finite() {
+                return Err(format!("line {number}: `{word}` is not a finite number"));
+            }
+        }
+        if values.len() < width {
+            return Err(format!(
+                "line {number}: a {} needs {width} numbers, found {}",
+                NAMES[kind].0,
+                values.len()
+            ));
+        }
+        if kind == 0 && ![3, 4, 6].contains(&values.len()) {
+            return Err(format!(
+                "line {number}: a vertex has 3 numbers, 4 (with a weight w) or 6 (with a colour), found {}",
+                values.len()
+            ));
+        }
+        if kind == 0 && values.len() == 4 {
+            let w: f32 = values[3]
+                .parse()
+                .map_err(|_| format!("line {number}: `{}` is not a number", values[3]))?;
+            if w == 0.0 || !numbers.iter().all(|x| (x / w).is_finite()) {
+                return Err(format!(
+                    "line {number}: the weight w = {} does not give finite coordinates",
+                    values[3]
+                ));
+            }
+        }
+        counts[kind] += 1;
+    }
+    for (slot, &(index, number)) in largest.iter().enumerate() {
+        // A file without texture coordinates or normals may still name them; the reader
+        // ignores those, but an index past what the file has is a broken file either way.
+        if index > counts[slot] {
+            let (what, whats) = NAMES[slot];
+            return Err(format!(
+                "line {number}: {what} index {index} does not exist (the file has {} {whats})",
+                counts[slot]
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Appends one model's per-vertex attribute (flattened, `width` floats a vertex) to `all`,
@@ -179,14 +311,18 @@ fn append_if_complete<T>(
 
 /// The world-space triangles of `mesh` under `transform`, and how many were skipped for
 /// having zero area. With `smooth`, each vertex gets a shading normal: the file's, or else
-/// the area-weighted average of the normals of the faces around its position.
+/// the area-weighted average of the normals of the faces around its position. Errors when
+/// the transform takes a vertex out of the range of 32-bit floats.
 pub(super) fn triangles(
     mesh: &IndexedMesh,
     transform: &Transform,
     smooth: bool,
     shape: u32,
-) -> (Vec<Triangle>, usize) {
+) -> Result<(Vec<Triangle>, usize), String> {
     let world: Vec<Vec3> = mesh.positions.iter().map(|&p| transform.point(p)).collect();
+    if !world.iter().all(|p| p.is_finite()) {
+        return Err(OUT_OF_RANGE.into());
+    }
     let mut faces = Vec::with_capacity(mesh.indices.len());
     for &[a, b, c] in &mesh.indices {
         let face = if transform.flips_winding() {
@@ -217,7 +353,49 @@ pub(super) fn triangles(
             shape,
         })
         .collect();
-    (triangles, skipped)
+    Ok((triangles, skipped))
+}
+
+/// Why a shape is refused when its world-space geometry overflows 32-bit floats.
+const OUT_OF_RANGE: &str =
+    "the shape lies beyond the range of 32-bit floats: a vertex, an edge or an area overflows \
+     (position, size or scale too large)";
+
+/// Whether a triangle has no area in 32-bit floats: the renderer could not give it a normal.
+pub(super) fn is_degenerate(t: &Triangle) -> bool {
+    !((t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length_squared() > 0.0)
+}
+
+/// Checks that a shape's world-space primitives, displaced by `offset` (zero for the shape
+/// at rest, its velocity for the end of the shutter), stay within 32-bit floats: every
+/// vertex, edge and twice-area of a triangle and its squared length, and every sphere's
+/// bounds and area. The renderer computes all of these; an infinity among them would give
+/// NaN normals, light powers or bounding boxes.
+pub(super) fn check_extent(
+    triangles: &[Triangle],
+    spheres: &[Sphere],
+    offset: Vec3,
+) -> Result<(), String> {
+    let triangle_fits = |t: &Triangle| {
+        let p = t.p.map(|p| p + offset);
+        let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+        let n = e1.cross(e2);
+        p.iter().all(|p| p.is_finite())
+            && e1.is_finite()
+            && e2.is_finite()
+            && n.length_squared().is_finite()
+    };
+    let sphere_fits = |s: &Sphere| {
+        let c = s.center + offset;
+        (c + s.radius).is_finite()
+            && (c - s.radius).is_finite()
+            && (4.0 * std::f32::consts::PI * s.radius * s.radius).is_finite()
+    };
+    if triangles.iter().all(triangle_fits) && spheres.iter().all(sphere_fits) {
+        Ok(())
+    } else {
+        Err(OUT_OF_RANGE.into())
+    }
 }
 
 /// `cross(p1 - p0, p2 - p0)`: along the front side, twice the triangle's area long.

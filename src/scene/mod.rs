@@ -255,6 +255,9 @@ impl Scene {
 /// positive focus distance. The message names the offending field.
 pub fn validate_camera(c: &Camera) -> Result<(), String> {
     let finite = c.position.is_finite() && c.look_at.is_finite() && c.up.is_finite();
+    if finite && !(c.look_at - c.position).length_squared().is_finite() {
+        return Err(format!("camera.{}", load::VIEW_OUT_OF_RANGE));
+    }
     if !finite || !c.fov.is_finite() || !c.aperture_radius.is_finite() || !c.focus_distance.is_finite() {
         return Err("camera: every value must be finite".into());
     }

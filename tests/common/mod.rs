@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 mod rng;
+pub mod scene_text;
 #[allow(unused_imports)]
 pub use rng::Rng;
 
