@@ -23,7 +23,9 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     if index >= frame.vp_count {
         return;
     }
-    var rng = rng_new(frame.seed, frame.pass_index, STREAM_CAMERA, index);
+    // Keyed by the point's index in the whole image, so that a band draws the numbers the
+    // whole image would.
+    var rng = rng_new(frame.seed, frame.pass_index, STREAM_CAMERA, index + frame.row_offset * frame.width * frame.spp);
     let pixel = index / frame.spp;
     let px = pixel % frame.width;
     let py = pixel / frame.width;

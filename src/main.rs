@@ -22,6 +22,9 @@ struct Cli {
     /// Output image: .png (sRGB, clamped) or .exr (linear float RGB).
     #[arg(short, long, required = true)]
     output: Option<PathBuf>,
+    /// After rendering, print the GPU memory each buffer takes.
+    #[arg(long)]
+    stats: bool,
     #[command(flatten)]
     overrides: Overrides,
 }
@@ -312,6 +315,17 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
     }
     let mut integrator = integrators::create(&gpu.device, &gpu.queue, &scene)?;
     let r = &scene.render;
+    if r.method == Method::Sppm {
+        let rows = integrators::Sppm::max_rows(&gpu.device, &scene);
+        if rows < r.height {
+            eprintln!(
+                "note: {}x{} visible points exceed one buffer on this device: rendering in bands of {rows} rows, \
+                 each tracing every pass's photons",
+                r.width,
+                r.height * r.spp
+            );
+        }
+    }
     let unit = integrator.work_unit();
 
     let progress = ProgressBar::new(r.iterations as u64);
@@ -350,7 +364,30 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
         integrator.passes() as f64 / seconds,
         output.display()
     );
+    if cli.stats {
+        print_memory(&integrator.gpu_memory());
+    }
     Ok(())
+}
+
+/// The `--stats` table: every buffer, largest first, under its part.
+fn print_memory(memory: &integrators::GpuMemory) {
+    let mib = |b: u64| match b {
+        0..0x10_0000 => format!("{:.1} KiB", b as f64 / 1024.0),
+        _ => format!("{:.1} MiB", b as f64 / (1u64 << 20) as f64),
+    };
+    println!("GPU memory: {}", mib(memory.total()));
+    for (part, buffers, bytes) in [
+        ("scene", &memory.scene, memory.scene_bytes()),
+        ("renderer", &memory.renderer, memory.renderer_bytes()),
+    ] {
+        println!("  {part}: {}", mib(bytes));
+        let mut sorted = buffers.clone();
+        sorted.sort_by(|a, b| b.1.cmp(&a.1));
+        for (name, b) in sorted {
+            println!("    {name:24} {:>12} bytes", b);
+        }
+    }
 }
 
 /// The name of a method as the scene format spells it.

@@ -28,8 +28,10 @@ struct Frame {
     time: f32,
     // Path tracing: 1 for next-event estimation, 0 for naive.
     nee: u32,
-    _pad0: u32,
-    _pad1: u32,
+    // This renderer covers rows [row_offset, row_offset + height) of an image image_height
+    // rows high (a band of a large image).
+    row_offset: u32,
+    image_height: u32,
     _pad2: u32,
     _pad3: u32,
 }

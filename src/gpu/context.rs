@@ -68,6 +68,13 @@ impl GpuContext {
     /// The first Vulkan, Metal or DX12 adapter. GL is left out on purpose: `WGPU_BACKEND=gl`
     /// must not silently switch to a slower, different implementation.
     pub fn new() -> Result<Self, GpuError> {
+        Self::with_limits(|limits| limits)
+    }
+
+    /// [`GpuContext::new`] with the device's limits passed through `adjust` first: lower
+    /// ones make a device that behaves like a smaller GPU (tests use this to make large
+    /// images go in bands).
+    pub fn with_limits(adjust: impl FnOnce(wgpu::Limits) -> wgpu::Limits) -> Result<Self, GpuError> {
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
             backends: wgpu::Backends::PRIMARY,
             ..wgpu::InstanceDescriptor::new_without_display_handle()
@@ -82,7 +89,7 @@ impl GpuContext {
                  software Vulkan driver: apt-get install -y mesa-vulkan-drivers"
             ))
         })?;
-        let limits = required_limits(&adapter.limits())?;
+        let limits = adjust(required_limits(&adapter.limits())?);
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("sppm-gpu"),
             required_features: wgpu::Features::empty(),

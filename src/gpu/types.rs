@@ -58,10 +58,11 @@ pub struct Frame {
     pub time: f32,
     /// Path tracing: 1 for next-event estimation, 0 for naive.
     pub nee: u32,
-    /// Padding to a multiple of 16 bytes (uniform layout); always 0.
-    pub _pad0: u32,
-    /// Padding; always 0.
-    pub _pad1: u32,
+    /// First image row this renderer covers: `height` rows from here of an image
+    /// `image_height` rows high (a band of a large image; 0 for a whole image).
+    pub row_offset: u32,
+    /// Rows of the whole image, for the camera's projection.
+    pub image_height: u32,
     /// Padding; always 0.
     pub _pad2: u32,
     /// Padding; always 0.

@@ -2,9 +2,11 @@
 //! scene, its GPU buffers, the camera, the shutter and the kernels' shared WGSL; each one is
 //! driven through [`Integrator`].
 
+pub mod bands;
 pub mod path;
 pub mod sppm;
 
+pub use bands::Bands;
 pub use path::PathTracer;
 pub use sppm::Sppm;
 
@@ -25,12 +27,48 @@ pub trait Integrator {
     fn work_unit(&self) -> &'static str;
     /// The current estimate, read back (waits for the submitted passes).
     fn image(&mut self) -> Result<Rgb32Image, Error>;
+    /// The GPU buffers it holds.
+    fn gpu_memory(&self) -> GpuMemory;
+}
+
+/// GPU buffers by name and size, split into the scene's (geometry, BVH, materials, lights:
+/// proportional to the scene) and the renderer's (per pixel or per visible point).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GpuMemory {
+    /// The scene's buffers, bytes each.
+    pub scene: Vec<(String, u64)>,
+    /// The renderer's buffers (summed over bands), bytes each.
+    pub renderer: Vec<(String, u64)>,
+}
+
+impl GpuMemory {
+    /// Bytes of the scene's buffers.
+    pub fn scene_bytes(&self) -> u64 {
+        self.scene.iter().map(|(_, b)| b).sum()
+    }
+    /// Bytes of the renderer's buffers.
+    pub fn renderer_bytes(&self) -> u64 {
+        self.renderer.iter().map(|(_, b)| b).sum()
+    }
+    /// All bytes.
+    pub fn total(&self) -> u64 {
+        self.scene_bytes() + self.renderer_bytes()
+    }
+}
+
+/// Names and sizes of `buffers`.
+fn sizes<'a>(buffers: impl IntoIterator<Item = (&'a str, &'a wgpu::Buffer)>) -> Vec<(String, u64)> {
+    buffers.into_iter().map(|(name, b)| (name.to_string(), b.size())).collect()
 }
 
 /// The integrator for `scene.render.method`, on the caller's device.
 pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Box<dyn Integrator>, Error> {
     Ok(match scene.render.method {
-        Method::Sppm => Box::new(Sppm::new(device, queue, scene)?),
+        // An image whose visible points do not fit in one set of buffers goes in bands.
+        Method::Sppm => match Sppm::max_rows(device, scene) {
+            rows if rows >= scene.render.height => Box::new(Sppm::new(device, queue, scene)?),
+            rows => Box::new(Bands::new(device, queue, scene, rows)?),
+        },
         Method::Pt | Method::PtNee => Box::new(PathTracer::new(device, queue, scene)?),
     })
 }
@@ -115,6 +153,7 @@ pub fn camera_frame_for(c: &Camera, width: u32, height: u32) -> Frame {
         width,
         cam_forward: forward.into(),
         height,
+        image_height: height,
         ..Frame::default()
     }
 }

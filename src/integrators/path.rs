@@ -114,4 +114,14 @@ impl Integrator for PathTracer {
         }
         Ok(img)
     }
+    fn gpu_memory(&self) -> super::GpuMemory {
+        super::GpuMemory {
+            scene: super::sizes(self._scene.resources().iter().map(|r| (r.name, r.buffer))),
+            renderer: super::sizes([
+                ("frame", &self.frame_buffer),
+                ("radiance", &self.radiance),
+                ("radiance_staging", &self.radiance_staging),
+            ]),
+        }
+    }
 }

@@ -15,6 +15,8 @@ use crate::gpu::types::*;
 use crate::gpu::{Features, Kernel, Resource};
 use crate::image_io::Rgb32Image;
 use crate::scene::Scene;
+use std::ops::Range;
+use std::sync::Arc;
 use wgpu::util::DeviceExt;
 
 /// Photons each `photon_pass` thread traces (`PHOTONS_PER_THREAD` in the kernel).
@@ -76,13 +78,12 @@ pub struct Sppm {
     resolve_texture: [Option<Kernel>; 2],
 
     buffers: Buffers,
-    vp_points_staging: wgpu::Buffer,
     image_staging: wgpu::Buffer,
 }
 
 /// Every buffer the kernels bind, each under the name of its WGSL global.
 struct Buffers {
-    scene: SceneBuffers,
+    scene: Arc<SceneBuffers>,
     frame: wgpu::Buffer,
     visible_points: wgpu::Buffer,
     vp_points: wgpu::Buffer,
@@ -150,22 +151,63 @@ const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
 impl Sppm {
     /// Set up the renderer for `scene` on the caller's device.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Self, Error> {
+        Self::new_rows(device, queue, scene, 0..scene.render.height)
+    }
+
+    /// The renderer for rows `rows` of `scene`'s image only: a band of an image whose
+    /// visible points do not fit in one set of buffers (see [`Sppm::max_rows`] and
+    /// [`Bands`](super::Bands)). Its image is `width` x `rows.len()`, and equals those rows of
+    /// the whole image's bit for bit: random numbers are keyed by the point's place in the
+    /// whole image, and every band traces the same photons.
+    pub fn new_rows(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, rows: Range<u32>) -> Result<Self, Error> {
         crate::gpu::check_device(device)?;
-        let r = &scene.render;
         let data = SceneData::new(scene)?;
-        let pixel_count = r.width.checked_mul(r.height).ok_or_else(|| Error::Setting("image too large".into()))?;
+        let scene_buffers = Arc::new(SceneBuffers::new(device, &data));
+        Self::with_scene_buffers(device, queue, scene, &data, scene_buffers, rows)
+    }
+
+    /// Rows of `scene`'s image whose visible points fit in one set of this device's buffers
+    /// (at least 1; 0 when not even one row fits).
+    pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
+        // The largest per-point buffers hold 32 bytes a point (flux, statistics, grid).
+        let points = device.limits().max_storage_buffer_binding_size as u64 / (ACCUM_STRIDE as u64 * 4);
+        let per_row = scene.render.width as u64 * scene.render.spp as u64;
+        (points / per_row.max(1)).min(u32::MAX as u64) as u32
+    }
+
+    /// [`Sppm::new_rows`] on scene buffers already uploaded (shared between bands).
+    pub(crate) fn with_scene_buffers(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        data: &SceneData,
+        scene_buffers: Arc<SceneBuffers>,
+        rows: Range<u32>,
+    ) -> Result<Self, Error> {
+        let r = &scene.render;
+        if rows.is_empty() || rows.end > r.height {
+            return Err(Error::Setting(format!("rows {rows:?} are not within the image's {} rows", r.height)));
+        }
+        let band_height = rows.end - rows.start;
+        let pixel_count = r.width.checked_mul(band_height).ok_or_else(|| Error::Setting("image too large".into()))?;
         let vp_count = pixel_count
             .checked_mul(r.spp)
             .filter(|n| (*n as u64) * (ACCUM_STRIDE as u64) * 4 <= device.limits().max_storage_buffer_binding_size as u64)
             .ok_or_else(|| {
                 Error::Setting(format!(
-                    "{}x{} pixels with spp {} need more visible points than this device's buffers hold",
-                    r.width, r.height, r.spp
+                    "{}x{} pixels with spp {} need more visible points than this device's buffers hold; \
+                     render it in bands of at most {} rows (sppm_gpu::integrators::Bands)",
+                    r.width,
+                    band_height,
+                    r.spp,
+                    Self::max_rows(device, scene)
                 ))
             })?;
         let initial_radius = r.radius.unwrap_or_else(|| auto_radius(scene));
 
         let mut frame = super::camera_frame(scene);
+        frame.height = band_height;
+        frame.row_offset = rows.start;
         frame.photon_count = r.photons;
         frame.emitter_count = data.emitters.len() as u32;
         frame.ray_epsilon = data.ray_epsilon();
@@ -181,7 +223,7 @@ impl Sppm {
         let stats: Vec<VpStats> = vec![VpStats { radius: initial_radius, ..VpStats::default() }; vp_count as usize];
         let uniform = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
         let buffers = Buffers {
-            scene: SceneBuffers::new(device, &data),
+            scene: scene_buffers,
             frame: buffer(device, "frame", size_of::<Frame>() as u64, uniform),
             visible_points: buffer(device, "visible_points", n * size_of::<VisiblePoint>() as u64, STORAGE),
             vp_points: buffer(device, "vp_points", n * 16, STORAGE),
@@ -198,7 +240,7 @@ impl Sppm {
         };
         queue.write_buffer(&buffers.frame, 0, bytemuck::bytes_of(&frame));
         // The tracing kernels, compiled for what this scene has.
-        let constants = Features::of(&data).constants();
+        let constants = Features::of(data).constants();
 
         Ok(Self {
             device: device.clone(),
@@ -218,7 +260,6 @@ impl Sppm {
             update_stats: Stage::new(device, "update_stats", &buffers, &constants)?,
             resolve: Stage::new(device, "resolve", &buffers, &constants)?,
             resolve_texture: [None, None],
-            vp_points_staging: staging_buffer(device, "vp_points_staging", n * 16),
             image_staging: staging_buffer(device, "image_staging", pixel_count as u64 * 16),
             buffers,
         })
@@ -427,7 +468,7 @@ impl Sppm {
     /// carry over to another. The image size and samples per pixel stay as they are.
     pub fn set_camera(&mut self, camera: &crate::scene::Camera) -> Result<(), Error> {
         crate::scene::validate_camera(camera).map_err(Error::Setting)?;
-        let f = super::camera_frame_for(camera, self.frame.width, self.frame.height);
+        let f = super::camera_frame_for(camera, self.frame.width, self.frame.image_height);
         self.frame.cam_position = f.cam_position;
         self.frame.lens_radius = f.lens_radius;
         self.frame.cam_right = f.cam_right;
@@ -472,7 +513,10 @@ impl Sppm {
     /// Visible points' positions and radii of the current pass (xyz, radius; radius 0 where
     /// the camera path found none), read back.
     pub fn visible_point_positions(&self) -> Result<Vec<[f32; 4]>, Error> {
-        Ok(read_buffer(&self.device, &self.queue, &self.buffers.vp_points, &self.vp_points_staging, self.vp_count as u64 * 16)?)
+        // A staging buffer for this read only: renders never need one.
+        let bytes = self.vp_count as u64 * 16;
+        let staging = staging_buffer(&self.device, "vp_points_staging", bytes);
+        Ok(read_buffer(&self.device, &self.queue, &self.buffers.vp_points, &staging, bytes)?)
     }
 
     /// The per-pass constants the kernels see (camera, counts, alpha, `power_total`).
@@ -508,5 +552,15 @@ impl super::Integrator for Sppm {
     }
     fn image(&mut self) -> Result<Rgb32Image, Error> {
         Sppm::image(self)
+    }
+    fn gpu_memory(&self) -> super::GpuMemory {
+        let scene = self.buffers.scene.resources();
+        let own = self.buffers.resources();
+        let own = own.iter().filter(|r| !scene.iter().any(|s| s.name == r.name)).map(|r| (r.name, r.buffer));
+        let staging = [("image_staging", &self.image_staging)];
+        super::GpuMemory {
+            scene: super::sizes(scene.iter().map(|r| (r.name, r.buffer))),
+            renderer: super::sizes(own.chain(staging)),
+        }
     }
 }

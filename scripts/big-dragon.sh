@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Render the gallery's glass dragon with the 871k-triangle Stanford dragon in place of the
+# 11k one, with --stats (GPU memory by buffer): the large-mesh check of BENCHMARKS.md.
+# Usage: bash scripts/big-dragon.sh [PATH/TO/dragon_871k.obj] [extra sppm-gpu options]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+mesh="$(realpath "${1:-../shared/meshes/dragon_871k.obj}")"
+shift || true
+dir="$(mktemp -d)"
+sed "s#file = \"meshes/dragon_11k.obj\"#file = \"$mesh\"#" scenes/gallery/glass-dragon.toml > "$dir/big-dragon.toml"
+grep -q "$mesh" "$dir/big-dragon.toml"
+mkdir -p out
+cargo build --release --quiet
+/usr/bin/time -f "%e s wall, %M KB peak host memory" \
+    target/release/sppm-gpu "$dir/big-dragon.toml" -o out/big-dragon.png --width 256 --height 256 --iterations 16 --stats "$@"

@@ -1,0 +1,56 @@
+//! Images whose visible points do not fit in one set of buffers are rendered in bands of
+//! rows, and the bands give the whole image's pixels bit for bit.
+
+mod common;
+
+use sppm_gpu::gpu::GpuContext;
+use sppm_gpu::integrators::{self, Bands, Integrator, Sppm};
+
+fn render(mut integrator: impl Integrator, passes: u32) -> sppm_gpu::image_io::Rgb32Image {
+    for _ in 0..passes {
+        integrator.run_pass().unwrap();
+    }
+    integrator.image().unwrap()
+}
+
+#[test]
+fn bands_equal_the_whole_image_bit_for_bit() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut scene = common::load_scene("cornell-spheres.toml");
+    scene.render.width = 40;
+    scene.render.height = 32;
+    let whole = render(Sppm::new(&gpu.device, &gpu.queue, &scene).unwrap(), 4);
+    // Bands of 7 rows: the last one is shorter.
+    let bands = Bands::new(&gpu.device, &gpu.queue, &scene, 7).unwrap();
+    assert_eq!(bands.band_count(), 5);
+    let banded = render(bands, 4);
+    assert_eq!(banded.width, whole.width);
+    assert_eq!(banded.height, whole.height);
+    let differ = whole.pixels.iter().zip(&banded.pixels).filter(|(a, b)| a != b).count();
+    assert_eq!(differ, 0, "{differ} pixels differ");
+    assert!(whole.mean()[0] > 0.01, "the image is not black");
+}
+
+/// On a device whose storage buffers hold 256 KiB, 96x96 visible points (32 bytes each in the
+/// largest buffers: 288 KiB) no longer fit in one set: `integrators::create` renders them in
+/// bands, and the image is the one an ordinary device gives.
+#[test]
+fn an_image_beyond_the_buffer_limit_goes_in_bands() {
+    let Some(gpu) = common::gpu() else { return };
+    let small = GpuContext::with_limits(|l| wgpu::Limits { max_storage_buffer_binding_size: 256 << 10, ..l }).unwrap();
+    let mut scene = common::load_scene("cornell-box.toml");
+    scene.render.width = 96;
+    scene.render.height = 96;
+    assert_eq!(Sppm::max_rows(&small.device, &scene), 85);
+    assert!(Sppm::new(&small.device, &small.queue, &scene).is_err(), "one renderer cannot hold it");
+    let mut banded = integrators::create(&small.device, &small.queue, &scene).unwrap();
+    let mut whole = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
+    for _ in 0..3 {
+        banded.run_pass().unwrap();
+        whole.run_pass().unwrap();
+    }
+    assert_eq!(banded.work_per_pass(), 2 * whole.work_per_pass(), "two bands, each tracing the photons");
+    let (a, b) = (banded.image().unwrap(), whole.image().unwrap());
+    assert!(a.pixels == b.pixels, "banded image differs from the whole one");
+    small.check().unwrap();
+}

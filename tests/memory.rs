@@ -1,0 +1,44 @@
+//! The GPU memory a render takes (`--stats`) follows the scene and the image: the scene's
+//! buffers grow with its primitives and not with the image, the renderer's with the pixels.
+
+mod common;
+
+use sppm_gpu::integrators;
+use sppm_gpu::scene::Scene;
+
+fn memory(gpu: &sppm_gpu::gpu::GpuContext, scene: &Scene) -> integrators::GpuMemory {
+    integrators::create(&gpu.device, &gpu.queue, scene).unwrap().gpu_memory()
+}
+
+#[test]
+fn renderer_memory_follows_the_pixels_scene_memory_the_primitives() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut scene = common::load_scene("cornell-box.toml");
+    scene.render.width = 64;
+    scene.render.height = 64;
+    let small = memory(&gpu, &scene);
+    scene.render.width = 128;
+    scene.render.height = 128;
+    let large = memory(&gpu, &scene);
+    assert_eq!(small.scene, large.scene, "the scene's buffers do not depend on the image");
+    let ratio = large.renderer_bytes() as f64 / small.renderer_bytes() as f64;
+    assert!((ratio - 4.0).abs() < 0.05, "4x the pixels, {ratio}x the renderer's memory");
+    // About 150 bytes a visible point: statistics, flux, the point, its grid entries.
+    let per_point = large.renderer_bytes() as f64 / (128.0 * 128.0);
+    assert!(per_point < 200.0, "{per_point} bytes per visible point");
+
+    // A scene with a mesh of thousands of triangles: about 110 bytes a primitive.
+    let bunny = common::load_scene("gallery/bunny-cube.toml");
+    let prims = (bunny.triangles.len() + bunny.spheres.len()) as f64;
+    let mesh = memory(&gpu, &bunny);
+    let per_prim = mesh.scene_bytes() as f64 / prims;
+    assert!(prims > 3_000.0 && per_prim > 48.0 && per_prim < 160.0, "{per_prim} bytes per primitive, {prims} primitives");
+    let cornell_prims = (scene.triangles.len() + scene.spheres.len()) as f64;
+    assert!((small.scene_bytes() as f64 / cornell_prims) < 160.0);
+
+    // The path tracers hold the scene and a sum per pixel.
+    scene.render.method = sppm_gpu::scene::Method::PtNee;
+    let pt = memory(&gpu, &scene);
+    assert_eq!(pt.scene, large.scene);
+    assert!(pt.renderer_bytes() < 40 * 128 * 128, "{} bytes", pt.renderer_bytes());
+}
