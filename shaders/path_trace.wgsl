@@ -85,7 +85,8 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     if pixel >= frame.width * frame.height {
         return;
     }
-    var rng = rng_new(frame.seed, frame.pass_index, STREAM_PATH, pixel);
+    // Keyed by the pixel's index in the whole image (this may be a band of it).
+    var rng = rng_new(frame.seed, frame.pass_index, STREAM_PATH, pixel + frame.row_offset * frame.width);
     let ray = camera_ray(pixel % frame.width, pixel / frame.width, &rng);
     var o = ray.o;
     var d = ray.d;

@@ -315,16 +315,15 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
     }
     let mut integrator = integrators::create(&gpu.device, &gpu.queue, &scene)?;
     let r = &scene.render;
-    if r.method == Method::Sppm {
-        let rows = integrators::Sppm::max_rows(&gpu.device, &scene);
-        if rows < r.height {
-            eprintln!(
-                "note: {}x{} visible points exceed one buffer on this device: rendering in bands of {rows} rows, \
-                 each tracing every pass's photons",
-                r.width,
-                r.height * r.spp
-            );
-        }
+    let rows = integrators::max_rows(&gpu.device, &scene);
+    if rows < r.height {
+        eprintln!(
+            "note: a {}x{} image (spp {}) exceeds one storage buffer on this device: rendering in bands of {rows} rows{}",
+            r.width,
+            r.height,
+            r.spp,
+            if r.method == Method::Sppm { ", each tracing every pass's photons" } else { "" }
+        );
     }
     let unit = integrator.work_unit();
 

@@ -54,3 +54,24 @@ fn an_image_beyond_the_buffer_limit_goes_in_bands() {
     assert!(a.pixels == b.pixels, "banded image differs from the whole one");
     small.check().unwrap();
 }
+
+/// The path tracers go in bands the same way (16 bytes a pixel: 128x128 is 256 KiB).
+#[test]
+fn path_tracer_bands_equal_the_whole_image() {
+    let Some(gpu) = common::gpu() else { return };
+    let small = GpuContext::with_limits(|l| wgpu::Limits { max_storage_buffer_binding_size: 128 << 10, ..l }).unwrap();
+    let mut scene = common::load_scene("cornell-box.toml");
+    scene.render.width = 128;
+    scene.render.height = 128;
+    scene.render.method = sppm_gpu::scene::Method::PtNee;
+    assert_eq!(integrators::max_rows(&small.device, &scene), 64);
+    let mut banded = integrators::create(&small.device, &small.queue, &scene).unwrap();
+    let mut whole = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
+    for _ in 0..2 {
+        banded.run_pass().unwrap();
+        whole.run_pass().unwrap();
+    }
+    assert_eq!(banded.work_per_pass(), whole.work_per_pass(), "a sample per pixel either way");
+    assert!(banded.image().unwrap().pixels == whole.image().unwrap().pixels, "banded image differs");
+    small.check().unwrap();
+}

@@ -1,20 +1,20 @@
-//! SPPM for images whose visible points do not fit in one set of buffers: the image is split
-//! into bands of rows, each an [`Sppm`] of its own over the same scene buffers, and every
-//! pass runs a pass of each band. Each band traces the pass's photons anew, so a pass costs
-//! about as many photon passes as there are bands; the stitched image equals the one a
-//! single renderer would give, bit for bit.
+//! Images whose per-pixel buffers do not fit in one storage buffer of the device: the image
+//! is split into bands of rows, each an integrator of its own over the same scene buffers,
+//! and every pass runs a pass of each band. For SPPM each band traces the pass's photons
+//! anew, so a pass costs about as many photon passes as there are bands. The stitched image
+//! equals the one a single integrator would give, bit for bit.
 
 use std::sync::Arc;
 
-use super::{Integrator, Sppm};
+use super::{Integrator, PathTracer, Sppm};
 use crate::error::Error;
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
 use crate::image_io::Rgb32Image;
-use crate::scene::Scene;
+use crate::scene::{Method, Scene};
 
-/// SPPM over bands of at most `rows_per_band` rows.
+/// `scene.render.method` over bands of at most `rows_per_band` rows.
 pub struct Bands {
-    bands: Vec<Sppm>,
+    bands: Vec<Box<dyn Integrator>>,
     width: u32,
     height: u32,
 }
@@ -26,7 +26,7 @@ impl Bands {
         crate::gpu::check_device(device)?;
         if rows_per_band == 0 {
             return Err(Error::Setting(format!(
-                "one row of {} pixels with spp {} needs more visible points than this device's buffers hold",
+                "one row of {} pixels (spp {}) needs more memory than one of this device's buffers holds",
                 scene.render.width, scene.render.spp
             )));
         }
@@ -37,7 +37,14 @@ impl Bands {
             .step_by(rows_per_band as usize)
             .map(|y0| {
                 let rows = y0..(y0 + rows_per_band).min(height);
-                Sppm::with_scene_buffers(device, queue, scene, &data, scene_buffers.clone(), rows)
+                let shared = scene_buffers.clone();
+                Ok::<_, Error>(match scene.render.method {
+                    Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, &data, shared, rows)?)
+                        as Box<dyn Integrator>,
+                    Method::Pt | Method::PtNee => {
+                        Box::new(PathTracer::with_scene_buffers(device, queue, scene, &data, shared, rows)?)
+                    }
+                })
             })
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Self { bands, width: scene.render.width, height })
@@ -59,12 +66,12 @@ impl Integrator for Bands {
     fn passes(&self) -> u32 {
         self.bands[0].passes()
     }
-    /// Photons traced in a pass: the pass's photons once per band.
+    /// Summed over the bands: SPPM traces the pass's photons once per band.
     fn work_per_pass(&self) -> u64 {
-        self.bands[0].work_per_pass() * self.bands.len() as u64
+        self.bands.iter().map(|b| b.work_per_pass()).sum()
     }
     fn work_unit(&self) -> &'static str {
-        "photons"
+        self.bands[0].work_unit()
     }
     fn image(&mut self) -> Result<Rgb32Image, Error> {
         let mut out = Rgb32Image::new(self.width, self.height);

@@ -64,13 +64,20 @@ fn sizes<'a>(buffers: impl IntoIterator<Item = (&'a str, &'a wgpu::Buffer)>) -> 
 /// The integrator for `scene.render.method`, on the caller's device.
 pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Box<dyn Integrator>, Error> {
     Ok(match scene.render.method {
-        // An image whose visible points do not fit in one set of buffers goes in bands.
-        Method::Sppm => match Sppm::max_rows(device, scene) {
-            rows if rows >= scene.render.height => Box::new(Sppm::new(device, queue, scene)?),
-            rows => Box::new(Bands::new(device, queue, scene, rows)?),
-        },
+        // An image whose per-pixel buffers do not fit in one storage buffer goes in bands.
+        _ if max_rows(device, scene) < scene.render.height => Box::new(Bands::new(device, queue, scene, max_rows(device, scene))?),
+        Method::Sppm => Box::new(Sppm::new(device, queue, scene)?),
         Method::Pt | Method::PtNee => Box::new(PathTracer::new(device, queue, scene)?),
     })
+}
+
+/// Rows of `scene`'s image that one integrator of `scene.render.method` holds on `device`;
+/// [`create`] splits taller images into [`Bands`] of this many rows.
+pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
+    match scene.render.method {
+        Method::Sppm => Sppm::max_rows(device, scene),
+        Method::Pt | Method::PtNee => PathTracer::max_rows(device, scene),
+    }
 }
 
 /// What `scene.render.method` cannot render of this scene, or renders badly, one sentence

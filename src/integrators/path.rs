@@ -10,6 +10,8 @@ use crate::gpu::types::Frame;
 use crate::gpu::{Features, Kernel, Resource};
 use crate::image_io::Rgb32Image;
 use crate::scene::{Method, Scene};
+use std::ops::Range;
+use std::sync::Arc;
 use wgpu::util::DeviceExt;
 
 /// A progressive path tracer, naive or with next-event estimation (`Method::Pt` or
@@ -27,27 +29,58 @@ pub struct PathTracer {
     radiance: wgpu::Buffer,
     radiance_staging: wgpu::Buffer,
     // Kept alive for the bind group.
-    _scene: SceneBuffers,
+    _scene: Arc<SceneBuffers>,
 }
 
 impl PathTracer {
     /// Set up `scene.render.method` (`Pt` or `PtNee`) for `scene` on the caller's device.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Self, Error> {
-        let r = &scene.render;
         let data = SceneData::new(scene)?;
-        let pixel_count = r.width.checked_mul(r.height).ok_or_else(|| Error::Setting("image too large".into()))?;
+        let scene_buffers = Arc::new(SceneBuffers::new(device, &data));
+        Self::with_scene_buffers(device, queue, scene, &data, scene_buffers, 0..scene.render.height)
+    }
+
+    /// Rows of `scene`'s image whose sums fit in one of this device's storage buffers.
+    pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
+        let pixels = device.limits().max_storage_buffer_binding_size as u64 / 16;
+        (pixels / (scene.render.width as u64).max(1)).min(u32::MAX as u64) as u32
+    }
+
+    /// The path tracer for rows `rows` of the image only, on scene buffers already uploaded
+    /// (a band of [`Bands`](super::Bands)); random numbers are keyed by the pixel's place in
+    /// the whole image, so the bands give the whole image bit for bit.
+    pub(crate) fn with_scene_buffers(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        data: &SceneData,
+        scene_buffers: Arc<SceneBuffers>,
+        rows: Range<u32>,
+    ) -> Result<Self, Error> {
+        let r = &scene.render;
+        if rows.is_empty() || rows.end > r.height {
+            return Err(Error::Setting(format!("rows {rows:?} are not within the image's {} rows", r.height)));
+        }
+        let band_height = rows.end - rows.start;
+        let pixel_count = r.width.checked_mul(band_height).ok_or_else(|| Error::Setting("image too large".into()))?;
         let bytes = pixel_count as u64 * 16;
         if bytes > device.limits().max_storage_buffer_binding_size as u64 {
-            return Err(Error::Setting(format!("{}x{} pixels need more memory than this device's buffers hold", r.width, r.height)));
+            return Err(Error::Setting(format!(
+                "{}x{} pixels need more memory than this device's buffers hold; render it in bands of at most {} rows",
+                r.width,
+                band_height,
+                Self::max_rows(device, scene)
+            )));
         }
         let mut frame = camera_frame(scene);
+        frame.height = band_height;
+        frame.row_offset = rows.start;
         frame.emitter_count = data.emitters.len() as u32;
         frame.ray_epsilon = data.ray_epsilon();
         frame.power_total = data.power_total;
         frame.nee = (r.method == Method::PtNee) as u32;
 
-        let path_trace = Kernel::specialized(device, "path_trace", &[], &Features::of(&data).constants())?;
-        let scene_buffers = SceneBuffers::new(device, &data);
+        let path_trace = Kernel::specialized(device, "path_trace", &[], &Features::of(data).constants())?;
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
             contents: bytemuck::bytes_of(&frame),
