@@ -11,5 +11,9 @@ sed "s#file = \"meshes/dragon_11k.obj\"#file = \"$mesh\"#" scenes/gallery/glass-
 grep -q "$mesh" "$dir/big-dragon.toml"
 mkdir -p out
 cargo build --release --quiet
-/usr/bin/time -f "%e s wall, %M KB peak host memory" \
-    target/release/sppm-gpu "$dir/big-dragon.toml" -o out/big-dragon.png --width 256 --height 256 --iterations 16 --stats "$@"
+run=(target/release/sppm-gpu "$dir/big-dragon.toml" -o out/big-dragon.png --width 256 --height 256 --iterations 16 --stats "$@")
+if [ -x /usr/bin/time ]; then
+    /usr/bin/time -f "%e s wall, %M KB peak host memory" "${run[@]}"
+else
+    time "${run[@]}"
+fi

@@ -3,14 +3,10 @@
 
 mod common;
 
-use wgpu::util::DeviceExt;
-
 use glam::Vec3;
 use common::Rng;
 use sppm_gpu::accel::bvh::brute_force_intersect;
-use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
-use sppm_gpu::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
-use sppm_gpu::gpu::{Kernel, Resource};
+use sppm_gpu::gpu::scene_buffers::SceneData;
 use sppm_gpu::scene::*;
 use std::path::PathBuf;
 
@@ -51,26 +47,8 @@ fn gpu_traversal_matches_cpu_oracle() {
         rays.push([d.x, d.y, d.z, 0.0]);
     }
 
-    let kernel = Kernel::new(&gpu.device, "trace_rays").unwrap();
-    let buffers = SceneBuffers::new(&gpu.device, &data);
-    let ray_buffer = storage_buffer(&gpu.device, "rays", &rays);
-    let hits = storage_buffer(&gpu.device, "hits", &vec![[0f32; 4]; n]);
-    // A still scene at shutter time 0: traversal reads `frame.motion`.
-    let frame = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("frame"),
-        contents: bytemuck::bytes_of(&sppm_gpu::gpu::types::Frame::default()),
-        usage: wgpu::BufferUsages::UNIFORM,
-    });
-    let mut resources = buffers.resources();
-    resources.push(Resource { name: "frame", buffer: &frame });
-    resources.push(Resource { name: "rays", buffer: &ray_buffer });
-    resources.push(Resource { name: "hits", buffer: &hits });
-    let group = kernel.bind_group(&gpu.device, &resources).unwrap();
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    kernel.dispatch(&mut encoder, &group, n as u32);
-    gpu.queue.submit([encoder.finish()]);
-    let staging = staging_buffer(&gpu.device, "hits_staging", hits.size());
-    let gpu_hits: Vec<[f32; 4]> = read_buffer(&gpu.device, &gpu.queue, &hits, &staging, hits.size()).unwrap();
+    // Every feature on: the general traversal (tests/features.rs compares the specialized ones).
+    let gpu_hits = common::trace_rays(&gpu, &data, &rays, &[]);
 
     let mut hit_count = 0;
     for i in 0..n {

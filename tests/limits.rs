@@ -137,6 +137,11 @@ fn large_radius_leaks_only_along_the_floor_and_less_with_passes() {
         }
     }
     assert!(wall_at.iter().all(|&w| w == 0.0), "light through the wall: {wall_at:?}");
+    // The scene's diagonal is 7.8: a radius of 0.3 is under the 5% the warning starts at,
+    // 0.5 over it.
+    assert!(limitations(&scene).is_empty(), "{:?}", limitations(&scene));
+    let warned = limitations(&thin_wall_scene(0.5, 1));
+    assert!(warned.len() == 1 && warned[0].contains("thin walls"), "{warned:?}");
     assert!(leak_at[0] > 1e-3, "no leak along the floor at pass 4: {leak_at:?}");
     assert!(leak_at[1] < 0.7 * leak_at[0], "the leak does not shrink with the radius: {leak_at:?}");
 }

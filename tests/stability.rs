@@ -54,7 +54,8 @@ fn furnace_after_10000_passes_is_within_one_percent() {
 }
 
 /// Emission 1e6: flux is accumulated relative to the scene's total power, so a bright scene
-/// neither wraps nor saturates the fixed-point sums; the furnace gives 2e6.
+/// neither wraps nor saturates the fixed-point sums; the furnace gives 2e6. (This pins that
+/// normalization: with raw flux, 1e6 per photon would overflow the 32-bit integer part.)
 #[test]
 fn very_bright_furnace_does_not_saturate() {
     let Some(gpu) = common::gpu() else { return };

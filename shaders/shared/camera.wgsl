@@ -6,8 +6,8 @@ struct Ray {
     d: vec3f,
 }
 
-// The ray through pixel (px, py) of this renderer's rows (row py + frame.row_offset of the
-// image). Draws four numbers from rng, lens or not, so that what
+// The ray through pixel (px, py) of this renderer's rows: row py + frame.row_offset of the
+// image. Draws four numbers from rng, lens or not, so that what
 // follows sees the same stream either way.
 fn camera_ray(px: u32, py: u32, rng: ptr<function, Rng>) -> Ray {
     // The image plane at distance 1: cam_right and cam_up span half its width and height.

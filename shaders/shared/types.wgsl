@@ -32,8 +32,8 @@ struct Frame {
     // rows high (a band of a large image).
     row_offset: u32,
     image_height: u32,
-    _pad2: u32,
-    _pad3: u32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 // An interior BVH node: its children's boxes, quantized to 16 bits per coordinate

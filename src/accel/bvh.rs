@@ -6,9 +6,10 @@
 //! the two children of every interior node in adjacent slots, plus one array of primitive
 //! references that leaves index into.
 //!
-//! [`Bvh::intersect`] is the traversal the WGSL kernels use, written so that it ports line
-//! for line: a fixed stack of [`STACK_SIZE`] node indices, no recursion, no allocation, `f32`
-//! arithmetic only.
+//! The kernels traverse the same tree packed by [`Bvh::pack`] into [`GpuBvhNode`]s (interior
+//! nodes holding their children's quantized boxes). [`Bvh::intersect`] traverses the
+//! unpacked tree on the CPU, with a fixed stack of [`STACK_SIZE`] entries and `f32`
+//! arithmetic as in the kernels: the oracle the kernels' hits are checked against.
 
 use std::time::Duration;
 
@@ -18,13 +19,13 @@ use obvhs::{aabb::Aabb, bvh2::builder::build_bvh2, bvh2::Bvh2, BvhBuildParams};
 
 use crate::scene::{Sphere, Triangle};
 
-/// One BVH node as the GPU reads it (32 bytes). Leaf when `count > 0`: primitives
+/// One node of the host tree (32 bytes). Leaf when `count > 0`: primitives
 /// `prim_refs[first .. first + count]`. Interior when `count == 0`: children at `first` and
 /// `first + 1`.
 ///
 /// The tree of an empty scene is a single node with `count == 0` and an inverted box
-/// (`min = +inf`, `max = -inf`). Every traversal tests a node's box before looking at its
-/// children, and no ray with a finite origin and direction passes the slab test of an
+/// (`min = +inf`, `max = -inf`), packed for the kernels as a root with two empty children.
+/// [`Bvh::intersect`] tests a node's box before looking at its children, and no ray with a finite origin and direction passes the slab test of an
 /// inverted box, so that root is never descended into (its "children" do not exist). This
 /// relies on the slab test picking near and far planes by the sign of the direction, as
 /// `slab_test` does: taking per-axis min and max of the two plane distances instead would

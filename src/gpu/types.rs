@@ -63,10 +63,10 @@ pub struct Frame {
     pub row_offset: u32,
     /// Rows of the whole image, for the camera's projection.
     pub image_height: u32,
+    /// Padding to a multiple of 16 bytes (uniform layout); always 0.
+    pub _pad0: u32,
     /// Padding; always 0.
-    pub _pad2: u32,
-    /// Padding; always 0.
-    pub _pad3: u32,
+    pub _pad1: u32,
 }
 
 /// A triangle as a corner and two edges.

@@ -15,6 +15,7 @@ use crate::scene::{Method, Scene};
 /// `scene.render.method` over bands of at most `rows_per_band` rows.
 pub struct Bands {
     bands: Vec<Box<dyn Integrator>>,
+    method: Method,
     width: u32,
     height: u32,
 }
@@ -47,7 +48,7 @@ impl Bands {
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(Self { bands, width: scene.render.width, height })
+        Ok(Self { bands, method: scene.render.method, width: scene.render.width, height })
     }
 
     /// Number of bands.
@@ -66,9 +67,13 @@ impl Integrator for Bands {
     fn passes(&self) -> u32 {
         self.bands[0].passes()
     }
-    /// Summed over the bands: SPPM traces the pass's photons once per band.
+    /// What a pass adds to the estimate: the pass's photons for SPPM (each band traces them
+    /// again, for its own points), a sample per pixel of every band for the path tracers.
     fn work_per_pass(&self) -> u64 {
-        self.bands.iter().map(|b| b.work_per_pass()).sum()
+        match self.method {
+            Method::Sppm => self.bands[0].work_per_pass(),
+            Method::Pt | Method::PtNee => self.bands.iter().map(|b| b.work_per_pass()).sum(),
+        }
     }
     fn work_unit(&self) -> &'static str {
         self.bands[0].work_unit()

@@ -63,9 +63,10 @@ fn sizes<'a>(buffers: impl IntoIterator<Item = (&'a str, &'a wgpu::Buffer)>) -> 
 
 /// The integrator for `scene.render.method`, on the caller's device.
 pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Box<dyn Integrator>, Error> {
+    let rows = max_rows(device, scene);
     Ok(match scene.render.method {
         // An image whose per-pixel buffers do not fit in one storage buffer goes in bands.
-        _ if max_rows(device, scene) < scene.render.height => Box::new(Bands::new(device, queue, scene, max_rows(device, scene))?),
+        _ if rows < scene.render.height => Box::new(Bands::new(device, queue, scene, rows)?),
         Method::Sppm => Box::new(Sppm::new(device, queue, scene)?),
         Method::Pt | Method::PtNee => Box::new(PathTracer::new(device, queue, scene)?),
     })

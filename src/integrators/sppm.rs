@@ -166,8 +166,8 @@ impl Sppm {
         Self::with_scene_buffers(device, queue, scene, &data, scene_buffers, rows)
     }
 
-    /// Rows of `scene`'s image whose visible points fit in one set of this device's buffers
-    /// (at least 1; 0 when not even one row fits).
+    /// Rows of `scene`'s image whose visible points fit in one set of this device's buffers;
+    /// 0 when not even one row fits.
     pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
         // The largest per-point buffers hold 32 bytes a point (flux, statistics, grid).
         let points = device.limits().max_storage_buffer_binding_size as u64 / (ACCUM_STRIDE as u64 * 4);
@@ -189,6 +189,10 @@ impl Sppm {
             return Err(Error::Setting(format!("rows {rows:?} are not within the image's {} rows", r.height)));
         }
         let band_height = rows.end - rows.start;
+        // Random streams are keyed by a point's u32 index in the whole image.
+        if r.width as u64 * r.height as u64 * r.spp as u64 > u32::MAX as u64 {
+            return Err(Error::Setting(format!("{}x{} pixels with spp {} are more than 2^32 visible points", r.width, r.height, r.spp)));
+        }
         let pixel_count = r.width.checked_mul(band_height).ok_or_else(|| Error::Setting("image too large".into()))?;
         let vp_count = pixel_count
             .checked_mul(r.spp)

@@ -37,3 +37,38 @@ pub fn reference(name: &str) -> sppm_gpu::image_io::Rgb32Image {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/references").join(name);
     sppm_gpu::image_io::read_exr(&path).unwrap_or_else(|e| panic!("{e}"))
 }
+
+/// Closest hits of `rays` (origin and t_max, then direction, per ray) through `data` with the
+/// `trace_rays` kernel compiled for `constants`: per ray (t, prim_ref as bits, b1, b2).
+pub fn trace_rays(
+    gpu: &GpuContext,
+    data: &sppm_gpu::gpu::scene_buffers::SceneData,
+    rays: &[[f32; 4]],
+    constants: &[(&str, f64)],
+) -> Vec<[f32; 4]> {
+    use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
+    use sppm_gpu::gpu::scene_buffers::{storage_buffer, SceneBuffers};
+    use sppm_gpu::gpu::{Kernel, Resource};
+    use wgpu::util::DeviceExt;
+    let kernel = Kernel::specialized(&gpu.device, "trace_rays", &[], constants).unwrap();
+    let buffers = SceneBuffers::new(&gpu.device, data);
+    let n = rays.len() / 2;
+    let ray_buffer = storage_buffer(&gpu.device, "rays", rays);
+    let hits = storage_buffer(&gpu.device, "hits", &vec![[0f32; 4]; n]);
+    // The traversal reads the ray offset and shutter time from the frame: a still scene at time 0.
+    let frame = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("frame"),
+        contents: bytemuck::bytes_of(&sppm_gpu::gpu::types::Frame::default()),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let mut resources = buffers.resources();
+    resources.push(Resource { name: "frame", buffer: &frame });
+    resources.push(Resource { name: "rays", buffer: &ray_buffer });
+    resources.push(Resource { name: "hits", buffer: &hits });
+    let group = kernel.bind_group(&gpu.device, &resources).unwrap();
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    kernel.dispatch(&mut encoder, &group, n as u32);
+    gpu.queue.submit([encoder.finish()]);
+    let staging = staging_buffer(&gpu.device, "hits_staging", hits.size());
+    read_buffer(&gpu.device, &gpu.queue, &hits, &staging, hits.size()).unwrap()
+}
