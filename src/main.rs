@@ -382,7 +382,7 @@ fn print_memory(memory: &integrators::GpuMemory) {
     ] {
         println!("  {part}: {}", mib(bytes));
         let mut sorted = buffers.clone();
-        sorted.sort_by(|a, b| b.1.cmp(&a.1));
+        sorted.sort_by_key(|(_, bytes)| std::cmp::Reverse(*bytes));
         for (name, b) in sorted {
             println!("    {name:24} {:>12} bytes", b);
         }

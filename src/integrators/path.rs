@@ -42,7 +42,7 @@ impl PathTracer {
 
     /// Rows of `scene`'s image whose sums fit in one of this device's storage buffers.
     pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
-        let pixels = device.limits().max_storage_buffer_binding_size as u64 / 16;
+        let pixels = device.limits().max_storage_buffer_binding_size / 16;
         (pixels / (scene.render.width as u64).max(1)).min(u32::MAX as u64) as u32
     }
 
@@ -64,7 +64,7 @@ impl PathTracer {
         let band_height = rows.end - rows.start;
         let pixel_count = r.width.checked_mul(band_height).ok_or_else(|| Error::Setting("image too large".into()))?;
         let bytes = pixel_count as u64 * 16;
-        if bytes > device.limits().max_storage_buffer_binding_size as u64 {
+        if bytes > device.limits().max_storage_buffer_binding_size {
             return Err(Error::Setting(format!(
                 "{}x{} pixels need more memory than this device's buffers hold; render it in bands of at most {} rows",
                 r.width,

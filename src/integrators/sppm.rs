@@ -170,7 +170,7 @@ impl Sppm {
     /// 0 when not even one row fits.
     pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
         // The largest per-point buffers hold 32 bytes a point (flux, statistics, grid).
-        let points = device.limits().max_storage_buffer_binding_size as u64 / (ACCUM_STRIDE as u64 * 4);
+        let points = device.limits().max_storage_buffer_binding_size / (ACCUM_STRIDE as u64 * 4);
         let per_row = scene.render.width as u64 * scene.render.spp as u64;
         (points / per_row.max(1)).min(u32::MAX as u64) as u32
     }
@@ -196,7 +196,7 @@ impl Sppm {
         let pixel_count = r.width.checked_mul(band_height).ok_or_else(|| Error::Setting("image too large".into()))?;
         let vp_count = pixel_count
             .checked_mul(r.spp)
-            .filter(|n| (*n as u64) * (ACCUM_STRIDE as u64) * 4 <= device.limits().max_storage_buffer_binding_size as u64)
+            .filter(|n| (*n as u64) * (ACCUM_STRIDE as u64) * 4 <= device.limits().max_storage_buffer_binding_size)
             .ok_or_else(|| {
                 Error::Setting(format!(
                     "{}x{} pixels with spp {} need more visible points than this device's buffers hold; \
