@@ -16,6 +16,8 @@
 //! submitted but by the application. At the end it copies the textures back, checks its own
 //! kernel's result, and saves the images.
 
+use sppm_gpu::gpu::readback;
+use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators::Sppm;
 use sppm_gpu::scene::Camera;
 use std::path::PathBuf;
@@ -128,15 +130,15 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     // Read everything back: the application's buffer and both textures.
-    let data: Vec<u32> = bytemuck::cast_slice(&read_buffer(&device, &queue, &app_data)?).to_vec();
+    let data: Vec<u32> = readback::read_whole(&device, &queue, &app_data)?;
     let seconds = start.elapsed().as_secs_f64();
     for (i, &x) in data.iter().enumerate() {
         if x != frames * (i as u32 + 1) {
             return Err(format!("the application's kernel gave {x} at {i}, expected {}", frames * (i as u32 + 1)).into());
         }
     }
-    let image1 = read_texture(&device, &queue, &target1)?;
-    let image2 = read_texture(&device, &queue, &target2)?;
+    let image1 = read_image(&device, &queue, &target1)?;
+    let image2 = read_image(&device, &queue, &target2)?;
     let output2 = output.with_file_name(format!(
         "{}-view2.png",
         output.file_stem().map_or("embed".into(), |s| s.to_string_lossy())
@@ -163,84 +165,10 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// Copy a buffer (with COPY_SRC) back to the host.
-fn read_buffer(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer) -> Result<Vec<u8>, Box<dyn std::error::Error>> {
-    let staging = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size: buffer.size(),
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
-    queue.submit([encoder.finish()]);
-    map(device, &staging)
-}
-
-/// Wait for the GPU and map `staging` for reading.
-fn map(device: &wgpu::Device, staging: &wgpu::Buffer) -> Result<Vec<u8>, Box<dyn std::error::Error>> {
-    let (sender, receiver) = std::sync::mpsc::channel();
-    staging.slice(..).map_async(wgpu::MapMode::Read, move |r| drop(sender.send(r)));
-    device.poll(wgpu::PollType::wait_indefinitely())?;
-    receiver.recv()??;
-    let bytes = staging.slice(..).get_mapped_range()?.to_vec();
-    staging.unmap();
-    Ok(bytes)
-}
-
-/// Copy an Rgba32Float or Rgba16Float texture back as a linear RGB image (rows are padded
-/// to 256 bytes in the copy).
-fn read_texture(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    texture: &wgpu::Texture,
-) -> Result<sppm_gpu::image_io::Rgb32Image, Box<dyn std::error::Error>> {
-    let (width, height) = (texture.width(), texture.height());
-    let texel = texture.format().block_copy_size(None).ok_or("not a copyable format")?;
-    let row = width * texel;
-    let padded = row.next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-    let staging = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("texture readback"),
-        size: padded as u64 * height as u64,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &staging,
-            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(height) },
-        },
-        texture.size(),
-    );
-    queue.submit([encoder.finish()]);
-    let bytes = map(device, &staging)?;
-    let channel = |b: &[u8]| -> f32 {
-        match b.len() {
-            4 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
-            _ => f16_to_f32(u16::from_le_bytes([b[0], b[1]])),
-        }
-    };
-    let size = (texel / 4) as usize;
-    Ok(sppm_gpu::image_io::Rgb32Image::from_fn(width, height, |x, y| {
-        let at = (y * padded + x * texel) as usize;
-        let c = |i: usize| channel(&bytes[at + i * size..at + (i + 1) * size]);
-        [c(0), c(1), c(2)]
-    }))
-}
-
-/// An IEEE 754 half-precision value as f32.
-fn f16_to_f32(h: u16) -> f32 {
-    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let exponent = ((h >> 10) & 0x1f) as i32;
-    let mantissa = (h & 0x3ff) as f32;
-    sign * match exponent {
-        0 => mantissa * 2f32.powi(-24),
-        31 if mantissa == 0.0 => f32::INFINITY,
-        31 => f32::NAN,
-        e => (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
-    }
+/// An RGBA texture read back, as the linear RGB image it holds.
+fn read_image(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Result<Rgb32Image, Box<dyn std::error::Error>> {
+    let texels = readback::read_texture(device, queue, texture)?;
+    Ok(Rgb32Image::from_rgba(texture.width(), texture.height(), &texels))
 }
 
 fn main() -> ExitCode {

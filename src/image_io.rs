@@ -57,6 +57,13 @@ impl Rgb32Image {
         }
     }
 
+    /// The RGB of `rgba` texels, row by row from the top (alpha dropped). Panics unless
+    /// there are `width * height` of them.
+    pub fn from_rgba(width: u32, height: u32, rgba: &[[f32; 4]]) -> Self {
+        assert_eq!(rgba.len(), width as usize * height as usize, "texel count");
+        Self { width, height, pixels: rgba.iter().map(|&[r, g, b, _]| [r, g, b]).collect() }
+    }
+
     /// Index of pixel `(x, y)` in `pixels`. Panics when out of bounds.
     fn index(&self, x: u32, y: u32) -> usize {
         assert!(

@@ -7,6 +7,7 @@
 
 mod common;
 
+use sppm_gpu::gpu::readback;
 use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators::sppm::auto_radius;
 use sppm_gpu::integrators::Sppm;
@@ -129,80 +130,20 @@ fn target(device: &wgpu::Device, format: wgpu::TextureFormat, width: u32, height
     })
 }
 
-fn map(device: &wgpu::Device, staging: &wgpu::Buffer) -> Vec<u8> {
-    let (sender, receiver) = std::sync::mpsc::channel();
-    staging.slice(..).map_async(wgpu::MapMode::Read, move |r| drop(sender.send(r)));
-    device.poll(wgpu::PollType::wait_indefinitely()).expect("poll");
-    receiver.recv().expect("map callback").expect("map");
-    let bytes = staging.slice(..).get_mapped_range().expect("mapped").to_vec();
-    staging.unmap();
-    bytes
-}
-
 fn read_buffer(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer) -> Vec<u8> {
-    let staging = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("readback"),
-        size: buffer.size(),
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, buffer.size());
-    queue.submit([encoder.finish()]);
-    map(device, &staging)
+    readback::read_whole(device, queue, buffer).expect("readback")
 }
 
-/// An Rgba32Float or Rgba16Float texture as RGB, through a copy with rows padded to 256
-/// bytes; also the alpha channel.
+/// An Rgba32Float or Rgba16Float texture as RGB, and its alpha channel.
 fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> (Rgb32Image, Vec<f32>) {
-    let (width, height) = (texture.width(), texture.height());
-    let texel = texture.format().block_copy_size(None).expect("copyable");
-    let padded = (width * texel).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-    let staging = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("texture readback"),
-        size: padded as u64 * height as u64,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &staging,
-            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(height) },
-        },
-        texture.size(),
-    );
-    queue.submit([encoder.finish()]);
-    let bytes = map(device, &staging);
-    let size = (texel / 4) as usize;
-    let channel = |x: u32, y: u32, i: usize| {
-        let at = (y * padded + x * texel) as usize + i * size;
-        let b = &bytes[at..at + size];
-        match size {
-            4 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]),
-            _ => f16_to_f32(u16::from_le_bytes([b[0], b[1]])),
-        }
-    };
-    let rgb = Rgb32Image::from_fn(width, height, |x, y| [channel(x, y, 0), channel(x, y, 1), channel(x, y, 2)]);
-    let alpha = (0..height).flat_map(|y| (0..width).map(move |x| (x, y))).map(|(x, y)| channel(x, y, 3)).collect();
-    (rgb, alpha)
-}
-
-fn f16_to_f32(h: u16) -> f32 {
-    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let exponent = ((h >> 10) & 0x1f) as i32;
-    let mantissa = (h & 0x3ff) as f32;
-    sign * match exponent {
-        0 => mantissa * 2f32.powi(-24),
-        31 if mantissa == 0.0 => f32::INFINITY,
-        31 => f32::NAN,
-        e => (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
-    }
+    let texels = readback::read_texture(device, queue, texture).expect("texture readback");
+    let rgb = Rgb32Image::from_rgba(texture.width(), texture.height(), &texels);
+    (rgb, texels.iter().map(|t| t[3]).collect())
 }
 
 #[test]
 fn f16_decoding() {
+    use readback::f16_to_f32;
     assert_eq!(f16_to_f32(0x3c00), 1.0);
     assert_eq!(f16_to_f32(0xc000), -2.0);
     assert_eq!(f16_to_f32(0x3555), 0.333_251_95);

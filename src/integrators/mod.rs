@@ -131,6 +131,23 @@ fn scene_diagonal(scene: &Scene) -> f32 {
 use crate::gpu::types::Frame;
 use crate::scene::{Camera, Scene};
 
+/// The frame of an integrator over rows `rows` of `scene`'s image: the whole image's camera
+/// and settings, the band's height and first row, and the light and ray constants of `data`.
+fn band_frame(scene: &Scene, data: &crate::gpu::scene_buffers::SceneData, rows: &std::ops::Range<u32>) -> Result<Frame, Error> {
+    let height = scene.render.height;
+    if rows.is_empty() || rows.end > height {
+        return Err(Error::Setting(format!("rows {rows:?} are not within the image's {height} rows")));
+    }
+    Ok(Frame {
+        height: rows.end - rows.start,
+        row_offset: rows.start,
+        emitter_count: data.emitters.len() as u32,
+        ray_epsilon: data.ray_epsilon(),
+        power_total: data.power_total,
+        ..camera_frame(scene)
+    })
+}
+
 /// The camera part of [`Frame`]: position and the image-plane basis at distance 1
 /// (`cam_right` spans half the image width, `cam_up` half its height).
 pub fn camera_frame(scene: &Scene) -> Frame {

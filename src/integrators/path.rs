@@ -2,7 +2,7 @@
 //! naive (`method = "pt"`) or with next-event estimation and MIS (`"pt-nee"`). Each pass adds
 //! one sample per pixel (`path_trace`); the image is the running mean.
 
-use super::{camera_frame, shutter_time, Integrator};
+use super::{shutter_time, Integrator};
 use crate::error::Error;
 use crate::gpu::readback::{read_buffer, staging_buffer};
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
@@ -58,10 +58,8 @@ impl PathTracer {
         rows: Range<u32>,
     ) -> Result<Self, Error> {
         let r = &scene.render;
-        if rows.is_empty() || rows.end > r.height {
-            return Err(Error::Setting(format!("rows {rows:?} are not within the image's {} rows", r.height)));
-        }
-        let band_height = rows.end - rows.start;
+        let mut frame = super::band_frame(scene, data, &rows)?;
+        let band_height = frame.height;
         let pixel_count = r.width.checked_mul(band_height).ok_or_else(|| Error::Setting("image too large".into()))?;
         let bytes = pixel_count as u64 * 16;
         if bytes > device.limits().max_storage_buffer_binding_size {
@@ -72,12 +70,6 @@ impl PathTracer {
                 Self::max_rows(device, scene)
             )));
         }
-        let mut frame = camera_frame(scene);
-        frame.height = band_height;
-        frame.row_offset = rows.start;
-        frame.emitter_count = data.emitters.len() as u32;
-        frame.ray_epsilon = data.ray_epsilon();
-        frame.power_total = data.power_total;
         frame.nee = (r.method == Method::PtNee) as u32;
 
         let path_trace = Kernel::specialized(device, "path_trace", &[], &Features::of(data).constants())?;

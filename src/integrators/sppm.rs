@@ -9,7 +9,7 @@
 
 use crate::accel::GridParams;
 use crate::error::Error;
-use crate::gpu::readback::{read_buffer, staging_buffer};
+use crate::gpu::readback::{read_buffer, read_whole, staging_buffer};
 use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
 use crate::gpu::types::*;
 use crate::gpu::{Features, Kernel, Resource};
@@ -185,10 +185,8 @@ impl Sppm {
         rows: Range<u32>,
     ) -> Result<Self, Error> {
         let r = &scene.render;
-        if rows.is_empty() || rows.end > r.height {
-            return Err(Error::Setting(format!("rows {rows:?} are not within the image's {} rows", r.height)));
-        }
-        let band_height = rows.end - rows.start;
+        let mut frame = super::band_frame(scene, data, &rows)?;
+        let band_height = frame.height;
         // Random streams are keyed by a point's u32 index in the whole image.
         if r.width as u64 * r.height as u64 * r.spp as u64 > u32::MAX as u64 {
             return Err(Error::Setting(format!("{}x{} pixels with spp {} are more than 2^32 visible points", r.width, r.height, r.spp)));
@@ -209,13 +207,7 @@ impl Sppm {
             })?;
         let initial_radius = r.radius.unwrap_or_else(|| auto_radius(scene));
 
-        let mut frame = super::camera_frame(scene);
-        frame.height = band_height;
-        frame.row_offset = rows.start;
         frame.photon_count = r.photons;
-        frame.emitter_count = data.emitters.len() as u32;
-        frame.ray_epsilon = data.ray_epsilon();
-        frame.power_total = data.power_total;
         frame.vp_count = vp_count;
 
         let n = vp_count as u64;
@@ -389,10 +381,7 @@ impl Sppm {
     /// The grid as the GPU built it this pass: parameters, bucket offsets and entries (for
     /// tests against the CPU oracle).
     pub fn grid(&self) -> Result<(GridParams, Vec<u32>, Vec<u32>), Error> {
-        let read = |b: &wgpu::Buffer| -> Result<Vec<u32>, Error> {
-            let staging = staging_buffer(&self.device, "grid_staging", b.size());
-            Ok(read_buffer(&self.device, &self.queue, b, &staging, b.size())?)
-        };
+        let read = |b: &wgpu::Buffer| -> Result<Vec<u32>, Error> { Ok(read_whole(&self.device, &self.queue, b)?) };
         let params: GridParams = bytemuck::pod_read_unaligned(bytemuck::cast_slice(&read(&self.buffers.grid_params)?[..8]));
         Ok((params, read(&self.buffers.grid_cell_start)?, read(&self.buffers.grid_entries)?))
     }
@@ -491,17 +480,12 @@ impl Sppm {
         self.queue.submit([encoder.finish()]);
         let rgba: Vec<[f32; 4]> =
             read_buffer(&self.device, &self.queue, &self.buffers.image, &self.image_staging, self.pixel_count as u64 * 16)?;
-        let mut img = Rgb32Image::new(self.frame.width, self.frame.height);
-        for (dst, src) in img.pixels.iter_mut().zip(&rgba) {
-            *dst = [src[0], src[1], src[2]];
-        }
-        Ok(img)
+        Ok(Rgb32Image::from_rgba(self.frame.width, self.frame.height, &rgba))
     }
 
     /// Per visible point statistics, read back (for tests and `--stats`).
     pub fn stats(&self) -> Result<Vec<VpStats>, Error> {
-        let staging = staging_buffer(&self.device, "vp_stats_staging", self.buffers.vp_stats.size());
-        Ok(read_buffer(&self.device, &self.queue, &self.buffers.vp_stats, &staging, self.buffers.vp_stats.size())?)
+        Ok(read_whole(&self.device, &self.queue, &self.buffers.vp_stats)?)
     }
 
     /// The photon pass's flux accumulator, read back: `ACCUM_STRIDE` words per visible point,
@@ -509,18 +493,13 @@ impl Sppm {
     /// count. It holds the current pass's photons between `trace_photons` and
     /// `update_statistics`, which clears it.
     pub fn flux_accum(&self) -> Result<Vec<u32>, Error> {
-        let size = self.buffers.flux_accum.size();
-        let staging = staging_buffer(&self.device, "flux_accum_staging", size);
-        Ok(read_buffer(&self.device, &self.queue, &self.buffers.flux_accum, &staging, size)?)
+        Ok(read_whole(&self.device, &self.queue, &self.buffers.flux_accum)?)
     }
 
     /// Visible points' positions and radii of the current pass (xyz, radius; radius 0 where
     /// the camera path found none), read back.
     pub fn visible_point_positions(&self) -> Result<Vec<[f32; 4]>, Error> {
-        // A staging buffer for this read only: renders never need one.
-        let bytes = self.vp_count as u64 * 16;
-        let staging = staging_buffer(&self.device, "vp_points_staging", bytes);
-        Ok(read_buffer(&self.device, &self.queue, &self.buffers.vp_points, &staging, bytes)?)
+        Ok(read_whole(&self.device, &self.queue, &self.buffers.vp_points)?)
     }
 
     /// The per-pass constants the kernels see (camera, counts, alpha, `power_total`).

@@ -84,40 +84,6 @@ impl App {
         if sppm.passes() != passes {
             return Err(format!("the renderer counted {} passes, expected {passes}", sppm.passes()));
         }
-        self.read_rgba32f(&texture)
-    }
-
-    /// Copy an Rgba32Float texture back; rows are padded to 256 bytes in the copy.
-    fn read_rgba32f(&self, texture: &wgpu::Texture) -> Result<Vec<[f32; 4]>, String> {
-        let (width, height) = (texture.width(), texture.height());
-        let row = width * 16;
-        let padded = row.next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: padded as u64 * height as u64,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = self.device.create_command_encoder(&Default::default());
-        encoder.copy_texture_to_buffer(
-            texture.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &staging,
-                layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(height) },
-            },
-            texture.size(),
-        );
-        self.queue.submit([encoder.finish()]);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        staging.slice(..).map_async(wgpu::MapMode::Read, move |r| drop(sender.send(r)));
-        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| e.to_string())?;
-        receiver.recv().map_err(|e| e.to_string())?.map_err(|e| e.to_string())?;
-        let bytes = staging.slice(..).get_mapped_range().map_err(|e| e.to_string())?.to_vec();
-        staging.unmap();
-        let float = |at: usize| f32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
-        Ok((0..height)
-            .flat_map(|y| (0..width).map(move |x| (y * padded + x * 16) as usize))
-            .map(|at| [float(at), float(at + 4), float(at + 8), float(at + 12)])
-            .collect())
+        sppm_gpu::gpu::readback::read_texture(&self.device, &self.queue, &texture).map_err(|e| e.to_string())
     }
 }
