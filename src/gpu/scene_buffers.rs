@@ -173,7 +173,7 @@ impl SceneData {
                 _pad: 0,
             })
             .collect::<Vec<_>>();
-        let (bounds_min, bounds_max) = scene_bounds(scene);
+        let (bounds_min, bounds_max) = scene.bounds();
 
         // Lights, chosen in proportion to power: the average over RGB of Le * area * pi for an
         // area light (a Lambertian emitter), I * 4 pi for a point light and E * pi R^2 for a
@@ -299,25 +299,6 @@ fn swept_bounds(scene: &Scene, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
             lo = lo.min(s.center + v - s.radius);
             hi = hi.max(s.center + v + s.radius);
         }
-    }
-    (lo, hi)
-}
-
-fn scene_bounds(scene: &Scene) -> (Vec3, Vec3) {
-    let mut lo = Vec3::splat(f32::INFINITY);
-    let mut hi = Vec3::splat(f32::NEG_INFINITY);
-    for t in &scene.triangles {
-        for p in t.p {
-            lo = lo.min(p);
-            hi = hi.max(p);
-        }
-    }
-    for s in &scene.spheres {
-        lo = lo.min(s.center - s.radius);
-        hi = hi.max(s.center + s.radius);
-    }
-    if lo.x > hi.x {
-        return (Vec3::ZERO, Vec3::ZERO);
     }
     (lo, hi)
 }

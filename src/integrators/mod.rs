@@ -100,7 +100,8 @@ pub fn limitations(scene: &Scene) -> Vec<String> {
              glass surfaces: their caustics are missing from the image; use sppm"
         )),
         Method::Sppm => {
-            let diagonal = scene_diagonal(scene);
+            let (lo, hi) = scene.bounds();
+            let diagonal = (hi - lo).length();
             if let Some(r) = scene.render.radius {
                 if diagonal > 0.0 && r > 0.05 * diagonal {
                     out.push(format!(
@@ -113,19 +114,6 @@ pub fn limitations(scene: &Scene) -> Vec<String> {
         _ => {}
     }
     out
-}
-
-/// Diagonal of the box around the scene's surfaces; 0 for an empty scene.
-fn scene_diagonal(scene: &Scene) -> f32 {
-    let points = scene.triangles.iter().flat_map(|t| t.p).chain(
-        scene.spheres.iter().flat_map(|s| [s.center - s.radius, s.center + s.radius]),
-    );
-    let (lo, hi) = points.fold((glam::Vec3::INFINITY, glam::Vec3::NEG_INFINITY), |(lo, hi), p| (lo.min(p), hi.max(p)));
-    if lo.x > hi.x {
-        0.0
-    } else {
-        (hi - lo).length()
-    }
 }
 
 use crate::gpu::types::Frame;

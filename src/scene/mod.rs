@@ -244,6 +244,26 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// The box around every surface at rest (time 0); zero for a scene with no surfaces.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let mut lo = Vec3::INFINITY;
+        let mut hi = Vec3::NEG_INFINITY;
+        for t in &self.triangles {
+            for p in t.p {
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+        }
+        for s in &self.spheres {
+            lo = lo.min(s.center - s.radius);
+            hi = hi.max(s.center + s.radius);
+        }
+        if lo.x > hi.x {
+            return (Vec3::ZERO, Vec3::ZERO);
+        }
+        (lo, hi)
+    }
+
     /// Material of a shape.
     pub fn shape_material(&self, shape: u32) -> &Material {
         &self.materials[self.shapes[shape as usize].material as usize]
