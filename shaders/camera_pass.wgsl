@@ -1,6 +1,11 @@
 // SPPM camera pass (Hachisuka & Jensen 2009, sec. 4): one path per visible-point slot, from a
-// jittered point in its pixel through specular bounces to the first non-specular surface,
-// where it leaves a visible point. Emission seen along the way is added to the slot's ld.
+// jittered point in its pixel through specular and glossy bounces to the first diffuse
+// surface, where it leaves a visible point. Emission seen along the way is added to the slot's
+// ld. With frame.direct == 1 the path also samples direct light at its glossy vertices and at
+// the visible point (direct_light, the code pt-nee runs), weighting emission it hits after a
+// glossy bounce by MIS, as pbrt-v4's SPPM does; the photons then carry only light that has
+// bounced at least once (photon_pass.wgsl), so no light is counted twice. With 0, photons
+// carry all light and emission counts whole.
 
 #import types
 #import rng
@@ -8,6 +13,8 @@
 #import scene
 #import bsdf
 #import camera
+#import lights
+#import direct
 
 @group(0) @binding(8) var<storage, read_write> visible_points: array<VisiblePoint>;
 @group(0) @binding(9) var<storage, read_write> vp_points: array<vec4f>;
@@ -16,6 +23,76 @@
 @group(0) @binding(17) var<storage, read_write> grid_max_radius: array<atomic<u32>>;
 
 const STREAM_CAMERA: u32 = 0u;
+
+// What one camera path found: the light it gathered along the way, and where it ended on a
+// diffuse surface (radius 0 in `position` when it found none).
+struct CameraPath {
+    ld: vec3f,
+    vp: VisiblePoint,
+    position: vec3f,
+    found: bool,
+}
+
+// Trace a camera path through pixel (px, py) to its first diffuse surface.
+fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
+    let ray = camera_ray(px, py, rng);
+    var o = ray.o;
+    var d = ray.d;
+    var beta = vec3f(1.0);
+    var path = CameraPath(vec3f(0.0), VisiblePoint(vec3f(0.0), 0u, vec3f(0.0), 0u), vec3f(0.0), false);
+    let sample_direct = frame.direct != 0u;
+    // Density of the glossy sample that led here, for MIS at an emitter; 0 after the camera
+    // and specular scattering, and when direct light is not sampled.
+    var pdf_prev = 0.0;
+    for (var depth = 0u; depth < frame.max_depth; depth++) {
+        let hit = trace_closest(o, d, 3.4e38);
+        if hit.prim_ref == 0xffffffffu {
+            break;
+        }
+        let s = surface_at(hit, o, d);
+        // Emission is one-sided: only the front of the geometric normal emits.
+        let shape = shapes[s.shape];
+        if shape.emits != 0u && dot(d, s.ng) < 0.0 {
+            path.ld += beta * shape.emission * emission_weight(pdf_prev, s.shape, hit.t, d, s.ng);
+        }
+        let m = materials[s.material];
+        if m.kind == MATERIAL_DIFFUSE {
+            let albedo = diffuse_albedo(m, s.uv);
+            if sample_direct {
+                // Both MIS strategies here, since the path ends: a light sample and a BSDF
+                // sample that may hit a light.
+                path.ld += beta * direct_light(s, -d, m, albedo, vec3f(rng_next(rng), rng_next2(rng)));
+                path.ld += beta * bsdf_sampled_emission(s, -d, albedo, rng_next2(rng));
+            }
+            // The visible point: the photon pass adds flux * weight for photons near it.
+            let n = select(-s.ng, s.ng, dot(d, s.ng) < 0.0);
+            path.vp = VisiblePoint(n, 0u, beta * albedo * INV_PI, 0u);
+            path.position = s.p;
+            path.found = true;
+            break;
+        }
+        // Specular and glossy surfaces are passed through by sampling them, so visible points
+        // lie on diffuse surfaces only (as pbrt-v4's SPPM does for all but the last bounce):
+        // the estimate at a glossy surface is then the unbiased average over its lobe of
+        // the density estimates further on, and no BSDF has to be evaluated per photon.
+        let glossy = USES_GLOSSY && m.kind == MATERIAL_GLOSSY && sample_direct;
+        if glossy {
+            path.ld += beta * direct_light(s, -d, m, m.albedo, vec3f(rng_next(rng), rng_next2(rng)));
+        }
+        let next = sample_nondiffuse(m, d, s, vec3f(rng_next2(rng), rng_next(rng)), true);
+        if all(next.weight == vec3f(0.0)) {
+            break;
+        }
+        beta *= next.weight;
+        pdf_prev = 0.0;
+        if glossy {
+            pdf_prev = glossy_eval(m.albedo, m.roughness, -d, next.wi, s.ns).pdf;
+        }
+        o = offset_origin(s.p, s.ng, next.wi);
+        d = next.wi;
+    }
+    return path;
+}
 
 @compute @workgroup_size(64)
 fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
@@ -30,48 +107,23 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     let px = pixel % frame.width;
     let py = pixel / frame.width;
 
-    let ray = camera_ray(px, py, &rng);
-    var o = ray.o;
-    var d = ray.d;
-
-    var beta = vec3f(1.0);
-    var ld = vec3f(0.0);
-    var vp = VisiblePoint(vec3f(0.0), 0u, vec3f(0.0), 0u);
-    var vp_position = vec4f(0.0);
-    for (var depth = 0u; depth < frame.max_depth; depth++) {
-        let hit = trace_closest(o, d, 3.4e38);
-        if hit.prim_ref == 0xffffffffu {
-            break;
-        }
-        let s = surface_at(hit, o, d);
-        // Emission is one-sided: only the front of the geometric normal emits.
-        let shape = shapes[s.shape];
-        if shape.emits != 0u && dot(d, s.ng) < 0.0 {
-            ld += beta * shape.emission;
-        }
-        let m = materials[s.material];
-        if m.kind == MATERIAL_DIFFUSE {
-            // The visible point: the photon pass adds flux * weight for photons near it.
-            let n = select(-s.ng, s.ng, dot(d, s.ng) < 0.0);
-            vp = VisiblePoint(n, 0u, beta * diffuse_albedo(m, s.uv) * INV_PI, 0u);
-            vp_position = vec4f(s.p, vp_stats[index].radius);
-            // Positive floats order like their bits.
-            atomicMax(&grid_max_radius[0], bitcast<u32>(vp_position.w));
-            break;
-        }
-        // Specular and glossy surfaces are passed through by sampling them, so visible points
-        // lie on diffuse surfaces only (as pbrt-v4's SPPM does for all but the last bounce):
-        // the estimate at a glossy surface is then the unbiased average over its lobe of
-        // the density estimates further on, and no BSDF has to be evaluated per photon.
-        let next = sample_nondiffuse(m, d, s, vec3f(rng_next2(&rng), rng_next(&rng)), true);
-        if all(next.weight == vec3f(0.0)) {
-            break;
-        }
-        beta *= next.weight;
-        o = offset_origin(s.p, s.ng, next.wi);
-        d = next.wi;
+    // The first path leaves the visible point. Where direct light is sampled, the light the
+    // paths gather is the mean over frame.direct_samples paths through the pixel: each is an
+    // unbiased estimate of the pixel's emitted and direct light, and the extra paths cost no
+    // visible point, grid entry or photon deposit.
+    let first = trace_camera_path(px, py, &rng);
+    var ld = first.ld;
+    let paths = select(1u, max(frame.direct_samples, 1u), frame.direct != 0u);
+    for (var i = 1u; i < paths; i++) {
+        ld += trace_camera_path(px, py, &rng).ld;
     }
-    visible_points[index] = vp;
-    vp_points[index] = vp_position;
-    vp_stats[index].ld += ld;
+    var position = vec4f(0.0);
+    if first.found {
+        position = vec4f(first.position, vp_stats[index].radius);
+        // Positive floats order like their bits.
+        atomicMax(&grid_max_radius[0], bitcast<u32>(position.w));
+    }
+    visible_points[index] = first.vp;
+    vp_points[index] = position;
+    vp_stats[index].ld += ld / f32(paths);
 }

@@ -1,6 +1,6 @@
 // SPPM photon pass (Hachisuka & Jensen 2009, sec. 4): photons leave the emitters, chosen in
-// proportion to power, and at every non-specular hit add their flux to the visible points
-// within radius. Flux is accumulated in 64-bit fixed point built from two u32 atomics, so the
+// proportion to power, and at every diffuse hit add their flux to the visible points within
+// radius; at the first hit only when the camera pass does not sample direct light. Flux is accumulated in 64-bit fixed point built from two u32 atomics, so the
 // sum does not depend on the order in which photons arrive: the same seed gives the same image.
 
 #import types
@@ -118,7 +118,11 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> bool {
     var wi: vec3f;
     var f: vec3f;
     if m.kind == MATERIAL_DIFFUSE {
-        deposit(s.p, d, (*ph).beta);
+        // Where the camera pass samples direct light, photons straight from a light would
+        // count it twice: they deposit only after their first bounce.
+        if frame.direct == 0u || (*ph).depth > 0u {
+            deposit(s.p, d, (*ph).beta);
+        }
         // Scatter to the side the photon came from.
         let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
         wi = sample_cosine_hemisphere(n_in, rng_next2(rng));

@@ -4,7 +4,7 @@ use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 use sppm_gpu::gpu::GpuContext;
 use sppm_gpu::integrators::{self, Sppm};
-use sppm_gpu::scene::{self, Method};
+use sppm_gpu::scene::{self, DirectLight, Method};
 use sppm_gpu::{experiments, image_io, Error};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -66,6 +66,14 @@ struct Overrides {
     /// Most scattering events on a path (overrides render.max_depth).
     #[arg(long)]
     max_depth: Option<u32>,
+    /// SPPM's direct light: sampled in the camera pass (default) or from photons alone, as
+    /// in the original algorithm (overrides render.direct).
+    #[arg(long, value_parser = ["sampled", "photons"])]
+    direct: Option<String>,
+    /// SPPM with sampled direct light: camera paths per visible point per pass that gather
+    /// direct light (overrides render.direct_samples; default automatic).
+    #[arg(long)]
+    direct_samples: Option<u32>,
 }
 
 #[derive(clap::Subcommand, Debug)]
@@ -241,6 +249,11 @@ fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Resul
     positive("height", cli.height, 16384, &mut render.height)?;
     positive("spp", cli.spp, 1024, &mut render.spp)?;
     positive("max-depth", cli.max_depth, 1024, &mut render.max_depth)?;
+    if cli.direct_samples.is_some() {
+        let mut n = 1;
+        positive("direct-samples", cli.direct_samples, 1024, &mut n)?;
+        render.direct_samples = Some(n);
+    }
     if let Some(r) = cli.radius {
         if !(r > 0.0 && r.is_finite()) {
             return Err(Error::Setting(format!("--radius must be a positive number, got {r}")));
@@ -268,6 +281,9 @@ fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Resul
             "pt-nee" => Method::PtNee,
             _ => Method::Sppm,
         };
+    }
+    if let Some(d) = &cli.direct {
+        render.direct = if d == "photons" { DirectLight::Photons } else { DirectLight::Sampled };
     }
     Ok(())
 }
@@ -431,13 +447,14 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
     let seconds = start.elapsed().as_secs_f64();
     let passes = r.iterations as f64;
     println!(
-        "{}: {}x{}, {} passes (after one untimed) x {} photons, max_depth {}, {}",
+        "{}: {}x{}, {} passes (after one untimed) x {} photons, max_depth {}, direct light {}, {}",
         scene_path.display(),
         r.width,
         r.height,
         r.iterations,
         r.photons,
         r.max_depth,
+        if r.direct == DirectLight::Photons { "from photons" } else { "sampled" },
         gpu.adapter_info.name
     );
     for (name, s) in ["camera paths", "grid build", "photons", "statistics"].iter().zip(stage) {

@@ -30,7 +30,7 @@ fn gpu_structs_match_wgsl() {
     check!(module, Frame, "Frame", [
         cam_position, lens_radius, cam_right, focus_distance, cam_up, width, cam_forward, height,
         spp, pass_index, seed, max_depth, photon_count, emitter_count, ray_epsilon, power_total,
-        alpha, vp_count, time, nee, row_offset, image_height, _pad0, _pad1,
+        alpha, vp_count, time, nee, row_offset, image_height, direct, direct_samples,
     ]);
     check!(module, GpuBvhNode, "BvhNode", [box_a, child_a, box_b, child_b]);
     check!(module, BvhParams, "BvhParams", [origin, _pad0, scale, _pad1]);

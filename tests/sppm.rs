@@ -6,7 +6,7 @@ mod common;
 use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators::Sppm;
 use sppm_gpu::metrics::{compare, count_negative, count_non_finite, downsample_box};
-use sppm_gpu::scene::Scene;
+use sppm_gpu::scene::{DirectLight, Scene};
 
 fn render(gpu: &sppm_gpu::gpu::GpuContext, scene: &Scene) -> Rgb32Image {
     let mut sppm = Sppm::new(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
@@ -40,12 +40,17 @@ fn furnace_is_two_everywhere() {
 
 /// Render `name` at 128x128 and compare with its 256x256 reference, both reduced to 32x32.
 fn against_reference(name: &str, iterations: u32, photons: u32) -> sppm_gpu::metrics::Comparison {
+    against_reference_with(name, iterations, photons, DirectLight::Sampled)
+}
+
+fn against_reference_with(name: &str, iterations: u32, photons: u32, direct: DirectLight) -> sppm_gpu::metrics::Comparison {
     let gpu = common::gpu().expect("checked by the caller");
     let mut scene = common::load_scene(&format!("{name}.toml"));
     scene.render.width = 128;
     scene.render.height = 128;
     scene.render.iterations = iterations;
     scene.render.photons = photons;
+    scene.render.direct = direct;
     let img = render(&gpu, &scene);
     let reference = downsample_box(&common::reference(&format!("{name}.exr")), 2).unwrap();
     let c = compare(&img, &reference, 4).unwrap();
@@ -74,6 +79,24 @@ fn cornell_spheres_matches_reference() {
     assert!(c.rel_mse < 0.01, "relMSE {}", c.rel_mse);
     for r in c.mean_ratio {
         assert!((r - 1.0).abs() < 0.03, "channel mean ratios {:?}", c.mean_ratio);
+    }
+}
+
+/// The study's estimator, direct light from photons alone (`direct = "photons"`), still
+/// converges to the references and the furnace: it is kept for reproducing the study.
+#[test]
+fn photon_only_direct_light_matches_reference() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut furnace = common::load_scene("furnace.toml");
+    furnace.render.direct = DirectLight::Photons;
+    let mean = render(&gpu, &furnace).mean();
+    for c in mean {
+        assert!((c - 2.0).abs() < 0.02, "furnace mean {mean:?}");
+    }
+    let c = against_reference_with("cornell-box", 24, 200_000, DirectLight::Photons);
+    assert!(c.rel_mse < 0.003, "relMSE {}", c.rel_mse);
+    for r in c.mean_ratio {
+        assert!((r - 1.0).abs() < 0.02, "channel mean ratios {:?}", c.mean_ratio);
     }
 }
 

@@ -7,7 +7,7 @@ use glam::Vec3;
 use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators::Sppm;
 use sppm_gpu::metrics::{compare, count_negative, count_non_finite, downsample_box};
-use sppm_gpu::scene::{LightKind, Scene};
+use sppm_gpu::scene::{DirectLight, LightKind, Scene};
 
 /// Render `scene` for its iterations and check the image: every pixel finite and
 /// non-negative, every visible point's statistics finite with a positive radius.
@@ -73,11 +73,14 @@ fn very_bright_furnace_does_not_saturate() {
 /// Four million photons per pass into visible points with a radius of 0.15: those whose
 /// disc lies wholly on the flat back wall (away from its edges and from the furnace's
 /// sphere, where a ball that large would take in other surfaces or lose photons to the
-/// back-side test on the curve) each receive about 24,000 photons a pass and give 2.0.
+/// back-side test on the curve) each receive about 24,000 photons a pass and give 2.0. Direct
+/// light from photons, so that every photon deposits at its first hit too: the test is of
+/// the accumulators under that many deposits (with sampled direct light half as many arrive).
 #[test]
 fn tens_of_thousands_of_photons_per_visible_point() {
     let Some(gpu) = common::gpu() else { return };
     let mut scene = common::load_scene("furnace.toml");
+    scene.render.direct = DirectLight::Photons;
     let r = 0.15;
     scene.render.width = 16;
     scene.render.height = 16;

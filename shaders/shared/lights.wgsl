@@ -1,5 +1,6 @@
 // The lights: choosing one in proportion to power, and points on area lights. Photon
-// emission and next-event estimation both start here.
+// emission and next-event estimation both start here; light_sample and light_pdf are the
+// light side of next-event estimation, for the path tracer and SPPM's camera pass alike.
 
 @group(0) @binding(15) var<storage, read> emitters: array<Emitter>;
 
@@ -50,4 +51,55 @@ fn sample_area_emitter(e: Emitter, u: vec2f) -> LightPoint {
 // for every primitive of the shape, since emitters are chosen by power = average(Le) area pi.
 fn area_emitter_density(shape: u32) -> f32 {
     return average(shapes[shape].emission) * PI / frame.power_total;
+}
+
+// A light sample seen from a receiving point (pbrt-v4 sec. 12.2, LightLiSample).
+struct LightSample {
+    // Unit direction from the receiver towards the light, and the distance to it (3.4e38
+    // for a directional light).
+    wi: vec3f,
+    dist: f32,
+    // Incident radiance over the sample's density: Le / pdf for an area light, I / (d^2 pmf)
+    // for a point light, E / pmf for a directional one; zero when the sample is unusable.
+    li: vec3f,
+    // Solid-angle density of wi, the choice of light included; 0 for a delta light.
+    pdf: f32,
+    // Where the shadow ray ends: the light point, offset off an area light towards the
+    // receiver (pbrt-v4 sec. 6.8.6, SpawnRayTo), or far along wi for a directional light.
+    p_light: vec3f,
+}
+
+// Choose a light in proportion to power (u.x) and a point on it (u.yz), for the receiving
+// point p. Area lights are sampled uniformly by area: the density per unit area
+// area_emitter_density(shape), over the Jacobian cos_l / d^2 to solid angle.
+fn sample_light(p: vec3f, u: vec3f) -> LightSample {
+    let e = emitters[find_emitter(u.x)];
+    if USES_POINT_LIGHTS && e.kind == EMITTER_POINT {
+        let to = e.position - p;
+        let dist = length(to);
+        return LightSample(to / dist, dist, e.radiance / (dist * dist * e.pmf), 0.0, e.position);
+    }
+    if USES_DIRECTIONAL_LIGHTS && e.kind == EMITTER_DIRECTIONAL {
+        let wi = -e.direction;
+        // Past the directional light's disk, which encloses the scene.
+        let far = 2.0 * e.radius + length(p - e.position);
+        return LightSample(wi, 3.4e38, e.radiance / e.pmf, 0.0, p + far * wi);
+    }
+    let l = sample_area_emitter(e, u.yz);
+    let to = l.p - p;
+    let dist = length(to);
+    let wi = to / dist;
+    let cos_l = -dot(wi, l.n);
+    if cos_l <= 0.0 || dist <= 0.0 {
+        return LightSample(wi, dist, vec3f(0.0), 0.0, l.p);
+    }
+    let pdf = light_pdf(l.shape, dist, cos_l);
+    let p_light = l.p + frame.ray_epsilon * l.n;
+    return LightSample(wi, dist, shapes[l.shape].emission / pdf, pdf, p_light);
+}
+
+// Solid-angle density with which sample_light picks a direction that meets emitting shape
+// `shape` at distance t, where the direction makes cosine cos_l with its normal.
+fn light_pdf(shape: u32, t: f32, cos_l: f32) -> f32 {
+    return area_emitter_density(shape) * t * t / cos_l;
 }

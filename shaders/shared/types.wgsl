@@ -32,8 +32,12 @@ struct Frame {
     // rows high (a band of a large image).
     row_offset: u32,
     image_height: u32,
-    _pad0: u32,
-    _pad1: u32,
+    // SPPM: 1 when the camera pass samples direct light and photons deposit only after their
+    // first bounce, 0 when photons carry all light.
+    direct: u32,
+    // SPPM with direct 1: camera paths per visible point per pass that gather direct light
+    // (the first leaves the visible point).
+    direct_samples: u32,
 }
 
 // An interior BVH node: its children's boxes, quantized to 16 bits per coordinate

@@ -44,6 +44,7 @@ const FILES: &[(&str, &str)] = &[
     ("camera", include_str!("../../shaders/shared/camera.wgsl")),
     ("grid", include_str!("../../shaders/shared/grid.wgsl")),
     ("lights", include_str!("../../shaders/shared/lights.wgsl")),
+    ("direct", include_str!("../../shaders/shared/direct.wgsl")),
     ("path_trace", include_str!("../../shaders/path_trace.wgsl")),
 ];
 

@@ -63,10 +63,13 @@ pub struct Frame {
     pub row_offset: u32,
     /// Rows of the whole image, for the camera's projection.
     pub image_height: u32,
-    /// Padding to a multiple of 16 bytes (uniform layout); always 0.
-    pub _pad0: u32,
-    /// Padding; always 0.
-    pub _pad1: u32,
+    /// SPPM: 1 when the camera pass samples direct light and photons deposit only after
+    /// their first bounce ([`DirectLight::Sampled`](crate::scene::DirectLight)), 0 when
+    /// photons carry all light.
+    pub direct: u32,
+    /// SPPM with `direct` 1: camera paths per visible point per pass that gather direct
+    /// light (the first leaves the visible point).
+    pub direct_samples: u32,
 }
 
 /// A triangle as a corner and two edges.

@@ -132,6 +132,8 @@ fn band_frame(scene: &Scene, data: &crate::gpu::scene_buffers::SceneData, rows: 
         emitter_count: data.emitters.len() as u32,
         ray_epsilon: data.ray_epsilon(),
         power_total: data.power_total,
+        direct: (scene.render.direct == crate::scene::DirectLight::Sampled) as u32,
+        direct_samples: sppm::direct_samples(&scene.render),
         ..camera_frame(scene)
     })
 }

@@ -37,6 +37,17 @@ pub fn auto_radius(scene: &Scene) -> f32 {
     AUTO_RADIUS_PIXELS * footprint
 }
 
+/// Camera paths per visible point per pass that gather direct light: `render.direct_samples`,
+/// or automatically enough that the camera pass takes about as long as the photon pass.
+/// A camera path with next-event estimation costs about a quarter of a photon path
+/// (BENCHMARKS.md), so the automatic choice is photons / (4 * visible points), at least 1.
+pub fn direct_samples(render: &crate::scene::RenderSettings) -> u32 {
+    render.direct_samples.unwrap_or_else(|| {
+        let points = render.width as u64 * render.height as u64 * render.spp as u64;
+        (render.photons as u64 / (4 * points).max(1)).clamp(1, 64) as u32
+    })
+}
+
 /// Statistics a caller may read between passes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RadiusStats {

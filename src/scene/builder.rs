@@ -26,7 +26,7 @@
 use super::load::{Bound, MAX_RESOLUTION};
 use super::mesh::{self, Transform};
 use super::{
-    Camera, Light, LightKind, Material, MaterialKind, Method, RenderSettings, Scene, SceneError,
+    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, RenderSettings, Scene, SceneError,
     Shape, ShapeKind, Sphere, Texture,
 };
 use glam::{Vec2, Vec3};
@@ -118,6 +118,8 @@ impl SceneBuilder {
                 max_depth: 64,
                 seed: 0,
                 time_limit: None,
+                direct: DirectLight::Sampled,
+                direct_samples: None,
             },
             camera: None,
             lens: None,
@@ -152,6 +154,12 @@ impl SceneBuilder {
     /// Rendering method (`render.method`).
     pub fn method(mut self, method: Method) -> Self {
         self.render.method = method;
+        self
+    }
+
+    /// SPPM's source of direct light (`render.direct`).
+    pub fn direct(mut self, direct: DirectLight) -> Self {
+        self.render.direct = direct;
         self
     }
 

@@ -4,7 +4,7 @@
 
 use super::mesh::{self, Transform};
 use super::{
-    Camera, Light, LightKind, Material, MaterialKind, Method, RenderSettings, Scene, SceneError,
+    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, RenderSettings, Scene, SceneError,
     Shape, ShapeKind, Sphere, Texture,
 };
 use glam::{Vec2, Vec3};
@@ -190,7 +190,10 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         "max_depth",
         "seed",
         "time_limit",
+        "direct",
+        "direct_samples",
     ])?;
+    let directs = [("sampled", DirectLight::Sampled), ("photons", DirectLight::Photons)];
     let methods = [
         ("sppm", Method::Sppm),
         ("pt", Method::Pt),
@@ -208,6 +211,8 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         max_depth: t.or("max_depth", 64, Value::count)?,
         seed: t.or("seed", 0, |v| v.u32_in(0, u32::MAX))?,
         time_limit: t.opt("time_limit", |v| v.f64_in(Bound::Positive))?,
+        direct: t.or("direct", DirectLight::Sampled, |v| v.choice("direct", &directs))?,
+        direct_samples: t.opt("direct_samples", |v| v.u32_in(1, 1024))?,
     })
 }
 

@@ -28,6 +28,19 @@ pub enum Method {
     PtNee,
 }
 
+/// Where SPPM's direct light comes from (`direct` in `[render]`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DirectLight {
+    /// Sampled at the camera path's diffuse and glossy vertices (next-event estimation with
+    /// MIS, as pt-nee does); photons deposit only after their first bounce, so they carry
+    /// indirect light and caustics. The default.
+    Sampled,
+    /// From photons alone, as in Hachisuka & Jensen 2009 and the study this project grew
+    /// from: photons deposit at every diffuse hit and camera paths add only the emission they
+    /// hit.
+    Photons,
+}
+
 /// The `[render]` table, with defaults applied.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
@@ -55,6 +68,11 @@ pub struct RenderSettings {
     pub seed: u32,
     /// Stop after the pass that crosses this many seconds; `None` runs every iteration.
     pub time_limit: Option<f64>,
+    /// SPPM's source of direct light (`direct`: `"sampled"`, the default, or `"photons"`).
+    pub direct: DirectLight,
+    /// SPPM with sampled direct light: camera paths per visible point per pass that gather
+    /// direct light (`direct_samples`); `None` asks for the automatic choice.
+    pub direct_samples: Option<u32>,
 }
 
 /// The `[camera]` table.

@@ -1,0 +1,89 @@
+// Direct light by next-event estimation with multiple importance sampling: the one code path
+// the path tracer (pt-nee) and SPPM's camera pass share. At a diffuse or glossy vertex a
+// light is sampled by power and joined by a shadow ray; area lights are weighted against BSDF
+// sampling by the power heuristic (Veach 1997, sec. 9.2.4), delta lights taken whole, and
+// emission that BSDF sampling hits is weighted by emission_weight.
+
+#import types
+#import sampling
+#import scene
+#import bsdf
+#import lights
+
+// Power heuristic with beta = 2 (Veach 1997, eq. 9.13).
+fn power_heuristic(pdf_a: f32, pdf_b: f32) -> f32 {
+    let a = pdf_a * pdf_a;
+    return a / (a + pdf_b * pdf_b);
+}
+
+// Whether nothing blocks the segment from p0 to p1, both already offset off their surfaces
+// (pbrt-v4 sec. 6.8.6, SpawnRayTo: the ray is aimed from the offset origin at the offset end,
+// so a grazing segment cannot clip the light's own surface before its end).
+fn unoccluded(p0: vec3f, p1: vec3f) -> bool {
+    let to = p1 - p0;
+    let dist = length(to);
+    if !(dist > 0.0) {
+        return true;
+    }
+    return trace_closest(p0, to / dist, dist * (1.0 - 1e-4)).prim_ref == 0xffffffffu;
+}
+
+// BSDF value and sampling density at a vertex where next-event estimation is done: diffuse
+// (albedo / pi, cosine density about ns) or the glossy conductor.
+fn vertex_bsdf(s: Surface, m: Material, albedo: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
+    if USES_GLOSSY && m.kind == MATERIAL_GLOSSY {
+        return glossy_eval(m.albedo, m.roughness, wo, wi, s.ns);
+    }
+    return BsdfEval(albedo * INV_PI, abs(dot(wi, s.ns)) * INV_PI);
+}
+
+// Next-event estimate at surface s seen from wo, for a material with `albedo` (its texture
+// looked up): one light chosen by power and a point on it, u from the path's stream.
+// Returns f |cos| Li / pdf times the MIS weight, without the path throughput.
+fn direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, u: vec3f) -> vec3f {
+    let ls = sample_light(s.p, u);
+    // Only the side the path arrived on receives light.
+    if all(ls.li == vec3f(0.0)) || dot(ls.wi, s.ng) * dot(wo, s.ng) <= 0.0 {
+        return vec3f(0.0);
+    }
+    let b = vertex_bsdf(s, m, albedo, wo, ls.wi);
+    if all(b.f == vec3f(0.0)) || !unoccluded(offset_origin(s.p, s.ng, ls.wi), ls.p_light) {
+        return vec3f(0.0);
+    }
+    let weight = select(power_heuristic(ls.pdf, b.pdf), 1.0, ls.pdf == 0.0);
+    return b.f * abs(dot(ls.wi, s.ns)) * ls.li * weight;
+}
+
+// The other half of MIS at a diffuse vertex where the path ends (SPPM's visible point, whose
+// further light comes from photons that have bounced): a cosine-sampled direction, and the
+// emission it hits weighted by emission_weight, times albedo (f cos / pdf = albedo).
+fn bsdf_sampled_emission(s: Surface, wo: vec3f, albedo: vec3f, u: vec2f) -> vec3f {
+    let n_out = select(-s.ns, s.ns, dot(wo, s.ng) > 0.0);
+    let wi = sample_cosine_hemisphere(n_out, u);
+    if dot(wi, s.ng) * dot(wo, s.ng) <= 0.0 {
+        return vec3f(0.0);
+    }
+    let o = offset_origin(s.p, s.ng, wi);
+    let hit = trace_closest(o, wi, 3.4e38);
+    if hit.prim_ref == 0xffffffffu {
+        return vec3f(0.0);
+    }
+    let e = surface_at(hit, o, wi);
+    let shape = shapes[e.shape];
+    if shape.emits == 0u || dot(wi, e.ng) >= 0.0 {
+        return vec3f(0.0);
+    }
+    let pdf = abs(dot(wi, s.ns)) * INV_PI;
+    return albedo * shape.emission * emission_weight(pdf, e.shape, hit.t, wi, e.ng);
+}
+
+// MIS weight of emission that a path hits at distance t along d, on emitting shape `shape`
+// with geometric normal ng, after a BSDF sample of solid-angle density pdf_prev. pdf_prev is
+// 0 where next-event estimation could not have found the light (the camera, specular
+// scattering): the emission then counts whole.
+fn emission_weight(pdf_prev: f32, shape: u32, t: f32, d: vec3f, ng: vec3f) -> f32 {
+    if pdf_prev <= 0.0 {
+        return 1.0;
+    }
+    return power_heuristic(pdf_prev, light_pdf(shape, t, -dot(d, ng)));
+}
