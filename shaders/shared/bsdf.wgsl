@@ -184,3 +184,53 @@ fn glossy_eval(albedo: vec3f, alpha_in: f32, wo: vec3f, wi: vec3f, ns: vec3f) ->
     let f = albedo * (d * g1_o * ggx_g1(cos_i, alpha) / (4.0 * cos_o * cos_i));
     return BsdfEval(f, g1_o * d / (4.0 * cos_o));
 }
+
+// The rough dielectric's f and sample_rough_dielectric's density, for wo and wi pointing away
+// from the surface. As in the sampler, ng tells which side wo is on, the microfacets are about
+// ns turned to that side, and eta is the index of the side wo is not on over the one it is.
+// Reflection (wi.n > 0), h = normalize(wo + wi) (Walter et al. 2007, eq. 13):
+//   f = F D G1(wo) G1(wi) / (4 cos_o cos_i)  (eq. 20),
+//   pdf = F D_wo(h) / (4 wo.h)  (the Jacobian of eq. 14),
+// with D_wo(h) = G1(wo) max(0, wo.h) D(h) / cos_o the visible-normal density (Heitz 2018).
+// Refraction (wi.n < 0), h = normalize(wo + eta wi) turned to n (eq. 16):
+//   f = (1 - F) D G1(wo) G1(wi) |wo.h| |wi.h| / (cos_o |cos_i| (wo.h + eta wi.h)^2)  (eq. 21),
+//   pdf = (1 - F) D_wo(h) eta^2 |wi.h| / (wo.h + eta wi.h)^2  (the Jacobian of eq. 17).
+// f is that of radiance, wo towards the camera; photons carry flux and see eta^2 f (pbrt-v4
+// sec. 9.5.2), the two 1 / eta^2 apart as in the sampler's weights.
+fn rough_dielectric_eval(ior: f32, alpha_in: f32, wo: vec3f, wi: vec3f, ng: vec3f, ns: vec3f, radiance: bool) -> BsdfEval {
+    let alpha = max(alpha_in, MIN_ALPHA);
+    let entering = dot(wo, ng) > 0.0;
+    let n = select(-ns, ns, entering);
+    let eta = select(1.0 / ior, ior, entering);
+    let cos_o = dot(wo, n);
+    let cos_i = dot(wi, n);
+    if cos_o <= 0.0 || cos_i == 0.0 {
+        return BsdfEval(vec3f(0.0), 0.0);
+    }
+    let g1_o = ggx_g1(cos_o, alpha);
+    let g1_i = ggx_g1(abs(cos_i), alpha);
+    if cos_i > 0.0 {
+        let h = normalize(wo + wi);
+        let wo_h = dot(wo, h);
+        let fr = fresnel_dielectric(wo_h, eta);
+        let d = ggx_d(dot(h, n), alpha);
+        let f = fr * d * g1_o * g1_i / (4.0 * cos_o * cos_i);
+        let d_wo = g1_o * wo_h * d / cos_o;
+        return BsdfEval(vec3f(f), fr * d_wo / (4.0 * wo_h));
+    }
+    let ht = normalize(wo + eta * wi);
+    let h = select(ht, -ht, dot(ht, n) < 0.0);
+    let wo_h = dot(wo, h);
+    let wi_h = dot(wi, h);
+    // Microfacets seen from behind by either direction refract neither into the other.
+    if wo_h <= 0.0 || wi_h >= 0.0 || dot(h, n) <= 0.0 {
+        return BsdfEval(vec3f(0.0), 0.0);
+    }
+    let ft = 1.0 - fresnel_dielectric(wo_h, eta);
+    let d = ggx_d(dot(h, n), alpha);
+    let denom = wo_h + eta * wi_h;
+    let f = ft * d * g1_o * g1_i * wo_h * abs(wi_h) / (cos_o * abs(cos_i) * denom * denom);
+    let d_wo = g1_o * wo_h * d / cos_o;
+    let pdf = ft * d_wo * eta * eta * abs(wi_h) / (denom * denom);
+    return BsdfEval(vec3f(select(f * eta * eta, f, radiance)), pdf);
+}

@@ -21,6 +21,7 @@ pub const KERNELS: &[&str] = &[
     "resolve_texture",
     "path_trace",
     "trace_rays",
+    "sampler_test",
 ];
 
 /// Shader files, embedded at build time so the binary stands alone.
@@ -46,6 +47,7 @@ const FILES: &[(&str, &str)] = &[
     ("lights", include_str!("../../shaders/shared/lights.wgsl")),
     ("direct", include_str!("../../shaders/shared/direct.wgsl")),
     ("path_trace", include_str!("../../shaders/path_trace.wgsl")),
+    ("sampler_test", include_str!("../../shaders/sampler_test.wgsl")),
 ];
 
 fn file(name: &str) -> Result<&'static str, GpuError> {

@@ -1,0 +1,228 @@
+// The direction samplers against the densities the integrators weight them by, for the
+// chi-square tests (tests/chi_square.rs, after pbrt-v4's bsdfs_test.cpp). One pass draws
+// directions with a sampler; the other integrates its density over bins of directions.
+
+#import types
+#import rng
+#import sampling
+#import scene
+#import bsdf
+#import lights
+
+const SAMPLER_COSINE: u32 = 0u;
+const SAMPLER_GLOSSY: u32 = 1u;
+const SAMPLER_ROUGH_DIELECTRIC: u32 = 2u;
+const SAMPLER_LIGHT: u32 = 3u;
+
+// Draw `count` samples.
+const PASS_SAMPLE: u32 = 0u;
+// Integrate the density over `count` bins.
+const PASS_INTEGRATE: u32 = 1u;
+
+// Gauss-Legendre rule on [0, 1]: (node, weight, -, -); `points` of them are used.
+const MAX_POINTS: u32 = 16u;
+
+struct SamplerTestParams {
+    sampler: u32,
+    pass_kind: u32,
+    count: u32,
+    seed: u32,
+    // BSDFs: wo (pointing away from the surface), roughness, shading normal, index of
+    // refraction, geometric normal, albedo of the glossy conductor.
+    wo: vec3f,
+    alpha: f32,
+    ns: vec3f,
+    ior: f32,
+    ng: vec3f,
+    albedo: f32,
+    // Lights: the receiving point. BSDFs: 1 for radiance (camera paths), 0 for photons.
+    p: vec3f,
+    radiance: u32,
+    // Bin (i, j) holds the directions at polar angle theta in [i, i + 1) pi / theta_res and
+    // azimuth phi in [j, j + 1) 2 pi / phi_res about the frame (x, y, z).
+    x: vec3f,
+    theta_res: u32,
+    y: vec3f,
+    phi_res: u32,
+    z: vec3f,
+    points: u32,
+    // Polar angles, ascending, where the density may jump or rise without bound (-1 for
+    // none): the bins are integrated on either side of them.
+    breaks: vec4f,
+    // Midpoint-rule points per dimension for bins where the density is 0 in part.
+    fine: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+    gauss: array<vec4f, MAX_POINTS>,
+}
+
+@group(0) @binding(21) var<uniform> test_params: SamplerTestParams;
+// Sample i: (wi, weight) at 2i and (f, pdf, |cos(wi, ns)|, -) at 2i + 1 for a BSDF; for a
+// light (wi, the cosine at the light point if usable else 0) and (pdf, traced pdf, li pdf,
+// traced Le), red channels.
+// Bin i: (integral of the density, -, -, -) at i.
+@group(0) @binding(22) var<storage, read_write> test_out: array<vec4f>;
+
+// Density and red emission of the emitter that the ray from p along w meets first, if it
+// meets its front: light_pdf at the hit, as the integrators weigh emission they hit.
+fn traced_light(p: vec3f, w: vec3f) -> vec2f {
+    let hit = trace_closest(p, w, 3.4e38);
+    if hit.prim_ref == 0xffffffffu {
+        return vec2f(0.0);
+    }
+    let s = surface_at(hit, p, w);
+    let cos_l = -dot(w, s.ng);
+    if shapes[s.shape].emits == 0u || cos_l <= 0.0 {
+        return vec2f(0.0);
+    }
+    return vec2f(light_pdf(s.shape, hit.t, cos_l), shapes[s.shape].emission.x);
+}
+
+// Solid-angle density of direction w under the chosen sampler.
+fn test_density(w: vec3f) -> f32 {
+    let q = test_params;
+    switch q.sampler {
+        case SAMPLER_COSINE: {
+            return max(0.0, dot(w, q.ns)) * INV_PI;
+        }
+        case SAMPLER_GLOSSY: {
+            return glossy_eval(vec3f(q.albedo), q.alpha, q.wo, w, q.ns).pdf;
+        }
+        case SAMPLER_ROUGH_DIELECTRIC: {
+            return rough_dielectric_eval(q.ior, q.alpha, q.wo, w, q.ng, q.ns, q.radiance != 0u).pdf;
+        }
+        default: {
+            return traced_light(q.p, w).x;
+        }
+    }
+}
+
+fn draw_sample(i: u32) {
+    let q = test_params;
+    var rng = rng_new(q.seed, 0u, q.sampler, i);
+    let u = vec3f(rng_next(&rng), rng_next2(&rng));
+    if q.sampler == SAMPLER_LIGHT {
+        let ls = sample_light(q.p, u);
+        let usable = any(ls.li != vec3f(0.0));
+        // The cosine at the light point sample_light chose, from the same numbers (the test's
+        // lights are area lights).
+        let l = sample_area_emitter(emitters[find_emitter(u.x)], u.yz);
+        let cos_l = -dot(ls.wi, l.n);
+        test_out[2u * i] = vec4f(ls.wi, select(0.0, max(cos_l, 1e-30), usable));
+        let traced = traced_light(q.p, ls.wi);
+        test_out[2u * i + 1u] = vec4f(ls.pdf, traced.x, ls.li.x * ls.pdf, traced.y);
+        return;
+    }
+    var s = SpecularSample(-q.wo, vec3f(0.0));
+    var b = BsdfEval(vec3f(0.0), 0.0);
+    switch q.sampler {
+        case SAMPLER_COSINE: {
+            s = SpecularSample(sample_cosine_hemisphere(q.ns, u.xy), vec3f(1.0));
+            b = BsdfEval(vec3f(INV_PI), test_density(s.wi));
+        }
+        case SAMPLER_GLOSSY: {
+            s = sample_glossy(vec3f(q.albedo), q.alpha, -q.wo, q.ns, u.xy);
+            b = glossy_eval(vec3f(q.albedo), q.alpha, q.wo, s.wi, q.ns);
+        }
+        default: {
+            let radiance = q.radiance != 0u;
+            s = sample_rough_dielectric(-q.wo, q.ng, q.ns, q.ior, q.alpha, u, radiance);
+            b = rough_dielectric_eval(q.ior, q.alpha, q.wo, s.wi, q.ng, q.ns, radiance);
+        }
+    }
+    test_out[2u * i] = vec4f(s.wi, s.weight.x);
+    test_out[2u * i + 1u] = vec4f(b.f.x, b.pdf, abs(dot(s.wi, q.ns)), 0.0);
+}
+
+// Node and weight k of a rule on [0, 1]: Gauss-Legendre with `points` nodes, or the midpoint
+// rule with `fine`.
+fn rule(fine: bool, k: u32) -> vec2f {
+    if fine {
+        let n = f32(test_params.fine);
+        return vec2f((f32(k) + 0.5) / n, 1.0 / n);
+    }
+    return test_params.gauss[k].xy;
+}
+
+struct Band {
+    integral: f32,
+    // Whether the density was 0 at some point, and positive at some point.
+    zero: bool,
+    positive: bool,
+}
+
+// Integral of the density over polar angles [theta0, theta1] of the bins in column j: a
+// product rule in (s, phi), where theta = theta0 + (theta1 - theta0) (1 - cos(pi s)) / 2
+// crowds the points towards theta0 and theta1. The substitution turns an inverse square root
+// there (the limb of a sphere light) into a smooth integrand.
+fn integrate_band(theta0: f32, theta1: f32, j: u32, fine: bool) -> Band {
+    let q = test_params;
+    let n = select(q.points, q.fine, fine);
+    let d_theta = theta1 - theta0;
+    let d_phi = 2.0 * PI / f32(q.phi_res);
+    let phi0 = d_phi * f32(j);
+    var band = Band(0.0, false, false);
+    for (var a = 0u; a < n; a++) {
+        let ra = rule(fine, a);
+        let theta = theta0 + 0.5 * d_theta * (1.0 - cos(PI * ra.x));
+        // d theta / ds, times sin(theta) for the solid angle, times the weights.
+        let row_weight = 0.5 * PI * d_theta * sin(PI * ra.x) * sin(theta) * d_phi * ra.y;
+        var row = 0.0;
+        for (var c = 0u; c < n; c++) {
+            let rc = rule(fine, c);
+            let phi = phi0 + d_phi * rc.x;
+            let w = sin(theta) * (cos(phi) * q.x + sin(phi) * q.y) + cos(theta) * q.z;
+            let density = test_density(w);
+            band.zero = band.zero || density == 0.0;
+            band.positive = band.positive || density > 0.0;
+            row += rc.y * density;
+        }
+        band.integral += row_weight * row;
+    }
+    return band;
+}
+
+// Integral of the density over bin i, split at the breaks inside it.
+fn integrate_split(i: u32, fine: bool) -> Band {
+    let q = test_params;
+    let d_theta = PI / f32(q.theta_res);
+    let theta1 = d_theta * f32(i / q.phi_res + 1u);
+    let j = i % q.phi_res;
+    var lo = theta1 - d_theta;
+    var bin = Band(0.0, false, false);
+    for (var k = 0u; k < 5u; k++) {
+        let hi = select(theta1, q.breaks[min(k, 3u)], k < 4u);
+        if hi > lo && hi <= theta1 {
+            let band = integrate_band(lo, hi, j, fine);
+            bin = Band(bin.integral + band.integral, bin.zero || band.zero, bin.positive || band.positive);
+            lo = hi;
+        }
+    }
+    return bin;
+}
+
+// Integral of the density over bin i. Gauss-Legendre suits smooth densities; where an edge
+// beyond which the density is 0 crosses the bin (of a light, or of the directions a BSDF
+// reaches) it would err by a good part of the bin, and many midpoints are used instead. With
+// the substitution of integrate_band, their error is about (pi / 2 fine)^2 / 6 of the bin.
+fn integrate_bin(i: u32) -> f32 {
+    let coarse = integrate_split(i, false);
+    if coarse.zero && coarse.positive {
+        return integrate_split(i, true).integral;
+    }
+    return coarse.integral;
+}
+
+@compute @workgroup_size(64)
+fn sampler_test(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let index = gid.x + gid.y * groups.x * 64u;
+    if index >= test_params.count {
+        return;
+    }
+    if test_params.pass_kind == PASS_SAMPLE {
+        draw_sample(index);
+    } else {
+        test_out[index] = vec4f(integrate_bin(index), 0.0, 0.0, 0.0);
+    }
+}
