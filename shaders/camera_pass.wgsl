@@ -1,11 +1,12 @@
 // SPPM camera pass (Hachisuka & Jensen 2009, sec. 4): one path per visible-point slot, from a
 // jittered point in its pixel through specular and glossy bounces to the first diffuse
 // surface, where it leaves a visible point. Emission seen along the way is added to the slot's
-// ld. With frame.direct == 1 the path also samples direct light at its glossy vertices and at
-// the visible point (direct_light, the code pt-nee runs), weighting emission it hits after a
-// glossy bounce by MIS, as pbrt-v4's SPPM does; the photons then carry only light that has
-// bounced at least once (photon_pass.wgsl), so no light is counted twice. With 0, photons
-// carry all light and emission counts whole.
+// ld. With frame.direct == 1 the path also samples direct light at its glossy and rough
+// dielectric vertices and at the visible point (direct_light, the code pt-nee runs), and
+// weights emission it hits after such a bounce by MIS; pbrt-v4's SPPM samples direct light at
+// camera vertices too. The photons then carry only light that has bounced at least once
+// (photon_pass.wgsl), so no light is counted twice. With 0, photons carry all light and
+// emission counts whole.
 
 #import types
 #import rng
@@ -41,8 +42,8 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
     var beta = vec3f(1.0);
     var path = CameraPath(vec3f(0.0), VisiblePoint(vec3f(0.0), 0u, vec3f(0.0), 0u), vec3f(0.0), false);
     let sample_direct = frame.direct != 0u;
-    // Density of the glossy sample that led here, for MIS at an emitter; 0 after the camera
-    // and specular scattering, and when direct light is not sampled.
+    // Density of the BSDF sample that led here, for MIS at an emitter; 0 after the camera,
+    // mirrors and smooth glass, and when direct light is not sampled.
     var pdf_prev = 0.0;
     for (var depth = 0u; depth < frame.max_depth; depth++) {
         let hit = trace_closest(o, d, 3.4e38);
@@ -75,8 +76,9 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         // lie on diffuse surfaces only (as pbrt-v4's SPPM does for all but the last bounce):
         // the estimate at a glossy surface is then the unbiased average over its lobe of
         // the density estimates further on, and no BSDF has to be evaluated per photon.
-        let glossy = USES_GLOSSY && m.kind == MATERIAL_GLOSSY && sample_direct;
-        if glossy {
+        // Glossy and rough dielectric vertices sample lights; mirrors and smooth glass cannot.
+        let nee = sample_direct && samples_lights(m);
+        if nee {
             path.ld += beta * direct_light(s, -d, m, m.albedo, vec3f(rng_next(rng), rng_next2(rng)));
         }
         let next = sample_nondiffuse(m, d, s, vec3f(rng_next2(rng), rng_next(rng)), true);
@@ -85,8 +87,8 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         }
         beta *= next.weight;
         pdf_prev = 0.0;
-        if glossy {
-            pdf_prev = glossy_eval(m.albedo, m.roughness, -d, next.wi, s.ns).pdf;
+        if nee {
+            pdf_prev = vertex_bsdf(s, m, m.albedo, -d, next.wi).pdf;
         }
         o = offset_origin(s.p, s.ng, next.wi);
         d = next.wi;

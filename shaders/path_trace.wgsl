@@ -33,8 +33,8 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     var beta = vec3f(1.0);
     var l = vec3f(0.0);
     // Density of the BSDF sample that led here, for MIS at an emitter it hits; 0 after the
-    // camera, after specular or rough-dielectric scattering, which NEE does not sample, and
-    // always in naive path tracing.
+    // camera, after mirror or smooth glass, which NEE does not sample, and always in naive
+    // path tracing.
     var pdf_prev = 0.0;
     // A path has at most max_depth scattering events, so max_depth + 1 segments.
     for (var depth = 0u; depth <= frame.max_depth; depth++) {
@@ -69,7 +69,10 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
             pdf_prev = select(0.0, abs(dot(wi, s.ns)) * INV_PI, frame.nee != 0u);
             d = wi;
         } else {
-            if USES_GLOSSY && m.kind == MATERIAL_GLOSSY && frame.nee != 0u {
+            // Glossy and rough dielectric vertices sample lights too; mirrors and smooth
+            // glass cannot.
+            let nee = frame.nee != 0u && samples_lights(m);
+            if nee {
                 l += beta * direct_light(s, wo, m, m.albedo, vec3f(rng_next(&rng), rng_next2(&rng)));
             }
             let next = sample_nondiffuse(m, d, s, vec3f(rng_next2(&rng), rng_next(&rng)), true);
@@ -78,8 +81,8 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
             }
             beta *= next.weight;
             pdf_prev = 0.0;
-            if USES_GLOSSY && m.kind == MATERIAL_GLOSSY && frame.nee != 0u {
-                pdf_prev = glossy_eval(m.albedo, m.roughness, wo, next.wi, s.ns).pdf;
+            if nee {
+                pdf_prev = vertex_bsdf(s, m, m.albedo, wo, next.wi).pdf;
             }
             d = next.wi;
         }

@@ -97,8 +97,9 @@ enum Command {
         /// Reference image (EXR or PNG) of the scene's size.
         #[arg(long)]
         reference: PathBuf,
-        /// Methods to run, in order (each for --time-limit seconds of passes).
-        #[arg(long, value_delimiter = ',', default_value = "sppm,pt,pt-nee", value_parser = ["sppm", "pt", "pt-nee"])]
+        /// Methods to run, in order (each for --time-limit seconds of passes); sppm-photons is
+        /// SPPM with direct light from photons alone.
+        #[arg(long, value_delimiter = ',', default_value = "sppm,pt,pt-nee", value_parser = ["sppm", "sppm-photons", "pt", "pt-nee"])]
         methods: Vec<String>,
         /// Box-downsample before measuring the error.
         #[arg(long, default_value_t = 1)]
@@ -195,7 +196,7 @@ fn experiment(command: &Command) -> Result<(), Error> {
             let Some(time_limit) = scene.render.time_limit else {
                 return Err(Error::Setting("compare needs --time-limit SECS".into()));
             };
-            let methods = methods.iter().map(|m| experiments::parse_method(m)).collect::<Result<_, _>>()?;
+            let methods = methods.iter().map(|m| experiments::Variant::parse(m)).collect::<Result<_, _>>()?;
             let opts = experiments::CompareOptions {
                 reference: reference.clone(),
                 methods,

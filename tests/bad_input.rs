@@ -130,7 +130,7 @@ fn readme_cases() -> Vec<Case> {
             4,
             "render.samples",
             "unknown key `samples`; allowed keys: width, height, method, iterations, spp, \
-             photons, radius, alpha, max_depth, seed, time_limit",
+             photons, radius, alpha, max_depth, seed, time_limit, direct, direct_samples",
         ),
         case(
             "wrong type",

@@ -4,7 +4,7 @@
 use sppm_gpu::experiments::plot::{self, Chart, Series, Tile};
 use sppm_gpu::experiments::{self, Snapshot, SweepParam};
 use sppm_gpu::image_io::{self, Rgb32Image};
-use sppm_gpu::scene::Method;
+use sppm_gpu::scene::{DirectLight, Method};
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -37,6 +37,12 @@ fn methods_and_sweep_parameters_parse_and_check_ranges() {
         assert_eq!(experiments::parse_method(experiments::method_name(m)).unwrap(), m);
     }
     assert!(experiments::parse_method("bdpt").is_err());
+    for v in experiments::Variant::ALL {
+        assert_eq!(experiments::Variant::parse(v.name()).unwrap(), v);
+    }
+    let photons = experiments::Variant::parse("sppm-photons").unwrap();
+    assert_eq!((photons.method, photons.direct), (Method::Sppm, DirectLight::Photons));
+    assert!(experiments::Variant::parse("pt-photons").is_err());
 
     let scene = sppm_gpu::scene::load(std::path::Path::new("scenes/cornell-box.toml")).unwrap();
     let mut r = scene.render.clone();

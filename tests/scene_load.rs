@@ -196,6 +196,7 @@ fn defaults_apply() {
         (r.method, r.spp, r.photons, r.alpha, r.max_depth, r.seed),
         (Method::Sppm, 1, 100_000, 0.6667, 64, 0)
     );
+    assert_eq!((r.direct, r.direct_samples), (sppm_gpu::scene::DirectLight::Sampled, None));
     assert_eq!((r.radius, r.time_limit), (None, None));
     let c = &scene.camera;
     assert_eq!(

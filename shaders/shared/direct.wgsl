@@ -1,6 +1,6 @@
 // Direct light by next-event estimation with multiple importance sampling: the one code path
-// the path tracer (pt-nee) and SPPM's camera pass share. At a diffuse or glossy vertex a
-// light is sampled by power and joined by a shadow ray; area lights are weighted against BSDF
+// the path tracer (pt-nee) and SPPM's camera pass share. At a diffuse, glossy or rough
+// dielectric vertex a light is sampled by power and joined by a shadow ray; area lights are weighted against BSDF
 // sampling by the power heuristic (Veach 1997, sec. 9.2.4), delta lights taken whole, and
 // emission that BSDF sampling hits is weighted by emission_weight.
 
@@ -28,22 +28,35 @@ fn unoccluded(p0: vec3f, p1: vec3f) -> bool {
     return trace_closest(p0, to / dist, dist * (1.0 - 1e-4)).prim_ref == 0xffffffffu;
 }
 
-// BSDF value and sampling density at a vertex where next-event estimation is done: diffuse
-// (albedo / pi, cosine density about ns) or the glossy conductor.
+// Whether next-event estimation is done at a vertex of material m: every material whose
+// BSDF can be evaluated, that is all but the mirror and smooth glass.
+fn samples_lights(m: Material) -> bool {
+    return m.kind == MATERIAL_DIFFUSE || (USES_GLOSSY && m.kind == MATERIAL_GLOSSY)
+        || (USES_ROUGH_DIELECTRIC && m.kind == MATERIAL_DIELECTRIC && m.roughness > 0.0);
+}
+
+// BSDF value (radiance) and sampling density at a vertex where samples_lights(m): diffuse
+// (albedo / pi, cosine density about ns), the glossy conductor or the rough dielectric.
 fn vertex_bsdf(s: Surface, m: Material, albedo: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
     if USES_GLOSSY && m.kind == MATERIAL_GLOSSY {
         return glossy_eval(m.albedo, m.roughness, wo, wi, s.ns);
     }
+    if USES_ROUGH_DIELECTRIC && m.kind == MATERIAL_DIELECTRIC {
+        return rough_dielectric_eval(m.ior, m.roughness, wo, wi, s.ng, s.ns, true);
+    }
     return BsdfEval(albedo * INV_PI, abs(dot(wi, s.ns)) * INV_PI);
 }
 
-// Next-event estimate at surface s seen from wo, for a material with `albedo` (its texture
-// looked up): one light chosen by power and a point on it, u from the path's stream.
+// Next-event estimate at surface s seen from wo, for a material where samples_lights(m) with
+// `albedo` (its texture looked up): one light chosen by power and a point on it, u from the
+// path's stream.
 // Returns f |cos| Li / pdf times the MIS weight, without the path throughput.
 fn direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, u: vec3f) -> vec3f {
     let ls = sample_light(s.p, u);
-    // Only the side the path arrived on receives light.
-    if all(ls.li == vec3f(0.0)) || dot(ls.wi, s.ng) * dot(wo, s.ng) <= 0.0 {
+    // Only the side the path arrived on receives light, but for a dielectric, which also
+    // transmits it.
+    let same_side = dot(ls.wi, s.ng) * dot(wo, s.ng) > 0.0;
+    if all(ls.li == vec3f(0.0)) || (!same_side && m.kind != MATERIAL_DIELECTRIC) {
         return vec3f(0.0);
     }
     let b = vertex_bsdf(s, m, albedo, wo, ls.wi);

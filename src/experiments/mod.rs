@@ -14,7 +14,7 @@ use crate::gpu::{GpuContext, GpuError};
 use crate::image_io::{self, Rgb32Image};
 use crate::integrators::{self, Integrator};
 use crate::metrics;
-use crate::scene::{Method, RenderSettings, Scene};
+use crate::scene::{DirectLight, Method, RenderSettings, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use plot::{Chart, Series, Tile};
 use std::path::{Path, PathBuf};
@@ -36,6 +36,48 @@ pub fn parse_method(name: &str) -> Result<Method, Error> {
         "pt" => Ok(Method::Pt),
         "pt-nee" => Ok(Method::PtNee),
         _ => Err(Error::Setting(format!("unknown method `{name}`: expected sppm, pt or pt-nee"))),
+    }
+}
+
+/// A method as [`compare`] runs it: the integrator and, for SPPM, where its direct light comes
+/// from. Named like the method, with `sppm-photons` for SPPM with direct light from photons
+/// alone (`direct = "photons"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Variant {
+    /// The integrator.
+    pub method: Method,
+    /// SPPM's source of direct light (ignored by the path tracers).
+    pub direct: DirectLight,
+}
+
+impl Variant {
+    /// Every variant, in the order of [`Variant::name`]'s list.
+    pub const ALL: [Variant; 4] = [
+        Variant { method: Method::Sppm, direct: DirectLight::Sampled },
+        Variant { method: Method::Sppm, direct: DirectLight::Photons },
+        Variant { method: Method::Pt, direct: DirectLight::Sampled },
+        Variant { method: Method::PtNee, direct: DirectLight::Sampled },
+    ];
+
+    /// From its name: `sppm`, `sppm-photons`, `pt` or `pt-nee`.
+    pub fn parse(name: &str) -> Result<Self, Error> {
+        Self::ALL.into_iter().find(|v| v.name() == name).ok_or_else(|| {
+            Error::Setting(format!("unknown method `{name}`: expected sppm, sppm-photons, pt or pt-nee"))
+        })
+    }
+
+    /// Its name, as [`Variant::parse`] reads it.
+    pub fn name(self) -> &'static str {
+        match (self.method, self.direct) {
+            (Method::Sppm, DirectLight::Photons) => "sppm-photons",
+            (method, _) => method_name(method),
+        }
+    }
+
+    /// `render` set to this variant.
+    pub fn apply(self, render: &mut RenderSettings) {
+        render.method = self.method;
+        render.direct = self.direct;
     }
 }
 
@@ -209,7 +251,7 @@ pub struct CompareOptions {
     /// The reference image (EXR or PNG), of the scene's size.
     pub reference: PathBuf,
     /// The methods to run, in the order of the CSV and the figures.
-    pub methods: Vec<Method>,
+    pub methods: Vec<Variant>,
     /// Seconds of passes for each method.
     pub time_limit: f64,
     /// The first snapshot time; later ones double it (see [`snapshot_times`]).
@@ -254,13 +296,13 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
         last: Option<(Rgb32Image, Snapshot)>,
     }
     let mut runs = Vec::new();
-    for &method in &opts.methods {
+    for &variant in &opts.methods {
         let mut s = scene.clone();
-        s.render.method = method;
-        bar.set_message(format!("{}: warming up", method_name(method)));
+        variant.apply(&mut s.render);
+        bar.set_message(format!("{}: warming up", variant.name()));
         warm_up(&gpu, &s)?;
         runs.push(Run {
-            label: method_name(method),
+            label: variant.name(),
             timed: Timed::new(&gpu, &s)?,
             max_passes: opts.max_passes.unwrap_or(u32::MAX),
             next: 0,
@@ -290,7 +332,7 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
         bar.set_position(runs.iter().map(|r| ((r.timed.seconds * 1e3) as u64).min(limit_ms)).sum());
     }
     // Snapshots grouped by method, in the order of --methods.
-    snapshots.sort_by_key(|s: &Snapshot| opts.methods.iter().position(|&m| method_name(m) == s.label));
+    snapshots.sort_by_key(|s: &Snapshot| opts.methods.iter().position(|&m| m.name() == s.label));
     let finals: Vec<_> = runs.into_iter().map(|r| (r.label, r.last.expect("at least one snapshot"))).collect();
     bar.finish_and_clear();
 

@@ -14,7 +14,7 @@ use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
 use crate::gpu::types::*;
 use crate::gpu::{Features, Kernel, Resource};
 use crate::image_io::Rgb32Image;
-use crate::scene::Scene;
+use crate::scene::{DirectLight, Scene};
 use std::ops::Range;
 use std::sync::Arc;
 use wgpu::util::DeviceExt;
@@ -22,29 +22,44 @@ use wgpu::util::DeviceExt;
 /// Photons each `photon_pass` thread traces (`PHOTONS_PER_THREAD` in the kernel).
 pub const PHOTONS_PER_THREAD: u32 = 16;
 
-/// Pixel footprints across the automatic initial radius.
+/// Pixel footprints across the automatic initial radius when photons carry all light
+/// (`direct = "photons"`, the study's setting).
 pub const AUTO_RADIUS_PIXELS: f32 = 2.0;
 
-/// The automatic initial radius: [`AUTO_RADIUS_PIXELS`] times the side of a pixel's footprint
-/// on a plane facing the camera at the focus distance (the look-at point for a pinhole),
-/// r0 = 2 * 2 d tan(fov / 2) / height. Tying it to the pixel keeps the blur of the density
-/// estimate below the image's own resolution and the work per photon the same at any
-/// resolution; it scales with the scene.
+/// Pixel footprints across the automatic initial radius when direct light is sampled: the
+/// photons then carry only indirect light, which is smoother, and a wider radius trades a
+/// little blur of it for less noise. At equal time 3 footprints beat 2 on cornell-box and
+/// cornell-glossy (`scripts/direct-light-defaults.sh`, BENCHMARKS.md).
+pub const AUTO_RADIUS_PIXELS_INDIRECT: f32 = 3.0;
+
+/// The automatic initial radius: [`AUTO_RADIUS_PIXELS_INDIRECT`] (or, with direct light from
+/// photons, [`AUTO_RADIUS_PIXELS`]) times the side of a pixel's footprint on a plane facing
+/// the camera at the focus distance (the look-at point for a pinhole),
+/// 2 d tan(fov / 2) / height. Tying it to the pixel keeps the blur of the density estimate
+/// near the image's own resolution and the work per photon the same at any resolution; it
+/// scales with the scene.
 pub fn auto_radius(scene: &Scene) -> f32 {
     let c = &scene.camera;
     let d = if c.aperture_radius > 0.0 { c.focus_distance } else { (c.look_at - c.position).length() };
     let footprint = 2.0 * d * (0.5 * c.fov.to_radians()).tan() / scene.render.height as f32;
-    AUTO_RADIUS_PIXELS * footprint
+    let pixels = match scene.render.direct {
+        DirectLight::Sampled => AUTO_RADIUS_PIXELS_INDIRECT,
+        DirectLight::Photons => AUTO_RADIUS_PIXELS,
+    };
+    pixels * footprint
 }
 
 /// Camera paths per visible point per pass that gather direct light: `render.direct_samples`,
-/// or automatically enough that the camera pass takes about as long as the photon pass.
-/// A camera path with next-event estimation costs about a quarter of a photon path
-/// (BENCHMARKS.md), so the automatic choice is photons / (4 * visible points), at least 1.
+/// or automatically enough that the camera pass takes about as long as the photon pass. A
+/// camera path with next-event estimation (camera ray, shadow ray and the cosine-sampled ray
+/// at the visible point) costs about two thirds of a photon path on lavapipe, so the
+/// automatic choice is 3 photons / (2 visible points), from 1 to 64. On cornell-box and
+/// cornell-glossy (200,000 photons, 256x256: 4 paths) it is within 10% of the best relMSE at
+/// equal time (`scripts/direct-light-defaults.sh`, BENCHMARKS.md).
 pub fn direct_samples(render: &crate::scene::RenderSettings) -> u32 {
     render.direct_samples.unwrap_or_else(|| {
         let points = render.width as u64 * render.height as u64 * render.spp as u64;
-        (render.photons as u64 / (4 * points).max(1)).clamp(1, 64) as u32
+        (3 * render.photons as u64 / (2 * points).max(1)).clamp(1, 64) as u32
     })
 }
 
