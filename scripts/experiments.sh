@@ -2,10 +2,10 @@
 # Regenerate the figures of docs/experiments.md into docs/experiments/, one folder per
 # experiment (CSV, PNG figures and the command's printed summary in summary.txt).
 #
-#   bash scripts/experiments.sh                 # all of them (about 15 minutes on 2 cores)
+#   bash scripts/experiments.sh                 # all of them (about 17 minutes on 2 cores)
 #   bash scripts/experiments.sh radius compare-box   # only those named
 #
-# Names: radius, alpha, alpha-large-radius, passes, compare-box, compare-spheres.
+# Names: radius, alpha, alpha-large-radius, passes, compare-box, compare-spheres, direct.
 # Timings depend on the machine and on whatever else runs on it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -54,4 +54,8 @@ fi
 if want compare-spheres; then
     run compare-cornell-spheres compare scenes/cornell-spheres.toml --reference $refs/cornell-spheres.exr \
         --methods sppm,pt,pt-nee --time-limit 60 --downsample 8
+fi
+if want direct; then
+    run direct-light-cornell-glossy compare scenes/cornell-glossy.toml --reference $refs/cornell-glossy.exr \
+        --methods sppm,sppm-photons --time-limit 60 --downsample 8
 fi
