@@ -1,9 +1,9 @@
 // Path tracing, for comparison with SPPM: one sample per pixel per pass, added to `radiance`.
 // Naive (frame.nee == 0): emission is found only by hitting it, so point and directional
-// lights stay dark. With next-event estimation (frame.nee == 1): direct_light at diffuse and
-// glossy vertices, emission hit by BSDF sampling weighted by emission_weight (shared/direct.wgsl,
-// which SPPM's camera pass uses too). Scene, camera, lights and BSDF sampling are the ones
-// SPPM's kernels use.
+// lights stay dark. With next-event estimation (frame.nee == 1): direct_light at diffuse,
+// glossy and rough dielectric vertices, and emission hit by BSDF sampling weighted by
+// emission_weight (shared/direct.wgsl, which SPPM's camera pass uses too). Scene, camera,
+// lights and BSDF sampling are the ones SPPM's kernels use.
 
 #import types
 #import rng

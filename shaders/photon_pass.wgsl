@@ -1,7 +1,8 @@
 // SPPM photon pass (Hachisuka & Jensen 2009, sec. 4): photons leave the emitters, chosen in
 // proportion to power, and at every diffuse hit add their flux to the visible points within
-// radius; at the first hit only when the camera pass does not sample direct light. Flux is accumulated in 64-bit fixed point built from two u32 atomics, so the
-// sum does not depend on the order in which photons arrive: the same seed gives the same image.
+// radius; at the first hit only when the camera pass does not sample direct light. Flux is
+// accumulated in 64-bit fixed point built from two u32 atomics, so the sum does not depend on
+// the order in which photons arrive: the same seed gives the same image.
 
 #import types
 #import rng
