@@ -50,12 +50,12 @@ pub fn auto_radius(scene: &Scene) -> f32 {
 }
 
 /// Camera paths per visible point per pass that gather direct light: `render.direct_samples`,
-/// or automatically enough that the camera pass takes about as long as the photon pass. A
-/// camera path with next-event estimation (camera ray, shadow ray and the cosine-sampled ray
-/// at the visible point) costs about two thirds of a photon path on lavapipe, so the
-/// automatic choice is 3 photons / (2 visible points), from 1 to 64. On cornell-box and
-/// cornell-glossy (200,000 photons, 256x256: 4 paths) it is within 10% of the best relMSE at
-/// equal time (`scripts/direct-light-defaults.sh`, BENCHMARKS.md).
+/// or automatically 3 photons / (2 visible points), from 1 to 64, so that the camera pass
+/// keeps the same share of a pass whatever the photon count. On cornell-box and
+/// cornell-glossy (200,000 photons, 256x256) that is 4 paths, within 10% of the best relMSE at
+/// equal time (4 to 8; `scripts/direct-light-defaults.sh`, BENCHMARKS.md), and the camera
+/// pass takes about 30% of a pass (a camera path with next-event estimation, three rays,
+/// costs about a third of a photon path on lavapipe).
 pub fn direct_samples(render: &crate::scene::RenderSettings) -> u32 {
     render.direct_samples.unwrap_or_else(|| {
         let points = render.width as u64 * render.height as u64 * render.spp as u64;
