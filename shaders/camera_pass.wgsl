@@ -54,7 +54,7 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         // Emission is one-sided: only the front of the geometric normal emits.
         let shape = shapes[s.shape];
         if shape.emits != 0u && dot(d, s.ng) < 0.0 {
-            path.ld += beta * shape.emission * emission_weight(pdf_prev, s.shape, hit.t, d, s.ng);
+            path.ld += beta * shape.emission * emission_weight(pdf_prev, o, hit, s, d);
         }
         let m = materials[s.material];
         if m.kind == MATERIAL_DIFFUSE {

@@ -46,7 +46,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
         let shape = shapes[s.shape];
         if shape.emits != 0u && dot(d, s.ng) < 0.0 {
             // Naive path tracing finds light only this way: whole (pdf_prev stays 0).
-            l += beta * shape.emission * emission_weight(pdf_prev, s.shape, hit.t, d, s.ng);
+            l += beta * shape.emission * emission_weight(pdf_prev, o, hit, s, d);
         }
         if depth == frame.max_depth {
             break;

@@ -76,7 +76,7 @@ fn traced_light(p: vec3f, w: vec3f) -> vec2f {
     if shapes[s.shape].emits == 0u || cos_l <= 0.0 {
         return vec2f(0.0);
     }
-    return vec2f(light_pdf(s.shape, hit.t, cos_l), shapes[s.shape].emission.x);
+    return vec2f(light_pdf(p, hit.prim_ref, s.shape, hit.t, cos_l), shapes[s.shape].emission.x);
 }
 
 // Solid-angle density of direction w under the chosen sampler.
@@ -105,11 +105,8 @@ fn draw_sample(i: u32) {
     if q.sampler == SAMPLER_LIGHT {
         let ls = sample_light(q.p, u);
         let usable = any(ls.li != vec3f(0.0));
-        // The cosine at the light point sample_light chose, from the same numbers (the test's
-        // lights are area lights).
-        let l = sample_area_emitter(emitters[find_emitter(u.x)], u.yz);
-        let cos_l = -dot(ls.wi, l.n);
-        test_out[2u * i] = vec4f(ls.wi, select(0.0, max(cos_l, 1e-30), usable));
+        // The cosine at the light point sample_light chose (the test's lights are area lights).
+        test_out[2u * i] = vec4f(ls.wi, select(0.0, max(ls.cos_l, 1e-30), usable));
         let traced = traced_light(q.p, ls.wi);
         test_out[2u * i + 1u] = vec4f(ls.pdf, traced.x, ls.li.x * ls.pdf, traced.y);
         return;

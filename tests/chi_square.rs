@@ -3,7 +3,7 @@
 //! itself (`shaders/sampler_test.wgsl`): a million directions from the sampler go into bins
 //! of (theta, phi) over the sphere, the density integrated over each bin gives the count
 //! expected there, and Pearson's statistic must not reject the match. Samples a sampler
-//! gives up on (a glossy reflection below the surface, the back of a sphere light) go in a
+//! gives up on (a glossy reflection below the surface, a refraction back out) go in a
 //! bin of their own, expected to hold 1 minus the density's integral. Per sample, the BSDF's
 //! f |cos| / pdf must also equal the sampler's weight, and a light sample's pdf the density
 //! found by tracing its direction.
@@ -12,7 +12,6 @@ mod common;
 
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
-use sppm_gpu::accel::SPHERE_BIT;
 use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
 use sppm_gpu::gpu::scene_buffers::{SceneBuffers, SceneData};
 use sppm_gpu::gpu::types::Frame;
@@ -33,8 +32,8 @@ const MIN_EXPECTED: f64 = 5.0;
 /// Chance of a false alarm over the whole file; each test must reach p > SIGNIFICANCE / TESTS
 /// (Bonferroni's correction).
 const SIGNIFICANCE: f64 = 0.01;
-/// Chi-square tests in this file: cosine 1, glossy 10, rough dielectric 14, lights 2.
-const TESTS: f64 = 27.0;
+/// Chi-square tests in this file: cosine 1, glossy 10, rough dielectric 14, lights 3.
+const TESTS: f64 = 28.0;
 /// Samples in a bin whose expected count is 0 that are put down to rounding (as pbrt-v4 does:
 /// 1e-5 of the samples).
 const STRAY: f64 = 1e-5 * SAMPLES as f64;
@@ -648,17 +647,9 @@ fn light_test(bench: &Bench, s: &LightSetup, seed: u32, failures: &mut Vec<Strin
         .build()
         .unwrap_or_else(|e| panic!("{e}"));
     let gpu_scene = bench.upload(&scene);
-    // The share of usable samples: all of the quad's, which faces p, and of the sphere's those
-    // on the cap seen from p, (1 - r / d) / 2 of its area.
-    let usable: f64 = gpu_scene
-        .data
-        .emitters
-        .iter()
-        .map(|e| {
-            let sphere = e.prim_ref & SPHERE_BIT != 0;
-            e.pmf as f64 * if sphere { 0.5 * (1.0 - s.radius as f64 / dist) } else { 1.0 }
-        })
-        .sum();
+    // The share of usable samples: all of them, since the quad faces p and the sphere is
+    // sampled in the cone it subtends from p.
+    let usable: f64 = gpu_scene.data.emitters.iter().map(|e| e.pmf as f64).sum();
     let q = Params { p: f32x3(s.p), breaks: [limb as f32, -1.0, -1.0, -1.0], ..params(SAMPLER_LIGHT, seed, axis) };
     let outcome = run_test(bench, &gpu_scene, &q);
     judge(s.name, &outcome, failures);
@@ -698,5 +689,18 @@ fn light_sampling() {
         quad_size: 1.2,
     };
     light_test(&bench, &near, 301, &mut failures);
+    // A sphere 0.4 degrees in radius, where the cone's 1 - cos(theta_max) comes from its
+    // Taylor series.
+    let tiny = LightSetup {
+        name: "lights: sphere tiny, quad head-on",
+        p: DVec3::new(0.1, -0.2, 0.3),
+        axis: DVec3::new(0.3, 1.0, -0.5),
+        dist: 3.0,
+        radius: 0.02,
+        quad_dir: DVec3::new(1.0, -0.3, 0.4),
+        quad_tilt: 20.0,
+        quad_size: 0.8,
+    };
+    light_test(&bench, &tiny, 302, &mut failures);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -87,16 +87,15 @@ fn bsdf_sampled_emission(s: Surface, wo: vec3f, albedo: vec3f, u: vec2f) -> vec3
         return vec3f(0.0);
     }
     let pdf = abs(dot(wi, s.ns)) * INV_PI;
-    return albedo * shape.emission * emission_weight(pdf, e.shape, hit.t, wi, e.ng);
+    return albedo * shape.emission * emission_weight(pdf, o, hit, e, wi);
 }
 
-// MIS weight of emission that a path hits at distance t along d, on emitting shape `shape`
-// with geometric normal ng, after a BSDF sample of solid-angle density pdf_prev. pdf_prev is
-// 0 where next-event estimation could not have found the light (the camera, specular
-// scattering): the emission then counts whole.
-fn emission_weight(pdf_prev: f32, shape: u32, t: f32, d: vec3f, ng: vec3f) -> f32 {
+// MIS weight of emission that a ray from o along d hits (hit, at surface s), after a BSDF
+// sample of solid-angle density pdf_prev. pdf_prev is 0 where next-event estimation could
+// not have found the light (the camera, specular scattering): the emission then counts whole.
+fn emission_weight(pdf_prev: f32, o: vec3f, hit: Hit, s: Surface, d: vec3f) -> f32 {
     if pdf_prev <= 0.0 {
         return 1.0;
     }
-    return power_heuristic(pdf_prev, light_pdf(shape, t, -dot(d, ng)));
+    return power_heuristic(pdf_prev, light_pdf(o, hit.prim_ref, s.shape, hit.t, -dot(d, s.ng)));
 }

@@ -35,7 +35,7 @@ struct LightPoint {
 // A uniform point on an area emitter's primitive (density 1 / e.area), where its shape is at
 // the pass's shutter time.
 fn sample_area_emitter(e: Emitter, u: vec2f) -> LightPoint {
-    if USES_SPHERE_LIGHTS && (!USES_TRIANGLE_LIGHTS || (e.prim_ref & SPHERE_BIT) != 0u) {
+    if is_sphere_light(e.prim_ref) {
         let s = spheres[e.prim_ref & ~SPHERE_BIT];
         let n = sample_uniform_sphere(u);
         return LightPoint(s.center + s.radius * n + displacement(s.shape), n, s.shape);
@@ -67,39 +67,98 @@ struct LightSample {
     // Where the shadow ray ends: the light point, offset off an area light towards the
     // receiver (pbrt-v4 sec. 6.8.6, SpawnRayTo), or far along wi for a directional light.
     p_light: vec3f,
+    // Cosine between -wi and an area light's normal at the point; 0 for other lights.
+    cos_l: f32,
+}
+
+// 1 - cos(theta_max) of the cone of directions in which a sphere of radius r at distance d
+// (> r) is seen; below 1.5 degrees from its Taylor series sin^2 / 2, which f32 keeps where
+// 1 - sqrt(1 - sin^2) would cancel to 0 (pbrt-v4 sec. 6.2.4).
+fn sphere_cone(r: f32, d: f32) -> f32 {
+    let sin2_max = (r * r) / (d * d);
+    if sin2_max < 0.00068523 {
+        return 0.5 * sin2_max;
+    }
+    return 1.0 - sqrt(max(0.0, 1.0 - sin2_max));
+}
+
+// A point on sphere `sph` (its centre displaced to the pass's time) uniformly in the cone of
+// directions it subtends from p outside it (pbrt-v4 sec. 6.2.4): cos(theta) uniform in
+// [cos(theta_max), 1], then the angle alpha at the centre between the axis to p and the
+// point, by the law of sines.
+fn sample_sphere_cone(sph: Sphere, p: vec3f, u: vec2f) -> LightPoint {
+    let center = sph.center + displacement(sph.shape);
+    let d = length(p - center);
+    let sin2_max = (sph.radius * sph.radius) / (d * d);
+    let one_minus_cos = u.x * sphere_cone(sph.radius, d);
+    let cos_theta = 1.0 - one_minus_cos;
+    let sin2_theta = one_minus_cos * (2.0 - one_minus_cos);
+    let cos_alpha = sin2_theta / sqrt(sin2_max) + cos_theta * sqrt(max(0.0, 1.0 - sin2_theta / sin2_max));
+    let sin_alpha = sqrt(max(0.0, 1.0 - cos_alpha * cos_alpha));
+    let phi = 2.0 * PI * u.y;
+    let n = basis((p - center) / d) * vec3f(sin_alpha * cos(phi), sin_alpha * sin(phi), cos_alpha);
+    return LightPoint(center + sph.radius * n, n, sph.shape);
+}
+
+// Whether emitter reference prim_ref (of an area light) is a sphere, without a load when the
+// scene's lights are of one kind.
+fn is_sphere_light(prim_ref: u32) -> bool {
+    return USES_SPHERE_LIGHTS && (!USES_TRIANGLE_LIGHTS || (prim_ref & SPHERE_BIT) != 0u);
 }
 
 // Choose a light in proportion to power (u.x) and a point on it (u.yz), for the receiving
-// point p. Area lights are sampled uniformly by area: the density per unit area
-// area_emitter_density(shape), over the Jacobian cos_l / d^2 to solid angle.
+// point p. A sphere light seen from outside is sampled uniformly in the cone it subtends;
+// other area lights uniformly by area, the density per unit area area_emitter_density(shape)
+// over the Jacobian cos_l / d^2 to solid angle.
 fn sample_light(p: vec3f, u: vec3f) -> LightSample {
     let e = emitters[find_emitter(u.x)];
     if USES_POINT_LIGHTS && e.kind == EMITTER_POINT {
         let to = e.position - p;
         let dist = length(to);
-        return LightSample(to / dist, dist, e.radiance / (dist * dist * e.pmf), 0.0, e.position);
+        return LightSample(to / dist, dist, e.radiance / (dist * dist * e.pmf), 0.0, e.position, 0.0);
     }
     if USES_DIRECTIONAL_LIGHTS && e.kind == EMITTER_DIRECTIONAL {
         let wi = -e.direction;
         // Past the directional light's disk, which encloses the scene.
         let far = 2.0 * e.radius + length(p - e.position);
-        return LightSample(wi, 3.4e38, e.radiance / e.pmf, 0.0, p + far * wi);
+        return LightSample(wi, 3.4e38, e.radiance / e.pmf, 0.0, p + far * wi, 0.0);
     }
-    let l = sample_area_emitter(e, u.yz);
+    var l: LightPoint;
+    if is_sphere_light(e.prim_ref) && outside_sphere(spheres[e.prim_ref & ~SPHERE_BIT], p) {
+        l = sample_sphere_cone(spheres[e.prim_ref & ~SPHERE_BIT], p, u.yz);
+    } else {
+        l = sample_area_emitter(e, u.yz);
+    }
     let to = l.p - p;
     let dist = length(to);
     let wi = to / dist;
     let cos_l = -dot(wi, l.n);
     if cos_l <= 0.0 || dist <= 0.0 {
-        return LightSample(wi, dist, vec3f(0.0), 0.0, l.p);
+        return LightSample(wi, dist, vec3f(0.0), 0.0, l.p, cos_l);
     }
-    let pdf = light_pdf(l.shape, dist, cos_l);
+    let pdf = light_pdf(p, e.prim_ref, l.shape, dist, cos_l);
     let p_light = l.p + frame.ray_epsilon * l.n;
-    return LightSample(wi, dist, shapes[l.shape].emission / pdf, pdf, p_light);
+    return LightSample(wi, dist, shapes[l.shape].emission / pdf, pdf, p_light, cos_l);
 }
 
-// Solid-angle density with which sample_light picks a direction that meets emitting shape
-// `shape` at distance t, where the direction makes cosine cos_l with its normal.
-fn light_pdf(shape: u32, t: f32, cos_l: f32) -> f32 {
+// Whether p lies outside sphere `sph` (at the pass's time), where cone sampling applies.
+fn outside_sphere(sph: Sphere, p: vec3f) -> bool {
+    let to = p - (sph.center + displacement(sph.shape));
+    return dot(to, to) > sph.radius * sph.radius * 1.0001;
+}
+
+// Solid-angle density with which sample_light, called at p, picks a direction that meets
+// emitting primitive prim_ref (of shape `shape`) at distance t, where the direction makes
+// cosine cos_l with its normal: pmf / (2 pi (1 - cos(theta_max))) in a sphere's cone, and
+// pmf / area * t^2 / cos_l for a point chosen by area.
+fn light_pdf(p: vec3f, prim_ref: u32, shape: u32, t: f32, cos_l: f32) -> f32 {
+    if is_sphere_light(prim_ref) {
+        let sph = spheres[prim_ref & ~SPHERE_BIT];
+        if outside_sphere(sph, p) {
+            // pmf = density * 4 pi r^2.
+            let d = length(p - (sph.center + displacement(sph.shape)));
+            return area_emitter_density(shape) * 2.0 * sph.radius * sph.radius / sphere_cone(sph.radius, d);
+        }
+    }
     return area_emitter_density(shape) * t * t / cos_l;
 }
