@@ -447,6 +447,12 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
     }
     let seconds = start.elapsed().as_secs_f64();
     let passes = r.iterations as f64;
+    // Camera paths per visible point per pass: direct_samples where direct light is sampled.
+    let paths = if r.direct == DirectLight::Photons { 1 } else { sppm_gpu::integrators::sppm::direct_samples(r) };
+    let direct = match r.direct {
+        DirectLight::Photons => "from photons".to_string(),
+        DirectLight::Sampled => format!("sampled by {paths} camera paths per visible point"),
+    };
     println!(
         "{}: {}x{}, {} passes (after one untimed) x {} photons, max_depth {}, direct light {}, {}",
         scene_path.display(),
@@ -455,7 +461,7 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
         r.iterations,
         r.photons,
         r.max_depth,
-        if r.direct == DirectLight::Photons { "from photons" } else { "sampled" },
+        direct,
         gpu.adapter_info.name
     );
     for (name, s) in ["camera paths", "grid build", "photons", "statistics"].iter().zip(stage) {
@@ -465,7 +471,7 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
         "  total {seconds:.2} s: {:.2} passes/s, {:.3} M photons/s, {:.2} M camera paths/s",
         passes / seconds,
         passes * r.photons as f64 / seconds / 1e6,
-        passes * (r.width * r.height * r.spp) as f64 / stage[0] / 1e6
+        passes * (r.width * r.height * r.spp * paths) as f64 / stage[0] / 1e6
     );
     let radius = sppm.radius_stats()?;
     println!(
