@@ -1,8 +1,8 @@
 // Direct light by next-event estimation with multiple importance sampling: the one code path
 // the path tracer (pt-nee) and SPPM's camera pass share. At a diffuse, glossy or rough
-// dielectric vertex a light is sampled by power and joined by a shadow ray; area lights are weighted against BSDF
-// sampling by the power heuristic (Veach 1997, sec. 9.2.4), delta lights taken whole, and
-// emission that BSDF sampling hits is weighted by emission_weight.
+// dielectric vertex a light is sampled by power and joined by a shadow ray; area lights are
+// weighted against BSDF sampling by the power heuristic (Veach 1997, sec. 9.2.4), delta
+// lights taken whole, and emission that BSDF sampling hits is weighted by emission_weight.
 
 #import types
 #import sampling

@@ -1,5 +1,5 @@
 // The lights: choosing one in proportion to power, and points on area lights. Photon
-// emission and next-event estimation both start here; light_sample and light_pdf are the
+// emission and next-event estimation both start here; sample_light and light_pdf are the
 // light side of next-event estimation, for the path tracer and SPPM's camera pass alike.
 
 @group(0) @binding(15) var<storage, read> emitters: array<Emitter>;
