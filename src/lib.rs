@@ -9,11 +9,14 @@
 //! not matter.
 //!
 //! Each SPPM pass traces one camera path per pixel sample to its first diffuse surface (the
-//! visible point), builds a hashed grid over the visible points, traces `photons` photons from
-//! the lights and adds their flux to the visible points within radius, then updates each
-//! point's statistics: N' = N + alpha M, r' = r sqrt(N' / (N + M)),
-//! tau' = (tau + phi) r'^2 / r^2. After k passes of P photons a pixel's radiance is
-//! L = ld / k + tau / (k P pi r^2).
+//! visible point), sampling direct light on the way and there (next-event estimation with
+//! MIS, the code the path tracer runs), builds a hashed grid over the visible points, traces
+//! `photons` photons from the lights and adds the flux of those that have bounced at least
+//! once to the visible points within radius, then updates each point's statistics:
+//! N' = N + alpha M, r' = r sqrt(N' / (N + M)), tau' = (tau + phi) r'^2 / r^2. After k
+//! passes of P photons a pixel's radiance is L = ld / k + tau / (k P pi r^2), ld summing the
+//! emitted and direct light the camera paths found. `direct = "photons"` is the original
+//! algorithm, photons carrying direct light too.
 //!
 //! # Modules
 //!

@@ -1,7 +1,8 @@
 //! Stochastic progressive photon mapping (Hachisuka & Jensen 2009) on the GPU.
 //!
 //! One pass, recorded into one command encoder with no trip to the host: `camera_pass` traces
-//! a path per visible-point slot to its visible point; `grid_setup`, `grid_count`, `grid_scan`
+//! a path per visible-point slot to its visible point, sampling direct light on the way
+//! (and `direct_samples` paths in all gathering it); `grid_setup`, `grid_count`, `grid_scan`
 //! and `grid_fill` build the hashed grid over the points (src/accel/grid.rs is its CPU
 //! oracle); `photon_pass` traces photons and adds their flux to the points within radius;
 //! `update_stats` folds that into each point's statistics (N, radius, tau). `resolve` turns
