@@ -252,7 +252,7 @@ fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Resul
     positive("max-depth", cli.max_depth, 1024, &mut render.max_depth)?;
     if cli.direct_samples.is_some() {
         let mut n = 1;
-        positive("direct-samples", cli.direct_samples, 1024, &mut n)?;
+        positive("direct-samples", cli.direct_samples, scene::MAX_DIRECT_SAMPLES, &mut n)?;
         render.direct_samples = Some(n);
     }
     if let Some(r) = cli.radius {

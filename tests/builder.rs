@@ -243,6 +243,8 @@ fn render_settings_out_of_range() {
     assert_err(base().spp(0), "render.spp", "between 1");
     assert_err(base().photons(0), "render.photons", "between 1");
     assert_err(base().max_depth(0), "render.max_depth", "between 1");
+    assert_err(base().direct_samples(0), "render.direct_samples", "between 1 and 1024, found 0");
+    assert_err(base().direct_samples(1025), "render.direct_samples", "between 1 and 1024, found 1025");
     assert_err(base().radius(0.0), "render.radius", "greater than 0");
     assert_err(base().radius(f32::NAN), "render.radius", "finite");
     assert_err(base().alpha(1.0), "render.alpha", "less than 1");

@@ -23,7 +23,7 @@
 //! # Ok::<(), sppm_gpu::scene::SceneError>(())
 //! ```
 
-use super::load::{Bound, MAX_RESOLUTION};
+use super::load::{Bound, MAX_DIRECT_SAMPLES, MAX_RESOLUTION};
 use super::mesh::{self, Transform};
 use super::{
     Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, RenderSettings, Scene, SceneError,
@@ -160,6 +160,13 @@ impl SceneBuilder {
     /// SPPM's source of direct light (`render.direct`).
     pub fn direct(mut self, direct: DirectLight) -> Self {
         self.render.direct = direct;
+        self
+    }
+
+    /// Camera paths per visible point per pass that gather direct light
+    /// (`render.direct_samples`, 1 to [`MAX_DIRECT_SAMPLES`]); automatic when not set.
+    pub fn direct_samples(mut self, paths: u32) -> Self {
+        self.render.direct_samples = Some(paths);
         self
     }
 
@@ -505,6 +512,9 @@ impl Check<'_> {
         self.count("render.spp", r.spp, u32::MAX)?;
         self.count("render.photons", r.photons, u32::MAX)?;
         self.count("render.max_depth", r.max_depth, u32::MAX)?;
+        if let Some(paths) = r.direct_samples {
+            self.count("render.direct_samples", paths, MAX_DIRECT_SAMPLES)?;
+        }
         if let Some(radius) = r.radius {
             self.f32("render.radius", radius, Bound::Positive)?;
         }

@@ -17,6 +17,8 @@ type Result<T> = std::result::Result<T, SceneError>;
 
 /// Largest accepted image width or height, in pixels.
 pub(super) const MAX_RESOLUTION: u32 = 16384;
+/// Most camera paths per visible point per pass that `direct_samples` may ask for.
+pub const MAX_DIRECT_SAMPLES: u32 = 1024;
 
 /// Reads a scene file and loads it.
 pub fn load(path: &Path) -> Result<Scene> {
@@ -212,7 +214,7 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         seed: t.or("seed", 0, |v| v.u32_in(0, u32::MAX))?,
         time_limit: t.opt("time_limit", |v| v.f64_in(Bound::Positive))?,
         direct: t.or("direct", DirectLight::Sampled, |v| v.choice("direct", &directs))?,
-        direct_samples: t.opt("direct_samples", |v| v.u32_in(1, 1024))?,
+        direct_samples: t.opt("direct_samples", |v| v.u32_in(1, MAX_DIRECT_SAMPLES))?,
     })
 }
 

@@ -12,7 +12,7 @@ mod mesh;
 
 pub use builder::SceneBuilder;
 pub use error::SceneError;
-pub use load::{load, load_str};
+pub use load::{load, load_str, MAX_DIRECT_SAMPLES};
 
 use glam::{Vec2, Vec3};
 use std::path::PathBuf;
