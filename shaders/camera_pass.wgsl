@@ -109,13 +109,13 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     let px = pixel % frame.width;
     let py = pixel / frame.width;
 
-    // The first path leaves the visible point. Where direct light is sampled, the light the
-    // paths gather is the mean over frame.direct_samples paths through the pixel: each is an
-    // unbiased estimate of the pixel's emitted and direct light, and the extra paths cost no
-    // visible point, grid entry or photon deposit.
+    // The first path leaves the visible point. The light the paths gather is the mean over
+    // frame.direct_samples paths through the pixel (1 where photons carry direct light): each
+    // is an unbiased estimate of the pixel's emitted and direct light, and the extra paths
+    // cost no visible point, grid entry or photon deposit.
     let first = trace_camera_path(px, py, &rng);
     var ld = first.ld;
-    let paths = select(1u, max(frame.direct_samples, 1u), frame.direct != 0u);
+    let paths = max(frame.direct_samples, 1u);
     for (var i = 1u; i < paths; i++) {
         ld += trace_camera_path(px, py, &rng).ld;
     }

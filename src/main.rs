@@ -447,8 +447,7 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
     }
     let seconds = start.elapsed().as_secs_f64();
     let passes = r.iterations as f64;
-    // Camera paths per visible point per pass: direct_samples where direct light is sampled.
-    let paths = if r.direct == DirectLight::Photons { 1 } else { sppm_gpu::integrators::sppm::direct_samples(r) };
+    let paths = sppm_gpu::integrators::sppm::direct_samples(r);
     let direct = match r.direct {
         DirectLight::Photons => "from photons".to_string(),
         DirectLight::Sampled => format!("sampled by {paths} camera paths per visible point"),

@@ -35,8 +35,8 @@ struct Frame {
     // SPPM: 1 when the camera pass samples direct light and photons deposit only after their
     // first bounce, 0 when photons carry all light.
     direct: u32,
-    // SPPM with direct 1: camera paths per visible point per pass that gather direct light
-    // (the first leaves the visible point).
+    // SPPM: camera paths per visible point per pass that gather emitted and direct light (the
+    // first leaves the visible point); 1 when direct is 0.
     direct_samples: u32,
 }
 

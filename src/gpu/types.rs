@@ -67,8 +67,8 @@ pub struct Frame {
     /// their first bounce ([`DirectLight::Sampled`](crate::scene::DirectLight)), 0 when
     /// photons carry all light.
     pub direct: u32,
-    /// SPPM with `direct` 1: camera paths per visible point per pass that gather direct
-    /// light (the first leaves the visible point).
+    /// SPPM: camera paths per visible point per pass that gather emitted and direct light
+    /// (the first leaves the visible point); 1 when `direct` is 0.
     pub direct_samples: u32,
 }
 

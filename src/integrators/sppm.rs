@@ -50,14 +50,18 @@ pub fn auto_radius(scene: &Scene) -> f32 {
     pixels * footprint
 }
 
-/// Camera paths per visible point per pass that gather direct light: `render.direct_samples`,
-/// or automatically 3 photons / (2 visible points), from 1 to 64, so that the camera pass
+/// Camera paths per visible point per pass: 1 with direct light from photons; where it is
+/// sampled, `render.direct_samples`, or automatically 3 photons / (2 visible points), from 1
+/// to 64, so that the camera pass
 /// keeps the same share of a pass whatever the photon count. On cornell-box and
 /// cornell-glossy (200,000 photons, 256x256) that is 4 paths, within 10% of the best relMSE at
 /// equal time (4 to 8; `scripts/direct-light-defaults.sh`, BENCHMARKS.md), and the camera
 /// pass takes about 30% of a pass (a camera path with next-event estimation, three rays,
 /// costs about a third of a photon path on lavapipe).
 pub fn direct_samples(render: &crate::scene::RenderSettings) -> u32 {
+    if render.direct == DirectLight::Photons {
+        return 1;
+    }
     render.direct_samples.unwrap_or_else(|| {
         let points = render.width as u64 * render.height as u64 * render.spp as u64;
         (3 * render.photons as u64 / (2 * points).max(1)).clamp(1, 64) as u32
