@@ -373,7 +373,7 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
     let work = integrator.passes() as u64 * integrator.work_per_pass();
     println!(
         "{}: {} passes, {work} {unit} in {:.2} s ({:.2} M {unit}/s, {:.2} passes/s) -> {}",
-        method_name(r.method),
+        experiments::method_name(r.method),
         integrator.passes(),
         seconds,
         work as f64 / seconds / 1e6,
@@ -403,15 +403,6 @@ fn print_memory(memory: &integrators::GpuMemory) {
         for (name, b) in sorted {
             println!("    {name:24} {:>12} bytes", b);
         }
-    }
-}
-
-/// The name of a method as the scene format spells it.
-fn method_name(method: Method) -> &'static str {
-    match method {
-        Method::Sppm => "sppm",
-        Method::Pt => "pt",
-        Method::PtNee => "pt-nee",
     }
 }
 

@@ -33,13 +33,14 @@ fn snapshot_times_double_up_to_the_limit() {
 
 #[test]
 fn methods_and_sweep_parameters_parse_and_check_ranges() {
-    for m in [Method::Sppm, Method::Pt, Method::PtNee] {
-        assert_eq!(experiments::parse_method(experiments::method_name(m)).unwrap(), m);
-    }
-    assert!(experiments::parse_method("bdpt").is_err());
     for v in experiments::Variant::ALL {
         assert_eq!(experiments::Variant::parse(v.name()).unwrap(), v);
     }
+    for m in [Method::Sppm, Method::Pt, Method::PtNee] {
+        let v = experiments::Variant::parse(experiments::method_name(m)).unwrap();
+        assert_eq!((v.method, v.direct), (m, DirectLight::Sampled));
+    }
+    assert!(experiments::Variant::parse("bdpt").is_err());
     let photons = experiments::Variant::parse("sppm-photons").unwrap();
     assert_eq!((photons.method, photons.direct), (Method::Sppm, DirectLight::Photons));
     assert!(experiments::Variant::parse("pt-photons").is_err());

@@ -29,16 +29,6 @@ pub fn method_name(method: Method) -> &'static str {
     }
 }
 
-/// A method from its name in the scene format (`sppm`, `pt`, `pt-nee`).
-pub fn parse_method(name: &str) -> Result<Method, Error> {
-    match name {
-        "sppm" => Ok(Method::Sppm),
-        "pt" => Ok(Method::Pt),
-        "pt-nee" => Ok(Method::PtNee),
-        _ => Err(Error::Setting(format!("unknown method `{name}`: expected sppm, pt or pt-nee"))),
-    }
-}
-
 /// A method as [`compare`] runs it: the integrator and, for SPPM, where its direct light comes
 /// from. Named like the method, with `sppm-photons` for SPPM with direct light from photons
 /// alone (`direct = "photons"`).
