@@ -6,6 +6,7 @@ mod common;
 use glam::Vec3;
 use common::Rng;
 use sppm_gpu::accel::bvh::brute_force_intersect;
+use sppm_gpu::gpu::baked_bvh::{baked_trace, PLACEHOLDER};
 use sppm_gpu::gpu::scene_buffers::SceneData;
 use sppm_gpu::scene::*;
 use std::path::PathBuf;
@@ -26,18 +27,12 @@ fn random_scene(rand: &mut Rng, triangles: usize, spheres: usize) -> Scene {
     scene
 }
 
-#[test]
-fn gpu_traversal_matches_cpu_oracle() {
-    let Some(gpu) = common::gpu() else { return };
-    let mut rand = Rng(12345);
-    let scene = random_scene(&mut rand, 600, 24);
-    let data = SceneData::new(&scene).unwrap();
-
-    // Rays from outside and inside the cloud, some axis-aligned (zero direction components).
-    let n = 4096;
+/// Rays from a box of half-size `extent` about a cloud of primitives in [-1, 1]^3, some axis-aligned (zero
+/// direction components), some with a short t_max.
+fn cloud_rays(rand: &mut Rng, n: usize, extent: f32) -> Vec<[f32; 4]> {
     let mut rays = Vec::with_capacity(2 * n);
     for i in 0..n {
-        let o = rand.vec3(-1.5, 1.5);
+        let o = rand.vec3(-extent, extent);
         let mut d = rand.vec3(-1.0, 1.0);
         if i % 7 == 0 {
             d = Vec3::new(0.0, 0.0, if i % 2 == 0 { 1.0 } else { -1.0 });
@@ -46,10 +41,12 @@ fn gpu_traversal_matches_cpu_oracle() {
         rays.push([o.x, o.y, o.z, t_max]);
         rays.push([d.x, d.y, d.z, 0.0]);
     }
+    rays
+}
 
-    // Every feature on: the general traversal (tests/features.rs compares the specialized ones).
-    let gpu_hits = common::trace_rays(&gpu, &data, &rays, &[]);
-
+/// The GPU's hits of `rays` against the CPU BVH and brute force.
+fn check_against_oracle(gpu_hits: &[[f32; 4]], scene: &Scene, data: &SceneData, rays: &[[f32; 4]]) {
+    let n = rays.len() / 2;
     let mut hit_count = 0;
     for i in 0..n {
         let o = Vec3::from_slice(&rays[2 * i][..3]);
@@ -71,4 +68,38 @@ fn gpu_traversal_matches_cpu_oracle() {
     }
     // The test means something only if many rays hit and many miss.
     assert!(hit_count > n / 8 && hit_count < n * 15 / 16, "{hit_count} of {n} rays hit");
+}
+
+#[test]
+fn gpu_traversal_matches_cpu_oracle() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut rand = Rng(12345);
+    let scene = random_scene(&mut rand, 600, 24);
+    let data = SceneData::new(&scene).unwrap();
+    assert!(baked_trace(&data).is_none(), "too many primitives to bake: the data traversal");
+    let rays = cloud_rays(&mut rand, 4096, 1.5);
+    // Every feature on: the general traversal (tests/features.rs compares the specialized ones).
+    let gpu_hits = common::trace_rays(&gpu, &data, &rays, &[]);
+    check_against_oracle(&gpu_hits, &scene, &data, &rays);
+    gpu.check().unwrap();
+}
+
+/// A small scene's BVH written as code finds the same hits as the oracle, and the same as the
+/// data traversal bit for bit (both run the same intersection tests on the same numbers).
+#[test]
+fn baked_traversal_matches_cpu_oracle() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut rand = Rng(777);
+    let scene = random_scene(&mut rand, 240, 16);
+    let data = SceneData::new(&scene).unwrap();
+    let code = baked_trace(&data).expect("256 primitives, the most that are baked");
+    // From inside the sparser cloud, so that enough rays hit.
+    let rays = cloud_rays(&mut rand, 4096, 0.5);
+    let baked = common::trace_rays_with(&gpu, &data, &rays, &[], &[(PLACEHOLDER, &code)]);
+    check_against_oracle(&baked, &scene, &data, &rays);
+    let loaded = common::trace_rays(&gpu, &data, &rays, &[]);
+    let bits = |h: &[f32; 4]| h.map(f32::to_bits);
+    let differ = baked.iter().zip(&loaded).filter(|(a, b)| bits(a) != bits(b)).count();
+    assert_eq!(differ, 0, "baked and data traversal differ on {differ} rays");
+    gpu.check().unwrap();
 }

@@ -130,11 +130,39 @@ fn intersect_child(q: vec3u, o: vec3f, inv_d: vec3f, t_max: f32) -> f32 {
     return intersect_box(bvh.origin + lo * bvh.scale, bvh.origin + hi * bvh.scale, o, inv_d, t_max);
 }
 
+// Whether the ray enters the box before t_max (the baked traversal's box test).
+fn enters(lo: vec3f, hi: vec3f, o: vec3f, inv_d: vec3f, t_max: f32) -> bool {
+    return intersect_box(lo, hi, o, inv_d, t_max) < t_max;
+}
+
+// Keep the triangle (p0, e1, e2) as the hit if it is nearer (the baked traversal's leaves).
+fn hit_triangle(p0: vec3f, e1: vec3f, e2: vec3f, prim_ref: u32, shape: u32, o: vec3f, d: vec3f, hit: ptr<function, Hit>) {
+    let tb = intersect_triangle(Triangle(p0, 0u, e1, shape, e2, 0u), origin_at_rest(o, shape), d, (*hit).t);
+    if tb.x > 0.0 {
+        *hit = Hit(tb.x, prim_ref, tb.yz);
+    }
+}
+
+// Keep the sphere as the hit if it is nearer.
+fn hit_sphere(center: vec3f, radius: f32, prim_ref: u32, shape: u32, o: vec3f, d: vec3f, hit: ptr<function, Hit>) {
+    let t = intersect_sphere(Sphere(center, radius, 0u, shape, vec2u(0u)), origin_at_rest(o, shape), d, (*hit).t);
+    if t > 0.0 {
+        *hit = Hit(t, prim_ref, vec2f(0.0));
+    }
+}
+
+// A small scene's BVH and primitives as code (src/gpu/baked_bvh.rs replaces this function
+// when it builds the kernels of such a scene): true when it traced the ray.
+fn trace_baked(o: vec3f, d: vec3f, inv_d: vec3f, hit: ptr<function, Hit>) -> bool { return false; }
+
 // Closest hit along o + t d for t in (0, t_max); hit.prim_ref is 0xffffffff on a miss.
 // The stack holds child references whose boxes the ray entered when they were pushed.
 fn trace_closest(o: vec3f, d: vec3f, t_max_in: f32) -> Hit {
     var hit = Hit(t_max_in, 0xffffffffu, vec2f(0.0));
     let inv_d = 1.0 / d;
+    if trace_baked(o, d, inv_d, &hit) {
+        return hit;
+    }
     var stack: array<u32, BVH_STACK_SIZE>;
     // The root (node 0) is always interior; an empty scene's has two empty children.
     stack[0] = 0u;

@@ -112,3 +112,25 @@ impl Features {
         .collect()
     }
 }
+
+/// Everything the tracing kernels of one scene are specialized on: the constants of its
+/// [`Features`] and, for a small scene, its BVH as code (see [`super::baked_bvh`]).
+pub struct Specialization {
+    /// `USES_*` overrides.
+    pub constants: Vec<(&'static str, f64)>,
+    /// Source replacements: the baked traversal, or nothing.
+    pub replace: Vec<(&'static str, String)>,
+}
+
+impl Specialization {
+    /// The specialization for `data`'s scene.
+    pub fn of(data: &SceneData) -> Self {
+        Self { constants: Features::of(data).constants(), replace: super::baked_bvh::replacements(data) }
+    }
+
+    /// Kernel `name` compiled for this scene.
+    pub fn kernel(&self, device: &wgpu::Device, name: &'static str) -> Result<super::Kernel, super::GpuError> {
+        let replace: Vec<(&str, &str)> = self.replace.iter().map(|(token, code)| (*token, code.as_str())).collect();
+        super::Kernel::specialized(device, name, &replace, &self.constants)
+    }
+}

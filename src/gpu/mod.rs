@@ -3,10 +3,11 @@
 mod context;
 mod features;
 mod kernel;
+pub mod baked_bvh;
 pub mod readback;
 pub mod scene_buffers;
 pub mod types;
 
 pub use context::{check_device, required_limits, GpuContext, GpuError, STORAGE_BUFFERS_NEEDED};
-pub use features::Features;
+pub use features::{Features, Specialization};
 pub use kernel::{shader_source, validate, Kernel, Resource, KERNELS};

@@ -13,7 +13,7 @@ use crate::error::Error;
 use crate::gpu::readback::{read_buffer, read_whole, staging_buffer};
 use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
 use crate::gpu::types::*;
-use crate::gpu::{Features, Kernel, Resource};
+use crate::gpu::{Kernel, Resource, Specialization};
 use crate::image_io::Rgb32Image;
 use crate::scene::{DirectLight, Scene};
 use std::ops::Range;
@@ -137,8 +137,8 @@ struct Stage {
 }
 
 impl Stage {
-    fn new(device: &wgpu::Device, name: &'static str, buffers: &Buffers, constants: &[(&str, f64)]) -> Result<Self, Error> {
-        let kernel = Kernel::specialized(device, name, &[], constants)?;
+    fn new(device: &wgpu::Device, name: &'static str, buffers: &Buffers, spec: &Specialization) -> Result<Self, Error> {
+        let kernel = spec.kernel(device, name)?;
         let group = kernel.bind_group(device, &buffers.resources())?;
         Ok(Self { kernel, group })
     }
@@ -267,7 +267,7 @@ impl Sppm {
         };
         queue.write_buffer(&buffers.frame, 0, bytemuck::bytes_of(&frame));
         // The tracing kernels, compiled for what this scene has.
-        let constants = Features::of(data).constants();
+        let spec = Specialization::of(data);
 
         Ok(Self {
             device: device.clone(),
@@ -278,14 +278,14 @@ impl Sppm {
             passes: 0,
             photons_traced: 0,
             initial_radius,
-            camera_pass: Stage::new(device, "camera_pass", &buffers, &constants)?,
-            grid_setup: Stage::new(device, "grid_setup", &buffers, &constants)?,
-            grid_count: Stage::new(device, "grid_count", &buffers, &constants)?,
-            grid_scan: Stage::new(device, "grid_scan", &buffers, &constants)?,
-            grid_fill: Stage::new(device, "grid_fill", &buffers, &constants)?,
-            photon_pass: Stage::new(device, "photon_pass", &buffers, &constants)?,
-            update_stats: Stage::new(device, "update_stats", &buffers, &constants)?,
-            resolve: Stage::new(device, "resolve", &buffers, &constants)?,
+            camera_pass: Stage::new(device, "camera_pass", &buffers, &spec)?,
+            grid_setup: Stage::new(device, "grid_setup", &buffers, &spec)?,
+            grid_count: Stage::new(device, "grid_count", &buffers, &spec)?,
+            grid_scan: Stage::new(device, "grid_scan", &buffers, &spec)?,
+            grid_fill: Stage::new(device, "grid_fill", &buffers, &spec)?,
+            photon_pass: Stage::new(device, "photon_pass", &buffers, &spec)?,
+            update_stats: Stage::new(device, "update_stats", &buffers, &spec)?,
+            resolve: Stage::new(device, "resolve", &buffers, &spec)?,
             resolve_texture: [None, None],
             image_staging: staging_buffer(device, "image_staging", pixel_count as u64 * 16),
             buffers,

@@ -46,11 +46,22 @@ pub fn trace_rays(
     rays: &[[f32; 4]],
     constants: &[(&str, f64)],
 ) -> Vec<[f32; 4]> {
+    trace_rays_with(gpu, data, rays, constants, &[])
+}
+
+/// [`trace_rays`] with source replacements (the baked traversal of `gpu::baked_bvh`).
+pub fn trace_rays_with(
+    gpu: &GpuContext,
+    data: &sppm_gpu::gpu::scene_buffers::SceneData,
+    rays: &[[f32; 4]],
+    constants: &[(&str, f64)],
+    replace: &[(&str, &str)],
+) -> Vec<[f32; 4]> {
     use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
     use sppm_gpu::gpu::scene_buffers::{storage_buffer, SceneBuffers};
     use sppm_gpu::gpu::{Kernel, Resource};
     use wgpu::util::DeviceExt;
-    let kernel = Kernel::specialized(&gpu.device, "trace_rays", &[], constants).unwrap();
+    let kernel = Kernel::specialized(&gpu.device, "trace_rays", replace, constants).unwrap();
     let buffers = SceneBuffers::new(&gpu.device, data);
     let n = rays.len() / 2;
     let ray_buffer = storage_buffer(&gpu.device, "rays", rays);
