@@ -10,6 +10,7 @@
 #import scene
 #import bsdf
 #import lights
+#import lanes
 
 @group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
 @group(0) @binding(9) var<storage, read> vp_points: array<vec4f>;
@@ -34,39 +35,69 @@ fn accumulate_fixed(lo: u32, c: f32) {
     }
 }
 
-// Add the photon's flux to the visible points around p. `d` is the photon's direction of travel.
-fn deposit(p: vec3f, d: vec3f, beta: vec3f) {
+// Add the photon's flux to visible point v if it lies within v's radius of p.
+fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f) {
+    let q = vp_points[v];
+    let delta = p - q.xyz;
+    if dot(delta, delta) >= q.w * q.w {
+        return;
+    }
+    let vp = visible_points[v];
+    // A photon from behind the visible point's surface does not light it.
+    if dot(vp.normal, d) >= 0.0 {
+        return;
+    }
+    let contribution = beta * vp.weight;
+    // Guard against NaN and overflow: such a photon adds nothing rather than everything.
+    if !all(contribution >= vec3f(0.0)) || !all(contribution < vec3f(1.0e9)) {
+        return;
+    }
+    let base = v * ACCUM_STRIDE;
+    accumulate_fixed(base, contribution.x);
+    accumulate_fixed(base + 2u, contribution.y);
+    accumulate_fixed(base + 4u, contribution.z);
+    atomicAdd(&flux_accum[base + 6u], 1u);
+}
+
+// The range of grid_entries listing the visible points that may lie within reach of p.
+fn bucket(p: vec3f) -> vec2u {
     let c = floor((p - grid.origin) / grid.cell_size);
     let res = vec3f(grid.res);
     // Written so that a NaN position is outside too.
     if !all((c >= vec3f(0.0)) & (c < res)) {
-        return;
+        return vec2u(0u);
     }
     let cell = vec3u(c);
     // Teschner et al. 2003 spatial hash; src/accel/grid.rs builds the table with the same one.
     let h = ((cell.x * 73856093u) ^ (cell.y * 19349663u) ^ (cell.z * 83492791u)) & grid.table_mask;
-    for (var i = grid_cell_start[h]; i < grid_cell_start[h + 1u]; i++) {
-        let v = grid_entries[i];
-        let q = vp_points[v];
-        let delta = p - q.xyz;
-        if dot(delta, delta) >= q.w * q.w {
-            continue;
+    return vec2u(grid_cell_start[h], grid_cell_start[h + 1u]);
+}
+
+// Add the flux of the photons of the lanes where `deposits` to the visible points around
+// them. The lanes of a SIMD group share the work (shared/lanes.wgsl): one photon's bucket
+// at a time, each lane taking every n-th entry, so that no lane idles while another walks a
+// long bucket. Flux is added in fixed point, so who adds what does not change the sums.
+fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f) {
+    var range = vec2u(0u);
+    if deposits {
+        range = bucket(p);
+    }
+    let rank = lane_rank();
+    let lanes = lane_count();
+    let ballot = lane_ballot(range.y > range.x);
+    for (var word = 0u; word < 4u; word++) {
+        var todo = ballot[word];
+        while todo != 0u {
+            let lane = 32u * word + firstTrailingBit(todo);
+            todo &= todo - 1u;
+            let r = lane_shuffle_u2(range, lane);
+            let p_lane = lane_shuffle_f3(p, lane);
+            let d_lane = lane_shuffle_f3(d, lane);
+            let beta_lane = lane_shuffle_f3(beta, lane);
+            for (var i = r.x + rank; i < r.y; i += lanes) {
+                deposit_at(grid_entries[i], p_lane, d_lane, beta_lane);
+            }
         }
-        let vp = visible_points[v];
-        // A photon from behind the visible point's surface does not light it.
-        if dot(vp.normal, d) >= 0.0 {
-            continue;
-        }
-        let contribution = beta * vp.weight;
-        // Guard against NaN and overflow: such a photon adds nothing rather than everything.
-        if !all(contribution >= vec3f(0.0)) || !all(contribution < vec3f(1.0e9)) {
-            continue;
-        }
-        let base = v * ACCUM_STRIDE;
-        accumulate_fixed(base, contribution.x);
-        accumulate_fixed(base + 2u, contribution.y);
-        accumulate_fixed(base + 4u, contribution.z);
-        atomicAdd(&flux_accum[base + 6u], 1u);
     }
 }
 
@@ -116,14 +147,13 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> bool {
     let d = (*ph).d;
     let s = surface_at(hit, (*ph).o, d);
     let m = materials[s.material];
+    // At a diffuse hit; where the camera pass samples direct light, photons straight from a
+    // light would count it twice: they deposit only after their first bounce. Called by
+    // every lane that hit something, so that they all help.
+    deposit(m.kind == MATERIAL_DIFFUSE && (frame.direct == 0u || (*ph).depth > 0u), s.p, d, (*ph).beta);
     var wi: vec3f;
     var f: vec3f;
     if m.kind == MATERIAL_DIFFUSE {
-        // Where the camera pass samples direct light, photons straight from a light would
-        // count it twice: they deposit only after their first bounce.
-        if frame.direct == 0u || (*ph).depth > 0u {
-            deposit(s.p, d, (*ph).beta);
-        }
         // Scatter to the side the photon came from.
         let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
         wi = sample_cosine_hemisphere(n_in, rng_next2(rng));

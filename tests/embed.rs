@@ -357,3 +357,24 @@ fn a_device_with_default_limits_is_refused() {
     let limits = sppm_gpu::gpu::required_limits(&adapter.limits()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(limits.max_storage_buffers_per_shader_stage, sppm_gpu::gpu::STORAGE_BUFFERS_NEEDED);
 }
+
+/// Where the device has subgroups, the photon pass's lanes share their deposits
+/// (`shaders/shared/lanes.wgsl`); an application's device without them gets kernels where
+/// each lane deposits alone (`lanes_single.wgsl`). Flux is summed in fixed point, so the two
+/// give the same image bit for bit.
+#[test]
+fn with_and_without_subgroups_the_same_image() {
+    let Some((adapter, device, queue)) = sppm_device() else { return };
+    assert!(!device.features().contains(wgpu::Features::SUBGROUP), "the application asked for no features");
+    let Some(gpu) = common::gpu() else { return };
+    if !gpu.device.features().contains(wgpu::Features::SUBGROUP) {
+        assert!(!adapter.features().contains(wgpu::Features::SUBGROUP), "GpuContext asks for subgroups where there are");
+        eprintln!("this adapter has no subgroups: nothing to compare");
+        return;
+    }
+    let scene = small("cornell-spheres.toml", 11);
+    let (_, without) = reference(&device, &queue, &scene, PASSES);
+    let (_, with) = reference(&gpu.device, &gpu.queue, &scene, PASSES);
+    assert_bit_equal(&with, &without, "with vs without subgroups");
+    assert!(mean(&with) > 0.05, "mean {}", mean(&with));
+}

@@ -1,7 +1,7 @@
 //! Every kernel's WGSL, with its imports expanded, parses and validates with naga, and has
 //! exactly one entry point, named like its file.
 
-use sppm_gpu::gpu::{shader_source, validate, KERNELS};
+use sppm_gpu::gpu::{shader_source, shader_source_for, validate, KERNELS};
 
 #[test]
 fn every_kernel_validates() {
@@ -18,4 +18,21 @@ fn imports_are_expanded_once() {
     let source = shader_source("photon_pass").unwrap();
     assert!(!source.contains("#import"));
     assert_eq!(source.matches("struct Frame {").count(), 1);
+}
+
+/// Kernels for a device without subgroup operations use none: naga validates them without
+/// the capability.
+#[test]
+fn kernels_without_subgroups_use_none() {
+    for name in KERNELS {
+        let source = shader_source_for(name, false).unwrap();
+        for builtin in ["subgroupAdd", "subgroupExclusiveAdd", "subgroupBallot", "subgroupShuffle"] {
+            assert!(!source.contains(builtin), "{name} calls {builtin}");
+        }
+        let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{name}: {e}"));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{name}: {e:?}"));
+    }
+    assert!(shader_source("photon_pass").unwrap().contains("subgroupBallot"));
 }

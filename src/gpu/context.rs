@@ -92,7 +92,8 @@ impl GpuContext {
         let limits = adjust(required_limits(&adapter.limits())?);
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("sppm-gpu"),
-            required_features: wgpu::Features::empty(),
+            // Subgroups where there are: the photon pass shares deposits between lanes.
+            required_features: adapter.features() & wgpu::Features::SUBGROUP,
             required_limits: limits,
             experimental_features: wgpu::ExperimentalFeatures::disabled(),
             memory_hints: wgpu::MemoryHints::Performance,

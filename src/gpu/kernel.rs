@@ -46,6 +46,8 @@ const FILES: &[(&str, &str)] = &[
     ("grid", include_str!("../../shaders/shared/grid.wgsl")),
     ("lights", include_str!("../../shaders/shared/lights.wgsl")),
     ("direct", include_str!("../../shaders/shared/direct.wgsl")),
+    ("lanes", include_str!("../../shaders/shared/lanes.wgsl")),
+    ("lanes_single", include_str!("../../shaders/shared/lanes_single.wgsl")),
     ("path_trace", include_str!("../../shaders/path_trace.wgsl")),
     ("sampler_test", include_str!("../../shaders/sampler_test.wgsl")),
 ];
@@ -58,16 +60,24 @@ fn file(name: &str) -> Result<&'static str, GpuError> {
         .ok_or_else(|| GpuError(format!("no shader file named `{name}`")))
 }
 
-/// The WGSL of kernel `name` with its imports expanded, each shared file once, in order.
+/// The WGSL of kernel `name` with its imports expanded, each shared file once, in order, for a
+/// device with subgroup operations.
 pub fn shader_source(name: &str) -> Result<String, GpuError> {
-    fn expand(name: &str, seen: &mut Vec<String>, out: &mut String) -> Result<(), GpuError> {
+    shader_source_for(name, true)
+}
+
+/// [`shader_source`] for a device with or without subgroup operations
+/// ([`wgpu::Features::SUBGROUP`]): without, `lanes` is replaced by `lanes_single`.
+pub fn shader_source_for(name: &str, subgroups: bool) -> Result<String, GpuError> {
+    fn expand(name: &str, subgroups: bool, seen: &mut Vec<String>, out: &mut String) -> Result<(), GpuError> {
+        let name = if name == "lanes" && !subgroups { "lanes_single" } else { name };
         if seen.iter().any(|s| s == name) {
             return Ok(());
         }
         seen.push(name.to_string());
         for line in file(name)?.lines() {
             match line.trim().strip_prefix("#import ") {
-                Some(import) => expand(import.trim(), seen, out)?,
+                Some(import) => expand(import.trim(), subgroups, seen, out)?,
                 None => {
                     out.push_str(line);
                     out.push('\n');
@@ -77,15 +87,18 @@ pub fn shader_source(name: &str) -> Result<String, GpuError> {
         Ok(())
     }
     let mut out = String::new();
-    expand(name, &mut Vec::new(), &mut out)?;
+    expand(name, subgroups, &mut Vec::new(), &mut out)?;
     Ok(out)
 }
 
-/// Parse and validate WGSL with naga, as wgpu will.
+/// Parse and validate WGSL with naga, as wgpu will (subgroup operations allowed: wgpu checks
+/// them against the device's features).
 pub fn validate(name: &str, source: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), GpuError> {
     let module = naga::front::wgsl::parse_str(source)
         .map_err(|e| GpuError(format!("{name}.wgsl: {}", e.emit_to_string(source))))?;
-    let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
+    let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::SUBGROUP)
+        .subgroup_stages(naga::valid::ShaderStages::COMPUTE)
+        .subgroup_operations(naga::valid::SubgroupOperationSet::all())
         .validate(&module)
         .map_err(|e| GpuError(format!("{name}.wgsl: {}", e.emit_to_string(source))))?;
     Ok((module, info))
@@ -126,7 +139,7 @@ impl Kernel {
         replace: &[(&str, &str)],
         constants: &[(&str, f64)],
     ) -> Result<Self, GpuError> {
-        let mut source = shader_source(name)?;
+        let mut source = shader_source_for(name, device.features().contains(wgpu::Features::SUBGROUP))?;
         for (token, text) in replace {
             source = source.replace(token, text);
         }
