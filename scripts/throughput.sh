@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Issue 12's throughput figures in one run, one command after another on an idle machine:
+# pt-nee samples/s on cornell-box (256x256) beside Mitsuba 3's samples/s for the same wall time,
+# the study's SPPM run (wall time, and photons/s and camera paths/s per stage from `bench`),
+# and the 871k-triangle dragon (scripts/big-dragon.sh).
+#
+# Usage: bash scripts/throughput.sh [OLD_BINARY]
+# With OLD_BINARY (an sppm-gpu built from an earlier commit) every sppm-gpu figure is taken for
+# it too, alternating, so that before and after come from the same run. Mitsuba is run when
+# MITSUBA_PYTHON (a python with mitsuba 3 and numpy) is set.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cargo build --release --quiet
+new=target/release/sppm-gpu
+old="${1:-}"
+binaries=("$new")
+if [ -n "$old" ]; then binaries=("$old" "$new"); fi
+out="$(mktemp -d)"
+study=(scenes/cornell-spheres.toml --width 512 --height 512 --iterations 20 --photons 200000 --max-depth 32)
+seconds=10
+
+for bin in "${binaries[@]}"; do
+    echo "== $bin"
+    echo "-- pt-nee, cornell-box 256x256, ${seconds} s"
+    "$bin" scenes/cornell-box.toml --method pt-nee --time-limit "$seconds" -o "$out/ptnee.exr" 2>&1 | tail -1
+    echo "-- the study's run: cornell-spheres 512x512, 20 x 200k photons, max_depth 32"
+    /usr/bin/time -f "%e s wall" "$bin" "${study[@]}" -o "$out/study.exr" 2>&1 | tail -2
+    "$bin" bench "${study[@]}" 2>&1 | tail -6
+done
+
+if [ -n "${MITSUBA_PYTHON:-}" ]; then
+    echo "== Mitsuba 3 path, cornell-box 256x256, ${seconds} s"
+    "$MITSUBA_PYTHON" ../shared/tools/mitsuba_timed.py scenes/cornell-box.toml "$out/mi.exr" --seconds "$seconds" 2>&1 | tail -2
+fi
+
+for bin in "${binaries[@]}"; do
+    echo "== $bin: the 871k-triangle dragon"
+    mesh="$(realpath ../shared/meshes/dragon_871k.obj)"
+    sed "s#file = \"meshes/dragon_11k.obj\"#file = \"$mesh\"#" scenes/gallery/glass-dragon.toml > "$out/big-dragon.toml"
+    /usr/bin/time -f "%e s wall" "$bin" "$out/big-dragon.toml" -o "$out/big-dragon.png" --width 256 --height 256 --iterations 16 2>&1 | grep -E "passes|wall"
+done
+rm -rf "$out"
