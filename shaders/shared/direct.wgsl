@@ -25,7 +25,7 @@ fn unoccluded(p0: vec3f, p1: vec3f) -> bool {
     if !(dist > 0.0) {
         return true;
     }
-    return trace_closest(p0, to / dist, dist * (1.0 - 1e-4)).prim_ref == 0xffffffffu;
+    return !occluded(p0, to / dist, dist * (1.0 - 1e-4));
 }
 
 // Whether next-event estimation is done at a vertex of material m: every material whose

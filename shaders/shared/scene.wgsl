@@ -156,8 +156,20 @@ fn hit_sphere(center: vec3f, radius: f32, prim_ref: u32, shape: u32, o: vec3f, d
 fn trace_baked(o: vec3f, d: vec3f, inv_d: vec3f, hit: ptr<function, Hit>) -> bool { return false; }
 
 // Closest hit along o + t d for t in (0, t_max); hit.prim_ref is 0xffffffff on a miss.
-// The stack holds child references whose boxes the ray entered when they were pushed.
-fn trace_closest(o: vec3f, d: vec3f, t_max_in: f32) -> Hit {
+fn trace_closest(o: vec3f, d: vec3f, t_max: f32) -> Hit {
+    return trace(o, d, t_max, false);
+}
+
+// Whether anything lies along o + t d for t in (0, t_max): the traversal stops at the first
+// hit it finds (shadow rays).
+fn occluded(o: vec3f, d: vec3f, t_max: f32) -> bool {
+    return trace(o, d, t_max, true).prim_ref != 0xffffffffu;
+}
+
+// The closest hit, or with any_hit the first one found (a constant at every call, so each
+// call compiles to one of the two). The stack holds child references whose boxes the ray
+// entered when they were pushed.
+fn trace(o: vec3f, d: vec3f, t_max_in: f32, any_hit: bool) -> Hit {
     var hit = Hit(t_max_in, 0xffffffffu, vec2f(0.0));
     let inv_d = 1.0 / d;
     if trace_baked(o, d, inv_d, &hit) {
@@ -188,6 +200,9 @@ fn trace_closest(o: vec3f, d: vec3f, t_max_in: f32) -> Hit {
                         hit = Hit(tb.x, p, tb.yz);
                     }
                 }
+            }
+            if any_hit && hit.prim_ref != 0xffffffffu {
+                break;
             }
             continue;
         }
