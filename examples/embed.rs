@@ -117,7 +117,8 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     for _ in 0..frames {
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("app"), timestamp_writes: None });
+            let mut pass =
+                encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("app"), timestamp_writes: None });
             pass.set_pipeline(&app_pipeline);
             pass.set_bind_group(0, &app_group, &[]);
             pass.dispatch_workgroups(APP_ELEMENTS.div_ceil(64), 1, 1);
@@ -139,10 +140,8 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     }
     let image1 = read_image(&device, &queue, &target1)?;
     let image2 = read_image(&device, &queue, &target2)?;
-    let output2 = output.with_file_name(format!(
-        "{}-view2.png",
-        output.file_stem().map_or("embed".into(), |s| s.to_string_lossy())
-    ));
+    let output2 =
+        output.with_file_name(format!("{}-view2.png", output.file_stem().map_or("embed".into(), |s| s.to_string_lossy())));
     sppm_gpu::image_io::write_png(&output, &image1)?;
     sppm_gpu::image_io::write_png(&output2, &image2)?;
 
@@ -166,7 +165,11 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
 }
 
 /// An RGBA texture read back, as the linear RGB image it holds.
-fn read_image(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Result<Rgb32Image, Box<dyn std::error::Error>> {
+fn read_image(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+) -> Result<Rgb32Image, Box<dyn std::error::Error>> {
     let texels = readback::read_texture(device, queue, texture)?;
     Ok(Rgb32Image::from_rgba(texture.width(), texture.height(), &texels))
 }

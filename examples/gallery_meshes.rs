@@ -77,24 +77,9 @@ struct Wave {
 /// Gentle waves: slopes stay below about 15 degrees, yet the crests curve enough to focus
 /// light into a caustic network on the floor some 0.4 below.
 const WAVES: [Wave; 3] = [
-    Wave {
-        amplitude: 0.008,
-        wavelength: 0.62,
-        direction_degrees: 20.0,
-        phase: 0.3,
-    },
-    Wave {
-        amplitude: 0.006,
-        wavelength: 0.43,
-        direction_degrees: 115.0,
-        phase: 1.7,
-    },
-    Wave {
-        amplitude: 0.004,
-        wavelength: 0.31,
-        direction_degrees: 245.0,
-        phase: 4.1,
-    },
+    Wave { amplitude: 0.008, wavelength: 0.62, direction_degrees: 20.0, phase: 0.3 },
+    Wave { amplitude: 0.006, wavelength: 0.43, direction_degrees: 115.0, phase: 1.7 },
+    Wave { amplitude: 0.004, wavelength: 0.31, direction_degrees: 245.0, phase: 4.1 },
 ];
 
 /// Mean height of the water surface above the floor.
@@ -129,19 +114,13 @@ fn water_surface() -> Mesh {
             let (x, z) = (coordinate(i), coordinate(j));
             let (y, gradient) = water_height(x, z);
             mesh.positions.push(DVec3::new(x, y, z));
-            mesh.normals
-                .push(DVec3::new(-gradient.x, 1.0, -gradient.y).normalize());
+            mesh.normals.push(DVec3::new(-gradient.x, 1.0, -gradient.y).normalize());
         }
     }
     // Two triangles a cell, wound counter-clockwise seen from above.
     for j in 0..N {
         for i in 0..N {
-            let [a, b, c, d] = [
-                surface(i, j),
-                surface(i + 1, j),
-                surface(i + 1, j + 1),
-                surface(i, j + 1),
-            ];
+            let [a, b, c, d] = [surface(i, j), surface(i + 1, j), surface(i + 1, j + 1), surface(i, j + 1)];
             mesh.triangles.push([a, d, c].map(Corner::smooth));
             mesh.triangles.push([a, c, b].map(Corner::smooth));
         }
@@ -158,10 +137,8 @@ fn water_surface() -> Mesh {
     for i in 0..N as u32 {
         let [top0, top1] = [surface(i as usize, N), surface(i as usize + 1, N)];
         let [bottom0, bottom1] = [bottom + i, bottom + i + 1];
-        mesh.triangles
-            .push([bottom0, bottom1, top1].map(|p| Corner { p, n: front }));
-        mesh.triangles
-            .push([bottom0, top1, top0].map(|p| Corner { p, n: front }));
+        mesh.triangles.push([bottom0, bottom1, top1].map(|p| Corner { p, n: front }));
+        mesh.triangles.push([bottom0, top1, top0].map(|p| Corner { p, n: front }));
     }
     mesh
 }
@@ -195,14 +172,8 @@ struct Profile {
 
 impl Profile {
     fn starting_at(p: DVec2) -> Self {
-        let point = ProfilePoint {
-            p,
-            normal_before: DVec2::NAN,
-            normal_after: DVec2::NAN,
-        };
-        Profile {
-            points: vec![point],
-        }
+        let point = ProfilePoint { p, normal_before: DVec2::NAN, normal_after: DVec2::NAN };
+        Profile { points: vec![point] }
     }
 
     fn end(&self) -> DVec2 {
@@ -215,10 +186,7 @@ impl Profile {
     /// `f`, and a kink where two pieces meet becomes a crease with a normal for each side.
     fn curve(&mut self, steps: usize, f: impl Fn(f64) -> DVec2) {
         assert!(steps > 0);
-        assert!(
-            f(0.0).distance(self.end()) < 1e-9,
-            "a piece of profile must start where the last ended"
-        );
+        assert!(f(0.0).distance(self.end()) < 1e-9, "a piece of profile must start where the last ended");
         let normal = |t: f64| {
             const H: f64 = 1e-6;
             let tangent = f(t + H) - f(t - H);
@@ -232,11 +200,7 @@ impl Profile {
         for step in 1..=steps {
             let t = step as f64 / steps as f64;
             let n = normal(t);
-            self.points.push(ProfilePoint {
-                p: f(t),
-                normal_before: n,
-                normal_after: n,
-            });
+            self.points.push(ProfilePoint { p: f(t), normal_before: n, normal_after: n });
         }
     }
 
@@ -251,9 +215,7 @@ impl Profile {
     /// when `to > from`), in steps of at most `max_step` radians.
     fn arc(&mut self, center: DVec2, radius: f64, from: f64, to: f64, max_step: f64) {
         let steps = ((to - from).abs() / max_step).ceil().max(1.0) as usize;
-        self.curve(steps, |t| {
-            center + radius * DVec2::from_angle(from + (to - from) * t)
-        });
+        self.curve(steps, |t| center + radius * DVec2::from_angle(from + (to - from) * t));
     }
 
     /// A polyline from the current end through `corners` to `to`, each corner rounded by a
@@ -261,10 +223,8 @@ impl Profile {
     /// leaves a sharp crease). Left turns round convex corners of the solid, right turns
     /// concave ones.
     fn rounded_path(&mut self, corners: &[(DVec2, f64)], to: DVec2, max_step: f64) {
-        let vertices: Vec<DVec2> = std::iter::once(self.end())
-            .chain(corners.iter().map(|c| c.0))
-            .chain(std::iter::once(to))
-            .collect();
+        let vertices: Vec<DVec2> =
+            std::iter::once(self.end()).chain(corners.iter().map(|c| c.0)).chain(std::iter::once(to)).collect();
         for (i, &(corner, radius)) in corners.iter().enumerate() {
             let incoming = (corner - vertices[i]).normalize();
             let outgoing = (vertices[i + 2] - corner).normalize();
@@ -272,8 +232,7 @@ impl Profile {
             let turn = incoming.angle_to(outgoing);
             let setback = radius * (turn.abs() / 2.0).tan();
             assert!(
-                setback <= (corner - vertices[i]).length() + 1e-12
-                    && setback <= (vertices[i + 2] - corner).length() + 1e-12,
+                setback <= (corner - vertices[i]).length() + 1e-12 && setback <= (vertices[i + 2] - corner).length() + 1e-12,
                 "the fillet at {corner} does not fit its edges"
             );
             self.line_to_unless_there(corner - setback * incoming);
@@ -301,37 +260,24 @@ impl Profile {
     fn validate(&self) {
         let (first, last) = (self.points[0], *self.points.last().unwrap());
         for pole in [first, last] {
-            assert!(
-                pole.p.x.abs() < 1e-12,
-                "the profile must start and end on the axis"
-            );
+            assert!(pole.p.x.abs() < 1e-12, "the profile must start and end on the axis");
             assert!(
                 pole.normal_before.x.abs() < 1e-6 && pole.normal_after.x.abs() < 1e-6,
                 "the profile must meet the axis at a right angle"
             );
         }
         let inner = &self.points[1..self.points.len() - 1];
-        assert!(
-            inner.iter().all(|q| q.p.x > 1e-9),
-            "the profile must stay off the axis between its ends"
-        );
-        let segments: Vec<(DVec2, DVec2)> =
-            self.points.windows(2).map(|w| (w[0].p, w[1].p)).collect();
+        assert!(inner.iter().all(|q| q.p.x > 1e-9), "the profile must stay off the axis between its ends");
+        let segments: Vec<(DVec2, DVec2)> = self.points.windows(2).map(|w| (w[0].p, w[1].p)).collect();
         for i in 0..segments.len() {
             for j in i + 2..segments.len() {
-                assert!(
-                    !segments_cross(segments[i], segments[j]),
-                    "the profile crosses itself (pieces {i} and {j})"
-                );
+                assert!(!segments_cross(segments[i], segments[j]), "the profile crosses itself (pieces {i} and {j})");
             }
         }
         // Anticlockwise around the solid: the cross-section's signed area, closed along the
         // axis, is positive.
         let area: f64 = segments.iter().map(|(a, b)| a.perp_dot(*b)).sum::<f64>() / 2.0;
-        assert!(
-            area > 0.0,
-            "the profile must run anticlockwise around the solid"
-        );
+        assert!(area > 0.0, "the profile must run anticlockwise around the solid");
     }
 }
 
@@ -377,35 +323,23 @@ fn revolve(profile: &Profile, sectors: usize) -> Mesh {
             normal_base.push((n, n));
             continue;
         }
-        mesh.positions
-            .extend((0..sectors).map(|j| revolved(point.p, j)));
+        mesh.positions.extend((0..sectors).map(|j| revolved(point.p, j)));
         let mut ring = |n: DVec2| {
             let base = mesh.normals.len() as u32;
             mesh.normals.extend((0..sectors).map(|j| revolved(n, j)));
             base
         };
         let before = ring(point.normal_before);
-        let after = if point.is_crease() {
-            ring(point.normal_after)
-        } else {
-            before
-        };
+        let after = if point.is_crease() { ring(point.normal_after) } else { before };
         normal_base.push((before, after));
     }
 
     // The corner of profile point k at sector j, on the side of the piece of profile that
     // leaves it (`after`) or arrives at it.
     let corner = |k: usize, j: usize, after: bool| {
-        let offset = if k == 0 || k == last {
-            0
-        } else {
-            (j % sectors) as u32
-        };
+        let offset = if k == 0 || k == last { 0 } else { (j % sectors) as u32 };
         let (before_n, after_n) = normal_base[k];
-        Corner {
-            p: position_base[k] + offset,
-            n: if after { after_n } else { before_n } + offset,
-        }
+        Corner { p: position_base[k] + offset, n: if after { after_n } else { before_n } + offset }
     };
     for k in 0..last {
         for j in 0..sectors {
@@ -489,12 +423,12 @@ fn flower_pot_profile() -> Profile {
     let mut profile = Profile::starting_at(DVec2::ZERO);
     profile.rounded_path(
         &[
-            (DVec2::new(bottom_radius, 0.0), 0.03), // outer bottom edge
-            (DVec2::new(wall_top.0, wall_top.1), 0.006), // wall into the ledge (concave)
-            (DVec2::new(band_radius, wall_top.1), 0.008), // ledge to band
-            (DVec2::new(band_radius, height), 0.008), // top of the band, outside
+            (DVec2::new(bottom_radius, 0.0), 0.03),            // outer bottom edge
+            (DVec2::new(wall_top.0, wall_top.1), 0.006),       // wall into the ledge (concave)
+            (DVec2::new(band_radius, wall_top.1), 0.008),      // ledge to band
+            (DVec2::new(band_radius, height), 0.008),          // top of the band, outside
             (DVec2::new(inner_radius(height), height), 0.008), // top of the band, inside
-            (DVec2::new(inner_radius(floor), floor), 0.025), // inner bottom edge (concave)
+            (DVec2::new(inner_radius(floor), floor), 0.025),   // inner bottom edge (concave)
         ],
         DVec2::new(0.0, floor),
         20f64.to_radians(),
@@ -558,19 +492,13 @@ impl Mesh {
             for (i, c) in t.iter().enumerate() {
                 *edges.entry((c.p, t[(i + 1) % 3].p)).or_default() += 1;
                 let vn = self.normals[c.n as usize];
-                assert!(
-                    vn.dot(n) > 0.0,
-                    "the vertex normal of {c:?} faces away from its triangle"
-                );
+                assert!(vn.dot(n) > 0.0, "the vertex normal of {c:?} faces away from its triangle");
             }
         }
         for (&(a, b), &count) in &edges {
             assert_eq!(count, 1, "edge {a}-{b} is used twice in the same direction");
             if closure == Closure::Closed {
-                assert!(
-                    edges.contains_key(&(b, a)),
-                    "edge {a}-{b} is a boundary: the mesh is not watertight"
-                );
+                assert!(edges.contains_key(&(b, a)), "edge {a}-{b} is a boundary: the mesh is not watertight");
             }
         }
         if closure == Closure::Closed {
@@ -590,14 +518,8 @@ impl Mesh {
     }
 
     fn bounds(&self) -> (DVec3, DVec3) {
-        let min = self
-            .positions
-            .iter()
-            .fold(DVec3::INFINITY, |m, &p| m.min(p));
-        let max = self
-            .positions
-            .iter()
-            .fold(DVec3::NEG_INFINITY, |m, &p| m.max(p));
+        let min = self.positions.iter().fold(DVec3::INFINITY, |m, &p| m.min(p));
+        let max = self.positions.iter().fold(DVec3::NEG_INFINITY, |m, &p| m.max(p));
         (min, max)
     }
 
@@ -615,12 +537,8 @@ impl Mesh {
             self.triangles.len()
         )
         .unwrap();
-        writeln!(
-            out,
-            "# Bounds: [{:.4}, {:.4}, {:.4}] to [{:.4}, {:.4}, {:.4}].",
-            min.x, min.y, min.z, max.x, max.y, max.z
-        )
-        .unwrap();
+        writeln!(out, "# Bounds: [{:.4}, {:.4}, {:.4}] to [{:.4}, {:.4}, {:.4}].", min.x, min.y, min.z, max.x, max.y, max.z)
+            .unwrap();
         for p in &self.positions {
             writeln!(out, "v {:.6} {:.6} {:.6}", p.x, p.y, p.z).unwrap();
         }
@@ -631,8 +549,7 @@ impl Mesh {
             let [a, b, c] = t.map(|c| format!("{}//{}", c.p + 1, c.n + 1));
             writeln!(out, "f {a} {b} {c}").unwrap();
         }
-        std::fs::write(path, out)
-            .unwrap_or_else(|e| panic!("cannot write {}: {e}", path.display()));
+        std::fs::write(path, out).unwrap_or_else(|e| panic!("cannot write {}: {e}", path.display()));
         println!(
             "{}: {} triangles, {} vertices, bounds [{:.3}, {:.3}, {:.3}] to [{:.3}, {:.3}, {:.3}]",
             path.display(),

@@ -46,15 +46,8 @@ impl Rgb32Image {
 
     /// An image whose pixel `(x, y)` is `f(x, y)`.
     pub fn from_fn(width: u32, height: u32, mut f: impl FnMut(u32, u32) -> [f32; 3]) -> Self {
-        let pixels = (0..height)
-            .flat_map(|y| (0..width).map(move |x| (x, y)))
-            .map(|(x, y)| f(x, y))
-            .collect();
-        Self {
-            width,
-            height,
-            pixels,
-        }
+        let pixels = (0..height).flat_map(|y| (0..width).map(move |x| (x, y))).map(|(x, y)| f(x, y)).collect();
+        Self { width, height, pixels }
     }
 
     /// The RGB of `rgba` texels, row by row from the top (alpha dropped). Panics unless
@@ -66,12 +59,7 @@ impl Rgb32Image {
 
     /// Index of pixel `(x, y)` in `pixels`. Panics when out of bounds.
     fn index(&self, x: u32, y: u32) -> usize {
-        assert!(
-            x < self.width && y < self.height,
-            "pixel ({x}, {y}) outside {}x{} image",
-            self.width,
-            self.height
-        );
+        assert!(x < self.width && y < self.height, "pixel ({x}, {y}) outside {}x{} image", self.width, self.height);
         y as usize * self.width as usize + x as usize
     }
 
@@ -135,10 +123,7 @@ pub struct ImageError {
 
 impl ImageError {
     fn new(path: &Path, kind: ImageErrorKind) -> Self {
-        Self {
-            path: path.to_path_buf(),
-            kind,
-        }
+        Self { path: path.to_path_buf(), kind }
     }
 
     /// The file being read or written.
@@ -164,11 +149,9 @@ impl fmt::Display for ImageError {
                 "{path}: unsupported image extension; supported extensions are {}",
                 SUPPORTED_EXTENSIONS.map(|e| format!(".{e}")).join(", ")
             ),
-            ImageErrorKind::BadPixelBuffer { len, width, height } => write!(
-                f,
-                "{path}: image has {len} pixels but {width}x{height} needs {}",
-                *width as usize * *height as usize
-            ),
+            ImageErrorKind::BadPixelBuffer { len, width, height } => {
+                write!(f, "{path}: image has {len} pixels but {width}x{height} needs {}", *width as usize * *height as usize)
+            }
         }
     }
 }
@@ -198,10 +181,7 @@ enum Format {
 impl Format {
     /// The format named by `path`'s extension, case-insensitively.
     fn from_path(path: &Path) -> Result<Self, ImageError> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase);
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         match ext.as_deref() {
             Some("png") => Ok(Format::Png),
             Some("exr") => Ok(Format::Exr),
@@ -243,12 +223,7 @@ fn linear_to_srgb8(x: f32) -> u8 {
 /// Writes `img` as an 8-bit sRGB PNG (see [`linear_to_srgb`]).
 pub fn write_png(path: &Path, img: &Rgb32Image) -> Result<(), ImageError> {
     check_pixel_buffer(path, img)?;
-    let bytes: Vec<u8> = img
-        .pixels
-        .iter()
-        .flatten()
-        .map(|&x| linear_to_srgb8(x))
-        .collect();
+    let bytes: Vec<u8> = img.pixels.iter().flatten().map(|&x| linear_to_srgb8(x)).collect();
     let mut encoded = Vec::new();
     image::codecs::png::PngEncoder::new(&mut encoded)
         .write_image(&bytes, img.width, img.height, ExtendedColorType::Rgb8)
@@ -291,9 +266,7 @@ pub fn read_exr(path: &Path) -> Result<Rgb32Image, ImageError> {
         .largest_resolution_level()
         .rgb_channels(
             |Vec2(w, h), _| Rgb32Image::new(w as u32, h as u32),
-            |img: &mut Rgb32Image, Vec2(x, y), (r, g, b): (f32, f32, f32)| {
-                img.set(x as u32, y as u32, [r, g, b])
-            },
+            |img: &mut Rgb32Image, Vec2(x, y), (r, g, b): (f32, f32, f32)| img.set(x as u32, y as u32, [r, g, b]),
         )
         .first_valid_layer()
         .all_attributes()
@@ -310,11 +283,7 @@ pub fn read_png(path: &Path) -> Result<Rgb32Image, ImageError> {
         .map_err(|e| ImageError::new(path, ImageErrorKind::Png(e)))?
         .into_rgb32f();
     let pixels = decoded.pixels().map(|p| p.0.map(srgb_to_linear)).collect();
-    Ok(Rgb32Image {
-        width: decoded.width(),
-        height: decoded.height(),
-        pixels,
-    })
+    Ok(Rgb32Image { width: decoded.width(), height: decoded.height(), pixels })
 }
 
 /// Reads an image in the format named by `path`'s extension (`.png` or
@@ -331,11 +300,7 @@ fn check_pixel_buffer(path: &Path, img: &Rgb32Image) -> Result<(), ImageError> {
     if img.pixels.len() == img.expected_len() {
         Ok(())
     } else {
-        let kind = ImageErrorKind::BadPixelBuffer {
-            len: img.pixels.len(),
-            width: img.width,
-            height: img.height,
-        };
+        let kind = ImageErrorKind::BadPixelBuffer { len: img.pixels.len(), width: img.width, height: img.height };
         Err(ImageError::new(path, kind))
     }
 }
@@ -346,19 +311,10 @@ fn check_pixel_buffer(path: &Path, img: &Rgb32Image) -> Result<(), ImageError> {
 fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
     let io_error = |e| ImageError::new(path, ImageErrorKind::Io(e));
-    let name = path.file_name().ok_or_else(|| {
-        io_error(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            "path has no file name",
-        ))
-    })?;
+    let name = path.file_name().ok_or_else(|| io_error(io::Error::new(io::ErrorKind::InvalidInput, "path has no file name")))?;
     let mut tmp_name = OsString::from(".");
     tmp_name.push(name);
-    tmp_name.push(format!(
-        ".tmp-{}-{}",
-        std::process::id(),
-        COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
+    tmp_name.push(format!(".tmp-{}-{}", std::process::id(), COUNTER.fetch_add(1, Ordering::Relaxed)));
     let tmp = path.with_file_name(tmp_name);
 
     let result = File::create(&tmp)

@@ -293,10 +293,7 @@ fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Resul
 fn check_output(output: &Path, scene_path: &Path) -> Result<(), Error> {
     let ext = output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if !matches!(ext.as_deref(), Some("png") | Some("exr")) {
-        return Err(Error::Setting(format!(
-            "{}: the output must end in .png or .exr",
-            output.display()
-        )));
+        return Err(Error::Setting(format!("{}: the output must end in .png or .exr", output.display())));
     }
     if let (Ok(a), Ok(b)) = (output.canonicalize(), scene_path.canonicalize()) {
         if a == b {
@@ -393,10 +390,9 @@ fn print_memory(memory: &integrators::GpuMemory) {
         _ => format!("{:.1} MiB", b as f64 / (1u64 << 20) as f64),
     };
     println!("GPU memory: {}", mib(memory.total()));
-    for (part, buffers, bytes) in [
-        ("scene", &memory.scene, memory.scene_bytes()),
-        ("renderer", &memory.renderer, memory.renderer_bytes()),
-    ] {
+    for (part, buffers, bytes) in
+        [("scene", &memory.scene, memory.scene_bytes()), ("renderer", &memory.renderer, memory.renderer_bytes())]
+    {
         println!("  {part}: {}", mib(bytes));
         let mut sorted = buffers.clone();
         sorted.sort_by_key(|(_, bytes)| std::cmp::Reverse(*bytes));

@@ -24,22 +24,18 @@ pub fn downsample_box(img: &Rgb32Image, factor: u32) -> Result<Rgb32Image, Strin
         ));
     }
     let weight = 1.0 / f64::from(factor * factor);
-    Ok(Rgb32Image::from_fn(
-        img.width / factor,
-        img.height / factor,
-        |bx, by| {
-            let mut sum = [0.0f64; 3];
-            for y in by * factor..(by + 1) * factor {
-                for x in bx * factor..(bx + 1) * factor {
-                    let p = img.get(x, y);
-                    for c in 0..3 {
-                        sum[c] += f64::from(p[c]);
-                    }
+    Ok(Rgb32Image::from_fn(img.width / factor, img.height / factor, |bx, by| {
+        let mut sum = [0.0f64; 3];
+        for y in by * factor..(by + 1) * factor {
+            for x in bx * factor..(bx + 1) * factor {
+                let p = img.get(x, y);
+                for c in 0..3 {
+                    sum[c] += f64::from(p[c]);
                 }
             }
-            sum.map(|s| (s * weight) as f32)
-        },
-    ))
+        }
+        sum.map(|s| (s * weight) as f32)
+    }))
 }
 
 /// Errors unless `img` and `reference` have the same size.
@@ -47,10 +43,7 @@ fn check_same_size(img: &Rgb32Image, reference: &Rgb32Image) -> Result<(), Strin
     if (img.width, img.height) == (reference.width, reference.height) {
         Ok(())
     } else {
-        Err(format!(
-            "image is {}x{} but the reference is {}x{}",
-            img.width, img.height, reference.width, reference.height
-        ))
+        Err(format!("image is {}x{} but the reference is {}x{}", img.width, img.height, reference.width, reference.height))
     }
 }
 
@@ -62,12 +55,7 @@ fn mean_over_pixels(
     per_pixel: impl Fn([f32; 3], [f32; 3]) -> f64,
 ) -> Result<f64, String> {
     check_same_size(img, reference)?;
-    let sum: f64 = img
-        .pixels
-        .iter()
-        .zip(&reference.pixels)
-        .map(|(&x, &r)| per_pixel(x, r))
-        .sum();
+    let sum: f64 = img.pixels.iter().zip(&reference.pixels).map(|(&x, &r)| per_pixel(x, r)).sum();
     Ok(sum / img.pixels.len() as f64)
 }
 
@@ -85,10 +73,7 @@ fn pixel_rel_sq_error(x: [f32; 3], r: [f32; 3]) -> f64 {
 
 /// Mean over the three channels of `(x - ref)^2` for one pixel.
 fn pixel_sq_error(x: [f32; 3], r: [f32; 3]) -> f64 {
-    (0..3)
-        .map(|c| (f64::from(x[c]) - f64::from(r[c])).powi(2))
-        .sum::<f64>()
-        / 3.0
+    (0..3).map(|c| (f64::from(x[c]) - f64::from(r[c])).powi(2)).sum::<f64>() / 3.0
 }
 
 /// Relative mean squared error: mean over pixels and channels of
@@ -122,11 +107,7 @@ pub struct Comparison {
 
 /// Box-downsamples both images by `downsample` (1 = unchanged), then computes
 /// all metrics. Sizes must match and be divisible by `downsample`.
-pub fn compare(
-    img: &Rgb32Image,
-    reference: &Rgb32Image,
-    downsample: u32,
-) -> Result<Comparison, String> {
+pub fn compare(img: &Rgb32Image, reference: &Rgb32Image, downsample: u32) -> Result<Comparison, String> {
     check_same_size(img, reference)?;
     let small = downsample_box(img, downsample)?;
     let small_ref = downsample_box(reference, downsample)?;
@@ -139,19 +120,13 @@ pub fn compare(
 
 /// Number of pixels with at least one NaN or infinite channel.
 pub fn count_non_finite(img: &Rgb32Image) -> usize {
-    img.pixels
-        .iter()
-        .filter(|p| p.iter().any(|v| !v.is_finite()))
-        .count()
+    img.pixels.iter().filter(|p| p.iter().any(|v| !v.is_finite())).count()
 }
 
 /// Number of pixels with at least one negative channel (NaN is not negative;
 /// -0.0 is not counted).
 pub fn count_negative(img: &Rgb32Image) -> usize {
-    img.pixels
-        .iter()
-        .filter(|p| p.iter().any(|&v| v < 0.0))
-        .count()
+    img.pixels.iter().filter(|p| p.iter().any(|&v| v < 0.0)).count()
 }
 
 /// Colour stops of [`false_colour`]'s map, evenly spaced over `[0, 1]`.
@@ -189,15 +164,6 @@ fn error_colour(error: f64) -> [f32; 3] {
 /// error is NaN or infinite are white. Sizes must match.
 pub fn false_colour(img: &Rgb32Image, reference: &Rgb32Image) -> Result<Rgb32Image, String> {
     check_same_size(img, reference)?;
-    let pixels = img
-        .pixels
-        .iter()
-        .zip(&reference.pixels)
-        .map(|(&x, &r)| error_colour(pixel_rel_sq_error(x, r).sqrt()))
-        .collect();
-    Ok(Rgb32Image {
-        width: img.width,
-        height: img.height,
-        pixels,
-    })
+    let pixels = img.pixels.iter().zip(&reference.pixels).map(|(&x, &r)| error_colour(pixel_rel_sq_error(x, r).sqrt())).collect();
+    Ok(Rgb32Image { width: img.width, height: img.height, pixels })
 }

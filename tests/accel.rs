@@ -12,14 +12,8 @@ use sppm_gpu::accel::grid::{brute_force_within, point_within};
 use sppm_gpu::accel::{build_bvh, build_grid, hash_cell, Bvh, HashGrid, SPHERE_BIT};
 use sppm_gpu::scene::{Sphere, Triangle};
 
-
 fn triangle(p: [Vec3; 3]) -> Triangle {
-    Triangle {
-        p,
-        n: None,
-        uv: None,
-        shape: 0,
-    }
+    Triangle { p, n: None, uv: None, shape: 0 }
 }
 
 fn random_triangles(rng: &mut Rng, n: usize) -> Vec<Triangle> {
@@ -33,13 +27,7 @@ fn random_triangles(rng: &mut Rng, n: usize) -> Vec<Triangle> {
 }
 
 fn random_spheres(rng: &mut Rng, n: usize) -> Vec<Sphere> {
-    (0..n)
-        .map(|i| Sphere {
-            center: rng.vec3(-8.0, 8.0),
-            radius: rng.range(0.3, 1.5),
-            shape: i as u32,
-        })
-        .collect()
+    (0..n).map(|i| Sphere { center: rng.vec3(-8.0, 8.0), radius: rng.range(0.3, 1.5), shape: i as u32 }).collect()
 }
 
 /// 500 random triangles and 20 spheres, and their BVH.
@@ -55,10 +43,7 @@ fn assert_same_hit(bvh: Option<Hit>, oracle: Option<Hit>, what: &str) {
         (None, None) => {}
         (Some(a), Some(b)) => {
             assert_eq!(a.prim_ref, b.prim_ref, "{what}: {a:?} vs {b:?}");
-            assert!(
-                (a.t - b.t).abs() <= 1e-5 * b.t.abs(),
-                "{what}: {a:?} vs {b:?}"
-            );
+            assert!((a.t - b.t).abs() <= 1e-5 * b.t.abs(), "{what}: {a:?} vs {b:?}");
             assert_eq!((a.b1, a.b2), (b.b1, b.b2), "{what}");
         }
         _ => panic!("{what}: BVH {bvh:?}, brute force {oracle:?}"),
@@ -67,13 +52,7 @@ fn assert_same_hit(bvh: Option<Hit>, oracle: Option<Hit>, what: &str) {
 
 /// Traces `rays` (origin, direction, t_max) through the BVH and by brute force, and returns
 /// how many hit something.
-fn compare_rays(
-    bvh: &Bvh,
-    tris: &[Triangle],
-    spheres: &[Sphere],
-    rays: &[(Vec3, Vec3, f32)],
-    what: &str,
-) -> usize {
+fn compare_rays(bvh: &Bvh, tris: &[Triangle], spheres: &[Sphere], rays: &[(Vec3, Vec3, f32)], what: &str) -> usize {
     let mut hits = 0;
     for (i, &(o, d, t_max)) in rays.iter().enumerate() {
         let oracle = brute_force_intersect(tris, spheres, o, d, t_max);
@@ -90,17 +69,8 @@ fn random_rays(rng: &mut Rng, n: usize) -> Vec<(Vec3, Vec3, f32)> {
     (0..n)
         .map(|i| {
             let o = rng.vec3(-12.0, 12.0);
-            let d = rng.unit_vec3()
-                * if i % 3 == 0 {
-                    rng.range(0.1, 10.0)
-                } else {
-                    1.0
-                };
-            let t_max = if i % 5 == 0 {
-                rng.range(0.5, 20.0)
-            } else {
-                f32::INFINITY
-            };
+            let d = rng.unit_vec3() * if i % 3 == 0 { rng.range(0.1, 10.0) } else { 1.0 };
+            let t_max = if i % 5 == 0 { rng.range(0.5, 20.0) } else { f32::INFINITY };
             (o, d, t_max)
         })
         .collect()
@@ -129,41 +99,24 @@ fn check_tree(bvh: &Bvh, tris: &[Triangle], spheres: &[Sphere]) {
             for &r in &bvh.prim_refs[node.first as usize..(node.first + node.count) as usize] {
                 let (slot, min, max) = if r & SPHERE_BIT != 0 {
                     let s = &spheres[(r & !SPHERE_BIT) as usize];
-                    (
-                        tris.len() + (r & !SPHERE_BIT) as usize,
-                        s.center - s.radius,
-                        s.center + s.radius,
-                    )
+                    (tris.len() + (r & !SPHERE_BIT) as usize, s.center - s.radius, s.center + s.radius)
                 } else {
                     let p = tris[r as usize].p;
-                    (
-                        r as usize,
-                        p[0].min(p[1]).min(p[2]),
-                        p[0].max(p[1]).max(p[2]),
-                    )
+                    (r as usize, p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]))
                 };
                 referenced[slot] += 1;
-                assert!(
-                    inside(min.to_array(), max.to_array(), node),
-                    "primitive {r:#x} outside leaf {i}"
-                );
+                assert!(inside(min.to_array(), max.to_array(), node), "primitive {r:#x} outside leaf {i}");
             }
         } else {
             for c in [node.first as usize, node.first as usize + 1] {
                 let child = &bvh.nodes[c];
-                assert!(
-                    inside(child.min, child.max, node),
-                    "child {c} outside parent {i}"
-                );
+                assert!(inside(child.min, child.max, node), "child {c} outside parent {i}");
                 todo.push((c, depth + 1));
             }
         }
     }
     assert!(visited.iter().all(|&v| v), "unreachable nodes");
-    assert!(
-        referenced.iter().all(|&n| n == 1),
-        "primitives not referenced exactly once"
-    );
+    assert!(referenced.iter().all(|&n| n == 1), "primitives not referenced exactly once");
     assert_eq!(bvh.prim_refs.len(), tris.len() + spheres.len());
     assert_eq!(bvh.nodes.len(), 2 * leaves - 1);
     check_packed(bvh);
@@ -246,10 +199,7 @@ fn bvh_matches_brute_force_on_random_scene() {
     check_tree(&bvh, &tris, &spheres);
     let rays = random_rays(&mut rng, 2000);
     let hits = compare_rays(&bvh, &tris, &spheres, &rays, "random rays");
-    assert!(
-        hits > 200 && hits < 1800,
-        "{hits} hits: the test should exercise hits and misses"
-    );
+    assert!(hits > 200 && hits < 1800, "{hits} hits: the test should exercise hits and misses");
 }
 
 #[test]
@@ -265,11 +215,7 @@ fn bvh_matches_brute_force_from_inside_spheres() {
         .collect();
     compare_rays(&bvh, &tris, &spheres, &rays, "rays from inside spheres");
     // With nothing else in the way, a ray from the centre leaves through the far root.
-    let lone = [Sphere {
-        center: Vec3::splat(1.0),
-        radius: 2.0,
-        shape: 0,
-    }];
+    let lone = [Sphere { center: Vec3::splat(1.0), radius: 2.0, shape: 0 }];
     let hit = build_bvh(&[], &lone).intersect(&[], &lone, Vec3::splat(1.0), Vec3::X, f32::INFINITY);
     assert_eq!(hit.map(|h| (h.t, h.prim_ref)), Some((2.0, SPHERE_BIT)));
 }
@@ -294,11 +240,7 @@ fn bvh_matches_brute_force_on_axis_aligned_rays() {
             o[axis] = if d[axis] > 0.0 { -12.0 } else { 12.0 };
         }
         // -0.0 components as well as +0.0.
-        let d = if i % 4 < 2 {
-            d
-        } else {
-            Vec3::select(d.cmpeq(Vec3::ZERO), Vec3::splat(-0.0), d)
-        };
+        let d = if i % 4 < 2 { d } else { Vec3::select(d.cmpeq(Vec3::ZERO), Vec3::splat(-0.0), d) };
         rays.push((o, d, f32::INFINITY));
     }
     let hits = compare_rays(&bvh, &tris, &spheres, &rays, "axis-aligned rays");
@@ -369,17 +311,11 @@ fn bvh_ray_missing_everything() {
         (Vec3::new(-50.0, 30.0, 0.0), Vec3::new(1.0, 0.0, 0.0)),
         (Vec3::new(0.0, 0.0, 0.0), Vec3::ZERO),
     ] {
-        assert_eq!(
-            brute_force_intersect(&tris, &spheres, o, d, f32::INFINITY),
-            None
-        );
+        assert_eq!(brute_force_intersect(&tris, &spheres, o, d, f32::INFINITY), None);
         assert_eq!(bvh.intersect(&tris, &spheres, o, d, f32::INFINITY), None);
     }
     // A NaN ray hits nothing either.
-    assert_eq!(
-        bvh.intersect(&tris, &spheres, Vec3::NAN, Vec3::X, f32::INFINITY),
-        None
-    );
+    assert_eq!(bvh.intersect(&tris, &spheres, Vec3::NAN, Vec3::X, f32::INFINITY), None);
 }
 
 #[test]
@@ -390,26 +326,14 @@ fn bvh_of_one_triangle() {
     assert_eq!((bvh.nodes[0].first, bvh.nodes[0].count), (0, 1));
     assert_eq!(bvh.prim_refs, [0]);
     check_tree(&bvh, &tris, &[]);
-    let hit = bvh
-        .intersect(
-            &tris,
-            &[],
-            Vec3::new(0.25, 0.25, 1.0),
-            -Vec3::Z,
-            f32::INFINITY,
-        )
-        .unwrap();
+    let hit = bvh.intersect(&tris, &[], Vec3::new(0.25, 0.25, 1.0), -Vec3::Z, f32::INFINITY).unwrap();
     assert_eq!((hit.t, hit.prim_ref, hit.b1, hit.b2), (1.0, 0, 0.25, 0.25));
     // The triangle's box is flat in z: rays along z pass the slab test with t_near = t_far.
     let mut rng = Rng(5);
     let rays: Vec<_> = (0..500)
         .map(|i| {
             let o = rng.vec3(-0.5, 1.5) * Vec3::new(1.0, 1.0, 0.0) + Vec3::Z * rng.range(-2.0, 2.0);
-            let d = if i % 2 == 0 {
-                Vec3::Z * o.z.signum() * -1.0
-            } else {
-                rng.unit_vec3()
-            };
+            let d = if i % 2 == 0 { Vec3::Z * o.z.signum() * -1.0 } else { rng.unit_vec3() };
             (o, d, f32::INFINITY)
         })
         .collect();
@@ -435,18 +359,12 @@ fn bvh_of_empty_scene() {
     assert_eq!(bvh.nodes.len(), 1);
     let root = bvh.nodes[0];
     assert_eq!((root.first, root.count), (0, 0));
-    assert!(
-        (0..3).all(|a| root.min[a] > root.max[a]),
-        "root box must be inverted"
-    );
+    assert!((0..3).all(|a| root.min[a] > root.max[a]), "root box must be inverted");
     assert!(bvh.prim_refs.is_empty());
     check_packed(&bvh);
     let mut rng = Rng(7);
     let mut rays = random_rays(&mut rng, 200);
-    rays.extend([
-        (Vec3::ZERO, Vec3::X, f32::INFINITY),
-        (Vec3::ZERO, Vec3::new(0.0, -0.0, 1.0), 1.0),
-    ]);
+    rays.extend([(Vec3::ZERO, Vec3::X, f32::INFINITY), (Vec3::ZERO, Vec3::new(0.0, -0.0, 1.0), 1.0)]);
     assert_eq!(compare_rays(&bvh, &[], &[], &rays, "empty scene"), 0);
 }
 
@@ -471,14 +389,8 @@ fn random_points(rng: &mut Rng, count: usize) -> Vec<[f32; 4]> {
 /// The points the photon kernel would keep at `p`.
 fn gathered(grid: &HashGrid, points: &[[f32; 4]], p: Vec3) -> Vec<u32> {
     let c = grid.candidates(p);
-    assert!(
-        c.windows(2).all(|w| w[0] < w[1]),
-        "bucket not sorted or with duplicates"
-    );
-    c.iter()
-        .copied()
-        .filter(|&i| point_within(&points[i as usize], p))
-        .collect()
+    assert!(c.windows(2).all(|w| w[0] < w[1]), "bucket not sorted or with duplicates");
+    c.iter().copied().filter(|&i| point_within(&points[i as usize], p)).collect()
 }
 
 /// Checks the table layout: offsets from 0 to `entries.len()`, non-decreasing, buckets in
@@ -488,21 +400,13 @@ fn check_grid(grid: &HashGrid, points: &[[f32; 4]]) {
     assert!(table_size.is_power_of_two());
     assert_eq!(grid.cell_start.len(), table_size + 1);
     assert_eq!(grid.cell_start[0], 0);
-    assert_eq!(
-        *grid.cell_start.last().unwrap() as usize,
-        grid.entries.len()
-    );
+    assert_eq!(*grid.cell_start.last().unwrap() as usize, grid.entries.len());
     for h in 0..table_size {
         let (a, b) = (grid.cell_start[h] as usize, grid.cell_start[h + 1] as usize);
         assert!(a <= b);
         let bucket = &grid.entries[a..b];
-        assert!(
-            bucket.windows(2).all(|w| w[0] < w[1]),
-            "bucket {h} not strictly increasing"
-        );
-        assert!(bucket
-            .iter()
-            .all(|&i| points[i as usize][3] > 0.0 && points[i as usize][3].is_finite()));
+        assert!(bucket.windows(2).all(|w| w[0] < w[1]), "bucket {h} not strictly increasing");
+        assert!(bucket.iter().all(|&i| points[i as usize][3] > 0.0 && points[i as usize][3].is_finite()));
     }
 }
 
@@ -513,16 +417,10 @@ fn grid_matches_brute_force() {
     let grid = build_grid(&points);
     check_grid(&grid, &points);
 
-    let valid: Vec<_> = points
-        .iter()
-        .filter(|p| p[3] > 0.0 && p[3].is_finite() && p[0].is_finite())
-        .collect();
+    let valid: Vec<_> = points.iter().filter(|p| p[3] > 0.0 && p[3].is_finite() && p[0].is_finite()).collect();
     let max_r = valid.iter().map(|p| p[3]).fold(0.0f32, f32::max);
     assert_eq!(grid.params.cell_size, sppm_gpu::accel::grid::CELL_RADII * max_r);
-    assert_eq!(
-        grid.params.table_mask as usize + 1,
-        valid.len().next_power_of_two()
-    );
+    assert_eq!(grid.params.table_mask as usize + 1, valid.len().next_power_of_two());
     // The grid starts one largest radius below the lowest centre.
     for a in 0..3 {
         let lo = valid.iter().map(|p| p[a]).fold(f32::INFINITY, f32::min);
@@ -542,29 +440,15 @@ fn grid_matches_brute_force() {
         assert_eq!(gathered(&grid, &points, p), expected, "query {i} at {p}");
         total += expected.len();
     }
-    assert!(
-        total > 2000,
-        "{total} points found: the test should find points"
-    );
-    for p in [
-        Vec3::splat(-100.0),
-        Vec3::splat(100.0),
-        Vec3::NAN,
-        Vec3::INFINITY,
-    ] {
-        assert!(
-            grid.candidates(p).is_empty() && grid.cell_of(p).is_none(),
-            "{p}"
-        );
+    assert!(total > 2000, "{total} points found: the test should find points");
+    for p in [Vec3::splat(-100.0), Vec3::splat(100.0), Vec3::NAN, Vec3::INFINITY] {
+        assert!(grid.candidates(p).is_empty() && grid.cell_of(p).is_none(), "{p}");
     }
 }
 
 #[test]
 fn grid_of_no_valid_points() {
-    for points in [
-        vec![],
-        vec![[1.0, 2.0, 3.0, 0.0], [0.0, 0.0, 0.0, -1.0], [0.0; 4]],
-    ] {
+    for points in [vec![], vec![[1.0, 2.0, 3.0, 0.0], [0.0, 0.0, 0.0, -1.0], [0.0; 4]]] {
         let grid = build_grid(&points);
         check_grid(&grid, &points);
         assert_eq!(grid.params.res, [0; 3]);
@@ -611,10 +495,7 @@ fn grid_build_time() {
     // footprint.
     let mut points: Vec<[f32; 4]> = (0..side * side)
         .map(|i| {
-            let (u, v) = (
-                (i % side) as f32 / side as f32,
-                (i / side) as f32 / side as f32,
-            );
+            let (u, v) = ((i % side) as f32 / side as f32, (i / side) as f32 / side as f32);
             let depth = if v < 0.3 {
                 v
             } else if (0.3..0.6).contains(&u) && v < 0.6 {
@@ -657,22 +538,13 @@ fn grid_build_time() {
 /// degenerate triangles.
 #[test]
 fn bvh_of_coincident_primitives() {
-    let spheres = vec![
-        Sphere {
-            center: Vec3::ONE,
-            radius: 0.5,
-            shape: 0
-        };
-        10
-    ];
+    let spheres = vec![Sphere { center: Vec3::ONE, radius: 0.5, shape: 0 }; 10];
     let p = Vec3::new(1.0, 2.0, 3.0);
     let tris = vec![triangle([p, p, p]); 10];
     let bvh = build_bvh(&tris, &spheres);
     check_tree(&bvh, &tris, &spheres);
     let mut rng = Rng(8);
-    let rays: Vec<_> = (0..500)
-        .map(|_| (rng.vec3(-3.0, 3.0), rng.unit_vec3(), f32::INFINITY))
-        .collect();
+    let rays: Vec<_> = (0..500).map(|_| (rng.vec3(-3.0, 3.0), rng.unit_vec3(), f32::INFINITY)).collect();
     // All ten spheres are hit at the same t: compare t only.
     for &(o, d, t_max) in &rays {
         let oracle = brute_force_intersect(&tris, &spheres, o, d, t_max);

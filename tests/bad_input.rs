@@ -13,7 +13,6 @@ use sppm_gpu::scene::{self, LightKind, SceneBuilder, SceneError};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-
 /// A mesh shape naming `m.obj`: `file` is on line 16 after [`with_shape`].
 const MESH: &str = "type = \"mesh\"\nmaterial = \"white\"\nfile = \"m.obj\"\n";
 
@@ -51,17 +50,10 @@ fn load_error(name: &str, text: &str, files: &[(&str, &[u8])]) -> (PathBuf, Scen
 /// each of `words`.
 #[track_caller]
 fn assert_names(error: &SceneError, path: &Path, line: usize, key: &str, words: &[&str]) {
-    assert_eq!(
-        (error.file.as_path(), error.line, error.key.as_deref()),
-        (path, Some(line), Some(key)),
-        "wrong place: {error}"
-    );
+    assert_eq!((error.file.as_path(), error.line, error.key.as_deref()), (path, Some(line), Some(key)), "wrong place: {error}");
     let text = error.to_string();
     let place = format!("{}:{line}: key `{key}`: ", path.display());
-    assert!(
-        text.starts_with(&place),
-        "{text:?} does not start with {place:?}"
-    );
+    assert!(text.starts_with(&place), "{text:?} does not start with {place:?}");
     for word in words {
         assert!(text.contains(word), "{word:?} is not in: {text}");
     }
@@ -69,14 +61,7 @@ fn assert_names(error: &SceneError, path: &Path, line: usize, key: &str, words: 
 
 /// Loading `text` from disk fails at `line` about `key`, with each of `words` in the message.
 #[track_caller]
-fn assert_error(
-    name: &str,
-    text: &str,
-    files: &[(&str, &[u8])],
-    line: usize,
-    key: &str,
-    words: &[&str],
-) {
+fn assert_error(name: &str, text: &str, files: &[(&str, &[u8])], line: usize, key: &str, words: &[&str]) {
     let (path, error) = load_error(name, text, files);
     assert_names(&error, &path, line, key, words);
 }
@@ -94,14 +79,7 @@ struct Case {
 }
 
 fn readme_cases() -> Vec<Case> {
-    let case = |what, scene: String, line, key, message| Case {
-        what,
-        scene,
-        files: Vec::new(),
-        line,
-        key,
-        message,
-    };
+    let case = |what, scene: String, line, key, message| Case { what, scene, files: Vec::new(), line, key, message };
     let mesh_case = |what, obj: &'static str, message| Case {
         what,
         scene: with_shape(MESH),
@@ -110,11 +88,8 @@ fn readme_cases() -> Vec<Case> {
         key: "shapes[0].file",
         message,
     };
-    let sphere = |radius: &str| {
-        with_shape(&format!(
-            "type = \"sphere\"\ncenter = [0, 0, 0]\nmaterial = \"white\"\nradius = {radius}\n"
-        ))
-    };
+    let sphere =
+        |radius: &str| with_shape(&format!("type = \"sphere\"\ncenter = [0, 0, 0]\nmaterial = \"white\"\nradius = {radius}\n"));
     let material = |m: &str| format!("{BASE}m = {m}\n");
     Vec::from([
         case(
@@ -132,20 +107,8 @@ fn readme_cases() -> Vec<Case> {
             "unknown key `samples`; allowed keys: width, height, method, iterations, spp, \
              photons, radius, alpha, max_depth, seed, time_limit, direct, direct_samples",
         ),
-        case(
-            "wrong type",
-            edit("width = 8", "width = \"8\""),
-            2,
-            "render.width",
-            "expected an integer, found a string",
-        ),
-        case(
-            "missing required key",
-            edit("fov = 40\n", ""),
-            6,
-            "camera.fov",
-            "missing required key `fov`",
-        ),
+        case("wrong type", edit("width = 8", "width = \"8\""), 2, "render.width", "expected an integer, found a string"),
+        case("missing required key", edit("fov = 40\n", ""), 6, "camera.fov", "missing required key `fov`"),
         case(
             "shape names an unknown material",
             with_shape(&QUAD.replace("\"white\"", "\"whyte\"")),
@@ -183,11 +146,7 @@ fn readme_cases() -> Vec<Case> {
             key: "shapes[0].file",
             message: "cannot read mesh {dir}/m.obj: No such file or directory (os error 2)",
         },
-        mesh_case(
-            "OBJ with garbage",
-            "v 0 0 zero\n",
-            "cannot read mesh {dir}/m.obj: line 1: `zero` is not a number",
-        ),
+        mesh_case("OBJ with garbage", "v 0 0 zero\n", "cannot read mesh {dir}/m.obj: line 1: `zero` is not a number"),
         mesh_case(
             "OBJ face naming a missing vertex",
             "v 0 0 0\nv 1 0 0\nf 1 2 9\n",
@@ -215,13 +174,7 @@ fn readme_cases() -> Vec<Case> {
             key: "materials.m.texture",
             message: "cannot read texture {dir}/t.png: The image format could not be determined",
         },
-        case(
-            "NaN or infinity",
-            edit("fov = 40", "fov = nan"),
-            9,
-            "camera.fov",
-            "must be a finite number, found nan",
-        ),
+        case("NaN or infinity", edit("fov = 40", "fov = nan"), 9, "camera.fov", "must be a finite number, found nan"),
         case(
             "albedo outside [0, 1]",
             material("{ type = \"diffuse\", albedo = [0.5, -0.1, 0.5] }"),
@@ -236,13 +189,7 @@ fn readme_cases() -> Vec<Case> {
             "shapes[0].emission",
             "must be at least 0, found -1",
         ),
-        case(
-            "radius 0 or negative",
-            sphere("-1"),
-            17,
-            "shapes[0].radius",
-            "must be greater than 0, found -1",
-        ),
+        case("radius 0 or negative", sphere("-1"), 17, "shapes[0].radius", "must be greater than 0, found -1"),
         case(
             "ior 0 or negative",
             material("{ type = \"dielectric\", ior = 0 }"),
@@ -264,13 +211,7 @@ fn readme_cases() -> Vec<Case> {
             "camera.fov",
             "must be greater than 0 and less than 180, found 180",
         ),
-        case(
-            "width or height 0",
-            edit("width = 8", "width = 0"),
-            2,
-            "render.width",
-            "must be between 1 and 16384, found 0",
-        ),
+        case("width or height 0", edit("width = 8", "width = 0"), 2, "render.width", "must be between 1 and 16384, found 0"),
         case(
             "photons or iterations 0",
             edit("iterations = 1", "iterations = 0"),
@@ -309,9 +250,7 @@ fn readme_cases() -> Vec<Case> {
         ),
         case(
             "zero-area quad (or light)",
-            with_shape(
-                &format!("{QUAD}emission = [5, 5, 5]\n").replace("v = [0, 1, 0]", "v = [2, 0, 0]"),
-            ),
+            with_shape(&format!("{QUAD}emission = [5, 5, 5]\n").replace("v = [0, 1, 0]", "v = [2, 0, 0]")),
             17,
             "shapes[0].v",
             "u and v are parallel or zero: the quad has no area",
@@ -325,13 +264,7 @@ fn readme_table_messages() {
     for (i, case) in readme_cases().into_iter().enumerate() {
         let (path, error) = load_error(&format!("readme-{i}"), &case.scene, &case.files);
         let dir = path.parent().unwrap().display().to_string();
-        let expected = format!(
-            "{}:{}: key `{}`: {}",
-            path.display(),
-            case.line,
-            case.key,
-            case.message.replace("{dir}", &dir)
-        );
+        let expected = format!("{}:{}: key `{}`: {}", path.display(), case.line, case.key, case.message.replace("{dir}", &dir));
         assert_eq!(error.to_string(), expected, "case: {}", case.what);
         assert_names(&error, &path, case.line, case.key, &[]);
     }
@@ -340,39 +273,14 @@ fn readme_table_messages() {
 #[test]
 fn toml_syntax_errors_name_the_key_on_their_line() {
     // Inside an inline table: the material's key.
-    assert_error(
-        "syntax-inline",
-        &edit("albedo = [0.5, 0.5, 0.5]", "albedo = [0.5, , 0.5]"),
-        &[],
-        12,
-        "materials.white",
-        &[],
-    );
+    assert_error("syntax-inline", &edit("albedo = [0.5, 0.5, 0.5]", "albedo = [0.5, , 0.5]"), &[], 12, "materials.white", &[]);
     // In the second `[[shapes]]` entry: counted from 0.
-    let two = format!(
-        "{}[[shapes]]\n{}",
-        with_shape(QUAD),
-        QUAD.replace("u = [1, 0, 0]", "u = [1, 0 0]")
-    );
+    let two = format!("{}[[shapes]]\n{}", with_shape(QUAD), QUAD.replace("u = [1, 0, 0]", "u = [1, 0 0]"));
     assert_error("syntax-array", &two, &[], 22, "shapes[1].u", &[]);
     // A duplicate key: at the second one.
-    assert_error(
-        "syntax-duplicate",
-        &edit("fov = 40", "fov = 40\nfov = 41"),
-        &[],
-        10,
-        "camera.fov",
-        &["duplicate key"],
-    );
+    assert_error("syntax-duplicate", &edit("fov = 40", "fov = 40\nfov = 41"), &[], 10, "camera.fov", &["duplicate key"]);
     // A key without `=`: its first word.
-    assert_error(
-        "syntax-no-value",
-        &edit("fov = 40", "fov 40"),
-        &[],
-        9,
-        "camera.fov",
-        &["expected `=`"],
-    );
+    assert_error("syntax-no-value", &edit("fov = 40", "fov 40"), &[], 9, "camera.fov", &["expected `=`"]);
     // An array left open: the error is found on a later line, and named after the key that
     // opened it, not the key on that line.
     assert_error(
@@ -402,17 +310,8 @@ fn toml_syntax_errors_name_the_key_on_their_line() {
     );
     // A broken header names no key, but still the file and the line.
     let (path, error) = load_error("syntax-header", &edit("[camera]", "[camera"), &[]);
-    assert_eq!(
-        (error.line, error.key.as_deref()),
-        (Some(6), None),
-        "{error}"
-    );
-    assert!(
-        error
-            .to_string()
-            .starts_with(&format!("{}:6: ", path.display())),
-        "{error}"
-    );
+    assert_eq!((error.line, error.key.as_deref()), (Some(6), None), "{error}");
+    assert!(error.to_string().starts_with(&format!("{}:6: ", path.display())), "{error}");
 }
 
 #[test]
@@ -424,11 +323,7 @@ fn scene_file_not_utf8_names_the_line() {
     let path = dir.join("scene.toml");
     std::fs::write(&path, bytes).unwrap();
     let error = scene::load(&path).expect_err("not UTF-8");
-    assert_eq!(
-        (error.file.as_path(), error.line),
-        (path.as_path(), Some(9)),
-        "{error}"
-    );
+    assert_eq!((error.file.as_path(), error.line), (path.as_path(), Some(9)), "{error}");
     assert!(error.to_string().contains("not UTF-8"), "{error}");
 }
 
@@ -436,53 +331,18 @@ fn scene_file_not_utf8_names_the_line() {
 fn obj_numbers_that_are_not_finite_are_errors_at_their_obj_line() {
     let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
     for (obj, obj_line, word) in [
-        (
-            format!("{tri}v inf 0 0\nf 1 2 3\nf 1 2 4\n"),
-            4,
-            "`inf` is not a finite number",
-        ),
-        (
-            format!("{tri}v 1e39 0 0\nf 1 2 3\n"),
-            4,
-            "`1e39` is not a finite number",
-        ),
-        (
-            format!("{tri}vn 0 0 NaN\nf 1//1 2//1 3//1\n"),
-            4,
-            "`NaN` is not a finite number",
-        ),
-        (
-            format!("{tri}vt 0 -inf\nf 1/1 2/1 3/1\n"),
-            4,
-            "`-inf` is not a finite number",
-        ),
+        (format!("{tri}v inf 0 0\nf 1 2 3\nf 1 2 4\n"), 4, "`inf` is not a finite number"),
+        (format!("{tri}v 1e39 0 0\nf 1 2 3\n"), 4, "`1e39` is not a finite number"),
+        (format!("{tri}vn 0 0 NaN\nf 1//1 2//1 3//1\n"), 4, "`NaN` is not a finite number"),
+        (format!("{tri}vt 0 -inf\nf 1/1 2/1 3/1\n"), 4, "`-inf` is not a finite number"),
         // A weight w divides the coordinates: 0, or one that overflows them.
-        (
-            format!("v 0 0 0 0\n{tri}f 2 3 4\n"),
-            1,
-            "the weight w = 0 does not give finite coordinates",
-        ),
-        (
-            format!("{tri}v 1 1 1 1e-45\nf 1 2 3\n"),
-            4,
-            "the weight w = 1e-45",
-        ),
-        (
-            format!("{tri}vn 0 0\nf 1 2 3\n"),
-            4,
-            "a normal needs 3 numbers, found 2",
-        ),
+        (format!("v 0 0 0 0\n{tri}f 2 3 4\n"), 1, "the weight w = 0 does not give finite coordinates"),
+        (format!("{tri}v 1 1 1 1e-45\nf 1 2 3\n"), 4, "the weight w = 1e-45"),
+        (format!("{tri}vn 0 0\nf 1 2 3\n"), 4, "a normal needs 3 numbers, found 2"),
     ] {
-        let (path, error) = load_error(
-            "obj-finite",
-            &with_shape(MESH),
-            &[("m.obj", obj.as_bytes())],
-        );
+        let (path, error) = load_error("obj-finite", &with_shape(MESH), &[("m.obj", obj.as_bytes())]);
         let obj_path = path.with_file_name("m.obj");
-        let expected = format!(
-            "cannot read mesh {}: line {obj_line}: {word}",
-            obj_path.display()
-        );
+        let expected = format!("cannot read mesh {}: line {obj_line}: {word}", obj_path.display());
         assert_names(&error, &path, 16, "shapes[0].file", &[&expected]);
     }
 }
@@ -491,70 +351,32 @@ fn obj_numbers_that_are_not_finite_are_errors_at_their_obj_line() {
 fn obj_face_indices_out_of_range_are_errors_at_their_obj_line() {
     let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
     for (obj, message) in [
-        (
-            format!("{tri}f 0 1 2\n"),
-            "line 4: vertex index 0 in `0` (OBJ indices start at 1)",
-        ),
-        (
-            format!("{tri}f -4 -2 -1\n"),
-            "line 4: vertex index -4 in `-4` reaches back past the 3 vertices defined before it",
-        ),
+        (format!("{tri}f 0 1 2\n"), "line 4: vertex index 0 in `0` (OBJ indices start at 1)"),
+        (format!("{tri}f -4 -2 -1\n"), "line 4: vertex index -4 in `-4` reaches back past the 3 vertices defined before it"),
         // Relative indices count back from their line, not from the end of the file.
-        (
-            format!("v 0 0 0\nf -1 -2 -3\n{tri}"),
-            "line 2: vertex index -2 in `-2` reaches back past the 1 vertices",
-        ),
-        (
-            format!("{tri}f 1 2 4\n"),
-            "line 4: vertex index 4 does not exist (the file has 3 vertices)",
-        ),
+        (format!("v 0 0 0\nf -1 -2 -3\n{tri}"), "line 2: vertex index -2 in `-2` reaches back past the 1 vertices"),
+        (format!("{tri}f 1 2 4\n"), "line 4: vertex index 4 does not exist (the file has 3 vertices)"),
         (
             format!("{tri}f 1/1 2/1 3/1\n"),
             "line 4: texture coordinate index 1 does not exist (the file has 0 texture \
              coordinates)",
         ),
-        (
-            format!("{tri}vn 0 0 1\nf 1//1 2//1 3//2\n"),
-            "line 5: normal index 2 does not exist (the file has 1 normals)",
-        ),
-        (
-            format!("{tri}f 1 2 3\nf 1 2 99999999999999999999\n"),
-            "line 5: `99999999999999999999` is not a face vertex",
-        ),
-        (
-            format!("{tri}f 1 2 3/1/1/1\n"),
-            "line 4: `3/1/1/1` is not a face vertex",
-        ),
-        (
-            format!("{tri}f 1 2 x\n"),
-            "line 4: `x` is not a face vertex",
-        ),
-        (
-            format!("{tri}f 1 2\n"),
-            "line 4: a face needs at least 3 vertices, found 2",
-        ),
+        (format!("{tri}vn 0 0 1\nf 1//1 2//1 3//2\n"), "line 5: normal index 2 does not exist (the file has 1 normals)"),
+        (format!("{tri}f 1 2 3\nf 1 2 99999999999999999999\n"), "line 5: `99999999999999999999` is not a face vertex"),
+        (format!("{tri}f 1 2 3/1/1/1\n"), "line 4: `3/1/1/1` is not a face vertex"),
+        (format!("{tri}f 1 2 x\n"), "line 4: `x` is not a face vertex"),
+        (format!("{tri}f 1 2\n"), "line 4: a face needs at least 3 vertices, found 2"),
         (
             format!("{tri}v 0 0 0 1 1\nf 1 2 3\n"),
             "line 4: a vertex has 3 numbers, 4 (with a weight w) or 6 (with a colour), found 5",
         ),
     ] {
-        let (path, error) =
-            load_error("obj-index", &with_shape(MESH), &[("m.obj", obj.as_bytes())]);
-        assert_names(
-            &error,
-            &path,
-            16,
-            "shapes[0].file",
-            &["cannot read mesh", "m.obj: ", message],
-        );
+        let (path, error) = load_error("obj-index", &with_shape(MESH), &[("m.obj", obj.as_bytes())]);
+        assert_names(&error, &path, 16, "shapes[0].file", &["cannot read mesh", "m.obj: ", message]);
     }
     // Forward references are allowed, as the OBJ reader allows them.
     let obj = "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n";
-    let path = write_scene(
-        "obj-forward",
-        &with_shape(MESH),
-        &[("m.obj", obj.as_bytes())],
-    );
+    let path = write_scene("obj-forward", &with_shape(MESH), &[("m.obj", obj.as_bytes())]);
     assert_eq!(scene::load(&path).unwrap().triangles.len(), 1);
 }
 
@@ -562,13 +384,7 @@ fn obj_face_indices_out_of_range_are_errors_at_their_obj_line() {
 fn obj_not_utf8_names_its_line() {
     let obj: &[u8] = b"v 0 0 0\nv 1 0 0\nv 0 1 \xff\nf 1 2 3\n";
     let (path, error) = load_error("obj-utf8", &with_shape(MESH), &[("m.obj", obj)]);
-    assert_names(
-        &error,
-        &path,
-        16,
-        "shapes[0].file",
-        &["m.obj: line 3: not UTF-8 text"],
-    );
+    assert_names(&error, &path, 16, "shapes[0].file", &["m.obj: line 3: not UTF-8 text"]);
 }
 
 #[test]
@@ -576,17 +392,8 @@ fn geometry_beyond_32_bit_floats_is_an_error() {
     const TOO_LARGE: &str = "the shape lies beyond the range of 32-bit floats";
     let cube = "type = \"cube\"\nmaterial = \"white\"\n";
     // The quad's edges are finite but its area overflows.
-    let big_quad = QUAD
-        .replace("u = [1, 0, 0]", "u = [3e38, 0, 0]")
-        .replace("v = [0, 1, 0]", "v = [0, 3e38, 0]");
-    assert_error(
-        "big-quad",
-        &with_shape(&big_quad),
-        &[],
-        13,
-        "shapes[0]",
-        &[TOO_LARGE],
-    );
+    let big_quad = QUAD.replace("u = [1, 0, 0]", "u = [3e38, 0, 0]").replace("v = [0, 1, 0]", "v = [0, 3e38, 0]");
+    assert_error("big-quad", &with_shape(&big_quad), &[], 13, "shapes[0]", &[TOO_LARGE]);
     // A translate that pushes a corner to infinity.
     assert_error(
         "big-cube",
@@ -598,14 +405,7 @@ fn geometry_beyond_32_bit_floats_is_an_error() {
     );
     // A mesh whose finite coordinates overflow once scaled.
     let tri: &[u8] = b"v 0 0 0\nv 1e30 0 0\nv 0 1 0\nf 1 2 3\n";
-    assert_error(
-        "big-mesh",
-        &with_shape(&format!("{MESH}scale = 1e10\n")),
-        &[("m.obj", tri)],
-        13,
-        "shapes[0]",
-        &[TOO_LARGE],
-    );
+    assert_error("big-mesh", &with_shape(&format!("{MESH}scale = 1e10\n")), &[("m.obj", tri)], 13, "shapes[0]", &[TOO_LARGE]);
     // Finite at rest, beyond the range at the end of the shutter.
     let moving = "type = \"sphere\"\ncenter = [3e38, 0, 0]\nradius = 1\nmaterial = \"white\"\n\
                   velocity = [3e38, 0, 0]\n";
@@ -620,19 +420,11 @@ fn geometry_beyond_32_bit_floats_is_an_error() {
     // An emitting sphere whose area would overflow the light's power.
     let sun = "type = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1e19\nmaterial = \"white\"\n\
                emission = [1, 1, 1]\n";
-    assert_error(
-        "big-sphere",
-        &with_shape(sun),
-        &[],
-        13,
-        "shapes[0]",
-        &[TOO_LARGE],
-    );
+    assert_error("big-sphere", &with_shape(sun), &[], 13, "shapes[0]", &[TOO_LARGE]);
     // The camera's view vector overflowing.
     assert_error(
         "far-camera",
-        &edit("look_at = [0, 0, 0]", "look_at = [0, 0, -3.4e38]")
-            .replace("[0, 0, 5]", "[0, 0, 3.4e38]"),
+        &edit("look_at = [0, 0, 0]", "look_at = [0, 0, -3.4e38]").replace("[0, 0, 5]", "[0, 0, 3.4e38]"),
         &[],
         8,
         "camera.look_at",
@@ -644,38 +436,16 @@ fn geometry_beyond_32_bit_floats_is_an_error() {
 fn shapes_that_vanish_in_32_bit_floats_are_errors() {
     // A unit quad a billion units from the origin: corner + u rounds back to corner.
     let far_quad = QUAD.replace("corner = [0, 0, 0]", "corner = [1e9, 0, 0]");
-    assert_error(
-        "far-quad",
-        &with_shape(&far_quad),
-        &[],
-        15,
-        "shapes[0].corner",
-        &["the quad has no area in 32-bit floats"],
-    );
+    assert_error("far-quad", &with_shape(&far_quad), &[], 15, "shapes[0].corner", &["the quad has no area in 32-bit floats"]);
     // A cube scaled to nothing: every triangle's area underflows.
     let cube = "type = \"cube\"\nmaterial = \"white\"\nscale = 1e-30\n";
-    assert_error(
-        "tiny-cube",
-        &with_shape(cube),
-        &[],
-        16,
-        "shapes[0].scale",
-        &["all 12 triangles of the cube have no area"],
-    );
+    assert_error("tiny-cube", &with_shape(cube), &[], 16, "shapes[0].scale", &["all 12 triangles of the cube have no area"]);
 }
 
 #[test]
 fn zero_area_light_is_an_error() {
-    let light =
-        format!("{QUAD}emission = [10, 10, 10]\n").replace("u = [1, 0, 0]", "u = [0, 0, 0]");
-    assert_error(
-        "zero-light",
-        &with_shape(&light),
-        &[],
-        17,
-        "shapes[0].v",
-        &["no area"],
-    );
+    let light = format!("{QUAD}emission = [10, 10, 10]\n").replace("u = [1, 0, 0]", "u = [0, 0, 0]");
+    assert_error("zero-light", &with_shape(&light), &[], 17, "shapes[0].v", &["no area"]);
 }
 
 #[test]
@@ -683,9 +453,7 @@ fn huge_light_directions_still_normalize() {
     let light = "type = \"directional\"\ndirection = [3e38, -3e38, 0]\nirradiance = [1, 1, 1]\n";
     let path = write_scene("big-direction", &with_light(light), &[]);
     let scene = scene::load(&path).unwrap();
-    let LightKind::Directional { direction, .. } = scene.lights[0].kind else {
-        panic!("not directional")
-    };
+    let LightKind::Directional { direction, .. } = scene.lights[0].kind else { panic!("not directional") };
     let expected = glam::Vec3::new(1.0, -1.0, 0.0).normalize();
     assert!(direction.abs_diff_eq(expected, 1e-6), "{direction}");
 }
@@ -695,14 +463,8 @@ fn scene_without_light_is_an_error_of_scene_data() {
     let unlit = [
         ("no-shapes", BASE.to_owned()),
         ("no-emission", with_shape(QUAD)),
-        (
-            "black-emission",
-            with_shape(&format!("{QUAD}emission = [0, 0, 0]\n")),
-        ),
-        (
-            "black-point-light",
-            with_light("type = \"point\"\nposition = [0, 0, 0]\nintensity = [0, 0, 0]\n"),
-        ),
+        ("black-emission", with_shape(&format!("{QUAD}emission = [0, 0, 0]\n"))),
+        ("black-point-light", with_light("type = \"point\"\nposition = [0, 0, 0]\nintensity = [0, 0, 0]\n")),
     ];
     for (name, text) in unlit {
         let path = write_scene(name, &text, &[]);
@@ -724,44 +486,23 @@ fn scene_without_light_is_an_error_of_scene_data() {
         assert_eq!(error.file, path, "{name}");
     }
     // The same scene with a light is accepted.
-    let path = write_scene(
-        "lit",
-        &with_shape(&format!("{QUAD}emission = [1, 1, 1]\n")),
-        &[],
-    );
+    let path = write_scene("lit", &with_shape(&format!("{QUAD}emission = [1, 1, 1]\n")), &[]);
     SceneData::new(&scene::load(&path).unwrap()).expect("a lit scene");
 }
 
 #[test]
 fn builder_checks_geometry_as_the_loader_does() {
     let builder = || {
-        SceneBuilder::new(8, 8)
-            .camera([0.0, 0.0, 5.0], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 40.0)
-            .diffuse("white", [0.5, 0.5, 0.5])
+        SceneBuilder::new(8, 8).camera([0.0, 0.0, 5.0], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 40.0).diffuse("white", [0.5, 0.5, 0.5])
     };
-    let error = builder()
-        .sphere([0.0, 0.0, 0.0], 1e30, "white")
-        .emission([1.0, 1.0, 1.0])
-        .build()
-        .unwrap_err();
+    let error = builder().sphere([0.0, 0.0, 0.0], 1e30, "white").emission([1.0, 1.0, 1.0]).build().unwrap_err();
     assert_eq!(error.key.as_deref(), Some("shapes[0]"), "{error}");
-    assert!(
-        error.message.contains("beyond the range of 32-bit floats"),
-        "{error}"
-    );
-    let error = builder()
-        .quad([1e9, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], "white")
-        .emission([1.0, 1.0, 1.0])
-        .build()
-        .unwrap_err();
+    assert!(error.message.contains("beyond the range of 32-bit floats"), "{error}");
+    let error =
+        builder().quad([1e9, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], "white").emission([1.0, 1.0, 1.0]).build().unwrap_err();
     assert_eq!(error.key.as_deref(), Some("shapes[0].corner"), "{error}");
     let error = builder()
-        .camera(
-            [0.0, 0.0, 3.4e38],
-            [0.0, 0.0, -3.4e38],
-            [0.0, 1.0, 0.0],
-            40.0,
-        )
+        .camera([0.0, 0.0, 3.4e38], [0.0, 0.0, -3.4e38], [0.0, 1.0, 0.0], 40.0)
         .quad([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], "white")
         .emission([1.0, 1.0, 1.0])
         .build()
@@ -780,10 +521,7 @@ fn run_binary(scene: &Path) -> (Option<i32>, String) {
         .env("XDG_RUNTIME_DIR", std::env::temp_dir())
         .output()
         .expect("the binary runs");
-    (
-        output.status.code(),
-        String::from_utf8_lossy(&output.stderr).into_owned(),
-    )
+    (output.status.code(), String::from_utf8_lossy(&output.stderr).into_owned())
 }
 
 #[test]
@@ -791,15 +529,10 @@ fn binary_exits_1_on_a_bad_scene_value() {
     let scene = write_scene("bin-value", &edit("fov = 40", "fov = -5"), &[]);
     let (code, stderr) = run_binary(&scene);
     assert_eq!(code, Some(1), "{stderr}");
-    let expected = format!(
-        "error: {}:9: key `camera.fov`: must be greater than 0 and less than 180, found -5\n",
-        scene.display()
-    );
+    let expected =
+        format!("error: {}:9: key `camera.fov`: must be greater than 0 and less than 180, found -5\n", scene.display());
     assert_eq!(stderr, expected);
-    assert!(
-        !scene.with_file_name("out.png").exists(),
-        "no image is written"
-    );
+    assert!(!scene.with_file_name("out.png").exists(), "no image is written");
 }
 
 #[test]
@@ -809,27 +542,15 @@ fn binary_exits_1_on_a_corrupt_mesh_and_malformed_toml() {
     let (code, stderr) = run_binary(&scene);
     assert_eq!(code, Some(1), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
-    let place = format!(
-        "error: {}:16: key `shapes[0].file`: cannot read mesh ",
-        scene.display()
-    );
+    let place = format!("error: {}:16: key `shapes[0].file`: cannot read mesh ", scene.display());
     assert!(stderr.starts_with(&place), "{stderr}");
-    assert!(
-        stderr.contains("m.obj: line 4: `nan` is not a finite number"),
-        "{stderr}"
-    );
+    assert!(stderr.contains("m.obj: line 4: `nan` is not a finite number"), "{stderr}");
 
     let scene = write_scene("bin-toml", &edit("height = 8", "height = = 8"), &[]);
     let (code, stderr) = run_binary(&scene);
     assert_eq!(code, Some(1), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
-    assert!(
-        stderr.starts_with(&format!(
-            "error: {}:3: key `render.height`: ",
-            scene.display()
-        )),
-        "{stderr}"
-    );
+    assert!(stderr.starts_with(&format!("error: {}:3: key `render.height`: ", scene.display())), "{stderr}");
 }
 
 #[test]
@@ -837,11 +558,7 @@ fn binary_warns_once_about_degenerate_mesh_triangles() {
     // Two of three triangles have no area; a later shape's error stops the run before any
     // GPU work, so the test needs no device.
     let obj: &[u8] = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 2 4 1\n";
-    let text = format!(
-        "{}[[shapes]]\n{}",
-        with_shape(MESH),
-        QUAD.replace("\"quad\"", "\"cone\"")
-    );
+    let text = format!("{}[[shapes]]\n{}", with_shape(MESH), QUAD.replace("\"quad\"", "\"cone\""));
     let scene = write_scene("bin-warning", &text, &[("m.obj", obj)]);
     let (code, stderr) = run_binary(&scene);
     assert_eq!(code, Some(1), "{stderr}");
@@ -854,8 +571,5 @@ fn binary_warns_once_about_degenerate_mesh_triangles() {
     );
     assert_eq!(stderr.matches("warning:").count(), 1, "{stderr}");
     assert!(stderr.starts_with(&warning), "{stderr}");
-    assert!(
-        stderr.contains("key `shapes[1].type`: unknown shape type `cone`"),
-        "{stderr}"
-    );
+    assert!(stderr.contains("key `shapes[1].type`: unknown shape type `cone`"), "{stderr}");
 }

@@ -255,7 +255,10 @@ fn render_settings_out_of_range() {
 
 #[test]
 fn camera_errors() {
-    let no_camera = SceneBuilder::new(8, 8).diffuse("white", [0.5; 3]).quad([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], "white").emission([1.0; 3]);
+    let no_camera = SceneBuilder::new(8, 8)
+        .diffuse("white", [0.5; 3])
+        .quad([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], "white")
+        .emission([1.0; 3]);
     assert_err(no_camera, "camera", "no camera");
     assert_err(base().camera([0.0; 3], [0.0; 3], [0.0, 1.0, 0.0], 40.0), "camera", "no view direction");
     assert_err(base().camera([0.0, 0.0, 5.0], [0.0; 3], [0.0, 0.0, 1.0], 40.0), "camera", "parallel");
@@ -294,7 +297,11 @@ fn shape_errors() {
     assert_err(base().cube([1.0; 3], [f32::NAN; 3], [0.0; 3], "white"), "shapes[1].rotate", "finite");
     assert_err(base().emission([-1.0, 0.0, 0.0]), "shapes[0].emission", "at least 0");
     assert_err(base().velocity([f32::NAN; 3]), "shapes[0].velocity", "finite");
-    assert_err(base().mesh("/no/such/mesh.obj", [1.0; 3], [0.0; 3], [0.0; 3], "white"), "shapes[1].file", "cannot read mesh /no/such/mesh.obj");
+    assert_err(
+        base().mesh("/no/such/mesh.obj", [1.0; 3], [0.0; 3], [0.0; 3], "white"),
+        "shapes[1].file",
+        "cannot read mesh /no/such/mesh.obj",
+    );
 }
 
 #[test]
@@ -302,7 +309,11 @@ fn modifiers_need_a_shape_of_their_kind() {
     let empty = SceneBuilder::new(8, 8).camera([0.0, 0.0, 5.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0);
     assert_err(empty.clone().emission([1.0; 3]), "shapes[0].emission", "before any shape");
     assert_err(empty.velocity([1.0; 3]), "shapes[0].velocity", "before any shape");
-    assert_err(base().sphere([0.0; 3], 1.0, "white").uv_scale([2.0, 2.0]), "shapes[1].uv_scale", "applies to a quad shape, not a sphere");
+    assert_err(
+        base().sphere([0.0; 3], 1.0, "white").uv_scale([2.0, 2.0]),
+        "shapes[1].uv_scale",
+        "applies to a quad shape, not a sphere",
+    );
     assert_err(base().smooth(true), "shapes[0].smooth", "applies to a mesh shape, not a quad");
 }
 
@@ -316,10 +327,12 @@ fn light_errors() {
 
 #[test]
 fn a_scene_without_light_is_an_error() {
-    let dark = SceneBuilder::new(8, 8)
-        .camera([0.0, 0.0, 5.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0)
-        .diffuse("white", [0.5; 3])
-        .quad([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], "white");
+    let dark = SceneBuilder::new(8, 8).camera([0.0, 0.0, 5.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0).diffuse("white", [0.5; 3]).quad(
+        [0.0; 3],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        "white",
+    );
     assert_err(dark.clone(), "shapes.emission", "no light");
     assert_err(dark.clone().emission([0.0; 3]), "shapes.emission", "no light");
     assert!(dark.clone().point_light([0.0, 1.0, 0.0], [1.0; 3]).build().is_ok());

@@ -64,7 +64,13 @@ fn synthetic_snapshots() -> Vec<Snapshot> {
     for (label, scale) in [("sppm", 0.01), ("pt", 1.0), ("pt-nee", 0.1)] {
         for k in 0..6 {
             let seconds = 0.5 * 2f64.powi(k) * 1.05;
-            out.push(Snapshot { label: label.into(), seconds, passes: 1 << k, rel_mse: scale / seconds, rmse: (scale / seconds).sqrt() });
+            out.push(Snapshot {
+                label: label.into(),
+                seconds,
+                passes: 1 << k,
+                rel_mse: scale / seconds,
+                rmse: (scale / seconds).sqrt(),
+            });
         }
     }
     out
@@ -159,7 +165,15 @@ fn diff_writes_a_false_colour_error_image() {
     image_io::write_image(&a, &image).unwrap();
     image_io::write_image(&b, &reference).unwrap();
     let status = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
-        .args(["diff".as_ref(), a.as_os_str(), b.as_os_str(), "--downsample".as_ref(), "4".as_ref(), "--error-image".as_ref(), out.as_os_str()])
+        .args([
+            "diff".as_ref(),
+            a.as_os_str(),
+            b.as_os_str(),
+            "--downsample".as_ref(),
+            "4".as_ref(),
+            "--error-image".as_ref(),
+            out.as_os_str(),
+        ])
         .output()
         .unwrap();
     assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));

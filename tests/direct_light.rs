@@ -31,11 +31,7 @@ enum Light {
     /// A planar polygon of uniform radiance, emitting on the side its winding faces.
     Polygon { vertices: Vec<DVec3>, radiance: f64 },
     /// A sphere of uniform radiance.
-    Sphere {
-        center: DVec3,
-        radius: f64,
-        radiance: f64,
-    },
+    Sphere { center: DVec3, radius: f64, radiance: f64 },
     /// Radiant intensity from a point.
     Point { position: DVec3, intensity: f64 },
     /// Parallel light travelling along `direction` (unit), `irradiance` on a surface facing it.
@@ -47,24 +43,14 @@ impl Light {
     fn irradiance(&self, p: DVec3, n: DVec3) -> f64 {
         match self {
             Light::Polygon { vertices, radiance } => polygon_irradiance(vertices, *radiance, p, n),
-            Light::Sphere {
-                center,
-                radius,
-                radiance,
-            } => sphere_irradiance(*center, *radiance, *radius, p, n),
+            Light::Sphere { center, radius, radiance } => sphere_irradiance(*center, *radiance, *radius, p, n),
             // E = I cos(theta) / d^2.
-            Light::Point {
-                position,
-                intensity,
-            } => {
+            Light::Point { position, intensity } => {
                 let to = *position - p;
                 intensity * n.dot(to.normalize()).max(0.0) / to.length_squared()
             }
             // E = E0 cos(theta).
-            Light::Directional {
-                direction,
-                irradiance,
-            } => irradiance * n.dot(-*direction).max(0.0),
+            Light::Directional { direction, irradiance } => irradiance * n.dot(-*direction).max(0.0),
         }
     }
 
@@ -104,9 +90,7 @@ impl Light {
         let w = self.towards(p);
         match self {
             Light::Polygon { vertices, .. } => {
-                let front = (vertices[1] - vertices[0])
-                    .cross(vertices[2] - vertices[0])
-                    .normalize();
+                let front = (vertices[1] - vertices[0]).cross(vertices[2] - vertices[0]).normalize();
                 (w.z, Some(-w.dot(front)))
             }
             _ => (w.z, None),
@@ -125,10 +109,7 @@ fn polygon_irradiance(vertices: &[DVec3], radiance: f64, p: DVec3, n: DVec3) -> 
     if front.dot(p - vertices[0]) <= 0.0 {
         return 0.0;
     }
-    assert!(
-        vertices.iter().all(|v| n.dot(*v - p) > 0.0),
-        "the polygon crosses the horizon of {p}"
-    );
+    assert!(vertices.iter().all(|v| n.dot(*v - p) > 0.0), "the polygon crosses the horizon of {p}");
     let mut sum = 0.0;
     for (i, v) in vertices.iter().enumerate() {
         let (a, b) = (*v - p, vertices[(i + 1) % vertices.len()] - p);
@@ -189,11 +170,7 @@ impl Pinhole {
             width: f.width,
             height: f.height,
             // The receiver is the scene's first shape.
-            receiver_half: scene.triangles[0]
-                .p
-                .iter()
-                .map(|p| p.x.abs() as f64)
-                .fold(0.0, f64::max),
+            receiver_half: scene.triangles[0].p.iter().map(|p| p.x.abs() as f64).fold(0.0, f64::max),
         }
     }
 
@@ -209,11 +186,8 @@ impl Pinhole {
         let d = self.ray(x, y);
         let t = -self.origin.z / d.z;
         let p = self.origin + t * d;
-        let on_receiver =
-            t > 0.0 && p.x.abs() < self.receiver_half && p.y.abs() < self.receiver_half;
-        let blocked = lights
-            .iter()
-            .any(|l| l.hit(self.origin, d).is_some_and(|s| s < t));
+        let on_receiver = t > 0.0 && p.x.abs() < self.receiver_half && p.y.abs() < self.receiver_half;
+        let blocked = lights.iter().any(|l| l.hit(self.origin, d).is_some_and(|s| s < t));
         (on_receiver && !blocked).then_some(DVec3::new(p.x, p.y, 0.0))
     }
 }
@@ -231,12 +205,7 @@ fn analytic_image(scene: &Scene, lights: &[Light]) -> Vec<Option<f64>> {
                 let x = px as f64 + ((j % SUPER) as f64 + 0.5) / SUPER as f64;
                 let y = py as f64 + ((j / SUPER) as f64 + 0.5) / SUPER as f64;
                 match camera.receiver_point(x, y, lights) {
-                    Some(p) => {
-                        sum += lights
-                            .iter()
-                            .map(|l| l.irradiance(p, DVec3::Z))
-                            .sum::<f64>()
-                    }
+                    Some(p) => sum += lights.iter().map(|l| l.irradiance(p, DVec3::Z)).sum::<f64>(),
                     None => whole = false,
                 }
             }
@@ -251,8 +220,7 @@ fn analytic_image(scene: &Scene, lights: &[Light]) -> Vec<Option<f64>> {
 /// batch k is k M_k - (k - 1) M_{k-1}. For SPPM this holds where no photon lands, as on a
 /// receiver whose only other surface is a black light.
 fn render_batches(gpu: &GpuContext, scene: &Scene, batches: u32, passes: u32) -> Vec<Vec<f64>> {
-    let mut integrator =
-        integrators::create(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
+    let mut integrator = integrators::create(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
     let mut previous = vec![0.0; (scene.render.width * scene.render.height) as usize];
     let mut out = Vec::new();
     for k in 1..=batches {
@@ -295,11 +263,7 @@ fn for_method(scene: &Scene, method: Method, samples: u32) -> (Scene, u32) {
     let mut scene = scene.clone();
     scene.render.method = method;
     let per_pass = if method == Method::Sppm { SPPM_SPP } else { 1 };
-    assert_eq!(
-        samples % (BATCHES * per_pass),
-        0,
-        "{samples} samples do not split into batches"
-    );
+    assert_eq!(samples % (BATCHES * per_pass), 0, "{samples} samples do not split into batches");
     if method == Method::Sppm {
         // The receiver gets no photons (they leave it, or stop on the black light), so their
         // number and radius only cost time.
@@ -346,17 +310,9 @@ fn measure(
             .iter()
             .map(|&i| analytic[i])
             .sum::<Option<f64>>()
-            .unwrap_or_else(|| {
-                panic!(
-                    "{label}, {}: the camera sees a light there, or misses the receiver",
-                    region.name
-                )
-            })
+            .unwrap_or_else(|| panic!("{label}, {}: the camera sees a light there, or misses the receiver", region.name))
             / n;
-        let means: Vec<f64> = batches
-            .iter()
-            .map(|b| region.pixels.iter().map(|&i| b[i]).sum::<f64>() / n)
-            .collect();
+        let means: Vec<f64> = batches.iter().map(|b| region.pixels.iter().map(|&i| b[i]).sum::<f64>() / n).collect();
         let mean = means.iter().sum::<f64>() / k;
         let se = (means.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (k - 1.0) / k).sqrt();
         // Where the region lies and how the light arrives there, averaged over its pixels.
@@ -364,10 +320,7 @@ fn measure(
             .pixels
             .iter()
             .map(|&i| {
-                let (x, y) = (
-                    (i as u32 % camera.width) as f64 + 0.5,
-                    (i as u32 / camera.width) as f64 + 0.5,
-                );
+                let (x, y) = ((i as u32 % camera.width) as f64 + 0.5, (i as u32 / camera.width) as f64 + 0.5);
                 camera.receiver_point(x, y, lights).unwrap()
             })
             .collect();
@@ -375,23 +328,15 @@ fn measure(
         let cosines: Vec<String> = lights
             .iter()
             .map(|l| {
-                let (r, s) = centres
-                    .iter()
-                    .map(|p| l.cosines(*p))
-                    .fold((0.0, 0.0), |(a, b), (c, d)| (a + c, b + d.unwrap_or(0.0)));
+                let (r, s) =
+                    centres.iter().map(|p| l.cosines(*p)).fold((0.0, 0.0), |(a, b), (c, d)| (a + c, b + d.unwrap_or(0.0)));
                 match l {
                     Light::Polygon { .. } => format!("cos_r {:.3} cos_l {:+.3}", r / n, s / n),
                     _ => format!("cos_r {:.3}", r / n),
                 }
             })
             .collect();
-        let at = format!(
-            "{label} {method:?} {} at ({:.3}, {:.3}), {}",
-            region.name,
-            centre.x,
-            centre.y,
-            cosines.join(", ")
-        );
+        let at = format!("{label} {method:?} {} at ({:.3}, {:.3}), {}", region.name, centre.x, centre.y, cosines.join(", "));
         let (line, failed) = if expected > 0.0 {
             let (error, rel_se) = (mean / expected - 1.0, se / expected);
             let line = format!(
@@ -404,15 +349,9 @@ fn measure(
             // Behind a one-sided light nothing arrives, exactly.
             (format!("{at}: analytic 0 rendered {mean:.3e}"), mean != 0.0)
         };
-        outcomes.push(Outcome {
-            failure: failed.then(|| line.clone()),
-            line,
-        });
+        outcomes.push(Outcome { failure: failed.then(|| line.clone()), line });
     }
-    eprintln!(
-        "{label} {method:?}: {}x{}, {samples} samples per pixel, {seconds:.2} s",
-        scene.render.width, scene.render.height
-    );
+    eprintln!("{label} {method:?}: {}x{}, {samples} samples per pixel, {seconds:.2} s", scene.render.width, scene.render.height);
     outcomes
 }
 
@@ -421,10 +360,7 @@ fn report(what: &str, outcomes: &[Outcome], (tolerance, max_se): (f64, f64)) {
     for o in outcomes {
         eprintln!("  {}", o.line);
     }
-    let failures: Vec<&str> = outcomes
-        .iter()
-        .filter_map(|o| o.failure.as_deref())
-        .collect();
+    let failures: Vec<&str> = outcomes.iter().filter_map(|o| o.failure.as_deref()).collect();
     assert!(
         failures.is_empty(),
         "{what}: {} of {} regions off the analytic radiance by {}% or more (or with a standard error of {}% or more):\n{}",
@@ -444,15 +380,12 @@ const PROBE_PIXELS: u32 = 32;
 
 /// The receiver, the square [-s, s]^2 at z = 0, and a black material for the lights.
 fn receiver(s: f32) -> SceneBuilder {
-    SceneBuilder::new(PROBE_PIXELS, PROBE_PIXELS)
-        .diffuse("receiver", [ALBEDO as f32; 3])
-        .diffuse("black", [0.0; 3])
-        .quad(
-            [-s, -s, 0.0],
-            [2.0 * s, 0.0, 0.0],
-            [0.0, 2.0 * s, 0.0],
-            "receiver",
-        )
+    SceneBuilder::new(PROBE_PIXELS, PROBE_PIXELS).diffuse("receiver", [ALBEDO as f32; 3]).diffuse("black", [0.0; 3]).quad(
+        [-s, -s, 0.0],
+        [2.0 * s, 0.0, 0.0],
+        [0.0, 2.0 * s, 0.0],
+        "receiver",
+    )
 }
 
 /// A receiver point: the PROBE_SIDE square centred at `at`, rendered with `samples` per pixel.
@@ -495,25 +428,12 @@ const RADIANCE: f32 = 10.0;
 
 fn kind(kind: Kind) -> Vec<(SceneBuilder, Vec<Light>, Vec<Probe>)> {
     let l = RADIANCE as f64;
-    let probe = |name, x, y, samples| Probe {
-        name,
-        at: [x, y],
-        samples,
-    };
+    let probe = |name, x, y, samples| Probe { name, at: [x, y], samples };
     match kind {
         Kind::Quad => {
-            let (corner, u, v) = (
-                DVec3::new(0.0, -0.3, 0.05),
-                DVec3::new(0.0, 0.6, 0.0),
-                DVec3::new(0.0, 0.0, 0.2),
-            );
-            let b = receiver(RECEIVER_HALF)
-                .quad(corner.as_vec3(), u.as_vec3(), v.as_vec3(), "black")
-                .emission([RADIANCE; 3]);
-            let light = Light::Polygon {
-                vertices: vec![corner, corner + u, corner + u + v, corner + v],
-                radiance: l,
-            };
+            let (corner, u, v) = (DVec3::new(0.0, -0.3, 0.05), DVec3::new(0.0, 0.6, 0.0), DVec3::new(0.0, 0.0, 0.2));
+            let b = receiver(RECEIVER_HALF).quad(corner.as_vec3(), u.as_vec3(), v.as_vec3(), "black").emission([RADIANCE; 3]);
+            let light = Light::Polygon { vertices: vec![corner, corner + u, corner + u + v, corner + v], radiance: l };
             let probes = vec![
                 probe("in front", 0.15, 0.0, AREA_SAMPLES),
                 probe("0.005 to 0.045 from its plane", 0.025, 0.0, HARD_SAMPLES),
@@ -525,21 +445,9 @@ fn kind(kind: Kind) -> Vec<(SceneBuilder, Vec<Light>, Vec<Probe>)> {
             vec![(b, vec![light], probes)]
         }
         Kind::Triangle => {
-            let file = concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/tests/scenes/direct/triangle.obj"
-            );
-            let b = receiver(RECEIVER_HALF)
-                .mesh(file, [1.0; 3], [0.0; 3], [0.0; 3], "black")
-                .emission([RADIANCE; 3]);
-            let vertices = probe_scene(&b, [0.0; 2])
-                .triangles
-                .last()
-                .unwrap()
-                .p
-                .iter()
-                .map(|p| p.as_dvec3())
-                .collect();
+            let file = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/scenes/direct/triangle.obj");
+            let b = receiver(RECEIVER_HALF).mesh(file, [1.0; 3], [0.0; 3], [0.0; 3], "black").emission([RADIANCE; 3]);
+            let vertices = probe_scene(&b, [0.0; 2]).triangles.last().unwrap().p.iter().map(|p| p.as_dvec3()).collect();
             let probes = vec![
                 probe("in front", -0.2, 0.0, AREA_SAMPLES),
                 probe("0.005 to 0.045 from its plane", 0.175, 0.0, HARD_SAMPLES),
@@ -548,35 +456,18 @@ fn kind(kind: Kind) -> Vec<(SceneBuilder, Vec<Light>, Vec<Probe>)> {
                 probe("grazing", -1.5, 0.0, AREA_SAMPLES),
                 probe("behind", 0.3, 0.0, FEW_SAMPLES),
             ];
-            vec![(
-                b,
-                vec![Light::Polygon {
-                    vertices,
-                    radiance: l,
-                }],
-                probes,
-            )]
+            vec![(b, vec![Light::Polygon { vertices, radiance: l }], probes)]
         }
         Kind::Sphere => {
             let center = DVec3::new(0.0, 0.0, 0.15);
-            let b = receiver(RECEIVER_HALF)
-                .sphere(center.as_vec3(), 0.1, "black")
-                .emission([RADIANCE; 3]);
+            let b = receiver(RECEIVER_HALF).sphere(center.as_vec3(), 0.1, "black").emission([RADIANCE; 3]);
             let probes = vec![
                 probe("just outside its silhouette", 0.13, 0.0, HARD_SAMPLES),
                 probe("oblique", 0.4, 0.0, HARD_SAMPLES),
                 probe("grazing", 1.0, 0.0, HARD_SAMPLES),
                 probe("grazing", 1.5, 0.0, HARD_SAMPLES),
             ];
-            vec![(
-                b,
-                vec![Light::Sphere {
-                    center,
-                    radius: 0.1,
-                    radiance: l,
-                }],
-                probes,
-            )]
+            vec![(b, vec![Light::Sphere { center, radius: 0.1, radiance: l }], probes)]
         }
         Kind::Point => {
             let position = DVec3::new(0.0, 0.0, 0.15);
@@ -587,14 +478,7 @@ fn kind(kind: Kind) -> Vec<(SceneBuilder, Vec<Light>, Vec<Probe>)> {
                 probe("grazing", 1.0, 0.0, FEW_SAMPLES),
                 probe("grazing", 1.5, 0.0, FEW_SAMPLES),
             ];
-            vec![(
-                b,
-                vec![Light::Point {
-                    position,
-                    intensity: 1.0,
-                }],
-                probes,
-            )]
+            vec![(b, vec![Light::Point { position, intensity: 1.0 }], probes)]
         }
         Kind::Directional => [1.0, 0.15]
             .into_iter()
@@ -602,14 +486,7 @@ fn kind(kind: Kind) -> Vec<(SceneBuilder, Vec<Light>, Vec<Probe>)> {
                 let direction = -DVec3::new((1.0 - cos * cos).sqrt(), 0.0, cos);
                 let b = receiver(RECEIVER_HALF).directional_light(direction.as_vec3(), [2.0; 3]);
                 let name = if cos == 1.0 { "facing it" } else { "grazing" };
-                (
-                    b,
-                    vec![Light::Directional {
-                        direction,
-                        irradiance: 2.0,
-                    }],
-                    vec![probe(name, 0.3, 0.2, FEW_SAMPLES)],
-                )
+                (b, vec![Light::Directional { direction, irradiance: 2.0 }], vec![probe(name, 0.3, 0.2, FEW_SAMPLES)])
             })
             .collect(),
     }
@@ -619,15 +496,7 @@ fn kind(kind: Kind) -> Vec<(SceneBuilder, Vec<Light>, Vec<Probe>)> {
 fn probe_scene(b: &SceneBuilder, at: [f64; 2]) -> Scene {
     let fov = (2.0 * (0.5 * PROBE_SIDE / CAMERA_HEIGHT).atan()).to_degrees() as f32;
     let (x, y) = (at[0] as f32, at[1] as f32);
-    b.clone()
-        .camera(
-            [x, y, CAMERA_HEIGHT as f32],
-            [x, y, 0.0],
-            [0.0, 1.0, 0.0],
-            fov,
-        )
-        .build()
-        .unwrap_or_else(|e| panic!("{e}"))
+    b.clone().camera([x, y, CAMERA_HEIGHT as f32], [x, y, 0.0], [0.0, 1.0, 0.0], fov).build().unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn check_kind(k: Kind, method: Method) {
@@ -637,20 +506,8 @@ fn check_kind(k: Kind, method: Method) {
     for (b, lights, probes) in kind(k) {
         for p in probes {
             let scene = probe_scene(&b, p.at);
-            let all = Region {
-                name: p.name.into(),
-                pixels: (0..(PROBE_PIXELS * PROBE_PIXELS) as usize).collect(),
-            };
-            outcomes.extend(measure(
-                &gpu,
-                &format!("{k:?}"),
-                &scene,
-                &lights,
-                &[all],
-                method,
-                p.samples,
-                (TOLERANCE, MAX_SE),
-            ));
+            let all = Region { name: p.name.into(), pixels: (0..(PROBE_PIXELS * PROBE_PIXELS) as usize).collect() };
+            outcomes.extend(measure(&gpu, &format!("{k:?}"), &scene, &lights, &[all], method, p.samples, (TOLERANCE, MAX_SE)));
         }
     }
     eprintln!("{k:?} {method:?}: {:.1} s", start.elapsed().as_secs_f64());
@@ -723,15 +580,7 @@ fn repro(radius: f64) -> (Scene, Vec<Light>, f64) {
         .sphere(center.as_vec3(), radius as f32, "black")
         .emission([RADIANCE; 3]);
     let scene = b.build().unwrap_or_else(|e| panic!("{e}"));
-    (
-        scene,
-        vec![Light::Sphere {
-            center,
-            radius,
-            radiance: RADIANCE as f64,
-        }],
-        silhouette,
-    )
+    (scene, vec![Light::Sphere { center, radius, radiance: RADIANCE as f64 }], silhouette)
 }
 
 /// The pixels wholly on the wall whose centres lie 1 to 1.5 silhouette radii from the sphere's
@@ -741,15 +590,9 @@ fn ring_regions(scene: &Scene, lights: &[Light], silhouette: f64) -> [Region; 2]
     let analytic = analytic_image(scene, lights);
     let (mut ring, mut beyond) = (Vec::new(), Vec::new());
     for (i, value) in analytic.iter().enumerate() {
-        let (x, y) = (
-            (i as u32 % camera.width) as f64 + 0.5,
-            (i as u32 / camera.width) as f64 + 0.5,
-        );
+        let (x, y) = ((i as u32 % camera.width) as f64 + 0.5, (i as u32 / camera.width) as f64 + 0.5);
         let d = camera.ray(x, y);
-        let rho = (camera.origin - camera.origin.z / d.z * d)
-            .truncate()
-            .length()
-            / silhouette;
+        let rho = (camera.origin - camera.origin.z / d.z * d).truncate().length() / silhouette;
         if value.is_none() {
             continue;
         } else if rho < 1.5 {
@@ -759,14 +602,8 @@ fn ring_regions(scene: &Scene, lights: &[Light], silhouette: f64) -> [Region; 2]
         }
     }
     [
-        Region {
-            name: format!("ring 1-1.5 silhouette radii ({} pixels)", ring.len()),
-            pixels: ring,
-        },
-        Region {
-            name: format!("beyond ({} pixels)", beyond.len()),
-            pixels: beyond,
-        },
+        Region { name: format!("ring 1-1.5 silhouette radii ({} pixels)", ring.len()), pixels: ring },
+        Region { name: format!("beyond ({} pixels)", beyond.len()), pixels: beyond },
     ]
 }
 
@@ -779,21 +616,8 @@ fn check_repro(method: Method, samples: [u32; 2], bounds: (f64, f64)) {
         let (scene, lights, silhouette) = repro(radius);
         let regions = ring_regions(&scene, &lights, silhouette);
         // Of the ring's 1270 pixels, those the silhouette touches are left out.
-        assert!(
-            regions[0].pixels.len() > 900,
-            "radius {radius}: {}",
-            regions[0].name
-        );
-        outcomes.extend(measure(
-            &gpu,
-            &format!("sphere r {radius}"),
-            &scene,
-            &lights,
-            &regions,
-            method,
-            samples,
-            bounds,
-        ));
+        assert!(regions[0].pixels.len() > 900, "radius {radius}: {}", regions[0].name);
+        outcomes.extend(measure(&gpu, &format!("sphere r {radius}"), &scene, &lights, &regions, method, samples, bounds));
     }
     report(&format!("sphere ring {method:?}"), &outcomes, bounds);
 }
@@ -831,17 +655,11 @@ fn formulas_match_monte_carlo() {
             // Uniform points on the light by area: (point, outward unit normal); area.
             let (points, area): (Vec<(DVec3, DVec3)>, f64) = match &lights[0] {
                 Light::Polygon { vertices, .. } => {
-                    let tris: Vec<[DVec3; 3]> = (1..vertices.len() - 1)
-                        .map(|i| [vertices[0], vertices[i], vertices[i + 1]])
-                        .collect();
-                    let areas: Vec<f64> = tris
-                        .iter()
-                        .map(|t| 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length())
-                        .collect();
+                    let tris: Vec<[DVec3; 3]> =
+                        (1..vertices.len() - 1).map(|i| [vertices[0], vertices[i], vertices[i + 1]]).collect();
+                    let areas: Vec<f64> = tris.iter().map(|t| 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length()).collect();
                     let total: f64 = areas.iter().sum();
-                    let front = (vertices[1] - vertices[0])
-                        .cross(vertices[2] - vertices[0])
-                        .normalize();
+                    let front = (vertices[1] - vertices[0]).cross(vertices[2] - vertices[0]).normalize();
                     let points = (0..SAMPLES)
                         .map(|_| {
                             let mut u = rng.uniform() * total;
@@ -886,18 +704,10 @@ fn formulas_match_monte_carlo() {
                 })
                 .collect();
             let mean = values.iter().sum::<f64>() / SAMPLES as f64;
-            let se = (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>()
-                / (SAMPLES * (SAMPLES - 1)) as f64)
-                .sqrt();
+            let se = (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (SAMPLES * (SAMPLES - 1)) as f64).sqrt();
             eprintln!("{c:?} x {x:5.2}: formula {formula:.6e} Monte Carlo {mean:.6e} +- {se:.1e}");
-            assert!(
-                (formula - mean).abs() <= 4.0 * se + 1e-12,
-                "{c:?} at {p}: formula {formula}, Monte Carlo {mean} +- {se}"
-            );
-            assert!(
-                se <= 0.005 * mean.max(1e-300) || mean == 0.0,
-                "{c:?} at {p}: Monte Carlo too noisy to tell"
-            );
+            assert!((formula - mean).abs() <= 4.0 * se + 1e-12, "{c:?} at {p}: formula {formula}, Monte Carlo {mean} +- {se}");
+            assert!(se <= 0.005 * mean.max(1e-300) || mean == 0.0, "{c:?} at {p}: Monte Carlo too noisy to tell");
         }
     }
 }

@@ -149,9 +149,7 @@ fn numbers(text: &str) -> Vec<(usize, usize)> {
     let mut ranges = Vec::new();
     let mut i = 0;
     while i < bytes.len() {
-        if bytes[i].is_ascii_digit()
-            || (bytes[i] == b'-' && bytes.get(i + 1).is_some_and(u8::is_ascii_digit))
-        {
+        if bytes[i].is_ascii_digit() || (bytes[i] == b'-' && bytes.get(i + 1).is_some_and(u8::is_ascii_digit)) {
             let start = i;
             while i < bytes.len() && part(bytes[i]) {
                 i += 1;
@@ -204,19 +202,9 @@ fn apply(text: &str, mutation: &Mutation) -> String {
 /// An error must name the scene file, and a line inside it when it has one.
 fn check_error(error: &SceneError, path: &Path, text: &str) -> Result<(), TestCaseError> {
     prop_assert_eq!(&error.file, path, "{}", error);
-    prop_assert!(
-        error.to_string().starts_with(&path.display().to_string()),
-        "{}",
-        error
-    );
+    prop_assert!(error.to_string().starts_with(&path.display().to_string()), "{}", error);
     if let Some(line) = error.line {
-        prop_assert!(
-            line >= 1 && line <= text.lines().count() + 1,
-            "line {} of {} lines: {}",
-            line,
-            text.lines().count(),
-            error
-        );
+        prop_assert!(line >= 1 && line <= text.lines().count() + 1, "line {} of {} lines: {}", line, text.lines().count(), error);
     }
     prop_assert!(!error.message.is_empty());
     Ok(())
@@ -229,38 +217,22 @@ fn check_scene(scene: &Scene) -> Result<(), TestCaseError> {
     for t in &scene.triangles {
         prop_assert!(t.p.iter().all(|p| p.is_finite()), "{:?}", t);
         let n = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]);
-        prop_assert!(
-            n.length_squared() > 0.0 && n.length_squared().is_finite(),
-            "{:?}",
-            t
-        );
+        prop_assert!(n.length_squared() > 0.0 && n.length_squared().is_finite(), "{:?}", t);
         if let Some(normals) = t.n {
-            prop_assert!(
-                normals
-                    .iter()
-                    .all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-3),
-                "{:?}",
-                t
-            );
+            prop_assert!(normals.iter().all(|n| n.is_finite() && (n.length() - 1.0).abs() < 1e-3), "{:?}", t);
         }
         if let Some(uv) = t.uv {
             prop_assert!(uv.iter().all(|uv| uv.is_finite()), "{:?}", t);
         }
     }
     for s in &scene.spheres {
-        prop_assert!(
-            s.center.is_finite() && s.radius > 0.0 && (s.radius * s.radius).is_finite(),
-            "{:?}",
-            s
-        );
+        prop_assert!(s.center.is_finite() && s.radius > 0.0 && (s.radius * s.radius).is_finite(), "{:?}", s);
     }
     let r = &scene.render;
     prop_assert!(r.width >= 1 && r.height >= 1 && r.iterations >= 1 && r.photons >= 1);
     prop_assert!(r.alpha > 0.0 && r.alpha < 1.0);
     let c = &scene.camera;
-    prop_assert!(
-        c.fov > 0.0 && c.fov < 180.0 && c.focus_distance.is_finite() && c.focus_distance > 0.0
-    );
+    prop_assert!(c.fov > 0.0 && c.fov < 180.0 && c.focus_distance.is_finite() && c.focus_distance > 0.0);
     match SceneData::new(scene) {
         Ok(data) => prop_assert!(data.power_total > 0.0 && data.power_total.is_finite()),
         Err(error) => prop_assert!(!error.message.is_empty()),
@@ -302,14 +274,9 @@ fn obj_number() -> impl Strategy<Value = String> {
 }
 
 /// `count` numbers, mostly `usual` of them.
-fn obj_numbers(
-    usual: usize,
-    others: std::ops::RangeInclusive<usize>,
-) -> impl Strategy<Value = String> {
+fn obj_numbers(usual: usize, others: std::ops::RangeInclusive<usize>) -> impl Strategy<Value = String> {
     let count = prop_oneof![8 => Just(usual), 1 => others];
-    count
-        .prop_flat_map(|n| prop::collection::vec(obj_number(), n))
-        .prop_map(|n| n.join(" "))
+    count.prop_flat_map(|n| prop::collection::vec(obj_number(), n)).prop_map(|n| n.join(" "))
 }
 
 /// One face vertex: `v`, `v/vt`, `v//vn`, `v/vt/vn`, or a malformed one. The file starts
@@ -375,15 +342,15 @@ fn mesh_scene(name: &str, obj: &[u8], extra: &str) -> PathBuf {
     path
 }
 
+/// Vertices, and faces as vertex indices with a flag: written with relative indices.
+type Mesh = (Vec<[f32; 3]>, Vec<(Vec<usize>, bool)>);
+
 /// 3 to 11 random vertices and 1 to 9 faces of 3 or 4 distinct ones, each written with
 /// absolute indices or (when its flag is set) relative ones.
-fn valid_mesh() -> impl Strategy<Value = (Vec<[f32; 3]>, Vec<(Vec<usize>, bool)>)> {
+fn valid_mesh() -> impl Strategy<Value = Mesh> {
     prop::collection::vec(prop::array::uniform3(-10.0f32..10.0), 3..12).prop_flat_map(|vertices| {
         let n = vertices.len();
-        let face = (
-            prop::sample::subsequence((0..n).collect::<Vec<usize>>(), 3..=n.min(4)),
-            any::<bool>(),
-        );
+        let face = (prop::sample::subsequence((0..n).collect::<Vec<usize>>(), 3..=n.min(4)), any::<bool>());
         (Just(vertices), prop::collection::vec(face, 1..10))
     })
 }

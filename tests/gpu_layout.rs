@@ -6,14 +6,10 @@ use sppm_gpu::gpu::types::*;
 use std::mem::{offset_of, size_of};
 
 fn check_struct(module: &naga::Module, name: &str, size: usize, fields: &[(&str, usize)]) {
-    let (_, ty) = module
-        .types
-        .iter()
-        .find(|(_, t)| t.name.as_deref() == Some(name))
-        .unwrap_or_else(|| panic!("no WGSL struct {name}"));
+    let (_, ty) =
+        module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("no WGSL struct {name}"));
     let naga::TypeInner::Struct { members, span } = &ty.inner else { panic!("{name} is not a struct") };
-    let wgsl: Vec<(&str, usize)> =
-        members.iter().map(|m| (m.name.as_deref().unwrap_or(""), m.offset as usize)).collect();
+    let wgsl: Vec<(&str, usize)> = members.iter().map(|m| (m.name.as_deref().unwrap_or(""), m.offset as usize)).collect();
     assert_eq!(wgsl, fields, "members and offsets of {name}: WGSL left, Rust right");
     assert_eq!(*span as usize, size, "size of {name}");
 }
@@ -27,11 +23,37 @@ macro_rules! check {
 #[test]
 fn gpu_structs_match_wgsl() {
     let module = naga::front::wgsl::parse_str(&shader_source("types").unwrap()).unwrap();
-    check!(module, Frame, "Frame", [
-        cam_position, lens_radius, cam_right, focus_distance, cam_up, width, cam_forward, height,
-        spp, pass_index, seed, max_depth, photon_count, emitter_count, ray_epsilon, power_total,
-        alpha, vp_count, time, nee, row_offset, image_height, direct, direct_samples,
-    ]);
+    check!(
+        module,
+        Frame,
+        "Frame",
+        [
+            cam_position,
+            lens_radius,
+            cam_right,
+            focus_distance,
+            cam_up,
+            width,
+            cam_forward,
+            height,
+            spp,
+            pass_index,
+            seed,
+            max_depth,
+            photon_count,
+            emitter_count,
+            ray_epsilon,
+            power_total,
+            alpha,
+            vp_count,
+            time,
+            nee,
+            row_offset,
+            image_height,
+            direct,
+            direct_samples,
+        ]
+    );
     check!(module, GpuBvhNode, "BvhNode", [box_a, child_a, box_b, child_b]);
     check!(module, BvhParams, "BvhParams", [origin, _pad0, scale, _pad1]);
     check!(module, GpuTriangle, "Triangle", [p0, material, e1, shape, e2, attributes]);

@@ -3,8 +3,8 @@
 
 mod common;
 
-use glam::Vec3;
 use common::Rng;
+use glam::Vec3;
 use sppm_gpu::accel::bvh::brute_force_intersect;
 use sppm_gpu::gpu::baked_bvh::{baked_trace, PLACEHOLDER};
 use sppm_gpu::gpu::scene_buffers::SceneData;

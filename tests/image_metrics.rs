@@ -6,12 +6,9 @@ use common::Rng;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use sppm_gpu::image_io::{
-    linear_to_srgb, read_exr, read_image, write_exr, write_image, write_png, Rgb32Image,
-};
+use sppm_gpu::image_io::{linear_to_srgb, read_exr, read_image, write_exr, write_image, write_png, Rgb32Image};
 use sppm_gpu::metrics::{
-    channel_mean_ratio, compare, count_negative, count_non_finite, downsample_box, false_colour,
-    rel_mse, rmse, NON_FINITE_COLOUR,
+    channel_mean_ratio, compare, count_negative, count_non_finite, downsample_box, false_colour, rel_mse, rmse, NON_FINITE_COLOUR,
 };
 
 /// References kept in the repository (a subset of the shared ones).
@@ -35,25 +32,18 @@ fn scratch_dir(test: &str) -> PathBuf {
 
 /// Names of the entries in `dir`, sorted.
 fn dir_entries(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
+    let mut names: Vec<String> =
+        fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     names.sort();
     names
 }
-
 
 /// A test image with distinct values per pixel and channel, including
 /// out-of-[0,1] radiance.
 fn gradient(width: u32, height: u32) -> Rgb32Image {
     Rgb32Image::from_fn(width, height, |x, y| {
         let t = (x + y * width) as f32 / (width * height) as f32;
-        [
-            t * 1.5 - 0.1,
-            (x as f32 / width as f32).powi(3),
-            0.37 * y as f32,
-        ]
+        [t * 1.5 - 0.1, (x as f32 / width as f32).powi(3), 0.37 * y as f32]
     })
 }
 
@@ -61,18 +51,11 @@ fn gradient(width: u32, height: u32) -> Rgb32Image {
 fn from_rows(width: u32, pixels: &[[f32; 3]]) -> Rgb32Image {
     let height = pixels.len() as u32 / width;
     assert_eq!((width * height) as usize, pixels.len(), "ragged rows");
-    Rgb32Image {
-        width,
-        height,
-        pixels: pixels.to_vec(),
-    }
+    Rgb32Image { width, height, pixels: pixels.to_vec() }
 }
 
 fn assert_close(actual: f64, expected: f64, tol: f64) {
-    assert!(
-        (actual - expected).abs() <= tol,
-        "{actual} differs from {expected} by more than {tol}"
-    );
+    assert!((actual - expected).abs() <= tol, "{actual} differs from {expected} by more than {tol}");
 }
 
 // ---------------------------------------------------------------- image_io
@@ -111,10 +94,7 @@ fn png_round_trip_within_one_code_value() {
         for c in 0..3 {
             let want = linear_to_srgb(orig[c]).clamp(0.0, 1.0);
             let got = linear_to_srgb(read[c]);
-            assert!(
-                (got - want).abs() <= 1.0 / 255.0,
-                "{orig:?} read back as {read:?}"
-            );
+            assert!((got - want).abs() <= 1.0 / 255.0, "{orig:?} read back as {read:?}");
         }
     }
 }
@@ -170,22 +150,13 @@ fn exr_reads_f16_channels_by_name_and_ignores_alpha() {
     // read them back in the wrong slots.
     write_rgba_file(&path, 5, 3, |x, y| {
         let v = (x + 10 * y) as f32;
-        (
-            f16::from_f32(v),
-            f16::from_f32(v + 0.5),
-            f16::from_f32(-v),
-            f16::from_f32(0.25),
-        )
+        (f16::from_f32(v), f16::from_f32(v + 0.5), f16::from_f32(-v), f16::from_f32(0.25))
     })
     .unwrap();
     let img = read_exr(&path).unwrap();
     assert_eq!((img.width, img.height), (5, 3));
     assert_eq!(img.get(0, 0), [0.0, 0.5, 0.0]);
-    assert_eq!(
-        img.get(4, 2),
-        [24.0, 24.5, -24.0],
-        "row 0 at the top, R/G/B by name"
-    );
+    assert_eq!(img.get(4, 2), [24.0, 24.5, -24.0], "row 0 at the top, R/G/B by name");
 }
 
 #[test]
@@ -244,11 +215,7 @@ fn corrupt_png_errors_without_panic() {
 #[test]
 fn mismatched_pixel_buffer_is_an_error() {
     let dir = scratch_dir("bad_buffer");
-    let img = Rgb32Image {
-        width: 3,
-        height: 3,
-        pixels: vec![[0.0; 3]; 8],
-    };
+    let img = Rgb32Image { width: 3, height: 3, pixels: vec![[0.0; 3]; 8] };
     for name in ["a.png", "a.exr"] {
         let err = write_image(&dir.join(name), &img).unwrap_err();
         assert!(err.to_string().contains("3x3"), "{err}");
@@ -292,17 +259,8 @@ fn references_load_with_expected_size() {
                 continue;
             }
             let img = read_image(&path).unwrap_or_else(|e| panic!("{e}"));
-            let expected = if path.ends_with("furnace.exr") {
-                64
-            } else {
-                256
-            };
-            assert_eq!(
-                (img.width, img.height),
-                (expected, expected),
-                "{}",
-                path.display()
-            );
+            let expected = if path.ends_with("furnace.exr") { 64 } else { 256 };
+            assert_eq!((img.width, img.height), (expected, expected), "{}", path.display());
             assert_eq!(count_non_finite(&img), 0, "{}", path.display());
             assert_eq!(count_negative(&img), 0, "{}", path.display());
             loaded += 1;
@@ -314,27 +272,13 @@ fn references_load_with_expected_size() {
 #[test]
 fn furnace_reference_is_two_everywhere() {
     let img = read_exr(&repo_references().join("furnace.exr")).unwrap();
-    let devs: Vec<f64> = img
-        .pixels
-        .iter()
-        .flatten()
-        .map(|&v| (f64::from(v) - 2.0).abs())
-        .collect();
+    let devs: Vec<f64> = img.pixels.iter().flatten().map(|&v| (f64::from(v) - 2.0).abs()).collect();
     let max_dev = devs.iter().copied().fold(0.0, f64::max);
     let rms_dev = (devs.iter().map(|d| d * d).sum::<f64>() / devs.len() as f64).sqrt();
     let within = devs.iter().filter(|&&d| d <= 1e-3).count();
     let small = downsample_box(&img, 8).unwrap();
-    let small_max_dev = small
-        .pixels
-        .iter()
-        .flatten()
-        .map(|&v| (v - 2.0).abs())
-        .fold(0.0, f32::max);
-    let equal_channels = img
-        .pixels
-        .iter()
-        .filter(|p| p[0] == p[1] && p[1] == p[2])
-        .count();
+    let small_max_dev = small.pixels.iter().flatten().map(|&v| (v - 2.0).abs()).fold(0.0, f32::max);
+    let equal_channels = img.pixels.iter().filter(|p| p[0] == p[1] && p[1] == p[2]).count();
     println!(
         "furnace: mean {:?}, max |v - 2| {max_dev:.3e}, rms {rms_dev:.3e}, \
          {within}/{} samples within 1e-3; 8x8 box: max |v - 2| {small_max_dev:.3e}; \
@@ -348,10 +292,7 @@ fn furnace_reference_is_two_everywhere() {
     for mean in img.mean() {
         assert_close(mean, 2.0, 1e-3);
     }
-    assert!(
-        small_max_dev <= 1e-2,
-        "8x8 furnace deviates from 2.0 by {small_max_dev}"
-    );
+    assert!(small_max_dev <= 1e-2, "8x8 furnace deviates from 2.0 by {small_max_dev}");
 }
 
 // ----------------------------------------------------------------- metrics
@@ -367,34 +308,14 @@ fn rel_mse_of_image_with_itself_is_zero() {
 
 #[test]
 fn rel_mse_hand_computed_2x2() {
-    let reference = from_rows(
-        2,
-        &[
-            [1.0, 0.0, 0.5],
-            [2.0, 0.1, 1.0],
-            [0.0, 0.0, 0.0],
-            [1.0, 1.0, 1.0],
-        ],
-    );
-    let img = from_rows(
-        2,
-        &[
-            [1.1, 0.1, 0.5],
-            [2.0, 0.0, 0.0],
-            [0.0, 0.0, 0.2],
-            [1.0, 1.0, 1.0],
-        ],
-    );
+    let reference = from_rows(2, &[[1.0, 0.0, 0.5], [2.0, 0.1, 1.0], [0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]);
+    let img = from_rows(2, &[[1.1, 0.1, 0.5], [2.0, 0.0, 0.0], [0.0, 0.0, 0.2], [1.0, 1.0, 1.0]]);
     // Non-zero terms: (0.1^2)/(1 + 0.01), (0.1^2)/(0 + 0.01), (0.1^2)/(0.01 + 0.01),
     // (1^2)/(1 + 0.01), (0.2^2)/(0 + 0.01); 12 terms in all.
     let expected = (0.01 / 1.01 + 0.01 / 0.01 + 0.01 / 0.02 + 1.0 / 1.01 + 0.04 / 0.01) / 12.0;
     assert_close(rel_mse(&img, &reference).unwrap(), expected, 1e-6);
     // Squared errors: 0.01 + 0.01 + 0.01 + 1 + 0.04 = 1.07 over 12 terms.
-    assert_close(
-        rmse(&img, &reference).unwrap(),
-        (1.07f64 / 12.0).sqrt(),
-        1e-6,
-    );
+    assert_close(rmse(&img, &reference).unwrap(), (1.07f64 / 12.0).sqrt(), 1e-6);
 }
 
 #[test]
@@ -440,21 +361,10 @@ fn mean_ratio_and_counts() {
     let reference = Rgb32Image::from_fn(2, 2, |_, _| [1.0, 2.0, 4.0]);
     let img = Rgb32Image::from_fn(2, 2, |_, _| [1.5, 2.0, 1.0]);
     assert_eq!(channel_mean_ratio(&img, &reference), [1.5, 1.0, 0.25]);
-    assert_eq!(
-        compare(&img, &reference, 2).unwrap().mean_ratio,
-        [1.5, 1.0, 0.25]
-    );
+    assert_eq!(compare(&img, &reference, 2).unwrap().mean_ratio, [1.5, 1.0, 0.25]);
 
-    let odd = from_rows(
-        5,
-        &[
-            [f32::NAN, 0.0, 0.0],
-            [0.0, f32::INFINITY, -1.0],
-            [-0.5, 0.0, 0.0],
-            [-0.0, 0.0, 0.0],
-            [1.0, 1.0, 1.0],
-        ],
-    );
+    let odd =
+        from_rows(5, &[[f32::NAN, 0.0, 0.0], [0.0, f32::INFINITY, -1.0], [-0.5, 0.0, 0.0], [-0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]);
     assert_eq!(count_non_finite(&odd), 2);
     assert_eq!(count_negative(&odd), 2);
 }
@@ -480,10 +390,7 @@ fn false_colour_follows_log_scale() {
         }
     }
     let nan = from_rows(1, &[[f32::NAN; 3]]);
-    assert_eq!(
-        false_colour(&nan, &Rgb32Image::new(1, 1)).unwrap().pixels,
-        [NON_FINITE_COLOUR]
-    );
+    assert_eq!(false_colour(&nan, &Rgb32Image::new(1, 1)).unwrap().pixels, [NON_FINITE_COLOUR]);
 }
 
 /// Sanity figures for the references; run with `--nocapture` to see them.
@@ -493,11 +400,7 @@ fn reference_sanity_figures() {
     for name in ["cornell-box.exr", "cornell-spheres.exr"] {
         let reference = read_exr(&repo_references().join(name)).unwrap();
         let noisy = Rgb32Image {
-            pixels: reference
-                .pixels
-                .iter()
-                .map(|p| p.map(|v| v * (1.0 + 0.01 * rng.gaussian() as f32)))
-                .collect(),
+            pixels: reference.pixels.iter().map(|p| p.map(|v| v * (1.0 + 0.01 * rng.gaussian() as f32))).collect(),
             ..reference.clone()
         };
         let full = compare(&noisy, &reference, 1).unwrap();
@@ -515,11 +418,7 @@ fn reference_sanity_figures() {
         assert_eq!(self_down.rel_mse, 0.0);
         // 1% relative noise gives relMSE <= 1e-4 per pixel, and 8x8 averaging
         // divides the variance by about 64.
-        assert!(
-            full.rel_mse > 0.0 && full.rel_mse <= 1.2e-4,
-            "{}",
-            full.rel_mse
-        );
+        assert!(full.rel_mse > 0.0 && full.rel_mse <= 1.2e-4, "{}", full.rel_mse);
         assert!(down.rel_mse < full.rel_mse / 20.0, "{}", down.rel_mse);
     }
 }

@@ -57,11 +57,7 @@ fn pt_nee_misses_point_light_caustics_sppm_does_not() {
     let sppm = region_mean(&render(&gpu, &mirror_scene(Method::Sppm)), 15, 17, 15, 17);
     let nee = region_mean(&render(&gpu, &mirror_scene(Method::PtNee)), 15, 17, 15, 17);
     assert!((nee / direct - 1.0).abs() < 0.03, "pt-nee {nee}, direct light alone {direct}");
-    assert!(
-        (sppm / (direct + mirrored) - 1.0).abs() < 0.05,
-        "sppm {sppm}, direct plus mirrored {}",
-        direct + mirrored
-    );
+    assert!((sppm / (direct + mirrored) - 1.0).abs() < 0.05, "sppm {sppm}, direct plus mirrored {}", direct + mirrored);
     // The user is told.
     let warnings = limitations(&mirror_scene(Method::PtNee));
     assert!(warnings.iter().any(|w| w.contains("caustics")), "{warnings:?}");
@@ -157,9 +153,7 @@ fn tiny_radius_is_noisy_but_unbiased() {
     scene.render.iterations = 64;
     scene.render.photons = 50_000;
     let auto = sppm_gpu::integrators::sppm::auto_radius(&scene);
-    let spread = |img: &Rgb32Image| {
-        img.pixels.iter().map(|p| (p[0] as f64 - 2.0).powi(2)).sum::<f64>() / img.pixels.len() as f64
-    };
+    let spread = |img: &Rgb32Image| img.pixels.iter().map(|p| (p[0] as f64 - 2.0).powi(2)).sum::<f64>() / img.pixels.len() as f64;
     let normal = render(&gpu, &scene);
     scene.render.radius = Some(0.1 * auto);
     let tiny = render(&gpu, &scene);

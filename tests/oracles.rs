@@ -106,12 +106,14 @@ fn update_stats_matches_cpu_oracle() {
                 updated_with_history += 1;
             }
             let (tau, n, r) = update_oracle(b, phi, m, alpha);
-            let msg = || format!("pass {pass}, point {i}: m {m}, phi {phi:?}, before {b:?}, after {a:?}, oracle tau {tau:?} n {n} r {r}");
+            let msg = || {
+                format!("pass {pass}, point {i}: m {m}, phi {phi:?}, before {b:?}, after {a:?}, oracle tau {tau:?} n {n} r {r}")
+            };
             assert!(close(a.n, n), "N: {}", msg());
             assert!(close(a.radius, r), "radius: {}", msg());
             assert!(a.radius < b.radius, "radius did not shrink: {}", msg());
-            for c in 0..3 {
-                assert!(close(a.tau[c], tau[c]), "tau[{c}]: {}", msg());
+            for (c, (&gpu, &oracle)) in a.tau.iter().zip(&tau).enumerate() {
+                assert!(close(gpu, oracle), "tau[{c}]: {}", msg());
             }
             assert_eq!(a.ld, b.ld, "ld changed: {}", msg());
         }
@@ -140,8 +142,8 @@ fn resolve_oracle(stats: &[VpStats], pixel: usize, spp: usize, k: f64, photons: 
     for st in &stats[pixel * spp..(pixel + 1) * spp] {
         let r = st.radius as f64;
         let area = std::f64::consts::PI * r * r;
-        for c in 0..3 {
-            l[c] += (st.ld[c] as f64 / k + st.tau[c] as f64 * power / (k * photons * area)) / spp as f64;
+        for (c, l) in l.iter_mut().enumerate() {
+            *l += (st.ld[c] as f64 / k + st.tau[c] as f64 * power / (k * photons * area)) / spp as f64;
         }
     }
     l.map(|v| if v.is_finite() { v } else { 0.0 })
@@ -204,12 +206,8 @@ fn resolve_matches_cpu_oracle() {
 /// component.
 fn cornell_box_deposit_bounds(scene: &Scene) -> (f64, f64) {
     assert!(scene.lights.is_empty(), "the deposit bounds assume area lights only");
-    let b: Vec<f64> = scene
-        .shapes
-        .iter()
-        .filter_map(|s| s.emission)
-        .map(|e| e.max_element() as f64 / (e.element_sum() as f64 / 3.0))
-        .collect();
+    let b: Vec<f64> =
+        scene.shapes.iter().filter_map(|s| s.emission).map(|e| e.max_element() as f64 / (e.element_sum() as f64 / 3.0)).collect();
     assert!(!b.is_empty());
     let (b_min, b_max) = b.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| (lo.min(x), hi.max(x)));
     let (mut a_min, mut a_max) = (f64::INFINITY, 0.0f64);
@@ -268,10 +266,7 @@ fn deposit_fixed_point_is_consistent() {
         with_photons += 1;
         let m = m as f64;
         for (c, v) in phi.iter().enumerate() {
-            assert!(
-                *v <= m * per_photon_max * (1.0 + MARGIN),
-                "point {i}: flux[{c}] {v} > {m} photons * {per_photon_max}"
-            );
+            assert!(*v <= m * per_photon_max * (1.0 + MARGIN), "point {i}: flux[{c}] {v} > {m} photons * {per_photon_max}");
         }
         let sum: f64 = phi.iter().sum();
         if sum == 0.0 {
@@ -351,7 +346,7 @@ fn grid_over_gpu_visible_points_matches_brute_force() {
     hi += Vec3::splat(max_r);
 
     let grid = build_grid(&points);
-    let mut rng = Rng(0x5eed_0f_9a1d);
+    let mut rng = Rng(0x005e_ed0f_9a1d);
     let (mut hits, mut total_found) = (0, 0);
     const QUERIES: usize = 4000;
     for q in 0..QUERIES {

@@ -8,22 +8,13 @@ use glam::{Vec2, Vec3};
 use sppm_gpu::scene::{self, LightKind, MaterialKind, Method, Scene, SceneError, ShapeKind};
 use std::path::{Path, PathBuf};
 
-const SCENES: [&str; 7] = [
-    "cornell-box",
-    "cornell-glossy",
-    "cornell-spheres",
-    "depth-of-field",
-    "furnace",
-    "point-light",
-    "textured",
-];
+const SCENES: [&str; 7] =
+    ["cornell-box", "cornell-glossy", "cornell-spheres", "depth-of-field", "furnace", "point-light", "textured"];
 
 fn canonical(name: &str) -> Scene {
-    let path =
-        Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes")).join(format!("{name}.toml"));
+    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes")).join(format!("{name}.toml"));
     scene::load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
-
 
 fn load(text: &str) -> Result<Scene, SceneError> {
     scene::load_str(text, Path::new("test.toml"))
@@ -46,11 +37,7 @@ fn error_of(text: &str) -> SceneError {
 #[track_caller]
 fn assert_error(text: &str, line: usize, key: &str, words: &[&str]) {
     let error = error_of(text);
-    assert_eq!(
-        (error.line, error.key.as_deref()),
-        (Some(line), Some(key)),
-        "wrong place: {error}"
-    );
+    assert_eq!((error.line, error.key.as_deref()), (Some(line), Some(key)), "wrong place: {error}");
     assert_message(&error, words);
 }
 
@@ -58,10 +45,7 @@ fn assert_error(text: &str, line: usize, key: &str, words: &[&str]) {
 fn assert_message(error: &SceneError, words: &[&str]) {
     assert_eq!(error.file, Path::new("test.toml"));
     for word in words {
-        assert!(
-            error.message.contains(word),
-            "{word:?} is not in the message of: {error}"
-        );
+        assert!(error.message.contains(word), "{word:?} is not in the message of: {error}");
     }
 }
 
@@ -93,14 +77,8 @@ fn every_canonical_scene_loads() {
     for name in SCENES {
         let scene = canonical(name);
         assert!(!scene.shapes.is_empty(), "{name}");
-        assert!(scene
-            .triangles
-            .iter()
-            .all(|t| (t.shape as usize) < scene.shapes.len()));
-        assert!(scene
-            .spheres
-            .iter()
-            .all(|s| (s.shape as usize) < scene.shapes.len()));
+        assert!(scene.triangles.iter().all(|t| (t.shape as usize) < scene.shapes.len()));
+        assert!(scene.spheres.iter().all(|s| (s.shape as usize) < scene.shapes.len()));
     }
 }
 
@@ -118,18 +96,9 @@ fn cornell_box_geometry_and_settings() {
     assert_eq!(scene.materials[1].line, 20);
     assert_eq!(scene.shape_material(3).name, "red");
     let r = &scene.render;
-    assert_eq!(
-        (r.width, r.height, r.iterations, r.photons, r.spp),
-        (256, 256, 64, 200_000, 1)
-    );
-    assert_eq!(
-        (r.method, r.radius, r.time_limit),
-        (Method::Sppm, None, None)
-    );
-    assert!(
-        (scene.camera.focus_distance - 3.9).abs() < 1e-6,
-        "defaults to |look_at - position|"
-    );
+    assert_eq!((r.width, r.height, r.iterations, r.photons, r.spp), (256, 256, 64, 200_000, 1));
+    assert_eq!((r.method, r.radius, r.time_limit), (Method::Sppm, None, None));
+    assert!((scene.camera.focus_distance - 3.9).abs() < 1e-6, "defaults to |look_at - position|");
     assert_eq!(scene.camera.aperture_line, None);
 }
 
@@ -143,15 +112,9 @@ fn depth_of_field_camera() {
 #[test]
 fn point_light_scene() {
     let scene = canonical("point-light");
-    let expected = LightKind::Point {
-        position: Vec3::new(0.0, 1.7, 0.2),
-        intensity: Vec3::new(6.0, 5.0, 4.0),
-    };
+    let expected = LightKind::Point { position: Vec3::new(0.0, 1.7, 0.2), intensity: Vec3::new(6.0, 5.0, 4.0) };
     assert_eq!(scene.lights.len(), 1);
-    assert_eq!(
-        (&scene.lights[0].kind, scene.lights[0].line),
-        (&expected, 74)
-    );
+    assert_eq!((&scene.lights[0].kind, scene.lights[0].line), (&expected, 74));
 }
 
 #[test]
@@ -159,31 +122,12 @@ fn textured_scene_decodes_its_texture() {
     let scene = canonical("textured");
     assert_eq!(scene.textures.len(), 1, "one path, one texture");
     let texture = &scene.textures[0];
-    assert_eq!(
-        texture.texels.len(),
-        (texture.width * texture.height) as usize
-    );
-    assert!(texture
-        .texels
-        .iter()
-        .all(|t| t.cmpge(Vec3::ZERO).all() && t.cmple(Vec3::ONE).all()));
-    let checker = scene
-        .materials
-        .iter()
-        .position(|m| m.name == "checker")
-        .unwrap();
-    assert_eq!(
-        scene.materials[checker].kind,
-        MaterialKind::Diffuse {
-            albedo: Vec3::ONE,
-            texture: Some(0)
-        }
-    );
+    assert_eq!(texture.texels.len(), (texture.width * texture.height) as usize);
+    assert!(texture.texels.iter().all(|t| t.cmpge(Vec3::ZERO).all() && t.cmple(Vec3::ONE).all()));
+    let checker = scene.materials.iter().position(|m| m.name == "checker").unwrap();
+    assert_eq!(scene.materials[checker].kind, MaterialKind::Diffuse { albedo: Vec3::ONE, texture: Some(0) });
     let floor = &scene.triangles[0];
-    assert_eq!(
-        floor.uv,
-        Some([Vec2::ZERO, Vec2::new(2.0, 0.0), Vec2::new(2.0, 2.0)])
-    );
+    assert_eq!(floor.uv, Some([Vec2::ZERO, Vec2::new(2.0, 0.0), Vec2::new(2.0, 2.0)]));
 }
 
 // --- Defaults and values ---
@@ -192,17 +136,11 @@ fn textured_scene_decodes_its_texture() {
 fn defaults_apply() {
     let scene = load_ok(BASE);
     let r = &scene.render;
-    assert_eq!(
-        (r.method, r.spp, r.photons, r.alpha, r.max_depth, r.seed),
-        (Method::Sppm, 1, 100_000, 0.6667, 64, 0)
-    );
+    assert_eq!((r.method, r.spp, r.photons, r.alpha, r.max_depth, r.seed), (Method::Sppm, 1, 100_000, 0.6667, 64, 0));
     assert_eq!((r.direct, r.direct_samples), (sppm_gpu::scene::DirectLight::Sampled, None));
     assert_eq!((r.radius, r.time_limit), (None, None));
     let c = &scene.camera;
-    assert_eq!(
-        (c.up, c.fov, c.aperture_radius, c.focus_distance),
-        (Vec3::Y, 40.0, 0.0, 5.0)
-    );
+    assert_eq!((c.up, c.fov, c.aperture_radius, c.focus_distance), (Vec3::Y, 40.0, 0.0, 5.0));
     assert!(scene.shapes.is_empty() && scene.lights.is_empty());
 }
 
@@ -213,14 +151,8 @@ fn every_render_key_is_read() {
         "iterations = 3\nmethod = \"pt-nee\"\nspp = 2\nphotons = 0x10\nradius = 1\nalpha = 0.5\nmax_depth = 7\nseed = 1_000\ntime_limit = 2.5",
     );
     let r = load_ok(&text).render;
-    assert_eq!(
-        (r.iterations, r.method, r.spp, r.photons, r.radius),
-        (3, Method::PtNee, 2, 16, Some(1.0))
-    );
-    assert_eq!(
-        (r.alpha, r.max_depth, r.seed, r.time_limit),
-        (0.5, 7, 1000, Some(2.5))
-    );
+    assert_eq!((r.iterations, r.method, r.spp, r.photons, r.radius), (3, Method::PtNee, 2, 16, Some(1.0)));
+    assert_eq!((r.alpha, r.max_depth, r.seed, r.time_limit), (0.5, 7, 1000, Some(2.5)));
 }
 
 #[test]
@@ -235,33 +167,10 @@ chrome = { type = "mirror", albedo = [0.9, 0.9, 0.9] }
     );
     let scene = load_ok(&text);
     let kinds: Vec<&MaterialKind> = scene.materials.iter().map(|m| &m.kind).collect();
-    assert_eq!(
-        kinds[1],
-        &MaterialKind::Glossy {
-            albedo: Vec3::new(1.0, 0.78, 0.34),
-            roughness: 0.2
-        }
-    );
-    assert_eq!(
-        kinds[2],
-        &MaterialKind::Dielectric {
-            ior: 1.5,
-            roughness: 0.0
-        }
-    );
-    assert_eq!(
-        kinds[3],
-        &MaterialKind::Dielectric {
-            ior: 1.31,
-            roughness: 0.15
-        }
-    );
-    assert_eq!(
-        kinds[4],
-        &MaterialKind::Mirror {
-            albedo: Vec3::splat(0.9)
-        }
-    );
+    assert_eq!(kinds[1], &MaterialKind::Glossy { albedo: Vec3::new(1.0, 0.78, 0.34), roughness: 0.2 });
+    assert_eq!(kinds[2], &MaterialKind::Dielectric { ior: 1.5, roughness: 0.0 });
+    assert_eq!(kinds[3], &MaterialKind::Dielectric { ior: 1.31, roughness: 0.15 });
+    assert_eq!(kinds[4], &MaterialKind::Mirror { albedo: Vec3::splat(0.9) });
     assert_eq!(scene.materials[4].line, 16);
 }
 
@@ -272,39 +181,18 @@ fn emission_velocity_and_spheres() {
     );
     let scene = load_ok(&text);
     let shape = &scene.shapes[0];
-    assert_eq!(
-        (shape.kind, shape.line, shape.material),
-        (ShapeKind::Sphere, 13, 0)
-    );
+    assert_eq!((shape.kind, shape.line, shape.material), (ShapeKind::Sphere, 13, 0));
     assert_eq!(shape.emission, Some(Vec3::new(1.0, 2.0, 3.0)));
-    assert_eq!(
-        (shape.velocity, shape.velocity_line),
-        (Some(Vec3::new(0.3, 0.0, 0.0)), Some(19))
-    );
+    assert_eq!((shape.velocity, shape.velocity_line), (Some(Vec3::new(0.3, 0.0, 0.0)), Some(19)));
     assert_eq!(scene.spheres.len(), 1);
-    assert_eq!(
-        (
-            scene.spheres[0].center,
-            scene.spheres[0].radius,
-            scene.spheres[0].shape
-        ),
-        (Vec3::new(1.0, 2.0, 3.0), 0.5, 0)
-    );
+    assert_eq!((scene.spheres[0].center, scene.spheres[0].radius, scene.spheres[0].shape), (Vec3::new(1.0, 2.0, 3.0), 0.5, 0));
 }
 
 #[test]
 fn directional_light_is_normalized() {
-    let scene = load_ok(&with_light(
-        "type = \"directional\"\ndirection = [0, -2, 0]\nirradiance = [3, 3, 3]\n",
-    ));
-    let expected = LightKind::Directional {
-        direction: Vec3::NEG_Y,
-        irradiance: Vec3::splat(3.0),
-    };
-    assert_eq!(
-        (&scene.lights[0].kind, scene.lights[0].line),
-        (&expected, 13)
-    );
+    let scene = load_ok(&with_light("type = \"directional\"\ndirection = [0, -2, 0]\nirradiance = [3, 3, 3]\n"));
+    let expected = LightKind::Directional { direction: Vec3::NEG_Y, irradiance: Vec3::splat(3.0) };
+    assert_eq!((&scene.lights[0].kind, scene.lights[0].line), (&expected, 13));
 }
 
 // --- Geometry ---
@@ -322,26 +210,15 @@ fn quad_normal_follows_cross_u_v() {
     let [a, b] = [&scene.triangles[0], &scene.triangles[1]];
     assert_eq!(a.p, [Vec3::ZERO, u, u + v]);
     assert_eq!(b.p, [Vec3::ZERO, u + v, v]);
-    assert_eq!(
-        a.uv,
-        Some([Vec2::ZERO, Vec2::new(2.0, 0.0), Vec2::new(2.0, 3.0)])
-    );
-    assert_eq!(
-        b.uv,
-        Some([Vec2::ZERO, Vec2::new(2.0, 3.0), Vec2::new(0.0, 3.0)])
-    );
+    assert_eq!(a.uv, Some([Vec2::ZERO, Vec2::new(2.0, 0.0), Vec2::new(2.0, 3.0)]));
+    assert_eq!(b.uv, Some([Vec2::ZERO, Vec2::new(2.0, 3.0), Vec2::new(0.0, 3.0)]));
 }
 
 /// The triangles of one cube with the given transform keys.
 fn cube(transform: &str) -> Vec<scene::Triangle> {
-    let scene = load_ok(&with_shape(&format!(
-        "type = \"cube\"\nmaterial = \"white\"\n{transform}"
-    )));
+    let scene = load_ok(&with_shape(&format!("type = \"cube\"\nmaterial = \"white\"\n{transform}")));
     assert_eq!(scene.triangles.len(), 12);
-    assert!(scene
-        .triangles
-        .iter()
-        .all(|t| t.n.is_none() && t.uv.is_none()));
+    assert!(scene.triangles.iter().all(|t| t.n.is_none() && t.uv.is_none()));
     scene.triangles
 }
 
@@ -353,17 +230,10 @@ fn cube_normals_point_outward() {
         "scale = [-1, 2, 0.5]\ntranslate = [-0.35, 0.6, -0.3]",
         "scale = -2\nrotate = [0, 45, 0]\ntranslate = [-0.35, 0.6, -0.3]",
     ] {
-        let center = if transform.is_empty() {
-            Vec3::ZERO
-        } else {
-            Vec3::new(-0.35, 0.6, -0.3)
-        };
+        let center = if transform.is_empty() { Vec3::ZERO } else { Vec3::new(-0.35, 0.6, -0.3) };
         for t in cube(transform) {
             let centroid = (t.p[0] + t.p[1] + t.p[2]) / 3.0;
-            assert!(
-                geometric_normal(t.p).dot(centroid - center) > 0.0,
-                "inward face with {transform:?}"
-            );
+            assert!(geometric_normal(t.p).dot(centroid - center) > 0.0, "inward face with {transform:?}");
         }
     }
 }
@@ -371,9 +241,7 @@ fn cube_normals_point_outward() {
 /// Half the size of the bounding box of some triangles.
 fn half_extent(triangles: &[scene::Triangle]) -> Vec3 {
     let points = triangles.iter().flat_map(|t| t.p);
-    let (low, high) = points.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), p| {
-        (l.min(p), h.max(p))
-    });
+    let (low, high) = points.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), p| (l.min(p), h.max(p)));
     (high - low) / 2.0
 }
 
@@ -382,16 +250,10 @@ fn rotation_is_about_x_then_y_then_z() {
     // (1, 2, 4) about x by 90 is (1, -4, 2), then about y by 90 is (2, -4, -1);
     // in the other order it would end as (4, 1, 2).
     let extent = half_extent(&cube("scale = [1, 2, 4]\nrotate = [90, 90, 0]"));
-    assert!(
-        extent.abs_diff_eq(Vec3::new(2.0, 4.0, 1.0), 1e-5),
-        "{extent}"
-    );
+    assert!(extent.abs_diff_eq(Vec3::new(2.0, 4.0, 1.0), 1e-5), "{extent}");
     // (1, 2, 4) about y by 90 is (4, 2, -1), then about z by 90 is (-2, 4, -1).
     let extent = half_extent(&cube("scale = [1, 2, 4]\nrotate = [0, 90, 90]"));
-    assert!(
-        extent.abs_diff_eq(Vec3::new(2.0, 4.0, 1.0), 1e-5),
-        "{extent}"
-    );
+    assert!(extent.abs_diff_eq(Vec3::new(2.0, 4.0, 1.0), 1e-5), "{extent}");
     // Translation comes last, rotation before it: the centre stays at `translate`.
     let triangles = cube("rotate = [30, 40, 50]\ntranslate = [5, 6, 7]");
     let sum: Vec3 = triangles.iter().flat_map(|t| t.p).sum();
@@ -401,12 +263,7 @@ fn rotation_is_about_x_then_y_then_z() {
 /// Writes `obj` to `dir/mesh.obj` and loads one mesh shape with `keys` that uses it.
 fn load_mesh(dir: &Path, obj: &str, keys: &str) -> Result<Scene, SceneError> {
     std::fs::write(dir.join("mesh.obj"), obj).unwrap();
-    load_in(
-        dir,
-        &with_shape(&format!(
-            "type = \"mesh\"\nfile = \"mesh.obj\"\nmaterial = \"white\"\n{keys}"
-        )),
-    )
+    load_in(dir, &with_shape(&format!("type = \"mesh\"\nfile = \"mesh.obj\"\nmaterial = \"white\"\n{keys}")))
 }
 
 /// Two triangles folded along the y axis: one facing +z (area 1/2), one facing +x (area 1).
@@ -415,22 +272,10 @@ const FOLD: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 2\nvt 0 0\nvt 1 0\nvt 0 1\n
 #[test]
 fn mesh_smooth_normals_are_area_weighted_averages() {
     let dir = temp_dir("smooth");
-    let scene = load_mesh(
-        &dir,
-        FOLD,
-        "smooth = true\nscale = 2\ntranslate = [1, 0, 0]",
-    )
-    .unwrap();
+    let scene = load_mesh(&dir, FOLD, "smooth = true\nscale = 2\ntranslate = [1, 0, 0]").unwrap();
     assert_eq!(scene.triangles.len(), 2);
     let [a, b] = [&scene.triangles[0], &scene.triangles[1]];
-    assert_eq!(
-        a.p,
-        [
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(3.0, 0.0, 0.0),
-            Vec3::new(1.0, 2.0, 0.0)
-        ]
-    );
+    assert_eq!(a.p, [Vec3::new(1.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0), Vec3::new(1.0, 2.0, 0.0)]);
     let shared = Vec3::new(2.0, 0.0, 1.0).normalize();
     let [n0, n1, n2] = a.n.expect("smooth normals");
     assert_close(n0, shared);
@@ -478,40 +323,16 @@ fn degenerate_mesh_triangles_are_skipped() {
 fn malformed_toml_is_an_error() {
     // The key is the one assigned on the error's line, or the one whose array is still open.
     for (text, line, key, words) in [
-        (
-            edit("height = 8", "height = = 8"),
-            3,
-            "render.height",
-            "extra `=`",
-        ),
+        (edit("height = 8", "height = = 8"), 3, "render.height", "extra `=`"),
         (edit("fov = 40", "fov = 40 40"), 9, "camera.fov", "quoted"),
         // Arrays may span lines: an unclosed one is found where the next table starts.
-        (
-            edit("fov = 40", "fov = [1, 2"),
-            11,
-            "camera.fov",
-            "expected `,`",
-        ),
-        (
-            edit("fov = 40", "fov = 40\nfov = 41"),
-            10,
-            "camera.fov",
-            "duplicate key",
-        ),
+        (edit("fov = 40", "fov = [1, 2"), 11, "camera.fov", "expected `,`"),
+        (edit("fov = 40", "fov = 40\nfov = 41"), 10, "camera.fov", "duplicate key"),
     ] {
         let error = error_of(&text);
-        assert_eq!(
-            (error.line, error.key.as_deref()),
-            (Some(line), Some(key)),
-            "{error}"
-        );
+        assert_eq!((error.line, error.key.as_deref()), (Some(line), Some(key)), "{error}");
         assert_message(&error, &[words]);
-        assert!(
-            error
-                .to_string()
-                .starts_with(&format!("test.toml:{line}: key `{key}`: ")),
-            "{error}"
-        );
+        assert!(error.to_string().starts_with(&format!("test.toml:{line}: key `{key}`: ")), "{error}");
     }
 }
 
@@ -523,31 +344,16 @@ fn unknown_keys_are_errors() {
         "render.samples",
         &["unknown key `samples`", "spp", "photons"],
     );
+    assert_error(&format!("{BASE}[output]\nfile = \"x\"\n"), 13, "output", &["render", "camera"]);
+    assert_error(&edit("fov = 40", "fov = 40\nzoom = 2"), 10, "camera.zoom", &["look_at"]);
+    assert_error(&edit("0.5] }", "0.5], colour = 1 }"), 12, "materials.white.colour", &["albedo", "texture"]);
+    assert_error(&with_shape(&format!("{QUAD}radius = 1\n")), 19, "shapes[0].radius", &["corner", "uv_scale"]);
     assert_error(
-        &format!("{BASE}[output]\nfile = \"x\"\n"),
-        13,
-        "output",
-        &["render", "camera"],
+        &with_shape("type = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"white\"\nuv_scale = [1, 1]\n"),
+        18,
+        "shapes[0].uv_scale",
+        &["radius"],
     );
-    assert_error(
-        &edit("fov = 40", "fov = 40\nzoom = 2"),
-        10,
-        "camera.zoom",
-        &["look_at"],
-    );
-    assert_error(
-        &edit("0.5] }", "0.5], colour = 1 }"),
-        12,
-        "materials.white.colour",
-        &["albedo", "texture"],
-    );
-    assert_error(
-        &with_shape(&format!("{QUAD}radius = 1\n")),
-        19,
-        "shapes[0].radius",
-        &["corner", "uv_scale"],
-    );
-    assert_error(&with_shape("type = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"white\"\nuv_scale = [1, 1]\n"), 18, "shapes[0].uv_scale", &["radius"]);
     assert_error(
         &with_light("type = \"point\"\nposition = [0, 0, 0]\nintensity = [1, 1, 1]\nradius = 1\n"),
         17,
@@ -558,24 +364,9 @@ fn unknown_keys_are_errors() {
 
 #[test]
 fn wrong_types_are_errors() {
-    assert_error(
-        &edit("width = 8", "width = \"8\""),
-        2,
-        "render.width",
-        &["expected an integer, found a string"],
-    );
-    assert_error(
-        &edit("width = 8", "width = 256.5"),
-        2,
-        "render.width",
-        &["expected an integer, found the float 256.5"],
-    );
-    assert_error(
-        &edit("fov = 40", "fov = \"40\""),
-        9,
-        "camera.fov",
-        &["expected a number, found a string"],
-    );
+    assert_error(&edit("width = 8", "width = \"8\""), 2, "render.width", &["expected an integer, found a string"]);
+    assert_error(&edit("width = 8", "width = 256.5"), 2, "render.width", &["expected an integer, found the float 256.5"]);
+    assert_error(&edit("fov = 40", "fov = \"40\""), 9, "camera.fov", &["expected a number, found a string"]);
     assert_error(
         &edit("look_at = [0, 0, 0]", "look_at = [0, 0]"),
         8,
@@ -595,30 +386,10 @@ fn wrong_types_are_errors() {
         &["expected an array of 3 numbers, found an integer"],
     );
     let camera_on = &BASE[BASE.find("[camera]").unwrap()..];
-    assert_error(
-        &format!("render = 1\n{camera_on}"),
-        1,
-        "render",
-        &["expected a table, found an integer"],
-    );
-    assert_error(
-        &edit("white = {", "white = 3 #"),
-        12,
-        "materials.white",
-        &["expected a table"],
-    );
-    assert_error(
-        &with_shape(&QUAD.replace("\"white\"", "1")),
-        18,
-        "shapes[0].material",
-        &["expected a string"],
-    );
-    assert_error(
-        &format!("shapes = 1\n{BASE}"),
-        1,
-        "shapes",
-        &["expected an array"],
-    );
+    assert_error(&format!("render = 1\n{camera_on}"), 1, "render", &["expected a table, found an integer"]);
+    assert_error(&edit("white = {", "white = 3 #"), 12, "materials.white", &["expected a table"]);
+    assert_error(&with_shape(&QUAD.replace("\"white\"", "1")), 18, "shapes[0].material", &["expected a string"]);
+    assert_error(&format!("shapes = 1\n{BASE}"), 1, "shapes", &["expected an array"]);
     assert_error(
         &with_shape("type = \"mesh\"\nfile = \"m.obj\"\nmaterial = \"white\"\nsmooth = 1\n"),
         17,
@@ -629,49 +400,16 @@ fn wrong_types_are_errors() {
 
 #[test]
 fn missing_required_keys_are_errors() {
-    assert_error(
-        &edit("iterations = 1\n", ""),
-        1,
-        "render.iterations",
-        &["missing required key `iterations`"],
-    );
+    assert_error(&edit("iterations = 1\n", ""), 1, "render.iterations", &["missing required key `iterations`"]);
     assert_error(&edit("width = 8\n", ""), 1, "render.width", &["missing"]);
     assert_error(&edit("fov = 40\n", ""), 6, "camera.fov", &["missing"]);
+    assert_error(&edit("position = [0, 0, 5]\n", ""), 6, "camera.position", &["missing"]);
+    assert_error(&with_shape(&QUAD.replace("material = \"white\"\n", "")), 13, "shapes[0].material", &["missing"]);
+    assert_error(&with_shape(&QUAD.replace("u = [1, 0, 0]\n", "")), 13, "shapes[0].u", &["missing"]);
+    assert_error(&with_shape("material = \"white\"\n"), 13, "shapes[0].type", &["missing"]);
+    assert_error(&with_light("type = \"point\"\nposition = [0, 0, 0]\n"), 13, "lights[0].intensity", &["missing"]);
     assert_error(
-        &edit("position = [0, 0, 5]\n", ""),
-        6,
-        "camera.position",
-        &["missing"],
-    );
-    assert_error(
-        &with_shape(&QUAD.replace("material = \"white\"\n", "")),
-        13,
-        "shapes[0].material",
-        &["missing"],
-    );
-    assert_error(
-        &with_shape(&QUAD.replace("u = [1, 0, 0]\n", "")),
-        13,
-        "shapes[0].u",
-        &["missing"],
-    );
-    assert_error(
-        &with_shape("material = \"white\"\n"),
-        13,
-        "shapes[0].type",
-        &["missing"],
-    );
-    assert_error(
-        &with_light("type = \"point\"\nposition = [0, 0, 0]\n"),
-        13,
-        "lights[0].intensity",
-        &["missing"],
-    );
-    assert_error(
-        &edit(
-            "white = { type = \"diffuse\", albedo = [0.5, 0.5, 0.5] }",
-            "white = { type = \"diffuse\" }",
-        ),
+        &edit("white = { type = \"diffuse\", albedo = [0.5, 0.5, 0.5] }", "white = { type = \"diffuse\" }"),
         12,
         "materials.white.albedo",
         &["texture"],
@@ -687,11 +425,7 @@ fn missing_required_keys_are_errors() {
     );
     let no_render = BASE.replace("[render]\nwidth = 8\nheight = 8\niterations = 1\n", "");
     let error = error_of(&no_render);
-    assert_eq!(
-        (error.line, error.key.as_deref()),
-        (None, Some("render")),
-        "{error}"
-    );
+    assert_eq!((error.line, error.key.as_deref()), (None, Some("render")), "{error}");
     assert_message(&error, &["missing required key `render`"]);
 }
 
@@ -709,12 +443,7 @@ fn unknown_names_are_errors() {
         "shapes[0].type",
         &["unknown shape type `cone`", "quad, sphere, cube, mesh"],
     );
-    assert_error(
-        &with_light("type = \"spot\"\n"),
-        14,
-        "lights[0].type",
-        &["unknown light type `spot`", "point, directional"],
-    );
+    assert_error(&with_light("type = \"spot\"\n"), 14, "lights[0].type", &["unknown light type `spot`", "point, directional"]);
     assert_error(
         &edit("\"diffuse\"", "\"lambert\""),
         12,
@@ -727,98 +456,30 @@ fn unknown_names_are_errors() {
         "render.method",
         &["unknown method `bdpt`", "sppm, pt, pt-nee"],
     );
-    let no_materials = BASE.replace(
-        "[materials]\nwhite = { type = \"diffuse\", albedo = [0.5, 0.5, 0.5] }\n",
-        "",
-    );
-    assert_error(
-        &format!("{no_materials}[[shapes]]\n{QUAD}"),
-        16,
-        "shapes[0].material",
-        &["no materials"],
-    );
+    let no_materials = BASE.replace("[materials]\nwhite = { type = \"diffuse\", albedo = [0.5, 0.5, 0.5] }\n", "");
+    assert_error(&format!("{no_materials}[[shapes]]\n{QUAD}"), 16, "shapes[0].material", &["no materials"]);
 }
 
 #[test]
 fn non_finite_numbers_are_errors() {
-    assert_error(
-        &edit("fov = 40", "fov = nan"),
-        9,
-        "camera.fov",
-        &["must be a finite number, found nan"],
-    );
+    assert_error(&edit("fov = 40", "fov = nan"), 9, "camera.fov", &["must be a finite number, found nan"]);
     assert_error(&edit("fov = 40", "fov = inf"), 9, "camera.fov", &["finite"]);
-    assert_error(
-        &edit("position = [0, 0, 5]", "position = [0, -inf, 5]"),
-        7,
-        "camera.position",
-        &["finite"],
-    );
-    assert_error(
-        &edit("iterations = 1", "iterations = 1\nalpha = -nan"),
-        5,
-        "render.alpha",
-        &["finite"],
-    );
-    assert_error(
-        &edit("iterations = 1", "iterations = 1\ntime_limit = inf"),
-        5,
-        "render.time_limit",
-        &["finite"],
-    );
-    assert_error(
-        &with_shape(&format!("{QUAD}emission = [1, inf, 1]\n")),
-        19,
-        "shapes[0].emission",
-        &["finite"],
-    );
-    assert_error(
-        &with_shape(&format!("{QUAD}velocity = [nan, 0, 0]\n")),
-        19,
-        "shapes[0].velocity",
-        &["finite"],
-    );
-    assert_error(
-        &edit("position = [0, 0, 5]", "position = [0, 1e39, 5]"),
-        7,
-        "camera.position",
-        &["1e39 is out of the range"],
-    );
-    assert_error(
-        &edit("iterations = 1", "iterations = 1\nradius = 1e-50"),
-        5,
-        "render.radius",
-        &["out of the range"],
-    );
+    assert_error(&edit("position = [0, 0, 5]", "position = [0, -inf, 5]"), 7, "camera.position", &["finite"]);
+    assert_error(&edit("iterations = 1", "iterations = 1\nalpha = -nan"), 5, "render.alpha", &["finite"]);
+    assert_error(&edit("iterations = 1", "iterations = 1\ntime_limit = inf"), 5, "render.time_limit", &["finite"]);
+    assert_error(&with_shape(&format!("{QUAD}emission = [1, inf, 1]\n")), 19, "shapes[0].emission", &["finite"]);
+    assert_error(&with_shape(&format!("{QUAD}velocity = [nan, 0, 0]\n")), 19, "shapes[0].velocity", &["finite"]);
+    assert_error(&edit("position = [0, 0, 5]", "position = [0, 1e39, 5]"), 7, "camera.position", &["1e39 is out of the range"]);
+    assert_error(&edit("iterations = 1", "iterations = 1\nradius = 1e-50"), 5, "render.radius", &["out of the range"]);
 }
 
 #[test]
 fn render_values_out_of_range_are_errors() {
     for (old, new, key, words) in [
-        (
-            "width = 8",
-            "width = 0",
-            "render.width",
-            "between 1 and 16384, found 0",
-        ),
-        (
-            "width = 8",
-            "width = 16385",
-            "render.width",
-            "between 1 and 16384",
-        ),
-        (
-            "height = 8",
-            "height = -3",
-            "render.height",
-            "between 1 and 16384",
-        ),
-        (
-            "iterations = 1",
-            "iterations = 0",
-            "render.iterations",
-            "between 1 and 4294967295",
-        ),
+        ("width = 8", "width = 0", "render.width", "between 1 and 16384, found 0"),
+        ("width = 8", "width = 16385", "render.width", "between 1 and 16384"),
+        ("height = 8", "height = -3", "render.height", "between 1 and 16384"),
+        ("iterations = 1", "iterations = 0", "render.iterations", "between 1 and 4294967295"),
     ] {
         let line = BASE.lines().position(|l| l == old).unwrap() + 1;
         assert_error(&edit(old, new), line, key, &[words]);
@@ -828,75 +489,28 @@ fn render_values_out_of_range_are_errors() {
         ("photons = 0", "render.photons", "between 1 and"),
         ("photons = 5000000000", "render.photons", "found 5000000000"),
         ("radius = 0.0", "render.radius", "greater than 0"),
-        (
-            "alpha = 1.0",
-            "render.alpha",
-            "greater than 0 and less than 1",
-        ),
+        ("alpha = 1.0", "render.alpha", "greater than 0 and less than 1"),
         ("alpha = 0", "render.alpha", "less than 1"),
         ("max_depth = 0", "render.max_depth", "between 1 and"),
         ("seed = -1", "render.seed", "between 0 and 4294967295"),
         ("time_limit = 0", "render.time_limit", "greater than 0"),
     ] {
-        assert_error(
-            &edit("iterations = 1", &format!("iterations = 1\n{new}")),
-            5,
-            key,
-            &[words],
-        );
+        assert_error(&edit("iterations = 1", &format!("iterations = 1\n{new}")), 5, key, &[words]);
     }
 }
 
 #[test]
 fn camera_errors() {
-    assert_error(
-        &edit("fov = 40", "fov = 180"),
-        9,
-        "camera.fov",
-        &["less than 180"],
-    );
-    assert_error(
-        &edit("fov = 40", "fov = 0"),
-        9,
-        "camera.fov",
-        &["greater than 0"],
-    );
-    assert_error(
-        &edit("fov = 40", "fov = 40\naperture_radius = -0.1"),
-        10,
-        "camera.aperture_radius",
-        &["at least 0"],
-    );
-    assert_error(
-        &edit("fov = 40", "fov = 40\nfocus_distance = 0"),
-        10,
-        "camera.focus_distance",
-        &["greater than 0"],
-    );
-    assert_error(
-        &edit("look_at = [0, 0, 0]", "look_at = [0, 0, 5]"),
-        8,
-        "camera.look_at",
-        &["position"],
-    );
-    assert_error(
-        &edit("fov = 40", "fov = 40\nup = [0, 0, -2]"),
-        10,
-        "camera.up",
-        &["parallel"],
-    );
+    assert_error(&edit("fov = 40", "fov = 180"), 9, "camera.fov", &["less than 180"]);
+    assert_error(&edit("fov = 40", "fov = 0"), 9, "camera.fov", &["greater than 0"]);
+    assert_error(&edit("fov = 40", "fov = 40\naperture_radius = -0.1"), 10, "camera.aperture_radius", &["at least 0"]);
+    assert_error(&edit("fov = 40", "fov = 40\nfocus_distance = 0"), 10, "camera.focus_distance", &["greater than 0"]);
+    assert_error(&edit("look_at = [0, 0, 0]", "look_at = [0, 0, 5]"), 8, "camera.look_at", &["position"]);
+    assert_error(&edit("fov = 40", "fov = 40\nup = [0, 0, -2]"), 10, "camera.up", &["parallel"]);
     // `up` left at [0, 1, 0] while looking straight down: the error is at the header.
-    assert_error(
-        &edit("look_at = [0, 0, 0]", "look_at = [0, -1, 5]"),
-        6,
-        "camera.up",
-        &["parallel"],
-    );
+    assert_error(&edit("look_at = [0, 0, 0]", "look_at = [0, -1, 5]"), 6, "camera.up", &["parallel"]);
     let camera = load_ok(&edit("fov = 40", "fov = 40\naperture_radius = 0.1")).camera;
-    assert_eq!(
-        (camera.aperture_radius, camera.aperture_line),
-        (0.1, Some(10))
-    );
+    assert_eq!((camera.aperture_radius, camera.aperture_line), (0.1, Some(10)));
 }
 
 #[test]
@@ -920,12 +534,7 @@ fn material_values_out_of_range_are_errors() {
         "materials.m.roughness",
         &["between 0 and 1"],
     );
-    assert_error(
-        &material("{ type = \"dielectric\", ior = 0 }"),
-        13,
-        "materials.m.ior",
-        &["greater than 0"],
-    );
+    assert_error(&material("{ type = \"dielectric\", ior = 0 }"), 13, "materials.m.ior", &["greater than 0"]);
     assert_error(
         &material("{ type = \"dielectric\", ior = 1.5, roughness = -1 }"),
         13,
@@ -945,43 +554,13 @@ fn material_values_out_of_range_are_errors() {
 #[test]
 fn shape_values_out_of_range_are_errors() {
     let sphere = "type = \"sphere\"\ncenter = [0, 0, 0]\nmaterial = \"white\"\n";
-    assert_error(
-        &with_shape(&format!("{sphere}radius = 0\n")),
-        17,
-        "shapes[0].radius",
-        &["greater than 0"],
-    );
-    assert_error(
-        &with_shape(&format!("{QUAD}emission = [1, -1, 1]\n")),
-        19,
-        "shapes[0].emission",
-        &["at least 0"],
-    );
-    assert_error(
-        &with_shape(&QUAD.replace("v = [0, 1, 0]", "v = [2, 0, 0]")),
-        17,
-        "shapes[0].v",
-        &["no area"],
-    );
+    assert_error(&with_shape(&format!("{sphere}radius = 0\n")), 17, "shapes[0].radius", &["greater than 0"]);
+    assert_error(&with_shape(&format!("{QUAD}emission = [1, -1, 1]\n")), 19, "shapes[0].emission", &["at least 0"]);
+    assert_error(&with_shape(&QUAD.replace("v = [0, 1, 0]", "v = [2, 0, 0]")), 17, "shapes[0].v", &["no area"]);
     let cube = "type = \"cube\"\nmaterial = \"white\"\n";
-    assert_error(
-        &with_shape(&format!("{cube}scale = 0\n")),
-        16,
-        "shapes[0].scale",
-        &["nonzero"],
-    );
-    assert_error(
-        &with_shape(&format!("{cube}scale = [1, 0.0, 1]\n")),
-        16,
-        "shapes[0].scale",
-        &["nonzero"],
-    );
-    assert_error(
-        &with_shape(&format!("{cube}scale = [1, nan, 1]\n")),
-        16,
-        "shapes[0].scale",
-        &["finite"],
-    );
+    assert_error(&with_shape(&format!("{cube}scale = 0\n")), 16, "shapes[0].scale", &["nonzero"]);
+    assert_error(&with_shape(&format!("{cube}scale = [1, 0.0, 1]\n")), 16, "shapes[0].scale", &["nonzero"]);
+    assert_error(&with_shape(&format!("{cube}scale = [1, nan, 1]\n")), 16, "shapes[0].scale", &["finite"]);
     // The second shape is `shapes[1]`, its errors at its own lines.
     let two = format!("{}[[shapes]]\n{sphere}radius = -1\n", with_shape(QUAD));
     assert_error(&two, 23, "shapes[1].radius", &["greater than 0"]);
@@ -1013,11 +592,7 @@ fn light_values_out_of_range_are_errors() {
 #[track_caller]
 fn assert_file_error(dir: &Path, text: &str, line: usize, key: &str, file: &str) {
     let error = load_in(dir, text).expect_err("an error");
-    assert_eq!(
-        (error.line, error.key.as_deref()),
-        (Some(line), Some(key)),
-        "{error}"
-    );
+    assert_eq!((error.line, error.key.as_deref()), (Some(line), Some(key)), "{error}");
     let path = dir.join(file).display().to_string();
     assert!(error.message.contains(&path), "{path} is not in: {error}");
 }
@@ -1025,66 +600,21 @@ fn assert_file_error(dir: &Path, text: &str, line: usize, key: &str, file: &str)
 #[test]
 fn missing_and_corrupt_files_are_errors() {
     let dir = temp_dir("files");
-    let mesh = |file: &str| {
-        with_shape(&format!(
-            "type = \"mesh\"\nmaterial = \"white\"\nfile = \"{file}\"\n"
-        ))
-    };
-    assert_file_error(
-        &dir,
-        &mesh("missing.obj"),
-        16,
-        "shapes[0].file",
-        "missing.obj",
-    );
+    let mesh = |file: &str| with_shape(&format!("type = \"mesh\"\nmaterial = \"white\"\nfile = \"{file}\"\n"));
+    assert_file_error(&dir, &mesh("missing.obj"), 16, "shapes[0].file", "missing.obj");
     std::fs::write(dir.join("corrupt.obj"), "v 0 0 zero\nf 1 2 3\n").unwrap();
-    assert_file_error(
-        &dir,
-        &mesh("corrupt.obj"),
-        16,
-        "shapes[0].file",
-        "corrupt.obj",
-    );
+    assert_file_error(&dir, &mesh("corrupt.obj"), 16, "shapes[0].file", "corrupt.obj");
     std::fs::write(dir.join("out-of-range.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 9\n").unwrap();
-    assert_file_error(
-        &dir,
-        &mesh("out-of-range.obj"),
-        16,
-        "shapes[0].file",
-        "out-of-range.obj",
-    );
+    assert_file_error(&dir, &mesh("out-of-range.obj"), 16, "shapes[0].file", "out-of-range.obj");
     std::fs::write(dir.join("points.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
-    assert_file_error(
-        &dir,
-        &mesh("points.obj"),
-        16,
-        "shapes[0].file",
-        "points.obj",
-    );
+    assert_file_error(&dir, &mesh("points.obj"), 16, "shapes[0].file", "points.obj");
     std::fs::write(dir.join("flat.obj"), "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
     assert_file_error(&dir, &mesh("flat.obj"), 16, "shapes[0].file", "flat.obj");
 
-    let texture =
-        |file: &str| format!("{BASE}t = {{ type = \"diffuse\", texture = \"{file}\" }}\n");
-    assert_file_error(
-        &dir,
-        &texture("missing.png"),
-        13,
-        "materials.t.texture",
-        "missing.png",
-    );
-    std::fs::write(
-        dir.join("corrupt.png"),
-        b"\x89PNG\r\n\x1a\nthis is not a png",
-    )
-    .unwrap();
-    assert_file_error(
-        &dir,
-        &texture("corrupt.png"),
-        13,
-        "materials.t.texture",
-        "corrupt.png",
-    );
+    let texture = |file: &str| format!("{BASE}t = {{ type = \"diffuse\", texture = \"{file}\" }}\n");
+    assert_file_error(&dir, &texture("missing.png"), 13, "materials.t.texture", "missing.png");
+    std::fs::write(dir.join("corrupt.png"), b"\x89PNG\r\n\x1a\nthis is not a png").unwrap();
+    assert_file_error(&dir, &texture("corrupt.png"), 13, "materials.t.texture", "corrupt.png");
 
     let missing_scene = dir.join("no-such-scene.toml");
     let error = scene::load(&missing_scene).expect_err("an error");
@@ -1096,14 +626,7 @@ fn textures_decode_srgb_top_row_first_once_per_path() {
     let dir = temp_dir("texture");
     // Two rows: black and white on top, mid grey and a colour below.
     let pixels = [0u8, 0, 0, 255, 255, 255, 128, 128, 128, 255, 128, 0];
-    image::save_buffer(
-        dir.join("t.png"),
-        &pixels,
-        2,
-        2,
-        image::ExtendedColorType::Rgb8,
-    )
-    .unwrap();
+    image::save_buffer(dir.join("t.png"), &pixels, 2, 2, image::ExtendedColorType::Rgb8).unwrap();
     let text = format!(
         "{BASE}a = {{ type = \"diffuse\", texture = \"t.png\" }}\nb = {{ type = \"diffuse\", texture = \"./t.png\" }}\nc = {{ type = \"diffuse\", texture = \"t.png\" }}\n"
     );
@@ -1124,27 +647,9 @@ fn textures_decode_srgb_top_row_first_once_per_path() {
     assert_close(texture.texels[3], Vec3::new(1.0, grey, 0.0));
     assert!((grey - 0.2158605).abs() < 1e-6);
     let indices: Vec<_> = scene.materials.iter().map(|m| m.kind.clone()).collect();
-    assert_eq!(
-        indices[1],
-        MaterialKind::Diffuse {
-            albedo: Vec3::ONE,
-            texture: Some(0)
-        }
-    );
-    assert_eq!(
-        indices[3],
-        MaterialKind::Diffuse {
-            albedo: Vec3::ONE,
-            texture: Some(0)
-        }
-    );
-    assert_eq!(
-        indices[2],
-        MaterialKind::Diffuse {
-            albedo: Vec3::ONE,
-            texture: Some(0)
-        }
-    );
+    assert_eq!(indices[1], MaterialKind::Diffuse { albedo: Vec3::ONE, texture: Some(0) });
+    assert_eq!(indices[3], MaterialKind::Diffuse { albedo: Vec3::ONE, texture: Some(0) });
+    assert_eq!(indices[2], MaterialKind::Diffuse { albedo: Vec3::ONE, texture: Some(0) });
     assert_eq!(scene.textures.len(), 1, "one path, one texture");
 }
 
@@ -1170,21 +675,11 @@ fn odd_obj_files_do_not_panic() {
 #[test]
 fn no_input_panics() {
     // Truncations of a full scene: each is an error or a scene, never a panic.
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/scenes/cornell-box.toml"
-    ))
-    .unwrap();
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/cornell-box.toml")).unwrap();
     for end in (0..text.len()).step_by(7) {
         let _ = load(&text[..end]);
     }
-    for odd in [
-        "",
-        "=",
-        "[[render]]",
-        "[render]\nwidth = 0x7fffffffffffffffff",
-        "[camera]\nposition = [[1], {}, 1979-05-27]",
-    ] {
+    for odd in ["", "=", "[[render]]", "[render]\nwidth = 0x7fffffffffffffffff", "[camera]\nposition = [[1], {}, 1979-05-27]"] {
         assert!(load(odd).is_err(), "{odd:?}");
     }
 }

@@ -171,4 +171,3 @@ fn image_does_not_depend_on_scene_scale() {
     let c = compare(&img, &base, 8).unwrap();
     assert!(c.mean_ratio.iter().all(|r| (r - 1.0).abs() > 0.05), "10% dimmer scene passed: {:?}", c.mean_ratio);
 }
-

@@ -162,12 +162,7 @@ pub fn build_bvh_moving(triangles: &[Triangle], spheres: &[Sphere], velocity: im
     );
     if triangles.is_empty() && spheres.is_empty() {
         return Bvh {
-            nodes: vec![BvhNode {
-                min: [f32::INFINITY; 3],
-                first: 0,
-                max: [f32::NEG_INFINITY; 3],
-                count: 0,
-            }],
+            nodes: vec![BvhNode { min: [f32::INFINITY; 3], first: 0, max: [f32::NEG_INFINITY; 3], count: 0 }],
             prim_refs: Vec::new(),
         };
     }
@@ -186,10 +181,7 @@ pub fn build_bvh_moving(triangles: &[Triangle], spheres: &[Sphere], velocity: im
             aabb(lo.min(lo + v), hi.max(hi + v))
         }))
         .collect();
-    let params = BvhBuildParams {
-        max_prims_per_leaf: MAX_PRIMS_PER_LEAF,
-        ..BvhBuildParams::medium_build()
-    };
+    let params = BvhBuildParams { max_prims_per_leaf: MAX_PRIMS_PER_LEAF, ..BvhBuildParams::medium_build() };
     let bvh2 = build_bvh2(&aabbs, params, &mut Duration::default());
 
     flatten(&bvh2, triangles.len() as u32)
@@ -227,10 +219,7 @@ fn flatten(bvh2: &Bvh2, triangle_count: u32) -> Bvh {
             prim_refs.extend(bvh2.primitive_indices[ids].iter().map(|&id| to_ref(id)));
             (first, node.prim_count)
         } else {
-            assert!(
-                depth + 1 < STACK_SIZE,
-                "BVH deeper than the traversal stack"
-            );
+            assert!(depth + 1 < STACK_SIZE, "BVH deeper than the traversal stack");
             let first = nodes.len();
             nodes.extend([BvhNode::zeroed(); 2]);
             let child = node.first_index as usize;
@@ -241,12 +230,7 @@ fn flatten(bvh2: &Bvh2, triangle_count: u32) -> Bvh {
         };
         // Only x, y, z: the w lane of obvhs's Vec3A is not meaningful.
         let b = node.aabb();
-        nodes[dst] = BvhNode {
-            min: Vec3::from(b.min).to_array(),
-            first,
-            max: Vec3::from(b.max).to_array(),
-            count,
-        };
+        nodes[dst] = BvhNode { min: Vec3::from(b.min).to_array(), first, max: Vec3::from(b.max).to_array(), count };
     }
     Bvh { nodes, prim_refs }
 }
@@ -260,14 +244,7 @@ impl Bvh {
     /// its box (against the current nearest hit, so entries pushed before a hit was found are
     /// culled when popped), intersect the primitives of leaves, and push both children of
     /// interior nodes, the nearer one last so that it is visited first.
-    pub fn intersect(
-        &self,
-        triangles: &[Triangle],
-        spheres: &[Sphere],
-        origin: Vec3,
-        dir: Vec3,
-        t_max: f32,
-    ) -> Option<Hit> {
+    pub fn intersect(&self, triangles: &[Triangle], spheres: &[Sphere], origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
         // A NaN ray would pass every slab test (see `slab_test`); it can hit nothing anyway.
         if !(origin.is_finite() && dir.is_finite()) {
             return None;
@@ -288,9 +265,7 @@ impl Bvh {
             if node.count > 0 {
                 for i in node.first..node.first + node.count {
                     let prim_ref = self.prim_refs[i as usize];
-                    if let Some(h) =
-                        intersect_prim(triangles, spheres, prim_ref, origin, dir, t_max)
-                    {
+                    if let Some(h) = intersect_prim(triangles, spheres, prim_ref, origin, dir, t_max) {
                         t_max = h.t;
                         hit = Some(h);
                     }
@@ -302,11 +277,7 @@ impl Bvh {
                 let a_centre = Vec3::from(a.min) + Vec3::from(a.max);
                 let b_centre = Vec3::from(b.min) + Vec3::from(b.max);
                 let b_nearer = (b_centre - a_centre).dot(dir) < 0.0;
-                let (near, far) = if b_nearer {
-                    (node.first + 1, node.first)
-                } else {
-                    (node.first, node.first + 1)
-                };
+                let (near, far) = if b_nearer { (node.first + 1, node.first) } else { (node.first, node.first + 1) };
                 stack[stack_len] = far;
                 stack[stack_len + 1] = near;
                 stack_len += 2;
@@ -341,7 +312,11 @@ impl Bvh {
         // One step per 65535th of the extent, rounded up so that q = 65535 reaches the top.
         let scale = (extent / 65535.0).to_array().map(|s| {
             let f = s as f32;
-            if (f as f64) < s { f.next_up() } else { f }
+            if (f as f64) < s {
+                f.next_up()
+            } else {
+                f
+            }
         });
         let quantize = |node: &BvhNode| -> [u32; 3] {
             let q = |x: f32, axis: usize, up: bool| -> u32 {
@@ -388,10 +363,7 @@ impl Bvh {
                 nodes[dst] = GpuBvhNode { box_a: quantize(a), child_a: refs[0], box_b: quantize(b), child_b: refs[1] };
             }
         }
-        PackedBvh {
-            nodes,
-            params: BvhParams { origin: origin.as_vec3().to_array(), _pad0: 0, scale, _pad1: 0 },
-        }
+        PackedBvh { nodes, params: BvhParams { origin: origin.as_vec3().to_array(), _pad0: 0, scale, _pad1: 0 } }
     }
 }
 
@@ -446,32 +418,15 @@ const SLAB_PAD: f32 = 1.0 + 2.0 * (3.0 * 0.5 * f32::EPSILON) / (1.0 - 3.0 * 0.5 
 
 /// Intersects one primitive reference.
 #[inline]
-fn intersect_prim(
-    triangles: &[Triangle],
-    spheres: &[Sphere],
-    prim_ref: u32,
-    origin: Vec3,
-    dir: Vec3,
-    t_max: f32,
-) -> Option<Hit> {
+fn intersect_prim(triangles: &[Triangle], spheres: &[Sphere], prim_ref: u32, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
     if prim_ref & SPHERE_BIT != 0 {
         let s = &spheres[(prim_ref & !SPHERE_BIT) as usize];
         let t = intersect_sphere(s.center, s.radius, origin, dir, t_max)?;
-        Some(Hit {
-            t,
-            prim_ref,
-            b1: 0.0,
-            b2: 0.0,
-        })
+        Some(Hit { t, prim_ref, b1: 0.0, b2: 0.0 })
     } else {
         let [p0, p1, p2] = triangles[prim_ref as usize].p;
         let (t, b1, b2) = intersect_triangle(p0, p1 - p0, p2 - p0, origin, dir, t_max)?;
-        Some(Hit {
-            t,
-            prim_ref,
-            b1,
-            b2,
-        })
+        Some(Hit { t, prim_ref, b1, b2 })
     }
 }
 
@@ -481,14 +436,7 @@ fn intersect_prim(
 /// coordinates of `p0 + e1` and `p0 + e2`. Rays in the triangle's plane (`det == 0`) miss,
 /// and every comparison is written so that NaN means a miss.
 #[inline]
-pub fn intersect_triangle(
-    p0: Vec3,
-    e1: Vec3,
-    e2: Vec3,
-    origin: Vec3,
-    dir: Vec3,
-    t_max: f32,
-) -> Option<(f32, f32, f32)> {
+pub fn intersect_triangle(p0: Vec3, e1: Vec3, e2: Vec3, origin: Vec3, dir: Vec3, t_max: f32) -> Option<(f32, f32, f32)> {
     let pvec = dir.cross(e2);
     let det = e1.dot(pvec);
     if det == 0.0 {
@@ -523,13 +471,7 @@ pub fn intersect_triangle(
 /// `q = -(b + sign(b) sqrt(discriminant))`, which avoid cancellation between `b` and the
 /// square root.
 #[inline]
-pub fn intersect_sphere(
-    center: Vec3,
-    radius: f32,
-    origin: Vec3,
-    dir: Vec3,
-    t_max: f32,
-) -> Option<f32> {
+pub fn intersect_sphere(center: Vec3, radius: f32, origin: Vec3, dir: Vec3, t_max: f32) -> Option<f32> {
     let f = origin - center;
     let a = dir.dot(dir);
     let b = f.dot(dir);
@@ -556,13 +498,7 @@ pub fn intersect_sphere(
 /// Nearest intersection by testing every primitive: the oracle for [`Bvh::intersect`].
 /// Among primitives hit at exactly the same `t`, the first (triangles, then spheres, in
 /// order) wins.
-pub fn brute_force_intersect(
-    triangles: &[Triangle],
-    spheres: &[Sphere],
-    origin: Vec3,
-    dir: Vec3,
-    t_max: f32,
-) -> Option<Hit> {
+pub fn brute_force_intersect(triangles: &[Triangle], spheres: &[Sphere], origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
     let refs = (0..triangles.len() as u32).chain((0..spheres.len() as u32).map(|i| i | SPHERE_BIT));
     let mut t_max = t_max;
     let mut hit = None;
@@ -591,20 +527,14 @@ mod tests {
         let (t, b1, b2) = intersect_triangle(p0, e1, e2, o, -Vec3::Z, 10.0).unwrap();
         assert_eq!((t, b1, b2), (1.0, 0.25, 0.5));
         let o = Vec3::new(0.25, 0.5, -2.0);
-        assert_eq!(
-            intersect_triangle(p0, e1, e2, o, Vec3::Z, 10.0).unwrap().0,
-            2.0
-        );
+        assert_eq!(intersect_triangle(p0, e1, e2, o, Vec3::Z, 10.0).unwrap().0, 2.0);
         assert!(intersect_triangle(p0, e1, e2, o, Vec3::Z, 2.0).is_none());
     }
 
     #[test]
     fn sphere_near_and_far_roots() {
         let c = Vec3::new(0.0, 0.0, 5.0);
-        assert_eq!(
-            intersect_sphere(c, 1.0, Vec3::ZERO, Vec3::Z, 100.0),
-            Some(4.0)
-        );
+        assert_eq!(intersect_sphere(c, 1.0, Vec3::ZERO, Vec3::Z, 100.0), Some(4.0));
         assert_eq!(intersect_sphere(c, 1.0, c, Vec3::Z * 2.0, 100.0), Some(0.5));
         assert_eq!(intersect_sphere(c, 1.0, Vec3::ZERO, -Vec3::Z, 100.0), None);
     }
@@ -626,11 +556,7 @@ mod tests {
             (v(2.0, 0.5, 0.5), Vec3::X, false),
         ];
         for (o, d, expected) in cases {
-            assert_eq!(
-                slab_test(min, max, o, 1.0 / d, f32::INFINITY),
-                expected,
-                "{o} {d}"
-            );
+            assert_eq!(slab_test(min, max, o, 1.0 / d, f32::INFINITY), expected, "{o} {d}");
         }
     }
 }

@@ -73,8 +73,7 @@ pub struct HashGrid {
 /// Spatial hash of a cell (Teschner et al. 2003), with wrapping `u32` arithmetic as in WGSL.
 #[inline]
 pub fn hash_cell(c: [u32; 3], table_mask: u32) -> u32 {
-    (c[0].wrapping_mul(73_856_093) ^ c[1].wrapping_mul(19_349_663) ^ c[2].wrapping_mul(83_492_791))
-        & table_mask
+    (c[0].wrapping_mul(73_856_093) ^ c[1].wrapping_mul(19_349_663) ^ c[2].wrapping_mul(83_492_791)) & table_mask
 }
 
 impl GridParams {
@@ -105,8 +104,7 @@ impl GridParams {
     /// Bucket of the cell containing `p`, or `None` outside the grid (or for non-finite `p`).
     #[inline]
     fn bucket_of(&self, p: Vec3) -> Option<usize> {
-        self.cell_of(p)
-            .map(|c| hash_cell(c, self.table_mask) as usize)
+        self.cell_of(p).map(|c| hash_cell(c, self.table_mask) as usize)
     }
 
     /// Cell containing `p`, or `None` when it is outside `[0, res)` on some axis.
@@ -188,12 +186,7 @@ pub fn build_grid(points: &[[f32; 4]]) -> HashGrid {
     }
     if count == 0 {
         return HashGrid {
-            params: GridParams {
-                origin: [0.0; 3],
-                cell_size: 1.0,
-                res: [0; 3],
-                table_mask: 0,
-            },
+            params: GridParams { origin: [0.0; 3], cell_size: 1.0, res: [0; 3], table_mask: 0 },
             cell_start: vec![0, 0],
             entries: Vec::new(),
         };
@@ -236,11 +229,7 @@ pub fn build_grid_in(points: &[[f32; 4]], params: GridParams) -> HashGrid {
             *slot += 1;
         }
     }
-    HashGrid {
-        params,
-        cell_start,
-        entries,
-    }
+    HashGrid { params, cell_start, entries }
 }
 
 impl HashGrid {
@@ -283,13 +272,7 @@ mod tests {
     #[test]
     fn hash_wraps() {
         assert_eq!(hash_cell([0, 0, 0], u32::MAX), 0);
-        assert_eq!(
-            hash_cell([1, 1, 1], u32::MAX),
-            73_856_093 ^ 19_349_663 ^ 83_492_791
-        );
-        assert_eq!(
-            hash_cell([u32::MAX, 0, 0], u32::MAX),
-            73_856_093u32.wrapping_neg()
-        );
+        assert_eq!(hash_cell([1, 1, 1], u32::MAX), 73_856_093 ^ 19_349_663 ^ 83_492_791);
+        assert_eq!(hash_cell([u32::MAX, 0, 0], u32::MAX), 73_856_093u32.wrapping_neg());
     }
 }

@@ -51,9 +51,10 @@ impl Variant {
 
     /// From its name: `sppm`, `sppm-photons`, `pt` or `pt-nee`.
     pub fn parse(name: &str) -> Result<Self, Error> {
-        Self::ALL.into_iter().find(|v| v.name() == name).ok_or_else(|| {
-            Error::Setting(format!("unknown method `{name}`: expected sppm, sppm-photons, pt or pt-nee"))
-        })
+        Self::ALL
+            .into_iter()
+            .find(|v| v.name() == name)
+            .ok_or_else(|| Error::Setting(format!("unknown method `{name}`: expected sppm, sppm-photons, pt or pt-nee")))
     }
 
     /// Its name, as [`Variant::parse`] reads it.
@@ -211,7 +212,15 @@ pub struct Snapshot {
 pub fn write_compare_csv(path: &Path, snapshots: &[Snapshot]) -> Result<(), Error> {
     let rows: Vec<Vec<String>> = snapshots
         .iter()
-        .map(|s| vec![s.label.clone(), format!("{:.3}", s.seconds), s.passes.to_string(), format!("{:.6e}", s.rel_mse), format!("{:.6e}", s.rmse)])
+        .map(|s| {
+            vec![
+                s.label.clone(),
+                format!("{:.3}", s.seconds),
+                s.passes.to_string(),
+                format!("{:.6e}", s.rel_mse),
+                format!("{:.6e}", s.rmse),
+            ]
+        })
         .collect();
     plot::write_csv(path, &["method", "seconds", "passes", "relMSE", "RMSE"], &rows)
 }
@@ -220,7 +229,11 @@ pub fn write_compare_csv(path: &Path, snapshots: &[Snapshot]) -> Result<(), Erro
 /// appearance.
 pub fn write_time_chart(path: &Path, title: &str, y_desc: &str, note: &str, snapshots: &[Snapshot]) -> Result<(), Error> {
     let series = group(snapshots, |s| (s.seconds, s.rel_mse));
-    plot::write_chart(path, &Chart { title, x_desc: "seconds (wall time of passes)", y_desc, log_x: true, log_y: true, note }, &series)
+    plot::write_chart(
+        path,
+        &Chart { title, x_desc: "seconds (wall time of passes)", y_desc, log_x: true, log_y: true, note },
+        &series,
+    )
 }
 
 /// Snapshots as one series per label, in order of first appearance.
@@ -266,7 +279,10 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
         return Err(Error::Setting(format!("the time limit must be a positive number of seconds, got {}", opts.time_limit)));
     }
     if !(opts.first_snapshot > 0.0 && opts.first_snapshot.is_finite()) {
-        return Err(Error::Setting(format!("--first-snapshot must be a positive number of seconds, got {}", opts.first_snapshot)));
+        return Err(Error::Setting(format!(
+            "--first-snapshot must be a positive number of seconds, got {}",
+            opts.first_snapshot
+        )));
     }
     let reference = load_reference(&opts.reference, scene, opts.downsample)?;
     create_dir(&opts.out)?;
@@ -300,14 +316,17 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
         });
     }
     let mut snapshots = Vec::new();
-    while let Some(run) = runs.iter_mut().filter(|r| r.next < times.len()).min_by(|a, b| a.timed.seconds.total_cmp(&b.timed.seconds)) {
+    while let Some(run) =
+        runs.iter_mut().filter(|r| r.next < times.len()).min_by(|a, b| a.timed.seconds.total_cmp(&b.timed.seconds))
+    {
         run.timed.pass()?;
         let capped = run.timed.passes() >= run.max_passes;
         let seconds = run.timed.seconds;
         if seconds >= times[run.next] || capped {
             let img = run.timed.image()?;
             let c = metrics::compare(&img, &reference, opts.downsample).map_err(Error::Setting)?;
-            let snap = Snapshot { label: run.label.into(), seconds, passes: run.timed.passes(), rel_mse: c.rel_mse, rmse: c.rmse };
+            let snap =
+                Snapshot { label: run.label.into(), seconds, passes: run.timed.passes(), rel_mse: c.rel_mse, rmse: c.rmse };
             bar.set_message(format!("{}: {} passes, {seconds:.1} s, relMSE {}", run.label, snap.passes, sci(c.rel_mse)));
             note(&bar, format!("{:8} {seconds:8.2} s {:6} passes  relMSE {}", run.label, snap.passes, sci(c.rel_mse)));
             snapshots.push(snap.clone());
@@ -341,11 +360,15 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
         ));
         errors.push(Tile::colours(&plot::error_map(img, &reference, opts.downsample)?, Vec::new()));
     }
-    let legend = format!("per-pixel relative error after {0}x{0} box-downsampling, sqrt((x - ref)^2 / (ref^2 + 0.01)):", opts.downsample);
+    let legend =
+        format!("per-pixel relative error after {0}x{0} box-downsampling, sqrt((x - ref)^2 / (ref^2 + 0.01)):", opts.downsample);
     let title = format!("{name} at equal time ({} s of passes each)", opts.time_limit);
     plot::write_montage(&opts.out.join("equal-time.png"), &title, &[images, errors], Some(&legend))?;
 
-    println!("{name}, {}x{}, {} ({}), {} s per method", scene.render.width, scene.render.height, gpu.adapter_info.name, gpu.adapter_info.backend, opts.time_limit);
+    println!(
+        "{name}, {}x{}, {} ({}), {} s per method",
+        scene.render.width, scene.render.height, gpu.adapter_info.name, gpu.adapter_info.backend, opts.time_limit
+    );
     println!("{:8} {:>8} {:>7} {:>12} {:>10}", "method", "seconds", "passes", "relMSE", "RMSE");
     for s in &snapshots {
         println!("{:8} {:8.2} {:7} {:12.4e} {:10.4e}", s.label, s.seconds, s.passes, s.rel_mse, s.rmse);
@@ -455,7 +478,8 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
             run.pass()?;
             let i = run.image()?;
             let c = metrics::compare(&i, &reference, opts.downsample).map_err(Error::Setting)?;
-            let snap = Snapshot { label: label.clone(), seconds: run.seconds, passes: run.passes(), rel_mse: c.rel_mse, rmse: c.rmse };
+            let snap =
+                Snapshot { label: label.clone(), seconds: run.seconds, passes: run.passes(), rel_mse: c.rel_mse, rmse: c.rmse };
             rows.push(vec![
                 opts.param.name().to_string(),
                 label.clone(),
@@ -471,7 +495,16 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
         }
         let img = img.expect("at least one pass");
         let last = snapshots.last().expect("a snapshot");
-        note(&bar, format!("{}: relMSE {} after {} passes, {:.2} s", opts.param.label(value), sci(last.rel_mse), last.passes, last.seconds));
+        note(
+            &bar,
+            format!(
+                "{}: relMSE {} after {} passes, {:.2} s",
+                opts.param.label(value),
+                sci(last.rel_mse),
+                last.passes,
+                last.seconds
+            ),
+        );
         images.push(Tile::render(&img, vec![opts.param.label(value), format!("relMSE {}", sci(last.rel_mse))]));
         errors.push(Tile::colours(&plot::error_map(&img, &reference, opts.downsample)?, Vec::new()));
     }
@@ -486,15 +519,25 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
     }
     let title = format!("{name}: relMSE over passes, by {p}");
     let note = device_note(&gpu, scene, Some(opts.param));
-    plot::write_chart(&opts.out.join("relmse-vs-passes.png"), &Chart { title: &title, x_desc: "passes", y_desc: &y_desc, log_x: true, log_y: true, note: &note }, &series)?;
-    let finals: Vec<(f64, f64)> = opts.values.iter().zip(&series).map(|(&v, s)| (v, s.points.last().expect("a point").1)).collect();
+    plot::write_chart(
+        &opts.out.join("relmse-vs-passes.png"),
+        &Chart { title: &title, x_desc: "passes", y_desc: &y_desc, log_x: true, log_y: true, note: &note },
+        &series,
+    )?;
+    let finals: Vec<(f64, f64)> =
+        opts.values.iter().zip(&series).map(|(&v, s)| (v, s.points.last().expect("a point").1)).collect();
     let (lo, hi) = finals.iter().fold((f64::INFINITY, 0.0f64), |(l, h), p| (l.min(p.0), h.max(p.0)));
     let title = format!("{name}: relMSE after {passes} passes, by {p}");
     let chart = Chart { title: &title, x_desc: p, y_desc: &y_desc, log_x: lo > 0.0 && hi >= 10.0 * lo, log_y: true, note: &note };
-    plot::write_chart(&opts.out.join(format!("relmse-vs-{p}.png")), &chart, &[Series { name: format!("after {passes} passes"), points: finals.clone() }])?;
+    plot::write_chart(
+        &opts.out.join(format!("relmse-vs-{p}.png")),
+        &chart,
+        &[Series { name: format!("after {passes} passes"), points: finals.clone() }],
+    )?;
     let r = &scene.render;
     let title = format!("{name}: {passes} passes of {} photons, by {p}", r.photons);
-    let legend = format!("per-pixel relative error after {0}x{0} box-downsampling, sqrt((x - ref)^2 / (ref^2 + 0.01)):", opts.downsample);
+    let legend =
+        format!("per-pixel relative error after {0}x{0} box-downsampling, sqrt((x - ref)^2 / (ref^2 + 0.01)):", opts.downsample);
     plot::write_montage(&opts.out.join("images.png"), &title, &[images, errors], Some(&legend))?;
 
     println!("{name}, {}x{}, {passes} passes x {} photons, {}", r.width, r.height, r.photons, gpu.adapter_info.name);
@@ -580,8 +623,13 @@ pub fn passes(scene: &Scene, name: &str, opts: &PassesOptions) -> Result<Vec<Pas
     };
     let title = format!("{name}: time per pass ({}, {what})", method_name(r.method));
     let note = device_note(&gpu, &s, None);
-    let series = Series { name: method_name(r.method).into(), points: times.iter().map(|t| (t.pass as f64, t.seconds * 1e3)).collect() };
-    plot::write_chart(&opts.out.join("time-per-pass.png"), &Chart { title: &title, x_desc: "pass", y_desc: "milliseconds", log_x: false, log_y: false, note: &note }, &[series])?;
+    let series =
+        Series { name: method_name(r.method).into(), points: times.iter().map(|t| (t.pass as f64, t.seconds * 1e3)).collect() };
+    plot::write_chart(
+        &opts.out.join("time-per-pass.png"),
+        &Chart { title: &title, x_desc: "pass", y_desc: "milliseconds", log_x: false, log_y: false, note: &note },
+        &[series],
+    )?;
     let title = format!("{name}: {} over passes", method_name(r.method));
     plot::write_montage(&opts.out.join("images.png"), &title, &[tiles], None)?;
 

@@ -47,10 +47,7 @@ fn chart_error(path: &Path, e: impl std::fmt::Display) -> Error {
 /// sRGB first and come back unchanged).
 pub fn write_rgb8_png(path: &Path, rgb: &[u8], width: u32, height: u32) -> Result<(), Error> {
     assert_eq!(rgb.len(), width as usize * height as usize * 3, "buffer size");
-    let pixels = rgb
-        .chunks_exact(3)
-        .map(|p| [0, 1, 2].map(|c| image_io::srgb_to_linear(p[c] as f32 / 255.0)))
-        .collect();
+    let pixels = rgb.chunks_exact(3).map(|p| [0, 1, 2].map(|c| image_io::srgb_to_linear(p[c] as f32 / 255.0))).collect();
     image_io::write_png(path, &Rgb32Image { width, height, pixels })?;
     Ok(())
 }
@@ -378,9 +375,7 @@ where
             ctx.draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled()))).map_err(|e| err(&e))?;
             // The legend, beside the plot so that it never hides a line.
             let y = 50 + 22 * i as i32;
-            legend_area
-                .draw(&PathElement::new(vec![(4, y), (30, y)], colour.stroke_width(3)))
-                .map_err(|e| err(&e))?;
+            legend_area.draw(&PathElement::new(vec![(4, y), (30, y)], colour.stroke_width(3))).map_err(|e| err(&e))?;
             legend_area.draw(&Circle::new((17, y), 3, colour.filled())).map_err(|e| err(&e))?;
             legend_area
                 .draw(&Text::new(s.name.as_str(), (38, y - 7), (FONT, 14).into_font().color(&BLACK)))
@@ -408,10 +403,8 @@ pub fn write_csv(path: &Path, header: &[&str], rows: &[Vec<String>]) -> Result<(
         let _ = writeln!(text, "{}", fields.join(","));
     }
     let tmp = path.with_extension("csv.tmp");
-    std::fs::write(&tmp, text)
-        .and_then(|()| std::fs::rename(&tmp, path))
-        .map_err(|e| {
-            let _ = std::fs::remove_file(&tmp);
-            Error::Setting(format!("{}: cannot write: {e}", path.display()))
-        })
+    std::fs::write(&tmp, text).and_then(|()| std::fs::rename(&tmp, path)).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        Error::Setting(format!("{}: cannot write: {e}", path.display()))
+    })
 }

@@ -28,7 +28,8 @@ pub const MAX_BAKED_PRIMITIVES: usize = 256;
 
 /// The function in `shaders/shared/scene.wgsl` that [`baked_trace`] replaces: it traces nothing and
 /// says so, and the data traversal runs.
-pub const PLACEHOLDER: &str = "fn trace_baked(o: vec3f, d: vec3f, inv_d: vec3f, hit: ptr<function, Hit>) -> bool { return false; }";
+pub const PLACEHOLDER: &str =
+    "fn trace_baked(o: vec3f, d: vec3f, inv_d: vec3f, hit: ptr<function, Hit>) -> bool { return false; }";
 
 /// A float literal that parses back to exactly `x` (Rust prints the shortest such digits;
 /// the `f` suffix makes WGSL parse them as f32, not as an abstract float rounded later).
@@ -74,7 +75,14 @@ fn node(data: &SceneData, index: usize, depth: usize, out: &mut String) {
                 let _ = writeln!(out, "{inner}hit_sphere({}, {}, {r}u, {}u, o, d, hit);", vec(s.center), lit(s.radius), s.shape);
             } else {
                 let t = &data.triangles[r as usize];
-                let _ = writeln!(out, "{inner}hit_triangle({}, {}, {}, {r}u, {}u, o, d, hit);", vec(t.p0), vec(t.e1), vec(t.e2), t.shape);
+                let _ = writeln!(
+                    out,
+                    "{inner}hit_triangle({}, {}, {}, {r}u, {}u, o, d, hit);",
+                    vec(t.p0),
+                    vec(t.e1),
+                    vec(t.e2),
+                    t.shape
+                );
             }
         }
     }

@@ -8,7 +8,10 @@
 //! constants handles every scene.
 
 use super::scene_buffers::SceneData;
-use super::types::{EMITTER_AREA, EMITTER_DIRECTIONAL, EMITTER_POINT, HAS_NORMALS, HAS_UVS, MATERIAL_DIELECTRIC, MATERIAL_GLOSSY, MATERIAL_MIRROR, NO_TEXTURE};
+use super::types::{
+    EMITTER_AREA, EMITTER_DIRECTIONAL, EMITTER_POINT, HAS_NORMALS, HAS_UVS, MATERIAL_DIELECTRIC, MATERIAL_GLOSSY,
+    MATERIAL_MIRROR, NO_TEXTURE,
+};
 use crate::accel::SPHERE_BIT;
 
 /// What a scene's GPU data holds, one flag per `USES_*` override.
@@ -67,9 +70,7 @@ impl Features {
     pub fn of(data: &SceneData) -> Self {
         let material = |pred: &dyn Fn(u32, f32) -> bool| data.materials.iter().any(|m| pred(m.kind, m.roughness));
         let emitter = |kind: u32, sphere: bool| {
-            data.emitters
-                .iter()
-                .any(|e| e.kind == kind && (kind != EMITTER_AREA || ((e.prim_ref & SPHERE_BIT) != 0) == sphere))
+            data.emitters.iter().any(|e| e.kind == kind && (kind != EMITTER_AREA || ((e.prim_ref & SPHERE_BIT) != 0) == sphere))
         };
         Features {
             triangles: !data.triangles.is_empty(),

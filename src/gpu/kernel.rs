@@ -53,11 +53,7 @@ const FILES: &[(&str, &str)] = &[
 ];
 
 fn file(name: &str) -> Result<&'static str, GpuError> {
-    FILES
-        .iter()
-        .find(|(n, _)| *n == name)
-        .map(|(_, src)| *src)
-        .ok_or_else(|| GpuError(format!("no shader file named `{name}`")))
+    FILES.iter().find(|(n, _)| *n == name).map(|(_, src)| *src).ok_or_else(|| GpuError(format!("no shader file named `{name}`")))
 }
 
 /// The WGSL of kernel `name` with its imports expanded, each shared file once, in order, for a
@@ -94,8 +90,8 @@ pub fn shader_source_for(name: &str, subgroups: bool) -> Result<String, GpuError
 /// Parse and validate WGSL with naga, as wgpu will (subgroup operations allowed: wgpu checks
 /// them against the device's features).
 pub fn validate(name: &str, source: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), GpuError> {
-    let module = naga::front::wgsl::parse_str(source)
-        .map_err(|e| GpuError(format!("{name}.wgsl: {}", e.emit_to_string(source))))?;
+    let module =
+        naga::front::wgsl::parse_str(source).map_err(|e| GpuError(format!("{name}.wgsl: {}", e.emit_to_string(source))))?;
     let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::SUBGROUP)
         .subgroup_stages(naga::valid::ShaderStages::COMPUTE)
         .subgroup_operations(naga::valid::SubgroupOperationSet::all())
@@ -197,10 +193,7 @@ impl Kernel {
             });
             bindings.push((binding.binding, var.name.clone().unwrap_or_default()));
         }
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some(name),
-            entries: &entries,
-        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(name), entries: &entries });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some(name),
             bind_group_layouts: &[Some(&layout)],
@@ -244,12 +237,17 @@ impl Kernel {
             };
             entries.push(wgpu::BindGroupEntry { binding: *binding, resource });
         }
-        Ok(device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(self.name), layout: &self.layout, entries: &entries }))
+        Ok(device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(self.name),
+            layout: &self.layout,
+            entries: &entries,
+        }))
     }
 
     /// Record a dispatch of exactly `groups` workgroups (for the single-workgroup kernels).
     pub fn dispatch_groups(&self, encoder: &mut wgpu::CommandEncoder, bind_group: &wgpu::BindGroup, groups: u32) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.name), timestamp_writes: None });
+        let mut pass =
+            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.name), timestamp_writes: None });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
         pass.dispatch_workgroups(groups, 1, 1);
@@ -264,7 +262,8 @@ impl Kernel {
         let groups = threads.div_ceil(WORKGROUP_SIZE);
         let x = groups.min(65535);
         let y = groups.div_ceil(x);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.name), timestamp_writes: None });
+        let mut pass =
+            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.name), timestamp_writes: None });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
         pass.dispatch_workgroups(x, y, 1);

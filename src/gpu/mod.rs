@@ -1,9 +1,9 @@
 //! wgpu plumbing: the device, the kernels and the structs they share with the host.
 
+pub mod baked_bvh;
 mod context;
 mod features;
 mod kernel;
-pub mod baked_bvh;
 pub mod readback;
 pub mod scene_buffers;
 pub mod types;

@@ -19,7 +19,11 @@ pub fn read_buffer<T: bytemuck::Pod>(
 
 /// Wait for the queue and read all of `buffer` (which must allow COPY_SRC) through a staging
 /// buffer made for this one read: for reads now and then, not every pass.
-pub fn read_whole<T: bytemuck::Pod>(device: &wgpu::Device, queue: &wgpu::Queue, buffer: &wgpu::Buffer) -> Result<Vec<T>, GpuError> {
+pub fn read_whole<T: bytemuck::Pod>(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    buffer: &wgpu::Buffer,
+) -> Result<Vec<T>, GpuError> {
     let staging = staging_buffer(device, "readback", buffer.size());
     read_buffer(device, queue, buffer, &staging, buffer.size())
 }
@@ -31,9 +35,7 @@ fn map_staging(device: &wgpu::Device, staging: &wgpu::Buffer, size: u64) -> Resu
     slice.map_async(wgpu::MapMode::Read, move |r| {
         let _ = sender.send(r);
     });
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| GpuError(format!("waiting for the GPU failed: {e}")))?;
+    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| GpuError(format!("waiting for the GPU failed: {e}")))?;
     receiver
         .recv()
         .map_err(|_| GpuError("the GPU never answered a readback".into()))?

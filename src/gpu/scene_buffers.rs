@@ -87,9 +87,7 @@ impl SceneData {
         if texels.len() > ATTRIBUTE_INDEX_MASK as usize {
             return Err(setting_error(scene, 1, "materials", "the textures hold more texels than the renderer addresses".into()));
         }
-        let textured = |shape: u32| {
-            matches!(scene.shape_material(shape).kind, MaterialKind::Diffuse { texture: Some(_), .. })
-        };
+        let textured = |shape: u32| matches!(scene.shape_material(shape).kind, MaterialKind::Diffuse { texture: Some(_), .. });
 
         // Per-vertex attributes only where they are used: shading normals of smooth shapes,
         // texture coordinates of textured ones.
@@ -109,7 +107,12 @@ impl SceneData {
                 attributes.push([uv[2].x, uv[2].y, 0.0, 0.0]);
             }
             if attributes.len() > ATTRIBUTE_INDEX_MASK as usize {
-                return Err(setting_error(scene, 1, "shapes", "the meshes hold more vertex attributes than the renderer addresses".into()));
+                return Err(setting_error(
+                    scene,
+                    1,
+                    "shapes",
+                    "the meshes hold more vertex attributes than the renderer addresses".into(),
+                ));
             }
             triangles.push(GpuTriangle {
                 p0: t.p[0].into(),
@@ -231,7 +234,7 @@ impl SceneData {
             }
         }
         let power_total: f64 = powers.iter().sum();
-        if !(power_total > 0.0) || !power_total.is_finite() {
+        if !power_total.is_finite() || power_total <= 0.0 {
             return Err(SceneError {
                 file: scene.path.clone(),
                 line: None,

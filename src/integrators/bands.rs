@@ -40,8 +40,9 @@ impl Bands {
                 let rows = y0..(y0 + rows_per_band).min(height);
                 let shared = scene_buffers.clone();
                 Ok::<_, Error>(match scene.render.method {
-                    Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, &data, shared, rows)?)
-                        as Box<dyn Integrator>,
+                    Method::Sppm => {
+                        Box::new(Sppm::with_scene_buffers(device, queue, scene, &data, shared, rows)?) as Box<dyn Integrator>
+                    }
                     Method::Pt | Method::PtNee => {
                         Box::new(PathTracer::with_scene_buffers(device, queue, scene, &data, shared, rows)?)
                     }

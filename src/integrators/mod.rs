@@ -88,7 +88,8 @@ pub fn limitations(scene: &Scene) -> Vec<String> {
     use crate::scene::MaterialKind;
     let delta_lights = scene.lights.len();
     // Surfaces where pt-nee samples no light: mirrors and glass, smooth or rough.
-    let specular = scene.materials.iter().any(|m| matches!(m.kind, MaterialKind::Mirror { .. } | MaterialKind::Dielectric { .. }));
+    let specular =
+        scene.materials.iter().any(|m| matches!(m.kind, MaterialKind::Mirror { .. } | MaterialKind::Dielectric { .. }));
     let mut out = Vec::new();
     match scene.render.method {
         Method::Pt if delta_lights > 0 => out.push(format!(

@@ -175,9 +175,8 @@ fn buffer(device: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsag
     device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false })
 }
 
-const STORAGE: wgpu::BufferUsages = wgpu::BufferUsages::STORAGE
-    .union(wgpu::BufferUsages::COPY_DST)
-    .union(wgpu::BufferUsages::COPY_SRC);
+const STORAGE: wgpu::BufferUsages =
+    wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST).union(wgpu::BufferUsages::COPY_SRC);
 
 impl Sppm {
     /// Set up the renderer for `scene` on the caller's device.
@@ -220,7 +219,10 @@ impl Sppm {
         let band_height = frame.height;
         // Random streams are keyed by a point's u32 index in the whole image.
         if r.width as u64 * r.height as u64 * r.spp as u64 > u32::MAX as u64 {
-            return Err(Error::Setting(format!("{}x{} pixels with spp {} are more than 2^32 visible points", r.width, r.height, r.spp)));
+            return Err(Error::Setting(format!(
+                "{}x{} pixels with spp {} are more than 2^32 visible points",
+                r.width, r.height, r.spp
+            )));
         }
         let pixel_count = r.width.checked_mul(band_height).ok_or_else(|| Error::Setting("image too large".into()))?;
         let vp_count = pixel_count
@@ -439,7 +441,12 @@ impl Sppm {
 
     /// Record the estimate into the caller's buffer at `offset`: `width * height` texels of
     /// rgba32float (16 bytes), row-major, alpha 1. The buffer needs `COPY_DST`.
-    pub fn record_resolve_to_buffer(&mut self, encoder: &mut wgpu::CommandEncoder, dst: &wgpu::Buffer, offset: u64) -> Result<(), Error> {
+    pub fn record_resolve_to_buffer(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        dst: &wgpu::Buffer,
+        offset: u64,
+    ) -> Result<(), Error> {
         let size = self.pixel_count as u64 * 16;
         if offset + size > dst.size() || !dst.usage().contains(wgpu::BufferUsages::COPY_DST) {
             return Err(Error::Setting(format!(
@@ -454,7 +461,11 @@ impl Sppm {
 
     /// Record the estimate into the caller's 2D texture, which must be `width` x `height`,
     /// `Rgba16Float` or `Rgba32Float`, with `STORAGE_BINDING` usage; alpha is 1.
-    pub fn record_resolve_to_texture(&mut self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) -> Result<(), Error> {
+    pub fn record_resolve_to_texture(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        texture: &wgpu::Texture,
+    ) -> Result<(), Error> {
         let format = texture.format();
         let (token, slot) = match format {
             wgpu::TextureFormat::Rgba32Float => ("rgba32float", 0),
@@ -462,14 +473,22 @@ impl Sppm {
             f => return Err(Error::Setting(format!("the target texture is {f:?}; use Rgba16Float or Rgba32Float"))),
         };
         let size = texture.size();
-        if size.width != self.frame.width || size.height != self.frame.height || !texture.usage().contains(wgpu::TextureUsages::STORAGE_BINDING) {
+        if size.width != self.frame.width
+            || size.height != self.frame.height
+            || !texture.usage().contains(wgpu::TextureUsages::STORAGE_BINDING)
+        {
             return Err(Error::Setting(format!(
                 "the target texture is {}x{} with usage {:?}; it must be {}x{} with STORAGE_BINDING",
-                size.width, size.height, texture.usage(), self.frame.width, self.frame.height
+                size.width,
+                size.height,
+                texture.usage(),
+                self.frame.width,
+                self.frame.height
             )));
         }
         if self.resolve_texture[slot].is_none() {
-            self.resolve_texture[slot] = Some(Kernel::specialized(&self.device, "resolve_texture", &[("rgba32float", token)], &[])?);
+            self.resolve_texture[slot] =
+                Some(Kernel::specialized(&self.device, "resolve_texture", &[("rgba32float", token)], &[])?);
         }
         self.record_resolve_frame(encoder)?;
         let kernel = self.resolve_texture[slot].as_ref().expect("made above");

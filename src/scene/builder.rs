@@ -26,8 +26,8 @@
 use super::load::{Bound, MAX_DIRECT_SAMPLES, MAX_RESOLUTION};
 use super::mesh::{self, Transform};
 use super::{
-    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, RenderSettings, Scene, SceneError,
-    Shape, ShapeKind, Sphere, Texture,
+    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, RenderSettings, Scene, SceneError, Shape, ShapeKind,
+    Sphere, Texture,
 };
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
@@ -526,9 +526,8 @@ impl Check<'_> {
     }
 
     fn camera(&self, camera: Option<&Camera>, lens: Option<(f32, f32)>) -> Result<Camera> {
-        let mut camera = camera
-            .cloned()
-            .ok_or_else(|| self.error("camera", "no camera: call .camera(position, look_at, up, fov)".into()))?;
+        let mut camera =
+            camera.cloned().ok_or_else(|| self.error("camera", "no camera: call .camera(position, look_at, up, fov)".into()))?;
         if let Some((aperture_radius, focus_distance)) = lens {
             camera.aperture_radius = aperture_radius;
             camera.focus_distance = focus_distance;
@@ -571,8 +570,8 @@ impl Check<'_> {
         if let Some(index) = textures.iter().position(|t| t.path == path) {
             return Ok(index as u32);
         }
-        let texture = mesh::read_texture(&path)
-            .map_err(|e| self.error(key, format!("cannot read texture {}: {e}", path.display())))?;
+        let texture =
+            mesh::read_texture(&path).map_err(|e| self.error(key, format!("cannot read texture {}: {e}", path.display())))?;
         textures.push(texture);
         Ok(textures.len() as u32 - 1)
     }
@@ -681,10 +680,11 @@ impl Check<'_> {
                 let file_key = format!("{key}.file");
                 let obj = mesh::read_obj(&path)
                     .map_err(|e| self.error(&file_key, format!("cannot read mesh {}: {e}", path.display())))?;
-                let (triangles, skipped) =
-                    mesh::triangles(&obj, &transform, smooth, index).map_err(|e| self.error(&key, e))?;
+                let (triangles, skipped) = mesh::triangles(&obj, &transform, smooth, index).map_err(|e| self.error(&key, e))?;
                 if triangles.is_empty() {
-                    return Err(self.error(&file_key, format!("all {skipped} triangles of mesh {} are degenerate", path.display())));
+                    return Err(
+                        self.error(&file_key, format!("all {skipped} triangles of mesh {} are degenerate", path.display()))
+                    );
                 }
                 if skipped > 0 {
                     let s = if skipped == 1 { "" } else { "s" };

@@ -17,18 +17,8 @@ pub struct SceneError {
 
 impl SceneError {
     /// An error in `file`, at `line` when it has a place, about `key` when it names one.
-    pub fn new(
-        file: &Path,
-        line: Option<usize>,
-        key: Option<&str>,
-        message: impl Into<String>,
-    ) -> Self {
-        SceneError {
-            file: file.to_path_buf(),
-            line,
-            key: key.map(str::to_owned),
-            message: message.into(),
-        }
+    pub fn new(file: &Path, line: Option<usize>, key: Option<&str>, message: impl Into<String>) -> Self {
+        SceneError { file: file.to_path_buf(), line, key: key.map(str::to_owned), message: message.into() }
     }
 }
 

@@ -4,8 +4,8 @@
 
 use super::mesh::{self, Transform};
 use super::{
-    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, RenderSettings, Scene, SceneError,
-    Shape, ShapeKind, Sphere, Texture,
+    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, RenderSettings, Scene, SceneError, Shape, ShapeKind,
+    Sphere, Texture,
 };
 use glam::{Vec2, Vec3};
 use std::fmt;
@@ -22,9 +22,7 @@ pub const MAX_DIRECT_SAMPLES: u32 = 1024;
 
 /// Reads a scene file and loads it.
 pub fn load(path: &Path) -> Result<Scene> {
-    let bytes = std::fs::read(path).map_err(|e| {
-        SceneError::new(path, None, None, format!("cannot read the scene file: {e}"))
-    })?;
+    let bytes = std::fs::read(path).map_err(|e| SceneError::new(path, None, None, format!("cannot read the scene file: {e}")))?;
     let text = String::from_utf8(bytes).map_err(|e| {
         let valid = &e.as_bytes()[..e.utf8_error().valid_up_to()];
         let line = valid.iter().filter(|&&b| b == b'\n').count() + 1;
@@ -42,12 +40,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
         let key = line.and_then(|line| key_on_line(text, line));
         source.error(line, key.as_deref(), e.message().trim())
     })?;
-    let root = Table {
-        source: &source,
-        table: document.get_ref(),
-        key: String::new(),
-        line: None,
-    };
+    let root = Table { source: &source, table: document.get_ref(), key: String::new(), line: None };
     root.allow_keys(&["render", "camera", "materials", "shapes", "lights"])?;
 
     let render = root.req("render", |v| read_render(&v.table()?))?;
@@ -55,15 +48,9 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
     let mut textures = Vec::new();
     let materials = root.or("materials", Vec::new(), |v| {
         let table = v.table()?;
-        table
-            .entries()
-            .iter()
-            .map(|(name, m)| read_material(name, m, &mut textures))
-            .collect()
+        table.entries().iter().map(|(name, m)| read_material(name, m, &mut textures)).collect()
     })?;
-    let lights = root.or("lights", Vec::new(), |v| {
-        v.elements()?.iter().map(read_light).collect()
-    })?;
+    let lights = root.or("lights", Vec::new(), |v| v.elements()?.iter().map(read_light).collect())?;
     let mut scene = Scene {
         path: path.to_path_buf(),
         render,
@@ -75,11 +62,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
         spheres: Vec::new(),
         lights,
     };
-    for (index, entry) in root
-        .or("shapes", Vec::new(), Value::elements)?
-        .iter()
-        .enumerate()
-    {
+    for (index, entry) in root.or("shapes", Vec::new(), Value::elements)?.iter().enumerate() {
         let shape = read_shape(entry, index as u32, &mut scene)?;
         scene.shapes.push(shape);
     }
@@ -123,19 +106,16 @@ fn key_on_line(text: &str, line: usize) -> Option<String> {
         } else if let Some(name) = l.strip_prefix('[').and_then(|l| l.split(']').next()) {
             table = name.trim().to_owned();
         } else {
-            let (key, value) = l
-                .split_once('=')
-                .unwrap_or((l.split_whitespace().next().unwrap_or(""), ""));
+            let (key, value) = l.split_once('=').unwrap_or((l.split_whitespace().next().unwrap_or(""), ""));
             let key = key.trim();
             let plain = |c: char| c.is_ascii_alphanumeric() || "_-.".contains(c);
-            let key =
-                (!key.is_empty() && !key.starts_with('#') && key.chars().all(plain)).then(|| {
-                    if table.is_empty() {
-                        key.to_owned()
-                    } else {
-                        format!("{table}.{key}")
-                    }
-                });
+            let key = (!key.is_empty() && !key.starts_with('#') && key.chars().all(plain)).then(|| {
+                if table.is_empty() {
+                    key.to_owned()
+                } else {
+                    format!("{table}.{key}")
+                }
+            });
             if here {
                 return key;
             }
@@ -196,11 +176,7 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         "direct_samples",
     ])?;
     let directs = [("sampled", DirectLight::Sampled), ("photons", DirectLight::Photons)];
-    let methods = [
-        ("sppm", Method::Sppm),
-        ("pt", Method::Pt),
-        ("pt-nee", Method::PtNee),
-    ];
+    let methods = [("sppm", Method::Sppm), ("pt", Method::Pt), ("pt-nee", Method::PtNee)];
     Ok(RenderSettings {
         width: t.req("width", |v| v.u32_in(1, MAX_RESOLUTION))?,
         height: t.req("height", |v| v.u32_in(1, MAX_RESOLUTION))?,
@@ -220,14 +196,7 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
 
 /// The `[camera]` table; `focus_distance` defaults to the distance to `look_at`.
 fn read_camera(t: &Table) -> Result<Camera> {
-    t.allow_keys(&[
-        "position",
-        "look_at",
-        "up",
-        "fov",
-        "aperture_radius",
-        "focus_distance",
-    ])?;
+    t.allow_keys(&["position", "look_at", "up", "fov", "aperture_radius", "focus_distance"])?;
     let position = t.req("position", Value::vec3)?;
     let look_at = t.req("look_at", Value::vec3)?;
     let up = t.or("up", Vec3::Y, Value::vec3)?;
@@ -236,10 +205,7 @@ fn read_camera(t: &Table) -> Result<Camera> {
     }
     let view = (look_at - position).normalize_or_zero();
     if view == Vec3::ZERO {
-        return Err(t.error_at(
-            "look_at",
-            "look_at equals position: the camera has no view direction",
-        ));
+        return Err(t.error_at("look_at", "look_at equals position: the camera has no view direction"));
     }
     if view.cross(up.normalize_or_zero()).length() < 1e-6 {
         return Err(t.error_at("up", "up is zero or parallel to the view direction"));
@@ -250,16 +216,13 @@ fn read_camera(t: &Table) -> Result<Camera> {
         up,
         fov: t.req("fov", |v| v.f32_in(Bound::Open(0.0, 180.0)))?,
         aperture_radius: t.or("aperture_radius", 0.0, |v| v.f32_in(Bound::NonNegative))?,
-        focus_distance: t.or("focus_distance", look_at.distance(position), |v| {
-            v.f32_in(Bound::Positive)
-        })?,
+        focus_distance: t.or("focus_distance", look_at.distance(position), |v| v.f32_in(Bound::Positive))?,
         aperture_line: t.get("aperture_radius").map(|v| v.line),
     })
 }
 
 /// Why a camera is refused when `look_at - position` overflows 32-bit floats.
-pub(super) const VIEW_OUT_OF_RANGE: &str =
-    "look_at is too far from position: their distance overflows 32-bit floats";
+pub(super) const VIEW_OUT_OF_RANGE: &str = "look_at is too far from position: their distance overflows 32-bit floats";
 
 /// Reads one material type's keys; diffuse materials may load a texture.
 type MaterialReader = fn(&Table, &mut Vec<Texture>) -> Result<MaterialKind>;
@@ -279,11 +242,7 @@ const UNIT: Bound = Bound::Closed(0.0, 1.0);
 fn read_material(name: &str, entry: &Value, textures: &mut Vec<Texture>) -> Result<Material> {
     let t = entry.table()?;
     let read = t.typed("material type", MATERIAL_TYPES, &["type"])?;
-    Ok(Material {
-        name: name.to_owned(),
-        kind: read(&t, textures)?,
-        line: entry.line,
-    })
+    Ok(Material { name: name.to_owned(), kind: read(&t, textures)?, line: entry.line })
 }
 
 /// Lambertian: `albedo`, or `texture` in its place.
@@ -296,23 +255,15 @@ fn read_diffuse(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> 
     if albedo.is_none() && texture.is_none() {
         return Err(t.error_at("albedo", "missing required key `albedo` (or `texture`)"));
     }
-    Ok(MaterialKind::Diffuse {
-        albedo: albedo.unwrap_or(Vec3::ONE),
-        texture,
-    })
+    Ok(MaterialKind::Diffuse { albedo: albedo.unwrap_or(Vec3::ONE), texture })
 }
 
 fn read_mirror(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
-    Ok(MaterialKind::Mirror {
-        albedo: t.req("albedo", |v| v.vec3_in(UNIT))?,
-    })
+    Ok(MaterialKind::Mirror { albedo: t.req("albedo", |v| v.vec3_in(UNIT))? })
 }
 
 fn read_glossy(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
-    Ok(MaterialKind::Glossy {
-        albedo: t.req("albedo", |v| v.vec3_in(UNIT))?,
-        roughness: t.req("roughness", |v| v.f32_in(UNIT))?,
-    })
+    Ok(MaterialKind::Glossy { albedo: t.req("albedo", |v| v.vec3_in(UNIT))?, roughness: t.req("roughness", |v| v.f32_in(UNIT))? })
 }
 
 fn read_dielectric(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
@@ -337,11 +288,7 @@ const SHAPE_TYPES: &[(&str, ShapeKind, &[&str])] = &[
     ("quad", ShapeKind::Quad, &["corner", "u", "v", "uv_scale"]),
     ("sphere", ShapeKind::Sphere, &["center", "radius"]),
     ("cube", ShapeKind::Cube, &["scale", "rotate", "translate"]),
-    (
-        "mesh",
-        ShapeKind::Mesh,
-        &["file", "smooth", "scale", "rotate", "translate"],
-    ),
+    ("mesh", ShapeKind::Mesh, &["file", "smooth", "scale", "rotate", "translate"]),
 ];
 
 /// Keys every shape allows.
@@ -372,9 +319,7 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
                 return Err(t.error_at("v", "u and v are parallel or zero: the quad has no area"));
             }
             let uv_scale = t.or("uv_scale", Vec2::ONE, |v| v.vec2_in(Bound::Any))?;
-            scene
-                .triangles
-                .extend(mesh::quad(corner, u, v, uv_scale, index));
+            scene.triangles.extend(mesh::quad(corner, u, v, uv_scale, index));
         }
         ShapeKind::Sphere => scene.spheres.push(Sphere {
             center: t.req("center", Value::vec3)?,
@@ -383,8 +328,7 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
         }),
         ShapeKind::Cube => {
             let (triangles, skipped) =
-                mesh::triangles(&mesh::unit_cube(), &read_transform(&t)?, false, index)
-                    .map_err(|e| t.error_here(e))?;
+                mesh::triangles(&mesh::unit_cube(), &read_transform(&t)?, false, index).map_err(|e| t.error_here(e))?;
             if triangles.is_empty() {
                 return Err(t.error_at(
                     "scale",
@@ -393,10 +337,7 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
                 ));
             }
             if skipped > 0 {
-                warning = Some(t.error_at(
-                    "scale",
-                    format!("{skipped} of the cube's 12 triangles have no area and are skipped"),
-                ));
+                warning = Some(t.error_at("scale", format!("{skipped} of the cube's 12 triangles have no area and are skipped")));
             }
             scene.triangles.extend(triangles);
         }
@@ -430,21 +371,14 @@ fn read_mesh(t: &Table, index: u32, scene: &mut Scene) -> Result<Option<SceneErr
     let file = t.require("file")?;
     let path = file.path()?;
     let obj = file.read_file("mesh", &path, mesh::read_obj)?;
-    let (triangles, skipped) =
-        mesh::triangles(&obj, &transform, smooth, index).map_err(|e| t.error_here(e))?;
+    let (triangles, skipped) = mesh::triangles(&obj, &transform, smooth, index).map_err(|e| t.error_here(e))?;
     if triangles.is_empty() {
-        return Err(file.error(format!(
-            "all {skipped} triangles of mesh {} are degenerate",
-            path.display()
-        )));
+        return Err(file.error(format!("all {skipped} triangles of mesh {} are degenerate", path.display())));
     }
     scene.triangles.extend(triangles);
     Ok((skipped > 0).then(|| {
         let s = if skipped == 1 { "" } else { "s" };
-        file.error(format!(
-            "{skipped} degenerate triangle{s} (zero area) skipped in mesh {}",
-            path.display()
-        ))
+        file.error(format!("{skipped} degenerate triangle{s} (zero area) skipped in mesh {}", path.display()))
     }))
 }
 
@@ -463,21 +397,14 @@ type LightReader = fn(&Table) -> Result<LightKind>;
 /// Light types: name, reader, and the keys allowed besides `type`.
 const LIGHT_TYPES: &[(&str, LightReader, &[&str])] = &[
     ("point", read_point_light, &["position", "intensity"]),
-    (
-        "directional",
-        read_directional_light,
-        &["direction", "irradiance"],
-    ),
+    ("directional", read_directional_light, &["direction", "irradiance"]),
 ];
 
 /// Reads one `[[lights]]` entry.
 fn read_light(entry: &Value) -> Result<Light> {
     let t = entry.table()?;
     let read = t.typed("light type", LIGHT_TYPES, &["type"])?;
-    Ok(Light {
-        kind: read(&t)?,
-        line: entry.line,
-    })
+    Ok(Light { kind: read(&t)?, line: entry.line })
 }
 
 fn read_point_light(t: &Table) -> Result<LightKind> {
@@ -495,10 +422,7 @@ fn read_directional_light(t: &Table) -> Result<LightKind> {
     if direction == Vec3::ZERO {
         return Err(t.error_at("direction", "the direction must not be zero"));
     }
-    Ok(LightKind::Directional {
-        direction,
-        irradiance: t.req("irradiance", |v| v.vec3_in(Bound::NonNegative))?,
-    })
+    Ok(LightKind::Directional { direction, irradiance: t.req("irradiance", |v| v.vec3_in(Bound::NonNegative))? })
 }
 
 /// The scene file: its name and where its lines start.
@@ -510,9 +434,7 @@ struct Source<'a> {
 
 impl<'a> Source<'a> {
     fn new(text: &str, path: &'a Path) -> Self {
-        let line_starts = std::iter::once(0)
-            .chain(text.match_indices('\n').map(|(i, _)| i + 1))
-            .collect();
+        let line_starts = std::iter::once(0).chain(text.match_indices('\n').map(|(i, _)| i + 1)).collect();
         Source { path, line_starts }
     }
 
@@ -521,12 +443,7 @@ impl<'a> Source<'a> {
         self.line_starts.partition_point(|&start| start <= offset)
     }
 
-    fn error(
-        &self,
-        line: Option<usize>,
-        key: Option<&str>,
-        message: impl Into<String>,
-    ) -> SceneError {
+    fn error(&self, line: Option<usize>, key: Option<&str>, message: impl Into<String>) -> SceneError {
         SceneError::new(self.path, line, key, message)
     }
 }
@@ -553,10 +470,7 @@ impl<'a, 'i> Table<'a, 'i> {
     fn entries(&self) -> Vec<(&'a str, Value<'a, 'i>)> {
         let mut entries: Vec<_> = self.table.iter().collect();
         entries.sort_by_key(|(name, _)| name.span().start);
-        entries
-            .into_iter()
-            .map(|(name, value)| self.entry(name, value))
-            .collect()
+        entries.into_iter().map(|(name, value)| self.entry(name, value)).collect()
     }
 
     fn get(&self, name: &str) -> Option<Value<'a, 'i>> {
@@ -565,11 +479,7 @@ impl<'a, 'i> Table<'a, 'i> {
     }
 
     /// An entry's name, and its value at the line of its key.
-    fn entry(
-        &self,
-        name: &'a Spanned<DeString<'i>>,
-        value: &'a Spanned<DeValue<'i>>,
-    ) -> (&'a str, Value<'a, 'i>) {
+    fn entry(&self, name: &'a Spanned<DeString<'i>>, value: &'a Spanned<DeValue<'i>>) -> (&'a str, Value<'a, 'i>) {
         let value = Value {
             source: self.source,
             value: value.get_ref(),
@@ -587,13 +497,11 @@ impl<'a, 'i> Table<'a, 'i> {
     /// An error about key `name`: at its line when it is present, else at the header's.
     fn error_at(&self, name: &str, message: impl Into<String>) -> SceneError {
         let line = self.get(name).map(|v| v.line).or(self.line);
-        self.source
-            .error(line, Some(&self.child_key(name)), message)
+        self.source.error(line, Some(&self.child_key(name)), message)
     }
 
     fn require(&self, name: &str) -> Result<Value<'a, 'i>> {
-        self.get(name)
-            .ok_or_else(|| self.error_at(name, format!("missing required key `{name}`")))
+        self.get(name).ok_or_else(|| self.error_at(name, format!("missing required key `{name}`")))
     }
 
     /// Reads the required key `name` with `read`.
@@ -602,47 +510,26 @@ impl<'a, 'i> Table<'a, 'i> {
     }
 
     /// Reads the key `name` with `read` when it is present.
-    fn opt<T>(
-        &self,
-        name: &str,
-        read: impl FnOnce(&Value<'a, 'i>) -> Result<T>,
-    ) -> Result<Option<T>> {
+    fn opt<T>(&self, name: &str, read: impl FnOnce(&Value<'a, 'i>) -> Result<T>) -> Result<Option<T>> {
         self.get(name).map(|v| read(&v)).transpose()
     }
 
     /// Reads the key `name` with `read`, or gives `default` when it is absent.
-    fn or<T>(
-        &self,
-        name: &str,
-        default: T,
-        read: impl FnOnce(&Value<'a, 'i>) -> Result<T>,
-    ) -> Result<T> {
+    fn or<T>(&self, name: &str, default: T, read: impl FnOnce(&Value<'a, 'i>) -> Result<T>) -> Result<T> {
         Ok(self.opt(name, read)?.unwrap_or(default))
     }
 
     /// Fails on the first key (in file order) that is not in `allowed`.
     fn allow_keys(&self, allowed: &[&str]) -> Result<()> {
-        match self
-            .entries()
-            .into_iter()
-            .find(|(name, _)| !allowed.contains(name))
-        {
-            Some((name, value)) => Err(value.error(format!(
-                "unknown key `{name}`; allowed keys: {}",
-                allowed.join(", ")
-            ))),
+        match self.entries().into_iter().find(|(name, _)| !allowed.contains(name)) {
+            Some((name, value)) => Err(value.error(format!("unknown key `{name}`; allowed keys: {}", allowed.join(", ")))),
             None => Ok(()),
         }
     }
 
     /// Reads `type` as one of `types` (`what` names them in errors), then allows only the
     /// `common` keys and that type's own.
-    fn typed<T: Copy>(
-        &self,
-        what: &str,
-        types: &[(&str, T, &[&str])],
-        common: &[&str],
-    ) -> Result<T> {
+    fn typed<T: Copy>(&self, what: &str, types: &[(&str, T, &[&str])], common: &[&str]) -> Result<T> {
         let names: Vec<(&str, usize)> = types.iter().enumerate().map(|(i, t)| (t.0, i)).collect();
         let (_, kind, keys) = types[self.req("type", |v| v.choice(what, &names))?];
         self.allow_keys(&[common, keys].concat())?;
@@ -679,12 +566,7 @@ impl<'a, 'i> Value<'a, 'i> {
 
     fn table(&self) -> Result<Table<'a, 'i>> {
         match self.value {
-            DeValue::Table(table) => Ok(Table {
-                source: self.source,
-                table,
-                key: self.key.clone(),
-                line: Some(self.line),
-            }),
+            DeValue::Table(table) => Ok(Table { source: self.source, table, key: self.key.clone(), line: Some(self.line) }),
             _ => Err(self.expected("a table")),
         }
     }
@@ -708,9 +590,7 @@ impl<'a, 'i> Value<'a, 'i> {
     }
 
     fn bool(&self) -> Result<bool> {
-        self.value
-            .as_bool()
-            .ok_or_else(|| self.expected("a boolean (true or false)"))
+        self.value.as_bool().ok_or_else(|| self.expected("a boolean (true or false)"))
     }
 
     /// A string that must name one of `options`; `what` names it in errors.
@@ -720,10 +600,7 @@ impl<'a, 'i> Value<'a, 'i> {
             Some(&(_, value)) => Ok(value),
             None => {
                 let names: Vec<&str> = options.iter().map(|(option, _)| *option).collect();
-                Err(self.error(format!(
-                    "unknown {what} `{name}`; expected one of: {}",
-                    names.join(", ")
-                )))
+                Err(self.error(format!("unknown {what} `{name}`; expected one of: {}", names.join(", "))))
             }
         }
     }
@@ -732,15 +609,11 @@ impl<'a, 'i> Value<'a, 'i> {
     fn u32_in(&self, min: u32, max: u32) -> Result<u32> {
         let integer = match self.value {
             DeValue::Integer(integer) => integer,
-            DeValue::Float(float) => {
-                return Err(self.error(format!("expected an integer, found the float {float}")))
-            }
+            DeValue::Float(float) => return Err(self.error(format!("expected an integer, found the float {float}"))),
             _ => return Err(self.expected("an integer")),
         };
         if !has_digits(integer) {
-            return Err(self.error(format!(
-                "`{integer}` is not a valid integer: it has no digits"
-            )));
+            return Err(self.error(format!("`{integer}` is not a valid integer: it has no digits")));
         }
         parse_integer(integer)
             .and_then(|n| u32::try_from(n).ok())
@@ -757,18 +630,16 @@ impl<'a, 'i> Value<'a, 'i> {
     fn number(&self) -> Result<f64> {
         let number = match self.value {
             DeValue::Integer(integer) if !has_digits(integer) => {
-                return Err(self.error(format!(
-                    "`{integer}` is not a valid integer: it has no digits"
-                )))
+                return Err(self.error(format!("`{integer}` is not a valid integer: it has no digits")))
             }
             DeValue::Integer(integer) => parse_integer(integer).map(|n| n as f64),
             DeValue::Float(float) => float.as_str().parse().ok(),
             _ => return Err(self.expected("a number")),
         };
         number.ok_or_else(|| match self.value {
-            DeValue::Integer(integer) => self.error(format!(
-                "{integer} is beyond the range of 64-bit integers; write it as a float"
-            )),
+            DeValue::Integer(integer) => {
+                self.error(format!("{integer} is beyond the range of 64-bit integers; write it as a float"))
+            }
             _ => self.error(format!("`{}` is not a valid number", self.literal())),
         })
     }
@@ -813,11 +684,7 @@ impl<'a, 'i> Value<'a, 'i> {
         let mut out = [0.0; N];
         for (x, item) in out.iter_mut().zip(items) {
             // Errors name the array's key, at the item's line.
-            *x = Value {
-                key: self.key.clone(),
-                ..item
-            }
-            .f32_in(bound)?;
+            *x = Value { key: self.key.clone(), ..item }.f32_in(bound)?;
         }
         Ok(out)
     }
@@ -849,12 +716,7 @@ impl<'a, 'i> Value<'a, 'i> {
     }
 
     /// Reads the `what` file at `path` (which this value names) with `read`.
-    fn read_file<T>(
-        &self,
-        what: &str,
-        path: &Path,
-        read: fn(&Path) -> std::result::Result<T, String>,
-    ) -> Result<T> {
+    fn read_file<T>(&self, what: &str, path: &Path, read: fn(&Path) -> std::result::Result<T, String>) -> Result<T> {
         read(path).map_err(|e| self.error(format!("cannot read {what} {}: {e}", path.display())))
     }
 
@@ -882,11 +744,7 @@ fn parse_integer(integer: &DeInteger) -> Option<i64> {
 /// Whether a TOML integer has digits at all (`0x` alone has none); one that has them and
 /// still does not parse is beyond the 64-bit range.
 fn has_digits(integer: &DeInteger) -> bool {
-    integer
-        .as_str()
-        .trim_start_matches(['+', '-'])
-        .chars()
-        .any(|c| c.is_digit(integer.radix()))
+    integer.as_str().trim_start_matches(['+', '-']).chars().any(|c| c.is_digit(integer.radix()))
 }
 
 /// A range that a number must lie in.

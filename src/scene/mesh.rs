@@ -36,15 +36,9 @@ impl Transform {
     /// `rotate_degrees` holds the angles about x, y and z.
     pub fn new(scale: Vec3, rotate_degrees: Vec3, translation: Vec3) -> Self {
         let r = rotate_degrees * (std::f32::consts::PI / 180.0);
-        let linear = Mat3::from_rotation_z(r.z)
-            * Mat3::from_rotation_y(r.y)
-            * Mat3::from_rotation_x(r.x)
-            * Mat3::from_diagonal(scale);
-        Transform {
-            linear,
-            translation,
-            normal_matrix: linear.inverse().transpose(),
-        }
+        let linear =
+            Mat3::from_rotation_z(r.z) * Mat3::from_rotation_y(r.y) * Mat3::from_rotation_x(r.x) * Mat3::from_diagonal(scale);
+        Transform { linear, translation, normal_matrix: linear.inverse().transpose() }
     }
 
     /// A transformed point: `M p`.
@@ -70,44 +64,19 @@ pub(super) fn quad(corner: Vec3, u: Vec3, v: Vec3, uv_scale: Vec2, shape: u32) -
     let vertex = |a: f32, b: f32| (corner + a * u + b * v, uv_scale * Vec2::new(a, b));
     let triangle = |corners: [(f32, f32); 3]| {
         let vertices = corners.map(|(a, b)| vertex(a, b));
-        Triangle {
-            p: vertices.map(|x| x.0),
-            n: None,
-            uv: Some(vertices.map(|x| x.1)),
-            shape,
-        }
+        Triangle { p: vertices.map(|x| x.0), n: None, uv: Some(vertices.map(|x| x.1)), shape }
     };
-    [
-        triangle([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0)]),
-        triangle([(0.0, 0.0), (1.0, 1.0), (0.0, 1.0)]),
-    ]
+    [triangle([(0.0, 0.0), (1.0, 0.0), (1.0, 1.0)]), triangle([(0.0, 0.0), (1.0, 1.0), (0.0, 1.0)])]
 }
 
 /// The cube `[-1, 1]^3`, wound so that every face's normal points outwards.
 pub(super) fn unit_cube() -> IndexedMesh {
     // Corner i has x, y, z = +1 where bits 0, 1, 2 of i are set, -1 elsewhere.
-    let positions = (0..8)
-        .map(|i| Vec3::new(sign(i & 1), sign(i & 2), sign(i & 4)))
-        .collect();
+    let positions = (0..8).map(|i| Vec3::new(sign(i & 1), sign(i & 2), sign(i & 4))).collect();
     // Each face counter-clockwise seen from outside: -x, +x, -y, +y, -z, +z.
-    let faces: [[u32; 4]; 6] = [
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-    ];
-    let indices = faces
-        .iter()
-        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
-        .collect();
-    IndexedMesh {
-        positions,
-        normals: None,
-        uvs: None,
-        indices,
-    }
+    let faces: [[u32; 4]; 6] = [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]];
+    let indices = faces.iter().flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]]).collect();
+    IndexedMesh { positions, normals: None, uvs: None, indices }
 }
 
 fn sign(bit: u32) -> f32 {
@@ -124,23 +93,13 @@ fn sign(bit: u32) -> f32 {
 pub(super) fn read_obj(path: &Path) -> Result<IndexedMesh, String> {
     let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
     let text = std::str::from_utf8(&bytes).map_err(|e| {
-        let line = bytes[..e.valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count()
-            + 1;
+        let line = bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
         format!("line {line}: not UTF-8 text")
     })?;
     check_obj_text(text)?;
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: true,
-        ignore_points: true,
-        ignore_lines: true,
-    };
-    let (models, _) =
-        tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| Ok(Default::default()))
-            .map_err(|e| format!("not a valid OBJ file: {e}"))?;
+    let options = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true };
+    let (models, _) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| Ok(Default::default()))
+        .map_err(|e| format!("not a valid OBJ file: {e}"))?;
 
     let mut mesh = IndexedMesh::default();
     let mut normals = Some(Vec::new());
@@ -152,13 +111,8 @@ pub(super) fn read_obj(path: &Path) -> Result<IndexedMesh, String> {
         if m.indices.iter().any(|&i| i as usize >= count) {
             return Err("a face refers to a vertex that does not exist".into());
         }
-        mesh.positions
-            .extend(m.positions.chunks_exact(3).map(Vec3::from_slice));
-        mesh.indices.extend(
-            m.indices
-                .chunks_exact(3)
-                .map(|t| [t[0], t[1], t[2]].map(|i| base + i)),
-        );
+        mesh.positions.extend(m.positions.chunks_exact(3).map(Vec3::from_slice));
+        mesh.indices.extend(m.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]].map(|i| base + i)));
         append_if_complete(&mut normals, &m.normals, count, 3, Vec3::from_slice);
         append_if_complete(&mut uvs, &m.texcoords, count, 2, Vec2::from_slice);
     }
@@ -187,11 +141,8 @@ pub(super) fn read_obj(path: &Path) -> Result<IndexedMesh, String> {
 fn check_obj_text(text: &str) -> Result<(), String> {
     // How many positions, texture coordinates and normals the file defines so far.
     let mut counts = [0usize; 3];
-    const NAMES: [(&str, &str); 3] = [
-        ("vertex", "vertices"),
-        ("texture coordinate", "texture coordinates"),
-        ("normal", "normals"),
-    ];
+    const NAMES: [(&str, &str); 3] =
+        [("vertex", "vertices"), ("texture coordinate", "texture coordinates"), ("normal", "normals")];
     // Positive indices may refer forward: the largest of each kind, and its line, is checked
     // against the totals at the end.
     let mut largest = [(0usize, 0usize); 3];
@@ -205,10 +156,7 @@ fn check_obj_text(text: &str) -> Result<(), String> {
             Some("f") => {
                 let words: Vec<&str> = words.collect();
                 if words.len() < 3 {
-                    return Err(format!(
-                        "line {number}: a face needs at least 3 vertices, found {}",
-                        words.len()
-                    ));
+                    return Err(format!("line {number}: a face needs at least 3 vertices, found {}", words.len()));
                 }
                 for word in words {
                     if word.split('/').count() > 3 || word.starts_with('/') {
@@ -223,9 +171,7 @@ fn check_obj_text(text: &str) -> Result<(), String> {
                         };
                         let (what, whats) = NAMES[slot];
                         if index == 0 {
-                            return Err(format!(
-                                "line {number}: {what} index 0 in `{word}` (OBJ indices start at 1)"
-                            ));
+                            return Err(format!("line {number}: {what} index 0 in `{word}` (OBJ indices start at 1)"));
                         }
                         if index < 0 && index.unsigned_abs() > counts[slot] as u64 {
                             return Err(format!(
@@ -245,19 +191,13 @@ fn check_obj_text(text: &str) -> Result<(), String> {
         let values: Vec<&str> = words.collect();
         let mut numbers = [0.0f32; 3];
         for (x, word) in numbers.iter_mut().zip(&values).take(width) {
-            *x = word
-                .parse()
-                .map_err(|_| format!("line {number}: `{word}` is not a number"))?;
+            *x = word.parse().map_err(|_| format!("line {number}: `{word}` is not a number"))?;
             if !x.is_finite() {
                 return Err(format!("line {number}: `{word}` is not a finite number"));
             }
         }
         if values.len() < width {
-            return Err(format!(
-                "line {number}: a {} needs {width} numbers, found {}",
-                NAMES[kind].0,
-                values.len()
-            ));
+            return Err(format!("line {number}: a {} needs {width} numbers, found {}", NAMES[kind].0, values.len()));
         }
         if kind == 0 && ![3, 4, 6].contains(&values.len()) {
             return Err(format!(
@@ -266,14 +206,9 @@ fn check_obj_text(text: &str) -> Result<(), String> {
             ));
         }
         if kind == 0 && values.len() == 4 {
-            let w: f32 = values[3]
-                .parse()
-                .map_err(|_| format!("line {number}: `{}` is not a number", values[3]))?;
+            let w: f32 = values[3].parse().map_err(|_| format!("line {number}: `{}` is not a number", values[3]))?;
             if w == 0.0 || !numbers.iter().all(|x| (x / w).is_finite()) {
-                return Err(format!(
-                    "line {number}: the weight w = {} does not give finite coordinates",
-                    values[3]
-                ));
+                return Err(format!("line {number}: the weight w = {} does not give finite coordinates", values[3]));
             }
         }
         counts[kind] += 1;
@@ -283,10 +218,7 @@ fn check_obj_text(text: &str) -> Result<(), String> {
         // ignores those, but an index past what the file has is a broken file either way.
         if index > counts[slot] {
             let (what, whats) = NAMES[slot];
-            return Err(format!(
-                "line {number}: {what} index {index} does not exist (the file has {} {whats})",
-                counts[slot]
-            ));
+            return Err(format!("line {number}: {what} index {index} does not exist (the file has {} {whats})", counts[slot]));
         }
     }
     Ok(())
@@ -294,13 +226,7 @@ fn check_obj_text(text: &str) -> Result<(), String> {
 
 /// Appends one model's per-vertex attribute (flattened, `width` floats a vertex) to `all`,
 /// or drops `all` when the model does not have it for each of its `count` vertices.
-fn append_if_complete<T>(
-    all: &mut Option<Vec<T>>,
-    flat: &[f32],
-    count: usize,
-    width: usize,
-    convert: fn(&[f32]) -> T,
-) {
+fn append_if_complete<T>(all: &mut Option<Vec<T>>, flat: &[f32], count: usize, width: usize, convert: fn(&[f32]) -> T) {
     if flat.len() != count * width {
         *all = None;
     }
@@ -325,12 +251,7 @@ pub(super) fn triangles(
     }
     let mut faces = Vec::with_capacity(mesh.indices.len());
     for &[a, b, c] in &mesh.indices {
-        let face = if transform.flips_winding() {
-            [a, c, b]
-        } else {
-            [a, b, c]
-        }
-        .map(|i| i as usize);
+        let face = if transform.flips_winding() { [a, c, b] } else { [a, b, c] }.map(|i| i as usize);
         if face_normal(&world, face).length_squared() > 0.0 {
             faces.push(face);
         }
@@ -357,13 +278,13 @@ pub(super) fn triangles(
 }
 
 /// Why a shape is refused when its world-space geometry overflows 32-bit floats.
-const OUT_OF_RANGE: &str =
-    "the shape lies beyond the range of 32-bit floats: a vertex, an edge or an area overflows \
+const OUT_OF_RANGE: &str = "the shape lies beyond the range of 32-bit floats: a vertex, an edge or an area overflows \
      (position, size or scale too large)";
 
 /// Whether a triangle has no area in 32-bit floats: the renderer could not give it a normal.
 pub(super) fn is_degenerate(t: &Triangle) -> bool {
-    !((t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length_squared() > 0.0)
+    let area2 = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length_squared();
+    area2.is_nan() || area2 <= 0.0
 }
 
 /// Checks that a shape's world-space primitives, displaced by `offset` (zero for the shape
@@ -371,25 +292,16 @@ pub(super) fn is_degenerate(t: &Triangle) -> bool {
 /// vertex, edge and twice-area of a triangle and its squared length, and every sphere's
 /// bounds and area. The renderer computes all of these; an infinity among them would give
 /// NaN normals, light powers or bounding boxes.
-pub(super) fn check_extent(
-    triangles: &[Triangle],
-    spheres: &[Sphere],
-    offset: Vec3,
-) -> Result<(), String> {
+pub(super) fn check_extent(triangles: &[Triangle], spheres: &[Sphere], offset: Vec3) -> Result<(), String> {
     let triangle_fits = |t: &Triangle| {
         let p = t.p.map(|p| p + offset);
         let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
         let n = e1.cross(e2);
-        p.iter().all(|p| p.is_finite())
-            && e1.is_finite()
-            && e2.is_finite()
-            && n.length_squared().is_finite()
+        p.iter().all(|p| p.is_finite()) && e1.is_finite() && e2.is_finite() && n.length_squared().is_finite()
     };
     let sphere_fits = |s: &Sphere| {
         let c = s.center + offset;
-        (c + s.radius).is_finite()
-            && (c - s.radius).is_finite()
-            && (4.0 * std::f32::consts::PI * s.radius * s.radius).is_finite()
+        (c + s.radius).is_finite() && (c - s.radius).is_finite() && (4.0 * std::f32::consts::PI * s.radius * s.radius).is_finite()
     };
     if triangles.iter().all(triangle_fits) && spheres.iter().all(sphere_fits) {
         Ok(())
@@ -415,33 +327,15 @@ fn averaged_normals(world: &[Vec3], faces: &[[usize; 3]]) -> Vec<Vec3> {
             *sums.entry(key(world[i])).or_default() += n;
         }
     }
-    world
-        .iter()
-        .map(|&p| {
-            sums.get(&key(p))
-                .copied()
-                .unwrap_or_default()
-                .normalize_or_zero()
-        })
-        .collect()
+    world.iter().map(|&p| sums.get(&key(p)).copied().unwrap_or_default().normalize_or_zero()).collect()
 }
 
 /// Reads an sRGB image (PNG) and decodes it to linear RGB, row 0 at the top.
 pub(super) fn read_texture(path: &Path) -> Result<Texture, String> {
     let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
-    let image = image::load_from_memory(&bytes)
-        .map_err(|e| e.to_string())?
-        .into_rgb32f();
-    let texels = image
-        .pixels()
-        .map(|p| Vec3::from_array(p.0.map(srgb_to_linear)))
-        .collect();
-    Ok(Texture {
-        path: path.to_path_buf(),
-        width: image.width(),
-        height: image.height(),
-        texels,
-    })
+    let image = image::load_from_memory(&bytes).map_err(|e| e.to_string())?.into_rgb32f();
+    let texels = image.pixels().map(|p| Vec3::from_array(p.0.map(srgb_to_linear))).collect();
+    Ok(Texture { path: path.to_path_buf(), width: image.width(), height: image.height(), texels })
 }
 
 /// The sRGB electro-optical transfer function (IEC 61966-2-1), for values in [0, 1].

@@ -34,11 +34,7 @@ fn cli() -> PathBuf {
         .current_dir(workspace())
         .output()
         .expect("cargo runs");
-    assert!(
-        build.status.success(),
-        "cargo build --release --bin sppm-gpu failed:\n{}",
-        String::from_utf8_lossy(&build.stderr)
-    );
+    assert!(build.status.success(), "cargo build --release --bin sppm-gpu failed:\n{}", String::from_utf8_lossy(&build.stderr));
     let path = target_dir().join("release").join(format!("sppm-gpu{}", std::env::consts::EXE_SUFFIX));
     assert!(path.is_file(), "no command line at {}", path.display());
     path
@@ -100,5 +96,8 @@ fn embedded_render_matches_the_command_line() {
     assert_eq!(differing, 0, "{differing} of {} pixels differ from the command line's image", texels.len());
     let mean: f32 = texels.iter().map(|t| t[0] + t[1] + t[2]).sum::<f32>() / (3 * texels.len()) as f32;
     assert!(mean > 0.05, "the image is lit (mean {mean})");
-    eprintln!("{}x{}, {PASSES} passes of {PHOTONS} photons on {}: bit for bit equal to the command line", WIDTH, HEIGHT, app.adapter_name);
+    eprintln!(
+        "{}x{}, {PASSES} passes of {PHOTONS} photons on {}: bit for bit equal to the command line",
+        WIDTH, HEIGHT, app.adapter_name
+    );
 }
