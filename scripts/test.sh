@@ -1,7 +1,13 @@
 #!/usr/bin/env bash
-# Run every test. Installs lavapipe first when no Vulkan driver is present: the GPU tests need
-# an adapter, and under CI=true they fail without one instead of skipping.
+# Run every check CI runs: formatting (rustfmt.toml) and lints (clippy, warnings as errors)
+# first, then every test. Installs lavapipe first when no Vulkan driver is present: the GPU
+# tests need an adapter, and under CI=true they fail without one instead of skipping.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
+if command -v rustup >/dev/null; then
+    rustup component add rustfmt clippy >/dev/null
+fi
+cargo fmt --all -- --check
+cargo clippy --release --all-targets --workspace -- -D warnings
 cargo test --release --workspace
