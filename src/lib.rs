@@ -125,3 +125,15 @@ pub mod metrics;
 pub mod scene;
 
 pub use error::Error;
+
+/// `println!` for command-line output: where stdout is a pipe whose reader has gone
+/// (`sppm-gpu bench | head -1`), the line is dropped instead of the process panicking, so the
+/// render and the files it writes still complete.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($arg)*);
+    }};
+}

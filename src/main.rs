@@ -4,6 +4,7 @@ use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 use sppm_gpu::gpu::GpuContext;
 use sppm_gpu::integrators::{self, Sppm};
+use sppm_gpu::say;
 use sppm_gpu::scene::{self, DirectLight, Method};
 use sppm_gpu::{experiments, image_io, Error};
 use std::path::{Path, PathBuf};
@@ -170,9 +171,13 @@ fn diff(image: &Path, reference: &Path, downsample: u32, error_image: Option<&Pa
     let a = image_io::read_image(image)?;
     let b = image_io::read_image(reference)?;
     let c = sppm_gpu::metrics::compare(&a, &b, downsample).map_err(Error::Setting)?;
-    println!(
+    say!(
         "relMSE {:.6}  RMSE {:.6}  mean ratio {:.4} {:.4} {:.4}  (downsample {downsample})",
-        c.rel_mse, c.rmse, c.mean_ratio[0], c.mean_ratio[1], c.mean_ratio[2]
+        c.rel_mse,
+        c.rmse,
+        c.mean_ratio[0],
+        c.mean_ratio[1],
+        c.mean_ratio[2]
     );
     if let Some(path) = error_image {
         experiments::plot::write_error_image(path, &a, &b, downsample)?;
@@ -368,7 +373,7 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
     }
     image_io::write_image(output, &image)?;
     let work = integrator.passes() as u64 * integrator.work_per_pass();
-    println!(
+    say!(
         "{}: {} passes, {work} {unit} in {:.2} s ({:.2} M {unit}/s, {:.2} passes/s) -> {}",
         experiments::method_name(r.method),
         integrator.passes(),
@@ -389,15 +394,15 @@ fn print_memory(memory: &integrators::GpuMemory) {
         0..0x10_0000 => format!("{:.1} KiB", b as f64 / 1024.0),
         _ => format!("{:.1} MiB", b as f64 / (1u64 << 20) as f64),
     };
-    println!("GPU memory: {}", mib(memory.total()));
+    say!("GPU memory: {}", mib(memory.total()));
     for (part, buffers, bytes) in
         [("scene", &memory.scene, memory.scene_bytes()), ("renderer", &memory.renderer, memory.renderer_bytes())]
     {
-        println!("  {part}: {}", mib(bytes));
+        say!("  {part}: {}", mib(bytes));
         let mut sorted = buffers.clone();
         sorted.sort_by_key(|(_, bytes)| std::cmp::Reverse(*bytes));
         for (name, b) in sorted {
-            println!("    {name:24} {:>12} bytes", b);
+            say!("    {name:24} {:>12} bytes", b);
         }
     }
 }
@@ -439,7 +444,7 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
         DirectLight::Photons => "from photons".to_string(),
         DirectLight::Sampled => format!("sampled by {paths} camera paths per visible point"),
     };
-    println!(
+    say!(
         "{}: {}x{}, {} passes (after one untimed) x {} photons, max_depth {}, direct light {}, {}",
         scene_path.display(),
         r.width,
@@ -451,16 +456,16 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
         gpu.adapter_info.name
     );
     for (name, s) in ["camera paths", "grid build", "photons", "statistics"].iter().zip(stage) {
-        println!("  {name:32} {:8.1} ms/pass  {:5.1}%", 1e3 * s / passes, 100.0 * s / seconds);
+        say!("  {name:32} {:8.1} ms/pass  {:5.1}%", 1e3 * s / passes, 100.0 * s / seconds);
     }
-    println!(
+    say!(
         "  total {seconds:.2} s: {:.2} passes/s, {:.3} M photons/s, {:.2} M camera paths/s",
         passes / seconds,
         passes * r.photons as f64 / seconds / 1e6,
         passes * (r.width * r.height * r.spp * paths) as f64 / stage[0] / 1e6
     );
     let radius = sppm.radius_stats()?;
-    println!(
+    say!(
         "  radius after the last pass: min {:.3e}, mean {:.3e}, max {:.3e} (initial {:.3e})",
         radius.min,
         radius.mean,

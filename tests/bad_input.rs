@@ -573,3 +573,31 @@ fn binary_warns_once_about_degenerate_mesh_triangles() {
     assert!(stderr.starts_with(&warning), "{stderr}");
     assert!(stderr.contains("key `shapes[1].type`: unknown shape type `cone`"), "{stderr}");
 }
+
+/// Output to a pipe whose reader has gone (`sppm-gpu bench ... | head -1`) is dropped, not a
+/// panic: the render goes on and writes its image.
+#[test]
+fn binary_survives_a_closed_stdout() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let out = std::env::temp_dir().join("sppm-gpu-closed-stdout.png");
+    let _ = std::fs::remove_file(&out);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
+        .arg(common::scene_path("cornell-box.toml"))
+        .arg("-o")
+        .arg(&out)
+        .args(["--width", "16", "--height", "16", "--iterations", "2", "--photons", "1000"])
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    // The reader goes before the first line is written.
+    drop(child.stdout.take());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(out.exists(), "the image is written");
+}

@@ -365,15 +365,19 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
     let title = format!("{name} at equal time ({} s of passes each)", opts.time_limit);
     plot::write_montage(&opts.out.join("equal-time.png"), &title, &[images, errors], Some(&legend))?;
 
-    println!(
+    crate::say!(
         "{name}, {}x{}, {} ({}), {} s per method",
-        scene.render.width, scene.render.height, gpu.adapter_info.name, gpu.adapter_info.backend, opts.time_limit
+        scene.render.width,
+        scene.render.height,
+        gpu.adapter_info.name,
+        gpu.adapter_info.backend,
+        opts.time_limit
     );
-    println!("{:8} {:>8} {:>7} {:>12} {:>10}", "method", "seconds", "passes", "relMSE", "RMSE");
+    crate::say!("{:8} {:>8} {:>7} {:>12} {:>10}", "method", "seconds", "passes", "relMSE", "RMSE");
     for s in &snapshots {
-        println!("{:8} {:8.2} {:7} {:12.4e} {:10.4e}", s.label, s.seconds, s.passes, s.rel_mse, s.rmse);
+        crate::say!("{:8} {:8.2} {:7} {:12.4e} {:10.4e}", s.label, s.seconds, s.passes, s.rel_mse, s.rmse);
     }
-    println!("wrote compare.csv, relmse-vs-time.png, equal-time.png in {}", opts.out.display());
+    crate::say!("wrote compare.csv, relmse-vs-time.png, equal-time.png in {}", opts.out.display());
     Ok(snapshots)
 }
 
@@ -540,13 +544,13 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
         format!("per-pixel relative error after {0}x{0} box-downsampling, sqrt((x - ref)^2 / (ref^2 + 0.01)):", opts.downsample);
     plot::write_montage(&opts.out.join("images.png"), &title, &[images, errors], Some(&legend))?;
 
-    println!("{name}, {}x{}, {passes} passes x {} photons, {}", r.width, r.height, r.photons, gpu.adapter_info.name);
-    println!("{:>10} {:>12} {:>10} {:>9}", p, "relMSE", "RMSE", "seconds");
+    crate::say!("{name}, {}x{}, {passes} passes x {} photons, {}", r.width, r.height, r.photons, gpu.adapter_info.name);
+    crate::say!("{:>10} {:>12} {:>10} {:>9}", p, "relMSE", "RMSE", "seconds");
     for v in &opts.values {
         let last = snapshots.iter().rev().find(|x| x.label == v.to_string()).expect("a snapshot");
-        println!("{:>10} {:12.4e} {:10.4e} {:9.2}", v, last.rel_mse, last.rmse, last.seconds);
+        crate::say!("{:>10} {:12.4e} {:10.4e} {:9.2}", v, last.rel_mse, last.rmse, last.seconds);
     }
-    println!("wrote sweep.csv, relmse-vs-passes.png, relmse-vs-{p}.png, images.png in {}", opts.out.display());
+    crate::say!("wrote sweep.csv, relmse-vs-passes.png, relmse-vs-{p}.png, images.png in {}", opts.out.display());
     Ok(snapshots)
 }
 
@@ -635,12 +639,12 @@ pub fn passes(scene: &Scene, name: &str, opts: &PassesOptions) -> Result<Vec<Pas
 
     let total: f64 = times.iter().map(|t| t.seconds).sum();
     let rest = &times[1.min(times.len() - 1)..];
-    println!(
+    crate::say!(
         "{name}: {last} passes in {total:.2} s; first pass {:.0} ms, then {:.0} ms per pass on average ({})",
         times[0].seconds * 1e3,
         rest.iter().map(|t| t.seconds).sum::<f64>() / rest.len() as f64 * 1e3,
         gpu.adapter_info.name
     );
-    println!("wrote passes.csv, time-per-pass.png, images.png in {}", opts.out.display());
+    crate::say!("wrote passes.csv, time-per-pass.png, images.png in {}", opts.out.display());
     Ok(times)
 }
