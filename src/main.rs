@@ -294,11 +294,34 @@ fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Resul
     Ok(())
 }
 
-/// Refuse outputs that would replace the scene itself or cannot be written as an image.
+/// Refuse, before anything is loaded or rendered, outputs that would replace the scene itself
+/// or cannot be written as an image: a wrong extension, a directory that does not exist, a
+/// directory or file that cannot be written.
 fn check_output(output: &Path, scene_path: &Path) -> Result<(), Error> {
     let ext = output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if !matches!(ext.as_deref(), Some("png") | Some("exr")) {
         return Err(Error::Setting(format!("{}: the output must end in .png or .exr", output.display())));
+    }
+    let dir = match output.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(Error::Setting(format!("{}: the output's directory {} does not exist", output.display(), dir.display())));
+    }
+    if output.is_dir() {
+        return Err(Error::Setting(format!("{}: the output is a directory", output.display())));
+    }
+    let cannot = |e: std::io::Error| Error::Setting(format!("{}: the output cannot be written: {e}", output.display()));
+    if output.exists() {
+        // Opened for writing without truncating: the file is left as it is.
+        std::fs::OpenOptions::new().write(true).open(output).map_err(cannot)?;
+    } else {
+        // A file made and removed beside it: the directory takes new files.
+        let name = output.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let probe = dir.join(format!(".{name}.{}.sppm-gpu-probe", std::process::id()));
+        std::fs::File::create_new(&probe).map_err(cannot)?;
+        let _ = std::fs::remove_file(&probe);
     }
     if let (Ok(a), Ok(b)) = (output.canonicalize(), scene_path.canonicalize()) {
         if a == b {

@@ -601,3 +601,34 @@ fn binary_survives_a_closed_stdout() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(out.exists(), "the image is written");
 }
+
+/// An output the render could not write is refused before the scene is loaded: a missing
+/// directory, or a directory where the image should go. (Unwritable directories are refused
+/// the same way, but a test run as root could write there anyway.)
+#[test]
+fn binary_checks_the_output_before_rendering() {
+    let scene = common::scene_path("cornell-box.toml");
+    let run = |output: &Path| {
+        let start = std::time::Instant::now();
+        let output = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
+            .arg(&scene)
+            .arg("-o")
+            .arg(output)
+            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+            .output()
+            .expect("the binary runs");
+        (output.status.code(), String::from_utf8_lossy(&output.stderr).into_owned(), start.elapsed())
+    };
+    let missing = std::env::temp_dir().join("sppm-gpu-no-such-dir").join("out.png");
+    let (code, stderr, took) = run(&missing);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("does not exist") && stderr.contains("sppm-gpu-no-such-dir"), "{stderr}");
+    assert!(took.as_secs_f64() < 5.0, "refused at once, not after rendering: {took:?}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+
+    let dir = std::env::temp_dir().join("sppm-gpu-output-is-a-dir.png");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (code, stderr, _) = run(&dir);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("is a directory"), "{stderr}");
+}
