@@ -9,6 +9,8 @@ use sppm_gpu::scene::{self, DirectLight, Method};
 use sppm_gpu::{experiments, image_io, Error};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// Render a scene with stochastic progressive photon mapping on the GPU.
@@ -331,23 +333,63 @@ fn check_output(output: &Path, scene_path: &Path) -> Result<(), Error> {
     Ok(())
 }
 
-fn run(cli: &Cli) -> Result<(), Error> {
+fn run(cli: &Cli) -> Result<ExitCode, Error> {
     if let Some(Command::Diff { image, reference, downsample, error_image }) = &cli.command {
-        return diff(image, reference, *downsample, error_image.as_deref());
+        return diff(image, reference, *downsample, error_image.as_deref()).map(|()| ExitCode::SUCCESS);
     }
     if let Some(Command::Bench { scene, overrides }) = &cli.command {
-        return bench(scene, overrides);
+        return bench(scene, overrides).map(|()| ExitCode::SUCCESS);
     }
     if let Some(command) = &cli.command {
-        return experiment(command);
+        return experiment(command).map(|()| ExitCode::SUCCESS);
     }
     let (Some(scene_path), Some(output)) = (&cli.scene, &cli.output) else {
         return Err(Error::Setting("a scene file and -o OUTPUT are required".into()));
     };
-    render(cli, scene_path, output)
+    render(cli, scene_path, output).map(|code| code.map_or(ExitCode::SUCCESS, ExitCode::from))
 }
 
-fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
+/// SIGINT and SIGTERM during a render: the first ends it after the pass under way, and the
+/// image of the passes done is written; a second exits at once (130 or 143, as a shell
+/// reports a process killed by the signal).
+struct Interrupt {
+    /// Set by the first signal.
+    pending: Arc<AtomicBool>,
+    /// The number of the last signal received.
+    signal: Arc<AtomicUsize>,
+}
+
+impl Interrupt {
+    fn watch() -> Result<Self, Error> {
+        use signal_hook::consts::{SIGINT, SIGTERM};
+        let pending = Arc::new(AtomicBool::new(false));
+        let signal = Arc::new(AtomicUsize::new(0));
+        let failed = |e: std::io::Error| Error::Setting(format!("cannot watch for Ctrl-C: {e}"));
+        for (sig, code) in [(SIGINT, 130), (SIGTERM, 143)] {
+            // In this order: a signal that finds `pending` set exits; the first sets it.
+            signal_hook::flag::register_conditional_shutdown(sig, code, Arc::clone(&pending)).map_err(failed)?;
+            signal_hook::flag::register(sig, Arc::clone(&pending)).map_err(failed)?;
+            signal_hook::flag::register_usize(sig, Arc::clone(&signal), sig as usize).map_err(failed)?;
+        }
+        Ok(Self { pending, signal })
+    }
+
+    /// The signal's name and the exit code that reports it, once one has arrived.
+    fn received(&self) -> Option<(&'static str, u8)> {
+        if !self.pending.load(Ordering::SeqCst) {
+            return None;
+        }
+        Some(match self.signal.load(Ordering::SeqCst) as i32 {
+            signal_hook::consts::SIGTERM => ("SIGTERM", 143),
+            _ => ("SIGINT", 130),
+        })
+    }
+}
+
+/// Render `scene_path` to `output`; `Some(code)` when a signal ended the render early (its
+/// image is written all the same).
+fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<Option<u8>, Error> {
+    let interrupt = Interrupt::watch()?;
     check_output(output, scene_path)?;
     let mut scene = scene::load(scene_path)?;
     apply_overrides(&cli.overrides, &mut scene.render)?;
@@ -382,7 +424,7 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
         let work = integrator.passes() as u64 * integrator.work_per_pass();
         progress.set_position(integrator.passes() as u64);
         progress.set_message(format!("{:.2} M {unit}/s", work as f64 / seconds / 1e6));
-        if r.time_limit.is_some_and(|limit| seconds >= limit) {
+        if r.time_limit.is_some_and(|limit| seconds >= limit) || interrupt.received().is_some() {
             break;
         }
     }
@@ -408,7 +450,16 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<(), Error> {
     if cli.stats {
         print_memory(&integrator.gpu_memory());
     }
-    Ok(())
+    let interrupted = interrupt.received();
+    if let Some((name, _)) = interrupted {
+        eprintln!(
+            "interrupted by {name} after {} of {} passes: wrote the image of those to {}",
+            integrator.passes(),
+            r.iterations,
+            output.display()
+        );
+    }
+    Ok(interrupted.map(|(_, code)| code))
 }
 
 /// The `--stats` table: every buffer, largest first, under its part.
@@ -501,7 +552,7 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(&cli) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE

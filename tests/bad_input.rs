@@ -632,3 +632,39 @@ fn binary_checks_the_output_before_rendering() {
     assert_eq!(code, Some(1), "{stderr}");
     assert!(stderr.contains("is a directory"), "{stderr}");
 }
+
+/// SIGINT and SIGTERM end a render after the pass under way: the image of the passes done is
+/// written, and the exit code says which signal (130, 143).
+#[test]
+fn binary_writes_the_passes_done_when_interrupted() {
+    if common::gpu().is_none() {
+        return;
+    }
+    for (signal, code) in [("INT", 130), ("TERM", 143)] {
+        let out = std::env::temp_dir().join(format!("sppm-gpu-signal-{signal}.exr"));
+        let _ = std::fs::remove_file(&out);
+        let child = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
+            .arg(common::scene_path("cornell-box.toml"))
+            .arg("-o")
+            .arg(&out)
+            .args(["--iterations", "1000000", "--width", "32", "--height", "24", "--photons", "2000"])
+            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("the binary runs");
+        // Well into the render (or its kernels' compilation: the pass under way finishes).
+        std::thread::sleep(std::time::Duration::from_secs(3));
+        let kill = Command::new("kill").arg(format!("-{signal}")).arg(child.id().to_string()).status().unwrap();
+        assert!(kill.success());
+        let output = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(code), "SIG{signal}: {stderr}");
+        assert!(stderr.contains(&format!("interrupted by SIG{signal} after ")), "{stderr}");
+        let image = sppm_gpu::image_io::read_exr(&out).unwrap_or_else(|e| panic!("SIG{signal}: {e}"));
+        assert_eq!((image.width, image.height), (32, 24));
+        assert!(image.pixels.iter().flatten().all(|v| v.is_finite() && *v >= 0.0));
+        let mean = image.pixels.iter().flatten().sum::<f32>() / (3 * 32 * 24) as f32;
+        assert!(mean > 0.05, "SIG{signal}: mean {mean}");
+    }
+}
