@@ -28,6 +28,11 @@ struct Cli {
     /// After rendering, print the GPU memory each buffer takes.
     #[arg(long)]
     stats: bool,
+    /// Refuse a render that needs more memory than this, device buffers and host image
+    /// together: bytes, or with a K, M or G suffix (powers of 1024). Without it, a render on a
+    /// CPU device is checked against the host's available memory.
+    #[arg(long, value_parser = parse_bytes)]
+    memory_limit: Option<u64>,
     #[command(flatten)]
     overrides: Overrides,
 }
@@ -349,6 +354,76 @@ fn run(cli: &Cli) -> Result<ExitCode, Error> {
     render(cli, scene_path, output).map(|code| code.map_or(ExitCode::SUCCESS, ExitCode::from))
 }
 
+/// `1000000`, `512K`, `64M`, `8G` (powers of 1024) as bytes.
+fn parse_bytes(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let (digits, unit) = match t.char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => (&t[..i], c.to_ascii_uppercase()),
+        _ => (t, 'B'),
+    };
+    let shift = match unit {
+        'B' => 0,
+        'K' => 10,
+        'M' => 20,
+        'G' => 30,
+        _ => return Err(format!("`{text}`: a number of bytes, with K, M or G for powers of 1024")),
+    };
+    let n: u64 = digits.trim().parse().map_err(|_| format!("`{text}`: a number of bytes, with K, M or G for powers of 1024"))?;
+    n.checked_mul(1 << shift).filter(|&b| b > 0).ok_or_else(|| format!("`{text}`: out of range"))
+}
+
+/// Bytes of memory the host can still give: `MemAvailable` in /proc/meminfo (Linux).
+fn available_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Refuse at once a render that needs more memory than it can have: `limit` when given
+/// (device buffers and host image together), else on a CPU device (whose buffers are host
+/// memory) the host's available memory. A render that does not fit would otherwise grow
+/// until the system kills it, with nothing written.
+fn check_memory(gpu: &GpuContext, scene: &scene::Scene, limit: Option<u64>) -> Result<(), Error> {
+    let need = integrators::memory_need(&gpu.device, scene);
+    let cpu_device = gpu.adapter_info.device_type == wgpu::DeviceType::Cpu;
+    let (total, have, source) = match limit {
+        Some(limit) => (need.gpu() + need.host, limit, "the --memory-limit"),
+        None if cpu_device => match available_memory() {
+            Some(available) => {
+                (need.gpu() + need.host, available, "the host's available memory (a CPU device's buffers are host memory)")
+            }
+            None => return Ok(()),
+        },
+        None => match available_memory() {
+            Some(available) => (need.host, available, "the host's available memory"),
+            None => return Ok(()),
+        },
+    };
+    if total <= have {
+        return Ok(());
+    }
+    let r = &scene.render;
+    let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+    let pixels = (r.width as u64 * r.height as u64).max(1);
+    Err(Error::Setting(format!(
+        "{}: a {}x{} image (spp {}) needs about {:.1} GiB: {:.1} GiB of device buffers ({} bytes a pixel, the scene's {:.2} GiB \
+         included) and {:.1} GiB for the image on the host; that is more than {} ({:.1} GiB). Render it smaller, or raise \
+         --memory-limit",
+        scene.path.display(),
+        r.width,
+        r.height,
+        r.spp,
+        gib(total),
+        gib(need.gpu()),
+        need.renderer / pixels,
+        gib(need.scene),
+        gib(need.host),
+        source,
+        gib(have)
+    )))
+}
+
 /// SIGINT and SIGTERM during a render: the first ends it after the pass under way, and the
 /// image of the passes done is written; a second exits at once (130 or 143, as a shell
 /// reports a process killed by the signal).
@@ -394,6 +469,7 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<Option<u8>, Err
     let mut scene = scene::load(scene_path)?;
     apply_overrides(&cli.overrides, &mut scene.render)?;
     let gpu = GpuContext::new()?;
+    check_memory(&gpu, &scene, cli.memory_limit)?;
     for warning in integrators::limitations(&scene) {
         eprintln!("warning: {}: {warning}", scene.path.display());
     }

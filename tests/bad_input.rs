@@ -668,3 +668,39 @@ fn binary_writes_the_passes_done_when_interrupted() {
         assert!(mean > 0.05, "SIG{signal}: mean {mean}");
     }
 }
+
+/// A render that needs more memory than it may have is refused at once, with the sizes, and
+/// nothing is written; one that fits renders.
+#[test]
+fn binary_refuses_a_render_beyond_the_memory_limit() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let out = std::env::temp_dir().join("sppm-gpu-memory-limit.png");
+    let _ = std::fs::remove_file(&out);
+    let run = |size: &str, limit: &str| {
+        let start = std::time::Instant::now();
+        let output = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
+            .arg(common::scene_path("cornell-box.toml"))
+            .arg("-o")
+            .arg(&out)
+            .args(["--width", size, "--height", size, "--iterations", "1", "--photons", "1000", "--memory-limit", limit])
+            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+            .output()
+            .expect("the binary runs");
+        (output.status.code(), String::from_utf8_lossy(&output.stderr).into_owned(), start.elapsed())
+    };
+    // 2048x2048 needs about 0.9 GiB: 184 bytes a pixel of buffers and 40 of host image.
+    let (code, stderr, took) = run("2048", "64M");
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("a 2048x2048 image (spp 1) needs about 0.9 GiB"), "{stderr}");
+    assert!(stderr.contains("the --memory-limit (0.1 GiB)"), "{stderr}");
+    assert!(took.as_secs_f64() < 5.0, "refused at once: {took:?}");
+    assert!(!out.exists(), "nothing is written");
+    let (code, stderr, _) = run("32", "64M");
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(out.exists());
+    let (code, stderr, _) = run("32", "lots");
+    assert_eq!(code, Some(2), "a bad limit is a usage error: {stderr}");
+    assert!(stderr.contains("a number of bytes"), "{stderr}");
+}

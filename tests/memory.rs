@@ -43,3 +43,40 @@ fn renderer_memory_follows_the_pixels_scene_memory_the_primitives() {
     assert_eq!(pt.scene, large.scene);
     assert!(pt.renderer_bytes() < 40 * 128 * 128, "{} bytes", pt.renderer_bytes());
 }
+
+/// The memory check's estimate, made before allocating: the renderer's buffers exactly as
+/// they are then allocated (one band or several, SPPM or a path tracer), and the scene's at
+/// least as large as they are.
+#[test]
+fn memory_need_matches_what_is_allocated() {
+    let Some(gpu) = common::gpu() else { return };
+    // A device whose buffers hold 64 KiB makes a 64x56 SPPM image go in bands.
+    let small =
+        sppm_gpu::gpu::GpuContext::with_limits(|l| wgpu::Limits { max_storage_buffer_binding_size: 64 << 10, ..l }).unwrap();
+    let bunny = common::load_scene("gallery/bunny-cube.toml");
+    for (context, name, method, size) in [
+        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 48),
+        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::PtNee, 48),
+        (&small, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 64),
+        (&gpu, "gallery/bunny-cube.toml", sppm_gpu::scene::Method::Sppm, 32),
+    ] {
+        let mut scene = if name.contains("bunny") { bunny.clone() } else { common::load_scene(name) };
+        scene.render.method = method;
+        scene.render.width = size;
+        scene.render.height = size - 8;
+        if std::ptr::eq(context, &small) {
+            assert!(integrators::max_rows(&small.device, &scene) < scene.render.height, "the small device bands");
+        }
+        let need = integrators::memory_need(&context.device, &scene);
+        let got = memory(context, &scene);
+        assert_eq!(need.renderer, got.renderer_bytes(), "{name} {method:?} {size}: the renderer's buffers");
+        assert!(need.scene >= got.scene_bytes(), "{name}: scene estimate {} below {}", need.scene, got.scene_bytes());
+        assert!(
+            need.scene < 3 * got.scene_bytes() + 65536,
+            "{name}: scene estimate {} far above {}",
+            need.scene,
+            got.scene_bytes()
+        );
+        assert_eq!(need.host, size as u64 * (size as u64 - 8) * 40);
+    }
+}

@@ -72,6 +72,46 @@ pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Resu
     })
 }
 
+/// What a render will take, computed before anything is allocated (see [`memory_need`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MemoryNeed {
+    /// The scene's buffers, an upper bound from its primitive, attribute and texel counts.
+    pub scene: u64,
+    /// The renderer's buffers over all bands, as [`Integrator::gpu_memory`] will report them.
+    pub renderer: u64,
+    /// Host memory for the image: the estimate read back (16 bytes a pixel), the image
+    /// (12) and its encoding for the file (up to 12), 40 bytes a pixel.
+    pub host: u64,
+}
+
+impl MemoryNeed {
+    /// Device memory: the scene's and the renderer's buffers.
+    pub fn gpu(&self) -> u64 {
+        self.scene + self.renderer
+    }
+}
+
+/// The memory a render of `scene` on `device` takes, before allocating any of it, so that a
+/// render that cannot fit is refused at once rather than killed by the system later.
+pub fn memory_need(device: &wgpu::Device, scene: &Scene) -> MemoryNeed {
+    let r = &scene.render;
+    let rows = max_rows(device, scene).clamp(1, r.height.max(1));
+    let bands = (0..r.height).step_by(rows as usize).map(|y0| (y0 + rows).min(r.height) - y0);
+    let renderer = bands
+        .map(|band| match r.method {
+            Method::Sppm => Sppm::renderer_bytes(scene, band),
+            Method::Pt | Method::PtNee => PathTracer::renderer_bytes(scene, band),
+        })
+        .sum();
+    // Per triangle: itself (48), its reference (4), a BVH node at most (32), shading normals
+    // (48) and texture coordinates (32); per sphere: itself, a reference and a node.
+    let attributes: u64 = scene.triangles.iter().map(|t| 48 * t.n.is_some() as u64 + 32 * t.uv.is_some() as u64).sum();
+    let texels: u64 = scene.textures.iter().map(|t| 16 * t.width as u64 * t.height as u64).sum();
+    let fixed = 64 * (scene.materials.len() + scene.shapes.len() + scene.lights.len() + 64) as u64;
+    let scene_bytes = scene.triangles.len() as u64 * 84 + attributes + scene.spheres.len() as u64 * 68 + texels + fixed;
+    MemoryNeed { scene: scene_bytes, renderer, host: r.width as u64 * r.height as u64 * 40 }
+}
+
 /// Rows of `scene`'s image that one integrator of `scene.render.method` holds on `device`;
 /// [`create`] splits taller images into [`Bands`] of this many rows.
 pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {

@@ -46,6 +46,13 @@ impl PathTracer {
         (pixels / (scene.render.width as u64).max(1)).min(u32::MAX as u64) as u32
     }
 
+    /// Bytes of the renderer's own buffers for a band of `rows` rows of `scene`'s image, as
+    /// [`Integrator::gpu_memory`] reports them: the sums per pixel and their read-back copy
+    /// (32 bytes a pixel), and the frame.
+    pub fn renderer_bytes(scene: &Scene, rows: u32) -> u64 {
+        scene.render.width as u64 * rows as u64 * 32 + std::mem::size_of::<Frame>() as u64
+    }
+
     /// The path tracer for rows `rows` of the image only, on scene buffers already uploaded
     /// (a band of [`Bands`](super::Bands)); random numbers are keyed by the pixel's place in
     /// the whole image, so the bands give the whole image bit for bit.

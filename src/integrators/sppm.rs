@@ -205,6 +205,23 @@ impl Sppm {
         (points / per_row.max(1)).min(u32::MAX as u64) as u32
     }
 
+    /// Bytes of the renderer's own buffers for a band of `rows` rows of `scene`'s image, as
+    /// [`Integrator::gpu_memory`] reports them once allocated: computed before allocating, for
+    /// the memory check. Per visible point: the point (32), its position (16), statistics
+    /// (32), flux (32), up to 8 grid entries (32) and a grid bucket's count and offset (8 at
+    /// most, the table being the point count rounded up to a power of two); per pixel: the
+    /// image and its read-back copy (32).
+    pub fn renderer_bytes(scene: &Scene, rows: u32) -> u64 {
+        let r = &scene.render;
+        let pixels = r.width as u64 * rows as u64;
+        let points = pixels * r.spp as u64;
+        let table = points.max(1).next_power_of_two();
+        let per_point = size_of::<VisiblePoint>() + 16 + size_of::<VpStats>() + ACCUM_STRIDE as usize * 4 + 8 * 4;
+        let fixed = [size_of::<Frame>(), size_of::<GridScene>(), 16, size_of::<GridParams>(), size_of::<GridParams>()]
+            .map(|b| b.max(16) as u64);
+        points * per_point as u64 + pixels * 32 + table * 4 + (table + 1) * 4 + fixed.iter().sum::<u64>()
+    }
+
     /// [`Sppm::new_rows`] on scene buffers already uploaded (shared between bands).
     pub(crate) fn with_scene_buffers(
         device: &wgpu::Device,
