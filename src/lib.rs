@@ -116,6 +116,7 @@
 #![deny(missing_docs)]
 
 pub mod accel;
+pub mod checkpoint;
 pub mod error;
 pub mod experiments;
 pub mod gpu;

@@ -33,6 +33,16 @@ struct Cli {
     /// CPU device is checked against the host's available memory.
     #[arg(long, value_parser = parse_bytes)]
     memory_limit: Option<u64>,
+    /// Write the render's state to this file every --checkpoint-every seconds, at the end and
+    /// when interrupted, for --resume.
+    #[arg(long)]
+    checkpoint: Option<PathBuf>,
+    /// Seconds between checkpoints (0: after every pass).
+    #[arg(long, default_value_t = 300.0)]
+    checkpoint_every: f64,
+    /// Go on from a checkpoint of the same scene and settings, up to --iterations passes in all.
+    #[arg(long)]
+    resume: Option<PathBuf>,
     #[command(flatten)]
     overrides: Overrides,
 }
@@ -485,8 +495,24 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<Option<u8>, Err
             if r.method == Method::Sppm { ", each tracing every pass's photons" } else { "" }
         );
     }
+    let fingerprint = sppm_gpu::checkpoint::Fingerprint::of(&scene);
+    if let Some(path) = &cli.resume {
+        let (saved, state) = sppm_gpu::checkpoint::read(path)?;
+        saved.check(&fingerprint).map_err(|e| Error::Setting(format!("{}: cannot resume: {e}", path.display())))?;
+        integrator.restore(&state).map_err(|e| Error::Setting(format!("{}: cannot resume: {e}", path.display())))?;
+        eprintln!("resuming from {} after {} passes", path.display(), integrator.passes());
+    }
+    let save = |integrator: &mut Box<dyn integrators::Integrator>| -> Result<(), Error> {
+        match &cli.checkpoint {
+            Some(path) => sppm_gpu::checkpoint::write(path, &fingerprint, &integrator.state()?),
+            None => Ok(()),
+        }
+    };
+    let mut last_checkpoint = Instant::now();
     let unit = integrator.work_unit();
 
+    // Passes of this run: a resumed render's rates count only these.
+    let first_pass = integrator.passes();
     let progress = ProgressBar::new(r.iterations as u64);
     progress.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} passes  {msg}  {elapsed_precise} (ETA {eta})")
@@ -497,13 +523,18 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<Option<u8>, Err
         integrator.run_pass()?;
         gpu.check()?;
         let seconds = start.elapsed().as_secs_f64();
-        let work = integrator.passes() as u64 * integrator.work_per_pass();
+        let work = (integrator.passes() - first_pass) as u64 * integrator.work_per_pass();
         progress.set_position(integrator.passes() as u64);
         progress.set_message(format!("{:.2} M {unit}/s", work as f64 / seconds / 1e6));
         if r.time_limit.is_some_and(|limit| seconds >= limit) || interrupt.received().is_some() {
             break;
         }
+        if cli.checkpoint.is_some() && last_checkpoint.elapsed().as_secs_f64() >= cli.checkpoint_every {
+            save(&mut integrator)?;
+            last_checkpoint = Instant::now();
+        }
     }
+    save(&mut integrator)?;
     let image = integrator.image()?;
     gpu.check()?;
     let seconds = start.elapsed().as_secs_f64();
@@ -513,14 +544,14 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<Option<u8>, Err
         eprintln!("note: replacing {}", output.display());
     }
     image_io::write_image(output, &image)?;
-    let work = integrator.passes() as u64 * integrator.work_per_pass();
+    let work = (integrator.passes() - first_pass) as u64 * integrator.work_per_pass();
     say!(
         "{}: {} passes, {work} {unit} in {:.2} s ({:.2} M {unit}/s, {:.2} passes/s) -> {}",
         experiments::method_name(r.method),
         integrator.passes(),
         seconds,
         work as f64 / seconds / 1e6,
-        integrator.passes() as f64 / seconds,
+        (integrator.passes() - first_pass) as f64 / seconds,
         output.display()
     );
     if cli.stats {

@@ -99,4 +99,28 @@ impl Integrator for Bands {
         }
         total
     }
+    /// The bands' states one after another, each after its length.
+    fn state(&mut self) -> Result<Vec<u8>, Error> {
+        let mut out = Vec::new();
+        for band in &mut self.bands {
+            let state = band.state()?;
+            out.extend_from_slice(&(state.len() as u64).to_le_bytes());
+            out.extend_from_slice(&state);
+        }
+        Ok(out)
+    }
+    fn restore(&mut self, mut state: &[u8]) -> Result<(), Error> {
+        let malformed = || Error::Setting("the saved state does not split into this render's bands".into());
+        for band in &mut self.bands {
+            let len = state.get(..8).ok_or_else(malformed)?;
+            let len = u64::from_le_bytes(len.try_into().expect("8 bytes")) as usize;
+            let body = state.get(8..8 + len).ok_or_else(malformed)?;
+            band.restore(body)?;
+            state = &state[8 + len..];
+        }
+        if !state.is_empty() {
+            return Err(malformed());
+        }
+        Ok(())
+    }
 }

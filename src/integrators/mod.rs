@@ -29,6 +29,36 @@ pub trait Integrator {
     fn image(&mut self) -> Result<Rgb32Image, Error>;
     /// The GPU buffers it holds.
     fn gpu_memory(&self) -> GpuMemory;
+    /// Everything later passes depend on, as bytes (waits for the submitted passes): the
+    /// pass count and the per-point statistics (SPPM) or per-pixel sums (path tracers).
+    /// Passes draw their random numbers by pass index, so an integrator of the same scene and
+    /// settings that [`Integrator::restore`]s it goes on exactly as this one would.
+    fn state(&mut self) -> Result<Vec<u8>, Error>;
+    /// Continue from bytes of [`Integrator::state`] of the same scene and settings.
+    fn restore(&mut self, state: &[u8]) -> Result<(), Error>;
+}
+
+/// The bytes of an integrator's state: its pass count and work so far, then one buffer.
+fn encode_state(passes: u32, work: u64, buffer: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(12 + buffer.len());
+    out.extend_from_slice(&passes.to_le_bytes());
+    out.extend_from_slice(&work.to_le_bytes());
+    out.extend_from_slice(buffer);
+    out
+}
+
+/// (passes, work, buffer) of [`encode_state`]'s bytes, the buffer `expected` bytes long.
+fn decode_state(state: &[u8], expected: u64) -> Result<(u32, u64, &[u8]), Error> {
+    if state.len() as u64 != 12 + expected {
+        return Err(Error::Setting(format!(
+            "the saved state holds {} bytes where this render needs {}: made for another image size",
+            state.len(),
+            12 + expected
+        )));
+    }
+    let passes = u32::from_le_bytes(state[0..4].try_into().expect("4 bytes"));
+    let work = u64::from_le_bytes(state[4..12].try_into().expect("8 bytes"));
+    Ok((passes, work, &state[12..]))
 }
 
 /// GPU buffers by name and size, split into the scene's (geometry, BVH, materials, lights:

@@ -156,4 +156,15 @@ impl Integrator for PathTracer {
             ]),
         }
     }
+    fn state(&mut self) -> Result<Vec<u8>, Error> {
+        let bytes = self.pixel_count as u64 * 16;
+        let sums: Vec<u8> = read_buffer(&self.device, &self.queue, &self.radiance, &self.radiance_staging, bytes)?;
+        Ok(super::encode_state(self.passes, self.passes as u64 * self.pixel_count as u64, &sums))
+    }
+    fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
+        let (passes, _, sums) = super::decode_state(state, self.pixel_count as u64 * 16)?;
+        self.queue.write_buffer(&self.radiance, 0, sums);
+        self.passes = passes;
+        Ok(())
+    }
 }

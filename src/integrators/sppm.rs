@@ -613,4 +613,15 @@ impl super::Integrator for Sppm {
             renderer: super::sizes(own.chain(staging)),
         }
     }
+    fn state(&mut self) -> Result<Vec<u8>, Error> {
+        let stats: Vec<u8> = read_whole(&self.device, &self.queue, &self.buffers.vp_stats)?;
+        Ok(super::encode_state(self.passes, self.photons_traced, &stats))
+    }
+    fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
+        let (passes, photons, stats) = super::decode_state(state, self.buffers.vp_stats.size())?;
+        self.queue.write_buffer(&self.buffers.vp_stats, 0, stats);
+        self.passes = passes;
+        self.photons_traced = photons;
+        Ok(())
+    }
 }

@@ -1,0 +1,134 @@
+//! Checkpoints and resume through the command line: a render stopped (even by SIGKILL) and
+//! resumed gives the image an uninterrupted render gives, bit for bit, for SPPM and pt-nee;
+//! a checkpoint of another scene or other settings is refused.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const SIZE: [&str; 8] = ["--width", "40", "--height", "32", "--photons", "4000", "--seed", "9"];
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("checkpoint-tests").join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn sppm_gpu(scene: &str, method: &str, out: &Path, args: &[&str]) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"));
+    command
+        .arg(common::scene_path(scene))
+        .arg("-o")
+        .arg(out)
+        .args(["--method", method])
+        .args(SIZE)
+        .args(args)
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir());
+    command
+}
+
+fn run(mut command: Command) -> Output {
+    let output = command.output().expect("the binary runs");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    output
+}
+
+fn bits(path: &Path) -> Vec<u32> {
+    let image = sppm_gpu::image_io::read_exr(path).unwrap_or_else(|e| panic!("{e}"));
+    image.pixels.iter().flatten().map(|v| v.to_bits()).collect()
+}
+
+/// The passes a resumed run starts from, as it reports them.
+fn resumed_after(stderr: &[u8]) -> u32 {
+    let text = String::from_utf8_lossy(stderr);
+    let line = text.lines().find(|l| l.starts_with("resuming from ")).unwrap_or_else(|| panic!("{text}"));
+    line.rsplit(" after ").next().and_then(|t| t.strip_suffix(" passes")).and_then(|n| n.parse().ok()).unwrap()
+}
+
+#[test]
+fn stopped_and_resumed_equals_uninterrupted() {
+    if common::gpu().is_none() {
+        return;
+    }
+    for method in ["sppm", "pt-nee"] {
+        let dir = scratch(&format!("resume-{method}"));
+        let (full, part, resumed, checkpoint) =
+            (dir.join("full.exr"), dir.join("part.exr"), dir.join("resumed.exr"), dir.join("ck"));
+        run(sppm_gpu("cornell-box.toml", method, &full, &["--iterations", "6"]));
+        run(sppm_gpu("cornell-box.toml", method, &part, &["--iterations", "3", "--checkpoint", checkpoint.to_str().unwrap()]));
+        let output =
+            run(sppm_gpu("cornell-box.toml", method, &resumed, &["--iterations", "6", "--resume", checkpoint.to_str().unwrap()]));
+        assert_eq!(resumed_after(&output.stderr), 3);
+        assert_ne!(bits(&part), bits(&full), "{method}: 3 passes differ from 6");
+        assert!(bits(&resumed) == bits(&full), "{method}: resumed after 3 passes differs from 6 passes in one run");
+    }
+}
+
+/// Killed with SIGKILL at some pass (checkpoints after every pass), resumed to two passes
+/// past its checkpoint: the image of as many passes in one run, bit for bit.
+#[test]
+fn sigkill_then_resume_is_bit_identical() {
+    if common::gpu().is_none() {
+        return;
+    }
+    for method in ["sppm", "pt-nee"] {
+        let dir = scratch(&format!("sigkill-{method}"));
+        let checkpoint = dir.join("ck");
+        let ck = checkpoint.to_str().unwrap();
+        let mut child = sppm_gpu(
+            "cornell-box.toml",
+            method,
+            &dir.join("killed.exr"),
+            &["--iterations", "1000000", "--checkpoint", ck, "--checkpoint-every", "0"],
+        )
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+        let start = std::time::Instant::now();
+        while !checkpoint.exists() {
+            assert!(start.elapsed().as_secs() < 120, "{method}: no checkpoint written");
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(500));
+        child.kill().unwrap();
+        child.wait().unwrap();
+        assert!(!dir.join("killed.exr").exists(), "killed before writing its image");
+
+        let probe = run(sppm_gpu("cornell-box.toml", method, &dir.join("probe.exr"), &["--iterations", "1", "--resume", ck]));
+        let passes = resumed_after(&probe.stderr);
+        assert!(passes >= 1, "{method}: checkpoint after {passes} passes");
+        let target = (passes + 2).to_string();
+        let resumed = dir.join("resumed.exr");
+        run(sppm_gpu("cornell-box.toml", method, &resumed, &["--iterations", &target, "--resume", ck]));
+        let full = dir.join("full.exr");
+        run(sppm_gpu("cornell-box.toml", method, &full, &["--iterations", &target]));
+        assert!(bits(&resumed) == bits(&full), "{method}: killed after {passes} passes and resumed differs");
+    }
+}
+
+#[test]
+fn a_checkpoint_of_another_scene_or_settings_is_refused() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = scratch("refused");
+    let checkpoint = dir.join("ck");
+    let ck = checkpoint.to_str().unwrap();
+    run(sppm_gpu("cornell-box.toml", "sppm", &dir.join("a.exr"), &["--iterations", "1", "--checkpoint", ck]));
+    for (scene, extra, expected) in [
+        ("cornell-spheres.toml", &[][..], "the geometry"),
+        ("cornell-box.toml", &["--alpha", "0.5"][..], "alpha 0.6667 (now 0.5)"),
+    ] {
+        let output = sppm_gpu(scene, "sppm", &dir.join("b.exr"), &[&["--iterations", "2", "--resume", ck][..], extra].concat())
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains("cannot resume: it was made from another scene or other settings"), "{stderr}");
+        assert!(stderr.contains(expected), "{stderr}");
+        assert!(!dir.join("b.exr").exists());
+    }
+}
