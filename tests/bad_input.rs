@@ -512,15 +512,16 @@ fn builder_checks_geometry_as_the_loader_does() {
 
 // --- The command line ---
 
+/// The binary rendering `scene` to `output` with `args`, ready to run.
+fn binary(scene: &Path, output: &Path, args: &[&str]) -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"));
+    command.arg(scene).arg("-o").arg(output).args(args).env("XDG_RUNTIME_DIR", std::env::temp_dir());
+    command
+}
+
 /// Runs the binary on `scene`, writing to `out.png` beside it; its exit code and stderr.
 fn run_binary(scene: &Path) -> (Option<i32>, String) {
-    let output = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
-        .arg(scene)
-        .arg("-o")
-        .arg(scene.with_file_name("out.png"))
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("the binary runs");
+    let output = binary(scene, &scene.with_file_name("out.png"), &[]).output().expect("the binary runs");
     (output.status.code(), String::from_utf8_lossy(&output.stderr).into_owned())
 }
 
@@ -583,16 +584,15 @@ fn binary_survives_a_closed_stdout() {
     }
     let out = std::env::temp_dir().join("sppm-gpu-closed-stdout.png");
     let _ = std::fs::remove_file(&out);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
-        .arg(common::scene_path("cornell-box.toml"))
-        .arg("-o")
-        .arg(&out)
-        .args(["--width", "16", "--height", "16", "--iterations", "2", "--photons", "1000"])
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("the binary runs");
+    let mut child = binary(
+        &common::scene_path("cornell-box.toml"),
+        &out,
+        &["--width", "16", "--height", "16", "--iterations", "2", "--photons", "1000"],
+    )
+    .stdout(std::process::Stdio::piped())
+    .stderr(std::process::Stdio::piped())
+    .spawn()
+    .expect("the binary runs");
     // The reader goes before the first line is written.
     drop(child.stdout.take());
     let output = child.wait_with_output().unwrap();
@@ -610,13 +610,7 @@ fn binary_checks_the_output_before_rendering() {
     let scene = common::scene_path("cornell-box.toml");
     let run = |output: &Path| {
         let start = std::time::Instant::now();
-        let output = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
-            .arg(&scene)
-            .arg("-o")
-            .arg(output)
-            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-            .output()
-            .expect("the binary runs");
+        let output = binary(&scene, output, &[]).output().expect("the binary runs");
         (output.status.code(), String::from_utf8_lossy(&output.stderr).into_owned(), start.elapsed())
     };
     let missing = std::env::temp_dir().join("sppm-gpu-no-such-dir").join("out.png");
@@ -643,12 +637,8 @@ fn binary_writes_the_passes_done_when_interrupted() {
     for (signal, code) in [("INT", 130), ("TERM", 143)] {
         let out = std::env::temp_dir().join(format!("sppm-gpu-signal-{signal}.exr"));
         let _ = std::fs::remove_file(&out);
-        let child = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
-            .arg(common::scene_path("cornell-box.toml"))
-            .arg("-o")
-            .arg(&out)
-            .args(["--iterations", "1000000", "--width", "32", "--height", "24", "--photons", "2000"])
-            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        let args = ["--iterations", "1000000", "--width", "32", "--height", "24", "--photons", "2000"];
+        let child = binary(&common::scene_path("cornell-box.toml"), &out, &args)
             .stdout(std::process::Stdio::piped())
             .stderr(std::process::Stdio::piped())
             .spawn()
@@ -680,14 +670,8 @@ fn binary_refuses_a_render_beyond_the_memory_limit() {
     let _ = std::fs::remove_file(&out);
     let run = |size: &str, limit: &str| {
         let start = std::time::Instant::now();
-        let output = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
-            .arg(common::scene_path("cornell-box.toml"))
-            .arg("-o")
-            .arg(&out)
-            .args(["--width", size, "--height", size, "--iterations", "1", "--photons", "1000", "--memory-limit", limit])
-            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-            .output()
-            .expect("the binary runs");
+        let args = ["--width", size, "--height", size, "--iterations", "1", "--photons", "1000", "--memory-limit", limit];
+        let output = binary(&common::scene_path("cornell-box.toml"), &out, &args).output().expect("the binary runs");
         (output.status.code(), String::from_utf8_lossy(&output.stderr).into_owned(), start.elapsed())
     };
     // 2048x2048 needs about 0.9 GiB: 184 bytes a pixel of buffers and 40 of host image.
