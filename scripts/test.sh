@@ -5,9 +5,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-if command -v rustup >/dev/null; then
-    rustup component add rustfmt clippy >/dev/null
-fi
+# rustfmt and clippy come with rustup's default profile; add them where they are missing.
+cargo fmt --version >/dev/null 2>&1 || rustup component add rustfmt
+cargo clippy --version >/dev/null 2>&1 || rustup component add clippy
 cargo fmt --all -- --check
 cargo clippy --release --all-targets --workspace -- -D warnings
 cargo test --release --workspace
