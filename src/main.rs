@@ -364,6 +364,34 @@ fn run(cli: &Cli) -> Result<ExitCode, Error> {
     render(cli, scene_path, output).map(|code| code.map_or(ExitCode::SUCCESS, ExitCode::from))
 }
 
+/// A render stopped by a device error (a lost device, an exhausted GPU): the image of the
+/// passes done is written if the device can still give it back; either way the error says
+/// what was kept, and where a checkpoint is, from which `--resume` goes on.
+fn after_a_device_error(
+    error: Error,
+    integrator: &mut dyn integrators::Integrator,
+    gpu: &GpuContext,
+    output: &Path,
+    checkpoint: Option<&Path>,
+) -> Error {
+    // A lost device reports the loss when polled; it is then the error to give.
+    let _ = gpu.device.poll(wgpu::PollType::Poll);
+    let error = gpu.check().err().map(Error::from).unwrap_or(error);
+    let passes = integrator.passes();
+    let kept = match integrator.image().and_then(|image| Ok(gpu.check().map(|()| image)?)) {
+        Ok(image) if passes > 0 => match image_io::write_image(output, &image) {
+            Ok(()) => format!("the image of the {passes} passes before it was written to {}", output.display()),
+            Err(e) => format!("the image of the passes before it could not be written: {e}"),
+        },
+        _ => "the device could not give back the image of the passes before it".to_string(),
+    };
+    let resume = match checkpoint {
+        Some(path) if path.exists() => format!("; --resume {} goes on from the last checkpoint", path.display()),
+        _ => String::new(),
+    };
+    Error::Setting(format!("{error}; {kept}{resume}"))
+}
+
 /// `1000000`, `512K`, `64M`, `8G` (powers of 1024) as bytes.
 fn parse_bytes(text: &str) -> Result<u64, String> {
     let t = text.trim();
@@ -519,9 +547,17 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<Option<u8>, Err
             .expect("valid template"),
     );
     let start = Instant::now();
+    // Test hook: lose the device after this many passes of this run, as a driver crash or a
+    // GPU reset would (tests/checkpoint.rs).
+    let lose_device_after: Option<u32> = std::env::var("SPPM_GPU_LOSE_DEVICE_AFTER").ok().and_then(|v| v.parse().ok());
     while integrator.passes() < r.iterations {
-        integrator.run_pass()?;
-        gpu.check()?;
+        if lose_device_after.is_some_and(|n| integrator.passes() - first_pass == n) {
+            gpu.device.destroy();
+        }
+        if let Err(e) = integrator.run_pass().and_then(|()| Ok(gpu.check()?)) {
+            progress.finish_and_clear();
+            return Err(after_a_device_error(e, integrator.as_mut(), &gpu, output, cli.checkpoint.as_deref()));
+        }
         let seconds = start.elapsed().as_secs_f64();
         let work = (integrator.passes() - first_pass) as u64 * integrator.work_per_pass();
         progress.set_position(integrator.passes() as u64);

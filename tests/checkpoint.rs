@@ -132,3 +132,36 @@ fn a_checkpoint_of_another_scene_or_settings_is_refused() {
         assert!(!dir.join("b.exr").exists());
     }
 }
+
+/// A device lost mid-render (a driver crash or GPU reset; `SPPM_GPU_LOSE_DEVICE_AFTER` makes
+/// one) ends the run with a clear error and no panic, pointing to the last checkpoint, from
+/// which the render goes on to the image an uninterrupted run gives, bit for bit.
+#[test]
+fn a_lost_device_leaves_a_checkpoint_to_resume_from() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = scratch("lost-device");
+    let checkpoint = dir.join("ck");
+    let ck = checkpoint.to_str().unwrap();
+    let output = sppm_gpu(
+        "cornell-box.toml",
+        "sppm",
+        &dir.join("lost.exr"),
+        &["--iterations", "6", "--checkpoint", ck, "--checkpoint-every", "0"],
+    )
+    .env("SPPM_GPU_LOSE_DEVICE_AFTER", "3")
+    .output()
+    .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stderr.contains("the GPU device was lost"), "{stderr}");
+    assert!(stderr.contains(&format!("--resume {ck} goes on from the last checkpoint")), "{stderr}");
+    let resumed = dir.join("resumed.exr");
+    let output = run(sppm_gpu("cornell-box.toml", "sppm", &resumed, &["--iterations", "6", "--resume", ck]));
+    assert_eq!(resumed_after(&output.stderr), 3);
+    let full = dir.join("full.exr");
+    run(sppm_gpu("cornell-box.toml", "sppm", &full, &["--iterations", "6"]));
+    assert!(bits(&resumed) == bits(&full), "resumed after the lost device differs");
+}

@@ -111,8 +111,10 @@ impl GpuContext {
         }));
         let lost = errors.clone();
         device.set_device_lost_callback(move |reason, message| {
+            // The loss is the cause of whatever failed around it: it is the error to report.
             let mut first = lost.lock().unwrap_or_else(|p| p.into_inner());
-            first.get_or_insert_with(|| format!("the GPU device was lost ({reason:?}): {message}"));
+            let detail = if message.is_empty() { String::new() } else { format!(": {message}") };
+            *first = Some(format!("the GPU device was lost ({reason:?}){detail}"));
         });
         Ok(Self { device, queue, adapter_info: adapter.get_info(), errors })
     }

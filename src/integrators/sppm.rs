@@ -18,7 +18,6 @@ use crate::image_io::Rgb32Image;
 use crate::scene::{DirectLight, Scene};
 use std::ops::Range;
 use std::sync::Arc;
-use wgpu::util::DeviceExt;
 
 /// Photons each `photon_pass` thread traces (`PHOTONS_PER_THREAD` in the kernel).
 pub const PHOTONS_PER_THREAD: u32 = 16;
@@ -352,13 +351,16 @@ impl Sppm {
     }
 
     /// Copy `frame` into the `frame` uniform from within the encoder (through a small buffer
-    /// that wgpu keeps alive until the commands have run).
+    /// that wgpu keeps alive until the commands have run). Written with `write_buffer`, not
+    /// mapped at creation: on a lost device that reports an error instead of panicking.
     fn upload_frame(&self, encoder: &mut wgpu::CommandEncoder, frame: &Frame) {
-        let upload = self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        let upload = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("frame upload"),
-            contents: bytemuck::bytes_of(frame),
-            usage: wgpu::BufferUsages::COPY_SRC,
+            size: size_of::<Frame>() as u64,
+            usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
         });
+        self.queue.write_buffer(&upload, 0, bytemuck::bytes_of(frame));
         encoder.copy_buffer_to_buffer(&upload, 0, &self.buffers.frame, 0, size_of::<Frame>() as u64);
     }
 
