@@ -365,29 +365,35 @@ fn run(cli: &Cli) -> Result<ExitCode, Error> {
 }
 
 /// A render stopped by a device error (a lost device, an exhausted GPU): the image of the
-/// passes done is written if the device can still give it back; either way the error says
-/// what was kept, and where a checkpoint is, from which `--resume` goes on.
+/// passes done is written if the device can still give it back, else the image of the last
+/// checkpoint (`(path, (passes, state))`), computed on the host; the error says what was kept
+/// and that `--resume` goes on from the checkpoint.
 fn after_a_device_error(
     error: Error,
     integrator: &mut dyn integrators::Integrator,
     gpu: &GpuContext,
     output: &Path,
-    checkpoint: Option<&Path>,
+    checkpoint: Option<(&Path, &(u32, Vec<u8>))>,
 ) -> Error {
     // A lost device reports the loss when polled; it is then the error to give.
     let _ = gpu.device.poll(wgpu::PollType::Poll);
     let error = gpu.check().err().map(Error::from).unwrap_or(error);
     let passes = integrator.passes();
-    let kept = match integrator.image().and_then(|image| Ok(gpu.check().map(|()| image)?)) {
-        Ok(image) if passes > 0 => match image_io::write_image(output, &image) {
-            Ok(()) => format!("the image of the {passes} passes before it was written to {}", output.display()),
-            Err(e) => format!("the image of the passes before it could not be written: {e}"),
+    let write = |image: &sppm_gpu::image_io::Rgb32Image, passes: u32, whose: &str| match image_io::write_image(output, image) {
+        Ok(()) => format!("the image of the {passes} passes {whose} was written to {}", output.display()),
+        Err(e) => format!("the image of the passes {whose} could not be written: {e}"),
+    };
+    let kept = match (integrator.image().and_then(|image| Ok(gpu.check().map(|()| image)?)), checkpoint) {
+        (Ok(image), _) if passes > 0 => write(&image, passes, "before it"),
+        (_, Some((_, (passes, state)))) => match integrator.image_of_state(state) {
+            Ok(image) => write(&image, *passes, "of the last checkpoint"),
+            Err(e) => format!("the last checkpoint's image could not be made: {e}"),
         },
-        _ => "the device could not give back the image of the passes before it".to_string(),
+        _ => "the device could not give back the image of the passes before it (--checkpoint keeps them)".to_string(),
     };
     let resume = match checkpoint {
-        Some(path) if path.exists() => format!("; --resume {} goes on from the last checkpoint", path.display()),
-        _ => String::new(),
+        Some((path, _)) => format!("; --resume {} goes on from the last checkpoint", path.display()),
+        None => String::new(),
     };
     Error::Setting(format!("{error}; {kept}{resume}"))
 }
@@ -530,11 +536,15 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<Option<u8>, Err
         integrator.restore(&state).map_err(|e| Error::Setting(format!("{}: cannot resume: {e}", path.display())))?;
         eprintln!("resuming from {} after {} passes", path.display(), integrator.passes());
     }
-    let save = |integrator: &mut Box<dyn integrators::Integrator>| -> Result<(), Error> {
-        match &cli.checkpoint {
-            Some(path) => sppm_gpu::checkpoint::write(path, &fingerprint, &integrator.state()?),
-            None => Ok(()),
+    // The last checkpoint's state is also kept here: a lost device's render writes its image.
+    let mut saved: Option<(u32, Vec<u8>)> = None;
+    let mut save = |integrator: &mut Box<dyn integrators::Integrator>| -> Result<(), Error> {
+        if let Some(path) = &cli.checkpoint {
+            let state = integrator.state()?;
+            sppm_gpu::checkpoint::write(path, &fingerprint, &state)?;
+            saved = Some((integrator.passes(), state));
         }
+        Ok(())
     };
     let mut last_checkpoint = Instant::now();
     let unit = integrator.work_unit();
@@ -556,7 +566,8 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<Option<u8>, Err
         }
         if let Err(e) = integrator.run_pass().and_then(|()| Ok(gpu.check()?)) {
             progress.finish_and_clear();
-            return Err(after_a_device_error(e, integrator.as_mut(), &gpu, output, cli.checkpoint.as_deref()));
+            let last = cli.checkpoint.as_deref().zip(saved.as_ref());
+            return Err(after_a_device_error(e, integrator.as_mut(), &gpu, output, last));
         }
         let seconds = start.elapsed().as_secs_f64();
         let work = (integrator.passes() - first_pass) as u64 * integrator.work_per_pass();

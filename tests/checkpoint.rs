@@ -158,6 +158,16 @@ fn a_lost_device_leaves_a_checkpoint_to_resume_from() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(stderr.contains("the GPU device was lost"), "{stderr}");
     assert!(stderr.contains(&format!("--resume {ck} goes on from the last checkpoint")), "{stderr}");
+    // The device cannot give its image back: the last checkpoint's, made on the host, is
+    // written, and matches the device's image of those 3 passes.
+    assert!(stderr.contains("the image of the 3 passes of the last checkpoint was written"), "{stderr}");
+    let three = dir.join("three.exr");
+    run(sppm_gpu("cornell-box.toml", "sppm", &three, &["--iterations", "3"]));
+    let host = sppm_gpu::image_io::read_exr(&dir.join("lost.exr")).unwrap();
+    let device = sppm_gpu::image_io::read_exr(&three).unwrap();
+    for (a, b) in host.pixels.iter().flatten().zip(device.pixels.iter().flatten()) {
+        assert!((a - b).abs() <= 1e-5 * b.abs().max(1e-3), "host resolve {a} vs device {b}");
+    }
     let resumed = dir.join("resumed.exr");
     let output = run(sppm_gpu("cornell-box.toml", "sppm", &resumed, &["--iterations", "6", "--resume", ck]));
     assert_eq!(resumed_after(&output.stderr), 3);

@@ -109,6 +109,20 @@ impl Integrator for Bands {
         }
         Ok(out)
     }
+    fn image_of_state(&self, mut state: &[u8]) -> Result<Rgb32Image, Error> {
+        let malformed = || Error::Setting("the saved state does not split into this render's bands".into());
+        let mut out = Rgb32Image::new(self.width, self.height);
+        let mut offset = 0;
+        for band in &self.bands {
+            let len = state.get(..8).ok_or_else(malformed)?;
+            let len = u64::from_le_bytes(len.try_into().expect("8 bytes")) as usize;
+            let img = band.image_of_state(state.get(8..8 + len).ok_or_else(malformed)?)?;
+            out.pixels[offset..offset + img.pixels.len()].copy_from_slice(&img.pixels);
+            offset += img.pixels.len();
+            state = &state[8 + len..];
+        }
+        Ok(out)
+    }
     fn restore(&mut self, mut state: &[u8]) -> Result<(), Error> {
         let malformed = || Error::Setting("the saved state does not split into this render's bands".into());
         for band in &mut self.bands {

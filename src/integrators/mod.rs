@@ -36,6 +36,9 @@ pub trait Integrator {
     fn state(&mut self) -> Result<Vec<u8>, Error>;
     /// Continue from bytes of [`Integrator::state`] of the same scene and settings.
     fn restore(&mut self, state: &[u8]) -> Result<(), Error>;
+    /// The image of bytes of [`Integrator::state`], computed on the host without the device:
+    /// what a lost device's render still gives from its last saved state.
+    fn image_of_state(&self, state: &[u8]) -> Result<Rgb32Image, Error>;
 }
 
 /// The bytes of an integrator's state: its pass count and work so far, then one buffer.

@@ -161,6 +161,16 @@ impl Integrator for PathTracer {
         let sums: Vec<u8> = read_buffer(&self.device, &self.queue, &self.radiance, &self.radiance_staging, bytes)?;
         Ok(super::encode_state(self.passes, self.passes as u64 * self.pixel_count as u64, &sums))
     }
+    fn image_of_state(&self, state: &[u8]) -> Result<Rgb32Image, Error> {
+        let (_, _, sums) = super::decode_state(state, self.pixel_count as u64 * 16)?;
+        let sums: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(sums);
+        let mut img = Rgb32Image::new(self.frame.width, self.frame.height);
+        for (dst, s) in img.pixels.iter_mut().zip(&sums) {
+            let n = s[3].max(1.0);
+            *dst = [s[0] / n, s[1] / n, s[2] / n];
+        }
+        Ok(img)
+    }
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
         let (passes, _, sums) = super::decode_state(state, self.pixel_count as u64 * 16)?;
         self.queue.write_buffer(&self.radiance, 0, sums);

@@ -619,6 +619,25 @@ impl super::Integrator for Sppm {
         let stats: Vec<u8> = read_whole(&self.device, &self.queue, &self.buffers.vp_stats)?;
         Ok(super::encode_state(self.passes, self.photons_traced, &stats))
     }
+    /// The estimate of `resolve.wgsl` (shared/estimate.wgsl), on the host.
+    fn image_of_state(&self, state: &[u8]) -> Result<Rgb32Image, Error> {
+        let (passes, _, stats) = super::decode_state(state, self.buffers.vp_stats.size())?;
+        let stats: Vec<VpStats> = bytemuck::pod_collect_to_vec(stats);
+        let (k, spp) = (passes.max(1) as f32, self.frame.spp.max(1) as usize);
+        let photons = k * self.frame.photon_count as f32;
+        let mut image = Rgb32Image::new(self.frame.width, self.frame.height);
+        for (pixel, samples) in image.pixels.iter_mut().zip(stats.chunks(spp)) {
+            let mut sum = [0.0f32; 3];
+            for st in samples {
+                let area = std::f32::consts::PI * st.radius * st.radius;
+                for (c, sum) in sum.iter_mut().enumerate() {
+                    *sum += st.ld[c] / k + st.tau[c] * self.frame.power_total / (photons * area);
+                }
+            }
+            *pixel = sum.map(|v| v / spp as f32).map(|v| if v.is_finite() { v } else { 0.0 });
+        }
+        Ok(image)
+    }
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
         let (passes, photons, stats) = super::decode_state(state, self.buffers.vp_stats.size())?;
         self.queue.write_buffer(&self.buffers.vp_stats, 0, stats);
