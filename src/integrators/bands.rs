@@ -56,6 +56,22 @@ impl Bands {
     pub fn band_count(&self) -> usize {
         self.bands.len()
     }
+
+    /// Each band's state in bytes of [`Integrator::state`]: one length-prefixed part a band.
+    fn band_states<'a>(&self, mut state: &'a [u8]) -> Result<Vec<&'a [u8]>, Error> {
+        let malformed = || Error::Setting("the saved state does not split into this render's bands".into());
+        let mut parts = Vec::with_capacity(self.bands.len());
+        for _ in &self.bands {
+            let len = state.get(..8).ok_or_else(malformed)?;
+            let len = usize::try_from(u64::from_le_bytes(len.try_into().expect("8 bytes"))).map_err(|_| malformed())?;
+            parts.push(state.get(8..8 + len).ok_or_else(malformed)?);
+            state = &state[8 + len..];
+        }
+        if !state.is_empty() {
+            return Err(malformed());
+        }
+        Ok(parts)
+    }
 }
 
 impl Integrator for Bands {
@@ -109,31 +125,20 @@ impl Integrator for Bands {
         }
         Ok(out)
     }
-    fn image_of_state(&self, mut state: &[u8]) -> Result<Rgb32Image, Error> {
-        let malformed = || Error::Setting("the saved state does not split into this render's bands".into());
+    fn image_of_state(&self, state: &[u8]) -> Result<Rgb32Image, Error> {
         let mut out = Rgb32Image::new(self.width, self.height);
         let mut offset = 0;
-        for band in &self.bands {
-            let len = state.get(..8).ok_or_else(malformed)?;
-            let len = u64::from_le_bytes(len.try_into().expect("8 bytes")) as usize;
-            let img = band.image_of_state(state.get(8..8 + len).ok_or_else(malformed)?)?;
+        for (band, state) in self.bands.iter().zip(self.band_states(state)?) {
+            let img = band.image_of_state(state)?;
             out.pixels[offset..offset + img.pixels.len()].copy_from_slice(&img.pixels);
             offset += img.pixels.len();
-            state = &state[8 + len..];
         }
         Ok(out)
     }
-    fn restore(&mut self, mut state: &[u8]) -> Result<(), Error> {
-        let malformed = || Error::Setting("the saved state does not split into this render's bands".into());
-        for band in &mut self.bands {
-            let len = state.get(..8).ok_or_else(malformed)?;
-            let len = u64::from_le_bytes(len.try_into().expect("8 bytes")) as usize;
-            let body = state.get(8..8 + len).ok_or_else(malformed)?;
-            band.restore(body)?;
-            state = &state[8 + len..];
-        }
-        if !state.is_empty() {
-            return Err(malformed());
+    fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
+        let states = self.band_states(state)?;
+        for (band, state) in self.bands.iter_mut().zip(states) {
+            band.restore(state)?;
         }
         Ok(())
     }
