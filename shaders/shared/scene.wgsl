@@ -135,7 +135,7 @@ fn enters(lo: vec3f, hi: vec3f, o: vec3f, inv_d: vec3f, t_max: f32) -> bool {
     return intersect_box(lo, hi, o, inv_d, t_max) < t_max;
 }
 
-// Keep the triangle (p0, e1, e2) as the hit if it is nearer (the baked traversal's leaves).
+// Keep the triangle (p0, e1, e2) as the hit if it is nearer (the leaves of both traversals).
 fn hit_triangle(p0: vec3f, e1: vec3f, e2: vec3f, prim_ref: u32, shape: u32, o: vec3f, d: vec3f, hit: ptr<function, Hit>) {
     let tb = intersect_triangle(Triangle(p0, 0u, e1, shape, e2, 0u), origin_at_rest(o, shape), d, (*hit).t);
     if tb.x > 0.0 {
@@ -189,16 +189,10 @@ fn trace(o: vec3f, d: vec3f, t_max_in: f32, any_hit: bool) -> Hit {
                 let p = prim_refs[i];
                 if is_sphere(p) {
                     let sphere = spheres[p & ~SPHERE_BIT];
-                    let t = intersect_sphere(sphere, origin_at_rest(o, sphere.shape), d, hit.t);
-                    if t > 0.0 {
-                        hit = Hit(t, p, vec2f(0.0));
-                    }
+                    hit_sphere(sphere.center, sphere.radius, p, sphere.shape, o, d, &hit);
                 } else {
                     let tri = triangles[p];
-                    let tb = intersect_triangle(tri, origin_at_rest(o, tri.shape), d, hit.t);
-                    if tb.x > 0.0 {
-                        hit = Hit(tb.x, p, tb.yz);
-                    }
+                    hit_triangle(tri.p0, tri.e1, tri.e2, p, tri.shape, o, d, &hit);
                 }
             }
             if any_hit && hit.prim_ref != 0xffffffffu {
