@@ -11,6 +11,7 @@
 #import bsdf
 #import lights
 #import lanes
+#import grid
 
 @group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
 @group(0) @binding(9) var<storage, read> vp_points: array<vec4f>;
@@ -67,9 +68,8 @@ fn bucket(p: vec3f) -> vec2u {
     if !all((c >= vec3f(0.0)) & (c < res)) {
         return vec2u(0u);
     }
-    let cell = vec3u(c);
-    // Teschner et al. 2003 spatial hash; src/accel/grid.rs builds the table with the same one.
-    let h = ((cell.x * 73856093u) ^ (cell.y * 19349663u) ^ (cell.z * 83492791u)) & grid.table_mask;
+    // The spatial hash the grid was built with (shared/grid.wgsl, src/accel/grid.rs).
+    let h = hash_cell(vec3u(c), grid.table_mask);
     return vec2u(grid_cell_start[h], grid_cell_start[h + 1u]);
 }
 
