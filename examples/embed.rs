@@ -18,7 +18,7 @@
 
 use sppm_gpu::gpu::readback;
 use sppm_gpu::image_io::Rgb32Image;
-use sppm_gpu::integrators::Sppm;
+use sppm_gpu::integrators::{Integrator, Sppm};
 use sppm_gpu::scene::Camera;
 use std::path::PathBuf;
 use std::process::ExitCode;

@@ -98,8 +98,9 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
 
 @compute @workgroup_size(64)
 fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    let index = gid.x + gid.y * groups.x * 64u;
-    if index >= frame.vp_count {
+    // This dispatch's part of the pass: points [work_first, work_end).
+    let index = frame.work_first + gid.x + gid.y * groups.x * 64u;
+    if index >= min(frame.work_end, frame.vp_count) {
         return;
     }
     // Keyed by the point's index in the whole image, so that a band draws the numbers the

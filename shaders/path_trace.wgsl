@@ -21,8 +21,9 @@ const STREAM_PATH: u32 = 2u;
 
 @compute @workgroup_size(64)
 fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    let pixel = gid.x + gid.y * groups.x * 64u;
-    if pixel >= frame.width * frame.height {
+    // This dispatch's part of the pass: pixels [work_first, work_end).
+    let pixel = frame.work_first + gid.x + gid.y * groups.x * 64u;
+    if pixel >= min(frame.work_end, frame.width * frame.height) {
         return;
     }
     // Keyed by the pixel's index in the whole image (this may be a band of it).

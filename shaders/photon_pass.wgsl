@@ -189,9 +189,10 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> bool {
 // on which thread traced it.
 @compute @workgroup_size(64)
 fn photon_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    // This dispatch's part of the pass: photons [work_first, work_end).
     let thread = gid.x + gid.y * groups.x * 64u;
-    let first = thread * PHOTONS_PER_THREAD;
-    let end = min(first + PHOTONS_PER_THREAD, frame.photon_count);
+    let first = frame.work_first + thread * PHOTONS_PER_THREAD;
+    let end = min(first + PHOTONS_PER_THREAD, min(frame.work_end, frame.photon_count));
     var next = first;
     var alive = false;
     var ph: Photon;

@@ -63,10 +63,14 @@
 //!
 //! # Embedding in an application
 //!
-//! [`integrators::Sppm`] works on the caller's device and records into the caller's command
-//! encoder: [`Sppm::record_pass`](integrators::Sppm::record_pass) records a whole pass with no
-//! trip to the host, and
-//! [`Sppm::record_resolve_to_texture`](integrators::Sppm::record_resolve_to_texture) writes
+//! Every integrator ([`integrators::Sppm`], [`integrators::PathTracer`]) works on the
+//! caller's device and records into the caller's command encoder through
+//! [`Integrator`](integrators::Integrator):
+//! [`record_pass`](integrators::Integrator::record_pass) records a whole pass with no trip to
+//! the host, [`record_pass_part`](integrators::Integrator::record_pass_part) a bounded part of
+//! one (for an application that must draw a frame every few tens of milliseconds, such as
+//! `sppm-gpu view`), and
+//! [`record_resolve_to_texture`](integrators::Integrator::record_resolve_to_texture) writes
 //! the current estimate into a `width` x `height` `Rgba16Float` or `Rgba32Float` texture with
 //! `STORAGE_BINDING` usage (alpha 1), ready to sample or copy in the same submission.
 //! [`Sppm::record_resolve_to_buffer`](integrators::Sppm::record_resolve_to_buffer) does the
@@ -88,6 +92,7 @@
 //!     required_limits: sppm_gpu::gpu::required_limits(&adapter.limits())?,
 //!     ..Default::default()
 //! }))?;
+//! use sppm_gpu::integrators::Integrator;
 //! let mut sppm = sppm_gpu::integrators::Sppm::new(&device, &queue, &scene)?;
 //! let texture = device.create_texture(&wgpu::TextureDescriptor {
 //!     label: Some("sppm estimate"),
@@ -110,8 +115,8 @@
 //! # }
 //! ```
 //!
-//! [`Sppm::set_camera`](integrators::Sppm::set_camera) moves the camera and starts over;
-//! [`Sppm::reset`](integrators::Sppm::reset) starts over in place.
+//! [`set_camera`](integrators::Integrator::set_camera) moves the camera and starts over;
+//! [`reset`](integrators::Integrator::reset) starts over in place.
 
 #![deny(missing_docs)]
 

@@ -10,7 +10,7 @@ mod common;
 use sppm_gpu::gpu::readback;
 use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators::sppm::auto_radius;
-use sppm_gpu::integrators::Sppm;
+use sppm_gpu::integrators::{Integrator, Sppm};
 use sppm_gpu::scene::{Camera, Scene};
 
 /// Odd sizes on purpose: texture rows of 40 texels need padding to 256 bytes in a copy.
@@ -377,4 +377,76 @@ fn with_and_without_subgroups_the_same_image() {
     let (_, with) = reference(&gpu.device, &gpu.queue, &scene, PASSES);
     assert_bit_equal(&with, &without, "with vs without subgroups");
     assert!(mean(&with) > 0.05, "mean {}", mean(&with));
+}
+
+/// Passes recorded in bounded parts (`record_pass_part`, as `sppm-gpu view` records them)
+/// give the image of whole passes bit for bit, for SPPM, the path tracers and a banded image;
+/// a pass dropped half way by `reset` leaves nothing behind; SPPM refuses to resolve in the
+/// middle of a pass, and the path tracers' texture holds what `image()` reads.
+#[test]
+fn passes_in_parts_match_whole_passes() {
+    use sppm_gpu::integrators::{self, Bands, PartSize};
+    use sppm_gpu::scene::Method;
+    let Some((_adapter, device, queue)) = sppm_device() else { return };
+    let texture = target(&device, wgpu::TextureFormat::Rgba32Float, WIDTH, HEIGHT);
+    // Sizes that divide nothing evenly: 7 parts of camera paths, 4 of photons.
+    let size = PartSize { points: 187, photons: 5_333 };
+    for method in [Method::Sppm, Method::PtNee, Method::Pt] {
+        let mut scene = small("cornell-spheres.toml", 5);
+        scene.render.method = method;
+        let whole = {
+            let mut r = integrators::create(&device, &queue, &scene).unwrap_or_else(|e| panic!("{e}"));
+            for _ in 0..PASSES {
+                r.run_pass().unwrap_or_else(|e| panic!("{e}"));
+            }
+            r.image().unwrap_or_else(|e| panic!("{e}"))
+        };
+        let mut r = integrators::create(&device, &queue, &scene).unwrap_or_else(|e| panic!("{e}"));
+        // Most of a pass (for SPPM into its photons), dropped by a reset: its light and
+        // photons must not show.
+        let mut encoder = device.create_command_encoder(&Default::default());
+        for _ in 0..if method == Method::Sppm { 9 } else { 5 } {
+            assert!(!r.record_pass_part(&mut encoder, size), "{method:?}: these parts do not finish a pass");
+        }
+        if method == Method::Sppm {
+            assert!(r.record_resolve_to_texture(&mut encoder, &texture).is_err(), "SPPM resolved mid-pass");
+        }
+        queue.submit([encoder.finish()]);
+        r.reset();
+        let mut parts = 0;
+        for pass in 0..PASSES {
+            // A frame per part, each submitted on its own.
+            loop {
+                let mut encoder = device.create_command_encoder(&Default::default());
+                let done = r.record_pass_part(&mut encoder, size);
+                queue.submit([encoder.finish()]);
+                parts += 1;
+                if done {
+                    break;
+                }
+                assert_eq!(r.passes(), pass, "{method:?}: a pass counted before its last part");
+            }
+        }
+        assert_eq!(r.passes(), PASSES);
+        let expected_parts = match method {
+            Method::Sppm => (WIDTH * HEIGHT).div_ceil(size.points) + PHOTONS.div_ceil(size.photons),
+            _ => (WIDTH * HEIGHT).div_ceil(size.points),
+        };
+        assert_eq!(parts, PASSES * expected_parts, "{method:?}: parts");
+        let mut encoder = device.create_command_encoder(&Default::default());
+        r.record_resolve_to_texture(&mut encoder, &texture).unwrap_or_else(|e| panic!("{e}"));
+        queue.submit([encoder.finish()]);
+        assert_bit_equal(&r.image().unwrap_or_else(|e| panic!("{e}")), &whole, &format!("{method:?} in parts"));
+        assert_bit_equal(&read_texture(&device, &queue, &texture).0, &whole, &format!("{method:?} texture"));
+
+        // Bands of 11 rows, in parts that cross from one band to the next.
+        let mut bands = Bands::new(&device, &queue, &scene, 11).unwrap_or_else(|e| panic!("{e}"));
+        for _ in 0..PASSES {
+            let mut encoder = device.create_command_encoder(&Default::default());
+            while !bands.record_pass_part(&mut encoder, size) {}
+            queue.submit([encoder.finish()]);
+        }
+        assert_eq!(bands.passes(), PASSES);
+        assert_bit_equal(&bands.image().unwrap_or_else(|e| panic!("{e}")), &whole, &format!("{method:?} bands in parts"));
+    }
 }

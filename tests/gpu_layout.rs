@@ -52,6 +52,10 @@ fn gpu_structs_match_wgsl() {
             image_height,
             direct,
             direct_samples,
+            work_first,
+            work_end,
+            _pad0,
+            _pad1,
         ]
     );
     check!(module, GpuBvhNode, "BvhNode", [box_a, child_a, box_b, child_b]);

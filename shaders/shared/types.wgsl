@@ -38,6 +38,12 @@ struct Frame {
     // SPPM: camera paths per visible point per pass that gather emitted and direct light (the
     // first leaves the visible point); 1 when direct is 0.
     direct_samples: u32,
+    // The part of the pass a dispatch covers: camera paths (visible points or pixels) or
+    // photons with indices in [work_first, work_end).
+    work_first: u32,
+    work_end: u32,
+    _pad0: u32,
+    _pad1: u32,
 }
 
 // An interior BVH node: its children's boxes, quantized to 16 bits per coordinate

@@ -20,6 +20,7 @@ pub const KERNELS: &[&str] = &[
     "resolve",
     "resolve_texture",
     "path_trace",
+    "path_resolve_texture",
     "trace_rays",
     "sampler_test",
 ];
@@ -49,6 +50,7 @@ const FILES: &[(&str, &str)] = &[
     ("lanes", include_str!("../../shaders/shared/lanes.wgsl")),
     ("lanes_single", include_str!("../../shaders/shared/lanes_single.wgsl")),
     ("path_trace", include_str!("../../shaders/path_trace.wgsl")),
+    ("path_resolve_texture", include_str!("../../shaders/path_resolve_texture.wgsl")),
     ("sampler_test", include_str!("../../shaders/sampler_test.wgsl")),
 ];
 

@@ -46,7 +46,7 @@ fn map_staging(device: &wgpu::Device, staging: &wgpu::Buffer, size: u64) -> Resu
 }
 
 /// Wait for the queue and read back an `Rgba32Float` or `Rgba16Float` texture (such as one
-/// [`Sppm::record_resolve_to_texture`](crate::integrators::Sppm::record_resolve_to_texture)
+/// [`Integrator::record_resolve_to_texture`](crate::integrators::Integrator::record_resolve_to_texture)
 /// wrote) as RGBA, row by row from the top. The copy pads rows to 256 bytes.
 pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Result<Vec<[f32; 4]>, GpuError> {
     let channel_bytes = match texture.format() {

@@ -70,6 +70,16 @@ pub struct Frame {
     /// SPPM: camera paths per visible point per pass that gather emitted and direct light
     /// (the first leaves the visible point); 1 when `direct` is 0.
     pub direct_samples: u32,
+    /// The part of the pass a dispatch covers ([`PartSize`](crate::integrators::PartSize)):
+    /// camera paths (visible points, or pixels for the path tracers) or photons with indices
+    /// in `work_first..work_end`.
+    pub work_first: u32,
+    /// See `work_first`.
+    pub work_end: u32,
+    /// Padding to a multiple of 16 bytes; always 0.
+    pub _pad0: u32,
+    /// Padding; always 0.
+    pub _pad1: u32,
 }
 
 /// A triangle as a corner and two edges.

@@ -15,6 +15,8 @@ use crate::scene::{Method, Scene};
 /// `scene.render.method` over bands of at most `rows_per_band` rows.
 pub struct Bands {
     bands: Vec<Box<dyn Integrator>>,
+    /// The band whose part of the pass under way comes next.
+    current: usize,
     method: Method,
     width: u32,
     height: u32,
@@ -49,7 +51,7 @@ impl Bands {
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(Self { bands, method: scene.render.method, width: scene.render.width, height })
+        Ok(Self { bands, current: 0, method: scene.render.method, width: scene.render.width, height })
     }
 
     /// Number of bands.
@@ -81,8 +83,9 @@ impl Integrator for Bands {
         }
         Ok(())
     }
+    /// The last band's passes: a pass is done when its last band's is.
     fn passes(&self) -> u32 {
-        self.bands[0].passes()
+        self.bands[self.bands.len() - 1].passes()
     }
     /// What a pass adds to the estimate: the pass's photons for SPPM (each band traces them
     /// again, for its own points), a sample per pixel of every band for the path tracers.
@@ -135,11 +138,40 @@ impl Integrator for Bands {
         }
         Ok(out)
     }
+    /// The bands' parts one after another: all of the first band's pass, then the next's.
+    fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: super::PartSize) -> bool {
+        if !self.bands[self.current].record_pass_part(encoder, size) {
+            return false;
+        }
+        self.current = (self.current + 1) % self.bands.len();
+        self.current == 0
+    }
+    fn record_resolve_to_texture(&mut self, _: &mut wgpu::CommandEncoder, _: &wgpu::Texture) -> Result<(), Error> {
+        Err(Error::Setting(format!(
+            "the image is rendered in {} bands, which cannot be resolved into one texture; read it with image(), or \
+             render fewer pixels",
+            self.bands.len()
+        )))
+    }
+    fn set_camera(&mut self, camera: &crate::scene::Camera) -> Result<(), Error> {
+        for band in &mut self.bands {
+            band.set_camera(camera)?;
+        }
+        self.current = 0;
+        Ok(())
+    }
+    fn reset(&mut self) {
+        for band in &mut self.bands {
+            band.reset();
+        }
+        self.current = 0;
+    }
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
         let states = self.band_states(state)?;
         for (band, state) in self.bands.iter_mut().zip(states) {
             band.restore(state)?;
         }
+        self.current = 0;
         Ok(())
     }
 }

@@ -14,7 +14,30 @@ use crate::error::Error;
 use crate::image_io::Rgb32Image;
 use crate::scene::Method;
 
+/// How much of a pass one [`Integrator::record_pass_part`] may record: at most `points`
+/// camera paths (visible points for SPPM, pixel samples for the path tracers) or `photons`
+/// photons. An application that draws between parts, such as a preview window, keeps each
+/// part's GPU time bounded with it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PartSize {
+    /// Camera paths a part may trace.
+    pub points: u32,
+    /// Photons a part may trace.
+    pub photons: u32,
+}
+
+impl PartSize {
+    /// No bound: a pass in two parts for SPPM (camera paths and grid, then photons and
+    /// statistics), one for the path tracers.
+    pub const WHOLE: PartSize = PartSize { points: u32::MAX, photons: u32::MAX };
+}
+
 /// A progressive renderer: each pass refines the estimate, which can be read at any time.
+///
+/// Applications with a device of their own record passes into their own encoders
+/// ([`Integrator::record_pass`], or [`Integrator::record_pass_part`] for bounded pieces) and
+/// the estimate into their own texture ([`Integrator::record_resolve_to_texture`]); nothing
+/// is submitted but by them. [`Integrator::set_camera`] and [`Integrator::reset`] start over.
 pub trait Integrator {
     /// Run one more pass to completion (submitted; `image` waits for it).
     fn run_pass(&mut self) -> Result<(), Error>;
@@ -39,6 +62,54 @@ pub trait Integrator {
     /// The image of bytes of [`Integrator::state`], computed on the host without the device:
     /// what a lost device's render still gives from its last saved state.
     fn image_of_state(&self, state: &[u8]) -> Result<Rgb32Image, Error>;
+    /// Record the next part of the pass under way into `encoder`, or the first part of a new
+    /// pass, no larger than `size`, without submitting it. True when the part completed the
+    /// pass, which then counts in [`Integrator::passes`]. Parts draw the random numbers a whole
+    /// pass does, so the image does not depend on how passes are cut into parts, bit for bit.
+    /// SPPM's parts: slices of the camera paths (the grid is built after the last), then
+    /// slices of the photons (the statistics are updated after the last). The path tracers':
+    /// slices of the pixels.
+    fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> bool;
+    /// Record one whole pass (or the rest of the pass under way) into `encoder`, without
+    /// submitting it: the caller may record several, or interleave its own work. The pass
+    /// counts as done once recorded.
+    fn record_pass(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        while !self.record_pass_part(encoder, PartSize::WHOLE) {}
+    }
+    /// Record the estimate of the completed passes into the caller's 2D texture: `width` x
+    /// `height`, `Rgba16Float` or `Rgba32Float`, with `STORAGE_BINDING`; alpha 1. An error for
+    /// SPPM while a pass is under way (its camera paths have already added their light).
+    fn record_resolve_to_texture(&mut self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) -> Result<(), Error>;
+    /// Move the camera and start over ([`Integrator::reset`]). The image size stays.
+    fn set_camera(&mut self, camera: &crate::scene::Camera) -> Result<(), Error>;
+    /// Start over: no pass done, the pass under way (if any) dropped; the next pass draws the
+    /// random numbers the first did.
+    fn reset(&mut self);
+    /// SPPM's gather radii over the visible points (read back); `None` for the path tracers.
+    fn radius_stats(&self) -> Result<Option<sppm::RadiusStats>, Error> {
+        Ok(None)
+    }
+}
+
+/// Copy `bytes` into `dst` from within `encoder`, through a small buffer that wgpu keeps
+/// alive until the commands have run: passes recorded into one encoder each see their own
+/// constants. Written with `write_buffer`, not mapped at creation: on a lost device that
+/// reports an error instead of panicking.
+fn record_upload(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    encoder: &mut wgpu::CommandEncoder,
+    dst: &wgpu::Buffer,
+    bytes: &[u8],
+) {
+    let upload = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("upload"),
+        size: bytes.len() as u64,
+        usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    queue.write_buffer(&upload, 0, bytes);
+    encoder.copy_buffer_to_buffer(&upload, 0, dst, 0, bytes.len() as u64);
 }
 
 /// The bytes of an integrator's state: its pass count and work so far, then one buffer.
@@ -208,6 +279,7 @@ fn band_frame(scene: &Scene, data: &crate::gpu::scene_buffers::SceneData, rows: 
         power_total: data.power_total,
         direct: (scene.render.direct == crate::scene::DirectLight::Sampled) as u32,
         direct_samples: sppm::direct_samples(&scene.render),
+        work_end: u32::MAX,
         ..camera_frame(scene)
     })
 }
@@ -245,6 +317,42 @@ pub fn camera_frame_for(c: &Camera, width: u32, height: u32) -> Frame {
         image_height: height,
         ..Frame::default()
     }
+}
+
+/// Texel formats the resolve kernels write, by slot: the token replaced in their WGSL.
+const RESOLVE_FORMATS: [&str; 2] = ["rgba32float", "rgba16float"];
+
+/// The slot in [`RESOLVE_FORMATS`] of `texture`, a resolve target for a `width` x `height`
+/// image: it must be that size, `Rgba32Float` or `Rgba16Float`, with `STORAGE_BINDING`.
+fn check_resolve_target(texture: &wgpu::Texture, width: u32, height: u32) -> Result<usize, Error> {
+    let slot = match texture.format() {
+        wgpu::TextureFormat::Rgba32Float => 0,
+        wgpu::TextureFormat::Rgba16Float => 1,
+        f => return Err(Error::Setting(format!("the target texture is {f:?}; use Rgba16Float or Rgba32Float"))),
+    };
+    let size = texture.size();
+    if size.width != width || size.height != height || !texture.usage().contains(wgpu::TextureUsages::STORAGE_BINDING) {
+        return Err(Error::Setting(format!(
+            "the target texture is {}x{} with usage {:?}; it must be {width}x{height} with STORAGE_BINDING",
+            size.width,
+            size.height,
+            texture.usage(),
+        )));
+    }
+    Ok(slot)
+}
+
+/// Point `frame`'s camera fields at `camera` (validated), keeping its image size.
+fn set_frame_camera(frame: &mut Frame, camera: &Camera) -> Result<(), Error> {
+    crate::scene::validate_camera(camera).map_err(Error::Setting)?;
+    let f = camera_frame_for(camera, frame.width, frame.image_height);
+    frame.cam_position = f.cam_position;
+    frame.lens_radius = f.lens_radius;
+    frame.cam_right = f.cam_right;
+    frame.focus_distance = f.focus_distance;
+    frame.cam_up = f.cam_up;
+    frame.cam_forward = f.cam_forward;
+    Ok(())
 }
 
 /// The shutter time of pass `pass` in [0, 1): the base-2 radical inverse of the pass index

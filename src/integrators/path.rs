@@ -2,7 +2,7 @@
 //! naive (`method = "pt"`) or with next-event estimation and MIS (`"pt-nee"`). Each pass adds
 //! one sample per pixel (`path_trace`); the image is the running mean.
 
-use super::{shutter_time, Integrator};
+use super::{shutter_time, Integrator, PartSize};
 use crate::error::Error;
 use crate::gpu::readback::{read_buffer, staging_buffer};
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
@@ -25,6 +25,10 @@ pub struct PathTracer {
     pixel_count: u32,
     path_trace: Kernel,
     group: wgpu::BindGroup,
+    /// The first pixel of the next part of the pass under way (0: a new pass).
+    next_pixel: u32,
+    /// `path_resolve_texture` for Rgba32Float and Rgba16Float targets, made when first used.
+    resolve_texture: [Option<Kernel>; 2],
     frame_buffer: wgpu::Buffer,
     radiance: wgpu::Buffer,
     radiance_staging: wgpu::Buffer,
@@ -104,6 +108,8 @@ impl PathTracer {
             pixel_count,
             path_trace,
             group,
+            next_pixel: 0,
+            resolve_texture: [None, None],
             frame_buffer,
             radiance_staging: staging_buffer(device, "radiance_staging", bytes),
             radiance,
@@ -114,14 +120,61 @@ impl PathTracer {
 
 impl Integrator for PathTracer {
     fn run_pass(&mut self) -> Result<(), Error> {
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("path_trace") });
+        self.record_pass(&mut encoder);
+        self.queue.submit([encoder.finish()]);
+        Ok(())
+    }
+
+    /// Pixels `next_pixel..` of this pass, at most `size.points` of them.
+    fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> bool {
+        let first = self.next_pixel;
+        let end = first.saturating_add(size.points.max(1)).min(self.pixel_count);
         self.frame.pass_index = self.passes;
         self.frame.time = shutter_time(self.frame.seed, self.passes);
-        self.queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&self.frame));
-        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("path_trace") });
-        self.path_trace.dispatch(&mut encoder, &self.group, self.pixel_count);
-        self.queue.submit([encoder.finish()]);
+        self.frame.work_first = first;
+        self.frame.work_end = end;
+        super::record_upload(&self.device, &self.queue, encoder, &self.frame_buffer, bytemuck::bytes_of(&self.frame));
+        self.path_trace.dispatch(encoder, &self.group, end - first);
+        self.next_pixel = end;
+        if end < self.pixel_count {
+            return false;
+        }
+        self.next_pixel = 0;
         self.passes += 1;
+        true
+    }
+
+    /// The mean of each pixel's samples, as [`Integrator::image`] computes it. Between the
+    /// parts of a pass, pixels hold one sample more than others.
+    fn record_resolve_to_texture(&mut self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) -> Result<(), Error> {
+        let slot = super::check_resolve_target(texture, self.frame.width, self.frame.height)?;
+        if self.resolve_texture[slot].is_none() {
+            let format = super::RESOLVE_FORMATS[slot];
+            self.resolve_texture[slot] =
+                Some(Kernel::specialized(&self.device, "path_resolve_texture", &[("rgba32float", format)], &[])?);
+        }
+        let kernel = self.resolve_texture[slot].as_ref().expect("made above");
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let resources =
+            [Resource { name: "frame", buffer: &self.frame_buffer }, Resource { name: "radiance", buffer: &self.radiance }];
+        let group = kernel.bind_group_with_views(&self.device, &resources, &[("out_image", &view)])?;
+        kernel.dispatch(encoder, &group, self.pixel_count);
         Ok(())
+    }
+
+    fn set_camera(&mut self, camera: &crate::scene::Camera) -> Result<(), Error> {
+        super::set_frame_camera(&mut self.frame, camera)?;
+        self.reset();
+        Ok(())
+    }
+
+    /// Start over: no sample in any pixel. The buffer is cleared at the next submission.
+    fn reset(&mut self) {
+        let zeros = vec![0u8; self.radiance.size() as usize];
+        self.queue.write_buffer(&self.radiance, 0, &zeros);
+        self.next_pixel = 0;
+        self.passes = 0;
     }
 
     fn passes(&self) -> u32 {
@@ -174,6 +227,7 @@ impl Integrator for PathTracer {
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
         let (passes, _, sums) = super::decode_state(state, self.pixel_count as u64 * 16)?;
         self.queue.write_buffer(&self.radiance, 0, sums);
+        self.next_pixel = 0;
         self.passes = passes;
         Ok(())
     }

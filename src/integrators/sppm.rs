@@ -8,6 +8,7 @@
 //! `update_stats` folds that into each point's statistics (N, radius, tau). `resolve` turns
 //! the statistics into an image at any time.
 
+use super::Integrator;
 use crate::accel::GridParams;
 use crate::error::Error;
 use crate::gpu::readback::{read_buffer, read_whole, staging_buffer};
@@ -78,12 +79,20 @@ pub struct RadiusStats {
     pub max: f32,
 }
 
+/// Where the pass under way stands: the next camera path or photon to trace.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum NextPart {
+    Camera(u32),
+    Photons(u32),
+}
+
 /// The SPPM renderer for one scene on one device: the scene's buffers, one visible point per
 /// pixel sample with its statistics ([`VpStats`]), the hashed grid and the kernels.
 ///
 /// Drive it with [`Sppm::run_pass`] and read the estimate with [`Sppm::image`], or record
-/// passes and resolves into your own encoder ([`Sppm::record_pass`],
-/// [`Sppm::record_resolve_to_texture`], [`Sppm::record_resolve_to_buffer`]). The device
+/// passes and resolves into your own encoder ([`Integrator::record_pass`],
+/// [`Integrator::record_pass_part`], [`Integrator::record_resolve_to_texture`],
+/// [`Sppm::record_resolve_to_buffer`]). The device
 /// needs the limits of [`crate::gpu::required_limits`] and no features. The same scene,
 /// settings and seed give the same image bit for bit on the same device.
 pub struct Sppm {
@@ -95,6 +104,8 @@ pub struct Sppm {
     passes: u32,
     photons_traced: u64,
     initial_radius: f32,
+    /// The next part of the pass (see [`Integrator::record_pass_part`]).
+    next: NextPart,
 
     camera_pass: Stage,
     grid_setup: Stage,
@@ -295,6 +306,7 @@ impl Sppm {
             pixel_count,
             passes: 0,
             photons_traced: 0,
+            next: NextPart::Camera(0),
             initial_radius,
             camera_pass: Stage::new(device, "camera_pass", &buffers, &spec)?,
             grid_setup: Stage::new(device, "grid_setup", &buffers, &spec)?,
@@ -328,46 +340,47 @@ impl Sppm {
     /// Run one SPPM pass: record it (the four stages below) and submit it.
     pub fn run_pass(&mut self) -> Result<(), Error> {
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sppm pass") });
-        self.record_pass(&mut encoder);
+        Integrator::record_pass(self, &mut encoder);
         self.queue.submit([encoder.finish()]);
         Ok(())
     }
 
-    /// Record one whole pass into `encoder`, without submitting: the caller may record
-    /// several, or interleave its own work. The pass counts as done once recorded.
-    pub fn record_pass(&mut self, encoder: &mut wgpu::CommandEncoder) {
-        self.record_camera_paths(encoder);
-        self.record_grid(encoder);
-        self.record_photons(encoder);
-        self.record_statistics(encoder);
+    /// Forget the parts recorded of a pass not completed, and the photons they deposited.
+    fn drop_pass_under_way(&mut self) {
+        if let NextPart::Photons(_) = self.next {
+            let zeros = vec![0u8; self.buffers.flux_accum.size() as usize];
+            self.queue.write_buffer(&self.buffers.flux_accum, 0, &zeros);
+        }
+        self.next = NextPart::Camera(0);
     }
 
-    /// Write this pass's frame constants from within the encoder, so that passes recorded
-    /// into one encoder each see their own.
-    fn record_frame(&mut self, encoder: &mut wgpu::CommandEncoder) {
+    /// Copy `frame` into the `frame` uniform from within the encoder, so that passes and
+    /// parts recorded into one encoder each see their own.
+    fn upload_frame(&self, encoder: &mut wgpu::CommandEncoder, frame: &Frame) {
+        super::record_upload(&self.device, &self.queue, encoder, &self.buffers.frame, bytemuck::bytes_of(frame));
+    }
+
+    /// This pass's frame constants, for the dispatch of items `first..end` of its stage.
+    fn record_frame(&mut self, encoder: &mut wgpu::CommandEncoder, first: u32, end: u32) {
         self.frame.pass_index = self.passes;
         self.frame.time = super::shutter_time(self.frame.seed, self.passes);
+        self.frame.work_first = first;
+        self.frame.work_end = end;
         self.upload_frame(encoder, &self.frame);
     }
 
-    /// Copy `frame` into the `frame` uniform from within the encoder (through a small buffer
-    /// that wgpu keeps alive until the commands have run). Written with `write_buffer`, not
-    /// mapped at creation: on a lost device that reports an error instead of panicking.
-    fn upload_frame(&self, encoder: &mut wgpu::CommandEncoder, frame: &Frame) {
-        let upload = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("frame upload"),
-            size: size_of::<Frame>() as u64,
-            usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        self.queue.write_buffer(&upload, 0, bytemuck::bytes_of(frame));
-        encoder.copy_buffer_to_buffer(&upload, 0, &self.buffers.frame, 0, size_of::<Frame>() as u64);
+    fn record_camera_paths(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        self.record_camera_slice(encoder, 0, self.vp_count);
     }
 
-    fn record_camera_paths(&mut self, encoder: &mut wgpu::CommandEncoder) {
-        self.record_frame(encoder);
-        encoder.clear_buffer(&self.buffers.grid_max_radius, 0, None);
-        self.camera_pass.dispatch(encoder, self.vp_count);
+    /// Camera paths of visible points `first..end`; the first slice of a pass clears the
+    /// radius that the grid is sized by.
+    fn record_camera_slice(&mut self, encoder: &mut wgpu::CommandEncoder, first: u32, end: u32) {
+        if first == 0 {
+            encoder.clear_buffer(&self.buffers.grid_max_radius, 0, None);
+        }
+        self.record_frame(encoder, first, end);
+        self.camera_pass.dispatch(encoder, end - first);
     }
 
     fn record_grid(&mut self, encoder: &mut wgpu::CommandEncoder) {
@@ -382,7 +395,13 @@ impl Sppm {
     }
 
     fn record_photons(&mut self, encoder: &mut wgpu::CommandEncoder) {
-        self.photon_pass.dispatch(encoder, self.frame.photon_count.div_ceil(PHOTONS_PER_THREAD));
+        self.record_photon_slice(encoder, 0, self.frame.photon_count);
+    }
+
+    /// Photons `first..end` of this pass.
+    fn record_photon_slice(&mut self, encoder: &mut wgpu::CommandEncoder, first: u32, end: u32) {
+        self.record_frame(encoder, first, end);
+        self.photon_pass.dispatch(encoder, (end - first).div_ceil(PHOTONS_PER_THREAD));
     }
 
     fn record_statistics(&mut self, encoder: &mut wgpu::CommandEncoder) {
@@ -444,6 +463,9 @@ impl Sppm {
         if self.passes == 0 {
             return Err(Error::Setting("no pass has run yet: record or run a pass before resolving".into()));
         }
+        if self.next != NextPart::Camera(0) {
+            return Err(Error::Setting("a pass is under way (record_pass_part): record the rest of it before resolving".into()));
+        }
         let pass = self.passes - 1;
         let frame = Frame { pass_index: pass, time: super::shutter_time(self.frame.seed, pass), ..self.frame };
         self.upload_frame(encoder, &frame);
@@ -475,70 +497,6 @@ impl Sppm {
         }
         self.record_resolve(encoder)?;
         encoder.copy_buffer_to_buffer(&self.buffers.image, 0, dst, offset, size);
-        Ok(())
-    }
-
-    /// Record the estimate into the caller's 2D texture, which must be `width` x `height`,
-    /// `Rgba16Float` or `Rgba32Float`, with `STORAGE_BINDING` usage; alpha is 1.
-    pub fn record_resolve_to_texture(
-        &mut self,
-        encoder: &mut wgpu::CommandEncoder,
-        texture: &wgpu::Texture,
-    ) -> Result<(), Error> {
-        let format = texture.format();
-        let (token, slot) = match format {
-            wgpu::TextureFormat::Rgba32Float => ("rgba32float", 0),
-            wgpu::TextureFormat::Rgba16Float => ("rgba16float", 1),
-            f => return Err(Error::Setting(format!("the target texture is {f:?}; use Rgba16Float or Rgba32Float"))),
-        };
-        let size = texture.size();
-        if size.width != self.frame.width
-            || size.height != self.frame.height
-            || !texture.usage().contains(wgpu::TextureUsages::STORAGE_BINDING)
-        {
-            return Err(Error::Setting(format!(
-                "the target texture is {}x{} with usage {:?}; it must be {}x{} with STORAGE_BINDING",
-                size.width,
-                size.height,
-                texture.usage(),
-                self.frame.width,
-                self.frame.height
-            )));
-        }
-        if self.resolve_texture[slot].is_none() {
-            self.resolve_texture[slot] =
-                Some(Kernel::specialized(&self.device, "resolve_texture", &[("rgba32float", token)], &[])?);
-        }
-        self.record_resolve_frame(encoder)?;
-        let kernel = self.resolve_texture[slot].as_ref().expect("made above");
-        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-        let group = kernel.bind_group_with_views(&self.device, &self.buffers.resources(), &[("out_image", &view)])?;
-        kernel.dispatch(encoder, &group, self.pixel_count);
-        Ok(())
-    }
-
-    /// Start over: every visible point back to the initial radius with no photons, and the
-    /// pass count at 0 (the next pass uses the same random numbers as the first did).
-    pub fn reset(&mut self) {
-        let stats = vec![VpStats { radius: self.initial_radius, ..VpStats::default() }; self.vp_count as usize];
-        self.queue.write_buffer(&self.buffers.vp_stats, 0, bytemuck::cast_slice(&stats));
-        self.passes = 0;
-        self.photons_traced = 0;
-    }
-
-    /// Move the camera and start over ([`Sppm::reset`]): the statistics of one view do not
-    /// carry over to another. The image size and samples per pixel stay as they are.
-    pub fn set_camera(&mut self, camera: &crate::scene::Camera) -> Result<(), Error> {
-        crate::scene::validate_camera(camera).map_err(Error::Setting)?;
-        let f = super::camera_frame_for(camera, self.frame.width, self.frame.image_height);
-        self.frame.cam_position = f.cam_position;
-        self.frame.lens_radius = f.lens_radius;
-        self.frame.cam_right = f.cam_right;
-        self.frame.focus_distance = f.focus_distance;
-        self.frame.cam_up = f.cam_up;
-        self.frame.cam_forward = f.cam_forward;
-        self.queue.write_buffer(&self.buffers.frame, 0, bytemuck::bytes_of(&self.frame));
-        self.reset();
         Ok(())
     }
 
@@ -589,10 +547,78 @@ impl Sppm {
     }
 }
 
-impl super::Integrator for Sppm {
+impl Integrator for Sppm {
     fn run_pass(&mut self) -> Result<(), Error> {
         Sppm::run_pass(self)
     }
+    /// Record the estimate into the caller's 2D texture, which must be `width` x `height`,
+    /// `Rgba16Float` or `Rgba32Float`, with `STORAGE_BINDING` usage; alpha is 1.
+    fn record_resolve_to_texture(&mut self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) -> Result<(), Error> {
+        let slot = super::check_resolve_target(texture, self.frame.width, self.frame.height)?;
+        if self.resolve_texture[slot].is_none() {
+            let format = super::RESOLVE_FORMATS[slot];
+            self.resolve_texture[slot] =
+                Some(Kernel::specialized(&self.device, "resolve_texture", &[("rgba32float", format)], &[])?);
+        }
+        self.record_resolve_frame(encoder)?;
+        let kernel = self.resolve_texture[slot].as_ref().expect("made above");
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let group = kernel.bind_group_with_views(&self.device, &self.buffers.resources(), &[("out_image", &view)])?;
+        kernel.dispatch(encoder, &group, self.pixel_count);
+        Ok(())
+    }
+
+    /// Start over: every visible point back to the initial radius with no photons, and the
+    /// pass count at 0 (the next pass uses the same random numbers as the first did). A pass
+    /// under way is dropped, with the photons it has deposited. The buffers are written at the
+    /// next submission, so commands recorded before must have been submitted.
+    fn reset(&mut self) {
+        let stats = vec![VpStats { radius: self.initial_radius, ..VpStats::default() }; self.vp_count as usize];
+        self.queue.write_buffer(&self.buffers.vp_stats, 0, bytemuck::cast_slice(&stats));
+        self.drop_pass_under_way();
+        self.passes = 0;
+        self.photons_traced = 0;
+    }
+
+    fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: super::PartSize) -> bool {
+        match self.next {
+            NextPart::Camera(first) => {
+                let end = first.saturating_add(size.points.max(1)).min(self.vp_count);
+                self.record_camera_slice(encoder, first, end);
+                self.next = NextPart::Camera(end);
+                if end == self.vp_count {
+                    self.record_grid(encoder);
+                    self.next = NextPart::Photons(0);
+                }
+                false
+            }
+            NextPart::Photons(first) => {
+                let end = first.saturating_add(size.photons.max(1)).min(self.frame.photon_count);
+                self.record_photon_slice(encoder, first, end);
+                self.next = NextPart::Photons(end);
+                if end < self.frame.photon_count {
+                    return false;
+                }
+                self.record_statistics(encoder);
+                self.next = NextPart::Camera(0);
+                true
+            }
+        }
+    }
+
+    fn radius_stats(&self) -> Result<Option<RadiusStats>, Error> {
+        Sppm::radius_stats(self).map(Some)
+    }
+
+    /// Move the camera and start over ([`Integrator::reset`]): the statistics of one view do not
+    /// carry over to another. The image size and samples per pixel stay as they are.
+    fn set_camera(&mut self, camera: &crate::scene::Camera) -> Result<(), Error> {
+        super::set_frame_camera(&mut self.frame, camera)?;
+        self.queue.write_buffer(&self.buffers.frame, 0, bytemuck::bytes_of(&self.frame));
+        Integrator::reset(self);
+        Ok(())
+    }
+
     fn passes(&self) -> u32 {
         self.passes
     }
@@ -641,6 +667,7 @@ impl super::Integrator for Sppm {
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
         let (passes, photons, stats) = super::decode_state(state, self.buffers.vp_stats.size())?;
         self.queue.write_buffer(&self.buffers.vp_stats, 0, stats);
+        self.drop_pass_under_way();
         self.passes = passes;
         self.photons_traced = photons;
         Ok(())

@@ -3,7 +3,7 @@
 //! sppm-gpu's public API to render into a texture it owns. `tests/matches_cli.rs` checks the
 //! result against the `sppm-gpu` command line's image for the same settings.
 
-use sppm_gpu::integrators::Sppm;
+use sppm_gpu::integrators::{Integrator, Sppm};
 use sppm_gpu::scene::Scene;
 
 /// The application's GPU: its own device and queue.

@@ -1,0 +1,21 @@
+// The path tracers' estimate of every pixel, the mean of its samples (as PathTracer's image()
+// computes it on the host), into a caller's 2D storage texture, alpha 1. The host builds one
+// pipeline per texel format by replacing `rgba32float` below (rgba16float too).
+
+#import types
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+// Per pixel: the sum of the samples (rgb) and their count (w).
+@group(0) @binding(16) var<storage, read> radiance: array<vec4f>;
+@group(0) @binding(19) var out_image: texture_storage_2d<rgba32float, write>;
+
+@compute @workgroup_size(64)
+fn path_resolve_texture(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let pixel = gid.x + gid.y * groups.x * 64u;
+    if pixel >= frame.width * frame.height {
+        return;
+    }
+    let s = radiance[pixel];
+    let xy = vec2u(pixel % frame.width, pixel / frame.width);
+    textureStore(out_image, xy, vec4f(s.xyz / max(s.w, 1.0), 1.0));
+}
