@@ -1,5 +1,7 @@
 //! The `sppm-gpu` command line: render a scene file to PNG or EXR.
 
+mod view;
+
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 use sppm_gpu::gpu::GpuContext;
@@ -174,6 +176,25 @@ enum Command {
         #[command(flatten)]
         overrides: Overrides,
     },
+    /// A window that shows the estimate refining pass by pass; the camera, method and
+    /// exposure change under the mouse and keys.
+    #[command(after_help = view::KEYS)]
+    View {
+        scene: PathBuf,
+        /// Reference image (EXR or PNG) of the render's size: relMSE in the title, and the
+        /// error map (key e).
+        #[arg(long)]
+        reference: Option<PathBuf>,
+        /// Pause after this many passes, and again after each camera move or method switch
+        /// (a fixed pass count makes a save reproducible bit for bit).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+        passes_then_pause: Option<u32>,
+        /// Exposure in stops (keys + and - change it).
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        exposure: f32,
+        #[command(flatten)]
+        overrides: Overrides,
+    },
     /// Time each stage of an SPPM pass (waiting for the GPU after each) and report
     /// throughput.
     Bench {
@@ -251,7 +272,7 @@ fn experiment(command: &Command) -> Result<(), Error> {
             };
             experiments::passes(&scene, &name, &opts).map(drop)
         }
-        Command::Diff { .. } | Command::Bench { .. } => unreachable!("not an experiment"),
+        Command::Diff { .. } | Command::Bench { .. } | Command::View { .. } => unreachable!("not an experiment"),
     }
 }
 
@@ -354,6 +375,20 @@ fn run(cli: &Cli) -> Result<ExitCode, Error> {
     }
     if let Some(Command::Bench { scene, overrides }) = &cli.command {
         return bench(scene, overrides).map(|()| ExitCode::SUCCESS);
+    }
+    if let Some(Command::View { scene, reference, passes_then_pause, exposure, overrides }) = &cli.command {
+        if let Some(line) = view::no_display() {
+            return Err(Error::Setting(line));
+        }
+        let (loaded, _) = load_scene(scene, overrides)?;
+        let options = view::Options {
+            scene_path: scene.clone(),
+            scene: loaded,
+            reference: reference.clone(),
+            passes_then_pause: *passes_then_pause,
+            exposure: *exposure,
+        };
+        return view::run(options).map(|()| ExitCode::SUCCESS);
     }
     if let Some(command) = &cli.command {
         return experiment(command).map(|()| ExitCode::SUCCESS);

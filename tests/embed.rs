@@ -385,7 +385,7 @@ fn with_and_without_subgroups_the_same_image() {
 /// middle of a pass, and the path tracers' texture holds what `image()` reads.
 #[test]
 fn passes_in_parts_match_whole_passes() {
-    use sppm_gpu::integrators::{self, Bands, PartSize};
+    use sppm_gpu::integrators::{self, Bands, PartSize, Work};
     use sppm_gpu::scene::Method;
     let Some((_adapter, device, queue)) = sppm_device() else { return };
     let texture = target(&device, wgpu::TextureFormat::Rgba32Float, WIDTH, HEIGHT);
@@ -406,7 +406,7 @@ fn passes_in_parts_match_whole_passes() {
         // photons must not show.
         let mut encoder = device.create_command_encoder(&Default::default());
         for _ in 0..if method == Method::Sppm { 9 } else { 5 } {
-            assert!(!r.record_pass_part(&mut encoder, size), "{method:?}: these parts do not finish a pass");
+            assert!(!r.record_pass_part(&mut encoder, size).pass_done, "{method:?}: these parts do not finish a pass");
         }
         if method == Method::Sppm {
             assert!(r.record_resolve_to_texture(&mut encoder, &texture).is_err(), "SPPM resolved mid-pass");
@@ -418,10 +418,12 @@ fn passes_in_parts_match_whole_passes() {
             // A frame per part, each submitted on its own.
             loop {
                 let mut encoder = device.create_command_encoder(&Default::default());
-                let done = r.record_pass_part(&mut encoder, size);
+                let part = r.record_pass_part(&mut encoder, size);
+                let limit = if part.work == Work::Photons { size.photons } else { size.points };
+                assert!(part.items > 0 && part.items <= limit, "{method:?}: {part:?}");
                 queue.submit([encoder.finish()]);
                 parts += 1;
-                if done {
+                if part.pass_done {
                     break;
                 }
                 assert_eq!(r.passes(), pass, "{method:?}: a pass counted before its last part");
@@ -443,7 +445,7 @@ fn passes_in_parts_match_whole_passes() {
         let mut bands = Bands::new(&device, &queue, &scene, 11).unwrap_or_else(|e| panic!("{e}"));
         for _ in 0..PASSES {
             let mut encoder = device.create_command_encoder(&Default::default());
-            while !bands.record_pass_part(&mut encoder, size) {}
+            while !bands.record_pass_part(&mut encoder, size).pass_done {}
             queue.submit([encoder.finish()]);
         }
         assert_eq!(bands.passes(), PASSES);

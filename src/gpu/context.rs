@@ -1,4 +1,4 @@
-//! Creating a headless device.
+//! Creating the renderer's device: headless, or for a window's surface.
 
 use std::fmt;
 
@@ -22,6 +22,8 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// Name, backend and driver of the adapter the device was made on (for logs and reports).
     pub adapter_info: wgpu::AdapterInfo,
+    /// The adapter the device was made on (a window configures its surface with it).
+    pub adapter: wgpu::Adapter,
     /// The first error the device reported outside any error scope (out of memory, a
     /// validation failure, a lost device), kept for [`GpuContext::check`] instead of wgpu's
     /// default handler, which panics.
@@ -75,12 +77,33 @@ impl GpuContext {
     /// ones make a device that behaves like a smaller GPU (tests use this to make large
     /// images go in bands).
     pub fn with_limits(adjust: impl FnOnce(wgpu::Limits) -> wgpu::Limits) -> Result<Self, GpuError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+        Self::on_instance(&Self::instance(), None, adjust)
+    }
+
+    /// The instance [`GpuContext::new`] makes its device on: Vulkan, Metal or DX12. An
+    /// application with a window makes its surface on it, then calls
+    /// [`GpuContext::for_surface`].
+    pub fn instance() -> wgpu::Instance {
+        wgpu::Instance::new(wgpu::InstanceDescriptor {
             backends: wgpu::Backends::PRIMARY,
             ..wgpu::InstanceDescriptor::new_without_display_handle()
-        });
+        })
+    }
+
+    /// [`GpuContext::new`] on an adapter of `instance` that can present to `surface`: a
+    /// preview window renders and draws on one device.
+    pub fn for_surface(instance: &wgpu::Instance, surface: &wgpu::Surface<'_>) -> Result<Self, GpuError> {
+        Self::on_instance(instance, Some(surface), |limits| limits)
+    }
+
+    fn on_instance(
+        instance: &wgpu::Instance,
+        surface: Option<&wgpu::Surface<'_>>,
+        adjust: impl FnOnce(wgpu::Limits) -> wgpu::Limits,
+    ) -> Result<Self, GpuError> {
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
+            compatible_surface: surface,
             ..Default::default()
         }))
         .map_err(|e| {
@@ -116,7 +139,7 @@ impl GpuContext {
             let detail = if message.is_empty() { String::new() } else { format!(": {message}") };
             *first = Some(format!("the GPU device was lost ({reason:?}){detail}"));
         });
-        Ok(Self { device, queue, adapter_info: adapter.get_info(), errors })
+        Ok(Self { device, queue, adapter_info: adapter.get_info(), adapter, errors })
     }
 
     /// The first error the device has reported since it was made, as an `Err`: callers check

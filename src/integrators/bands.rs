@@ -139,12 +139,13 @@ impl Integrator for Bands {
         Ok(out)
     }
     /// The bands' parts one after another: all of the first band's pass, then the next's.
-    fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: super::PartSize) -> bool {
-        if !self.bands[self.current].record_pass_part(encoder, size) {
-            return false;
+    fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: super::PartSize) -> super::Part {
+        let mut part = self.bands[self.current].record_pass_part(encoder, size);
+        if part.pass_done {
+            self.current = (self.current + 1) % self.bands.len();
+            part.pass_done = self.current == 0;
         }
-        self.current = (self.current + 1) % self.bands.len();
-        self.current == 0
+        part
     }
     fn record_resolve_to_texture(&mut self, _: &mut wgpu::CommandEncoder, _: &wgpu::Texture) -> Result<(), Error> {
         Err(Error::Setting(format!(

@@ -26,6 +26,27 @@ pub struct PartSize {
     pub photons: u32,
 }
 
+/// What one [`Integrator::record_pass_part`] recorded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Part {
+    /// Camera paths or photons.
+    pub work: Work,
+    /// How many of them.
+    pub items: u32,
+    /// Whether the part completed the pass.
+    pub pass_done: bool,
+}
+
+/// The kind of work in a [`Part`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Work {
+    /// Camera paths: SPPM's visible points (with the grid build after the last), or the path
+    /// tracers' pixel samples.
+    CameraPaths,
+    /// SPPM's photons (with the statistics update after the last).
+    Photons,
+}
+
 impl PartSize {
     /// No bound: a pass in two parts for SPPM (camera paths and grid, then photons and
     /// statistics), one for the path tracers.
@@ -63,18 +84,19 @@ pub trait Integrator {
     /// what a lost device's render still gives from its last saved state.
     fn image_of_state(&self, state: &[u8]) -> Result<Rgb32Image, Error>;
     /// Record the next part of the pass under way into `encoder`, or the first part of a new
-    /// pass, no larger than `size`, without submitting it. True when the part completed the
-    /// pass, which then counts in [`Integrator::passes`]. Parts draw the random numbers a whole
+    /// pass, no larger than `size`, without submitting it. A pass counts in
+    /// [`Integrator::passes`] once its last part is recorded ([`Part::pass_done`]). Parts draw the random numbers a whole
     /// pass does, so the image does not depend on how passes are cut into parts, bit for bit.
+    /// What it recorded comes back, so that a caller can fit the next part to a time budget.
     /// SPPM's parts: slices of the camera paths (the grid is built after the last), then
     /// slices of the photons (the statistics are updated after the last). The path tracers':
     /// slices of the pixels.
-    fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> bool;
+    fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> Part;
     /// Record one whole pass (or the rest of the pass under way) into `encoder`, without
     /// submitting it: the caller may record several, or interleave its own work. The pass
     /// counts as done once recorded.
     fn record_pass(&mut self, encoder: &mut wgpu::CommandEncoder) {
-        while !self.record_pass_part(encoder, PartSize::WHOLE) {}
+        while !self.record_pass_part(encoder, PartSize::WHOLE).pass_done {}
     }
     /// Record the estimate of the completed passes into the caller's 2D texture: `width` x
     /// `height`, `Rgba16Float` or `Rgba32Float`, with `STORAGE_BINDING`; alpha 1. An error for

@@ -2,7 +2,7 @@
 //! naive (`method = "pt"`) or with next-event estimation and MIS (`"pt-nee"`). Each pass adds
 //! one sample per pixel (`path_trace`); the image is the running mean.
 
-use super::{shutter_time, Integrator, PartSize};
+use super::{shutter_time, Integrator, Part, PartSize, Work};
 use crate::error::Error;
 use crate::gpu::readback::{read_buffer, staging_buffer};
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
@@ -127,7 +127,7 @@ impl Integrator for PathTracer {
     }
 
     /// Pixels `next_pixel..` of this pass, at most `size.points` of them.
-    fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> bool {
+    fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> Part {
         let first = self.next_pixel;
         let end = first.saturating_add(size.points.max(1)).min(self.pixel_count);
         self.frame.pass_index = self.passes;
@@ -137,12 +137,12 @@ impl Integrator for PathTracer {
         super::record_upload(&self.device, &self.queue, encoder, &self.frame_buffer, bytemuck::bytes_of(&self.frame));
         self.path_trace.dispatch(encoder, &self.group, end - first);
         self.next_pixel = end;
-        if end < self.pixel_count {
-            return false;
+        let pass_done = end == self.pixel_count;
+        if pass_done {
+            self.next_pixel = 0;
+            self.passes += 1;
         }
-        self.next_pixel = 0;
-        self.passes += 1;
-        true
+        Part { work: Work::CameraPaths, items: end - first, pass_done }
     }
 
     /// The mean of each pixel's samples, as [`Integrator::image`] computes it. Between the

@@ -8,7 +8,7 @@
 //! `update_stats` folds that into each point's statistics (N, radius, tau). `resolve` turns
 //! the statistics into an image at any time.
 
-use super::Integrator;
+use super::{Integrator, Part, PartSize, Work};
 use crate::accel::GridParams;
 use crate::error::Error;
 use crate::gpu::readback::{read_buffer, read_whole, staging_buffer};
@@ -580,7 +580,7 @@ impl Integrator for Sppm {
         self.photons_traced = 0;
     }
 
-    fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: super::PartSize) -> bool {
+    fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> Part {
         match self.next {
             NextPart::Camera(first) => {
                 let end = first.saturating_add(size.points.max(1)).min(self.vp_count);
@@ -590,18 +590,18 @@ impl Integrator for Sppm {
                     self.record_grid(encoder);
                     self.next = NextPart::Photons(0);
                 }
-                false
+                Part { work: Work::CameraPaths, items: end - first, pass_done: false }
             }
             NextPart::Photons(first) => {
                 let end = first.saturating_add(size.photons.max(1)).min(self.frame.photon_count);
                 self.record_photon_slice(encoder, first, end);
                 self.next = NextPart::Photons(end);
-                if end < self.frame.photon_count {
-                    return false;
+                let pass_done = end == self.frame.photon_count;
+                if pass_done {
+                    self.record_statistics(encoder);
+                    self.next = NextPart::Camera(0);
                 }
-                self.record_statistics(encoder);
-                self.next = NextPart::Camera(0);
-                true
+                Part { work: Work::Photons, items: end - first, pass_done }
             }
         }
     }
