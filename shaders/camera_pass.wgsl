@@ -122,7 +122,8 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     }
     var position = vec4f(0.0);
     if first.found {
-        position = vec4f(first.position, vp_stats[index].radius);
+        // The point's own radius, or the pass's with a global schedule.
+        position = vec4f(first.position, select(vp_stats[index].radius, frame.global_radius, frame.global_radius > 0.0));
         // Positive floats order like their bits.
         atomicMax(&grid_max_radius[0], bitcast<u32>(position.w));
     }

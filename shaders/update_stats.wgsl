@@ -1,6 +1,8 @@
 // SPPM per visible point update after a photon pass (Hachisuka & Jensen 2009, eq. 7 and 8;
 // in the form of pbrt-v4 sec. 16.3): shrink the radius by the fraction alpha of the new
-// photons and scale the accumulated flux tau to the new disc.
+// photons and scale the accumulated flux tau to the new disc. With a global radius schedule
+// (Knaus & Zwicker 2011) every pass is an estimate of its own at the pass's radius r: tau
+// sums the passes' flux densities phi / (pi r^2), and the radius is the host's to set.
 
 #import types
 
@@ -20,7 +22,12 @@ fn update_stats(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
     }
     let base = index * ACCUM_STRIDE;
     let m = f32(flux_accum[base + 6u]);
-    if m > 0.0 {
+    if m > 0.0 && frame.global_radius > 0.0 {
+        let r = frame.global_radius;
+        let phi = vec3f(fixed_to_float(base), fixed_to_float(base + 2u), fixed_to_float(base + 4u));
+        vp_stats[index].tau += phi / (PI * r * r);
+        vp_stats[index].n += m;
+    } else if m > 0.0 {
         var st = vp_stats[index];
         // Flux relative to frame.power_total; resolve scales it back.
         let phi = vec3f(fixed_to_float(base), fixed_to_float(base + 2u), fixed_to_float(base + 4u));

@@ -60,8 +60,19 @@ impl Fingerprint {
         let r = &scene.render;
         let settings = format!(
             "width = {}\nheight = {}\nmethod = {:?}\nspp = {}\nphotons = {}\nradius = {:?}\nalpha = {}\nmax_depth = {}\n\
-             seed = {}\ndirect = {:?}\ndirect_samples = {:?}\n",
-            r.width, r.height, r.method, r.spp, r.photons, r.radius, r.alpha, r.max_depth, r.seed, r.direct, r.direct_samples
+             seed = {}\ndirect = {:?}\ndirect_samples = {:?}\nradius_schedule = {:?}\n",
+            r.width,
+            r.height,
+            r.method,
+            r.spp,
+            r.photons,
+            r.radius,
+            r.alpha,
+            r.max_depth,
+            r.seed,
+            r.direct,
+            r.direct_samples,
+            r.radius_schedule
         );
         let mut geometry = Fnv::new();
         for t in &scene.triangles {

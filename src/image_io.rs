@@ -233,6 +233,12 @@ pub fn write_png(path: &Path, img: &Rgb32Image) -> Result<(), ImageError> {
 
 /// Writes `img` as a linear float32 RGB OpenEXR file (no alpha).
 pub fn write_exr(path: &Path, img: &Rgb32Image) -> Result<(), ImageError> {
+    write_exr_with_text(path, img, &[])
+}
+
+/// [`write_exr`] with text attributes in the header, `(name, value)`: Latin-1 text each
+/// (the renderer's partial images carry their pass range and fingerprint this way).
+pub fn write_exr_with_text(path: &Path, img: &Rgb32Image, text: &[(&str, &str)]) -> Result<(), ImageError> {
     check_pixel_buffer(path, img)?;
     let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
         let [r, g, b] = img.pixels[y * img.width as usize + x];
@@ -240,10 +246,17 @@ pub fn write_exr(path: &Path, img: &Rgb32Image) -> Result<(), ImageError> {
     });
     let size = (img.width as usize, img.height as usize);
     let mut encoded = Vec::new();
-    exr::prelude::Image::from_channels(size, channels)
-        .write()
-        .to_buffered(Cursor::new(&mut encoded))
-        .map_err(|e| ImageError::new(path, ImageErrorKind::Exr(e)))?;
+    let mut image = exr::prelude::Image::from_channels(size, channels);
+    for (name, value) in text {
+        let latin1 = |s: &str| {
+            exr::prelude::Text::new_or_none(s).ok_or_else(|| {
+                let message = format!("the header text `{name}` is not Latin-1");
+                ImageError::new(path, ImageErrorKind::Exr(exr::error::Error::Invalid(message.into())))
+            })
+        };
+        image.layer_data.attributes.other.insert(latin1(name)?, exr::meta::attribute::AttributeValue::Text(latin1(value)?));
+    }
+    image.write().to_buffered(Cursor::new(&mut encoded)).map_err(|e| ImageError::new(path, ImageErrorKind::Exr(e)))?;
     write_atomically(path, &encoded)
 }
 
@@ -261,6 +274,11 @@ pub fn write_image(path: &Path, img: &Rgb32Image) -> Result<(), ImageError> {
 /// Channels may appear in any order and be f16, f32 or u32; other channels are
 /// ignored. Row 0 is the top of the data window.
 pub fn read_exr(path: &Path) -> Result<Rgb32Image, ImageError> {
+    Ok(read_exr_with_text(path)?.0)
+}
+
+/// [`read_exr`], and the header's text attributes, `(name, value)`.
+pub fn read_exr_with_text(path: &Path) -> Result<(Rgb32Image, Vec<(String, String)>), ImageError> {
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -272,7 +290,19 @@ pub fn read_exr(path: &Path) -> Result<Rgb32Image, ImageError> {
         .all_attributes()
         .from_file(path)
         .map_err(|e| ImageError::new(path, ImageErrorKind::Exr(e)))?;
-    Ok(image.layer_data.channel_data.pixels)
+    // The reader files unknown attributes under the layer.
+    let text = image
+        .layer_data
+        .attributes
+        .other
+        .iter()
+        .chain(&image.attributes.other)
+        .filter_map(|(key, value)| match value {
+            exr::meta::attribute::AttributeValue::Text(t) => Some((key.to_string(), t.to_string())),
+            _ => None,
+        })
+        .collect();
+    Ok((image.layer_data.channel_data.pixels, text))
 }
 
 /// Reads a PNG, decoding sRGB to linear. Alpha is dropped; 16-bit and

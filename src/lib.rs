@@ -121,6 +121,7 @@
 #![deny(missing_docs)]
 
 pub mod accel;
+pub mod batch;
 pub mod checkpoint;
 pub mod error;
 pub mod experiments;

@@ -7,7 +7,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use sppm_gpu::gpu::GpuContext;
 use sppm_gpu::integrators::{self, Sppm};
 use sppm_gpu::say;
-use sppm_gpu::scene::{self, DirectLight, Method};
+use sppm_gpu::scene::{self, DirectLight, Method, RadiusSchedule};
 use sppm_gpu::{experiments, image_io, Error};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -22,11 +22,26 @@ struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
     /// Scene file (TOML, format version 1).
-    #[arg(required = true)]
+    #[arg(required_unless_present = "list_adapters")]
     scene: Option<PathBuf>,
     /// Output image: .png (sRGB, clamped) or .exr (linear float RGB).
-    #[arg(short, long, required = true)]
+    #[arg(short, long, required_unless_present_any = ["partial", "list_adapters"])]
     output: Option<PathBuf>,
+    /// Render passes A to B-1 of the render only (`A..B`): a batch of a render split into
+    /// batches, each drawing the random numbers the whole render draws for it. SPPM needs
+    /// radius_schedule = "global" for this; the path tracers need nothing.
+    #[arg(long, value_parser = parse_pass_range, value_name = "A..B")]
+    passes: Option<(u32, u32)>,
+    /// Write the batch's partial image (.exr): the sum of its passes' estimates, with the pass
+    /// range and the render's fingerprint in the header, for `sppm-gpu merge`.
+    #[arg(long, value_name = "OUT.exr")]
+    partial: Option<PathBuf>,
+    /// The GPU to render on: its index in --list-adapters, or a part of its name.
+    #[arg(long)]
+    adapter: Option<String>,
+    /// List the GPUs (Vulkan, Metal, DX12 adapters) with the indices --adapter takes, and exit.
+    #[arg(long)]
+    list_adapters: bool,
     /// After rendering, print the GPU memory each buffer takes.
     #[arg(long)]
     stats: bool,
@@ -94,10 +109,25 @@ struct Overrides {
     /// direct light (overrides render.direct_samples; default automatic).
     #[arg(long)]
     direct_samples: Option<u32>,
+    /// SPPM's radius schedule: per-point (each visible point's radius shrinks with its
+    /// photons; default) or global (the radius of pass i depends on i alone, so passes can
+    /// run in batches; Knaus & Zwicker 2011) (overrides render.radius_schedule).
+    #[arg(long, value_parser = ["per-point", "global"])]
+    radius_schedule: Option<String>,
 }
 
 #[derive(clap::Subcommand, Debug)]
 enum Command {
+    /// Merge the partial images of batches of one render (`--passes A..B --partial`) into its
+    /// image: the sum of their passes' estimates over the passes they hold.
+    Merge {
+        /// The partial images (.exr), in any order.
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
+        /// Output image: .png or .exr.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Error metrics between an image and a reference (EXR or PNG).
     Diff {
         image: PathBuf,
@@ -272,7 +302,9 @@ fn experiment(command: &Command) -> Result<(), Error> {
             };
             experiments::passes(&scene, &name, &opts).map(drop)
         }
-        Command::Diff { .. } | Command::Bench { .. } | Command::View { .. } => unreachable!("not an experiment"),
+        Command::Diff { .. } | Command::Bench { .. } | Command::View { .. } | Command::Merge { .. } => {
+            unreachable!("not an experiment")
+        }
     }
 }
 
@@ -328,6 +360,9 @@ fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Resul
     }
     if let Some(d) = &cli.direct {
         render.direct = if d == "photons" { DirectLight::Photons } else { DirectLight::Sampled };
+    }
+    if let Some(s) = &cli.radius_schedule {
+        render.radius_schedule = if s == "global" { RadiusSchedule::Global } else { RadiusSchedule::PerPoint };
     }
     Ok(())
 }
@@ -390,13 +425,25 @@ fn run(cli: &Cli) -> Result<ExitCode, Error> {
         };
         return view::run(options).map(|()| ExitCode::SUCCESS);
     }
+    if let Some(Command::Merge { parts, output }) = &cli.command {
+        return merge(parts, output).map(|()| ExitCode::SUCCESS);
+    }
     if let Some(command) = &cli.command {
         return experiment(command).map(|()| ExitCode::SUCCESS);
     }
-    let (Some(scene_path), Some(output)) = (&cli.scene, &cli.output) else {
-        return Err(Error::Setting("a scene file and -o OUTPUT are required".into()));
+    if cli.list_adapters {
+        for (i, a) in sppm_gpu::gpu::adapters().iter().enumerate() {
+            say!("{i}: {} ({:?}, {:?}, {} {})", a.name, a.device_type, a.backend, a.driver, a.driver_info);
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    let Some(scene_path) = &cli.scene else {
+        return Err(Error::Setting("a scene file is required".into()));
     };
-    render(cli, scene_path, output).map(|code| code.map_or(ExitCode::SUCCESS, ExitCode::from))
+    if cli.output.is_none() && cli.partial.is_none() {
+        return Err(Error::Setting("-o OUTPUT or --partial OUT.exr is required".into()));
+    }
+    render(cli, scene_path).map(|code| code.map_or(ExitCode::SUCCESS, ExitCode::from))
 }
 
 /// A render stopped by a device error (a lost device, an exhausted GPU): the image of the
@@ -407,12 +454,15 @@ fn after_a_device_error(
     error: Error,
     integrator: &mut dyn integrators::Integrator,
     gpu: &GpuContext,
-    output: &Path,
+    output: Option<&Path>,
     checkpoint: Option<(&Path, &(u32, Vec<u8>))>,
 ) -> Error {
     // A lost device reports the loss when polled; it is then the error to give.
     let _ = gpu.device.poll(wgpu::PollType::Poll);
     let error = gpu.check().err().map(Error::from).unwrap_or(error);
+    let Some(output) = output else {
+        return Error::Setting(format!("{error}; the batch's passes are lost: render the batch again"));
+    };
     let passes = integrator.passes();
     let write = |image: &sppm_gpu::image_io::Rgb32Image, passes: u32, whose: &str| match image_io::write_image(output, image) {
         Ok(()) => format!("the image of the {passes} passes {whose} was written to {}", output.display()),
@@ -431,6 +481,38 @@ fn after_a_device_error(
         None => String::new(),
     };
     Error::Setting(format!("{error}; {kept}{resume}"))
+}
+
+/// `A..B` (passes A to B-1, B > A) as `(A, B)`.
+fn parse_pass_range(text: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("`{text}`: a range of passes A..B (A from 0, B > A), such as 0..16");
+    let (a, b) = text.split_once("..").ok_or_else(bad)?;
+    let (a, b): (u32, u32) = (a.trim().parse().map_err(|_| bad())?, b.trim().parse().map_err(|_| bad())?);
+    if b <= a {
+        return Err(bad());
+    }
+    Ok((a, b))
+}
+
+/// `sppm-gpu merge PART... -o OUT`.
+fn merge(parts: &[PathBuf], output: &Path) -> Result<(), Error> {
+    check_output(output, &parts[0])?;
+    for part in parts {
+        check_output(output, part)?;
+    }
+    let partials = parts.iter().map(|p| sppm_gpu::batch::read_partial(p)).collect::<Result<Vec<_>, _>>()?;
+    let (image, warnings) = sppm_gpu::batch::merge(&partials)?;
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    if output.exists() {
+        eprintln!("note: replacing {}", output.display());
+    }
+    image_io::write_image(output, &image)?;
+    let passes: u32 = partials.iter().map(|p| p.end - p.first).sum();
+    let end = partials.iter().map(|p| p.end).max().unwrap_or(0);
+    say!("merged {} parts: {passes} passes of 0..{end} -> {}", partials.len(), output.display());
+    Ok(())
 }
 
 /// `1000000`, `512K`, `64M`, `8G` (powers of 1024) as bytes.
@@ -540,14 +622,31 @@ impl Interrupt {
     }
 }
 
-/// Render `scene_path` to `output`; `Some(code)` when a signal ended the render early (its
-/// image is written all the same).
-fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<Option<u8>, Error> {
+/// Render `scene_path` to `-o` and or `--partial`; `Some(code)` when a signal ended the
+/// render early (its image is written all the same).
+fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> {
     let interrupt = Interrupt::watch()?;
-    check_output(output, scene_path)?;
+    let output = cli.output.as_deref();
+    for path in output.into_iter().chain(cli.partial.as_deref()) {
+        check_output(path, scene_path)?;
+    }
+    if let Some(partial) = &cli.partial {
+        if !partial.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")) {
+            return Err(Error::Setting(format!("{}: a partial image is an .exr file", partial.display())));
+        }
+        if cli.checkpoint.is_some() || cli.resume.is_some() {
+            return Err(Error::Setting("--partial renders a batch: it takes no --checkpoint or --resume".into()));
+        }
+    }
+    if cli.passes.is_some() && (cli.checkpoint.is_some() || cli.resume.is_some()) {
+        return Err(Error::Setting("--passes renders a batch: it takes no --checkpoint or --resume".into()));
+    }
     let mut scene = scene::load(scene_path)?;
     apply_overrides(&cli.overrides, &mut scene.render)?;
-    let gpu = GpuContext::new()?;
+    let gpu = match &cli.adapter {
+        Some(selector) => GpuContext::with_adapter(selector)?,
+        None => GpuContext::new()?,
+    };
     check_memory(&gpu, &scene, cli.memory_limit)?;
     for warning in integrators::limitations(&scene) {
         eprintln!("warning: {}: {warning}", scene.path.display());
@@ -583,10 +682,18 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<Option<u8>, Err
     };
     let mut last_checkpoint = Instant::now();
     let unit = integrator.work_unit();
+    // A batch runs passes first..end of the render; a whole render 0..iterations.
+    let end_pass = match cli.passes {
+        Some((first, end)) => {
+            integrator.start_at_pass(first)?;
+            end
+        }
+        None => r.iterations,
+    };
 
     // Passes of this run: a resumed render's rates count only these.
     let first_pass = integrator.passes();
-    let progress = ProgressBar::new(r.iterations as u64);
+    let progress = ProgressBar::new(end_pass as u64);
     progress.set_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} passes  {msg}  {elapsed_precise} (ETA {eta})")
             .expect("valid template"),
@@ -595,7 +702,8 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<Option<u8>, Err
     // Test hook: lose the device after this many passes of this run, as a driver crash or a
     // GPU reset would (tests/checkpoint.rs).
     let lose_device_after: Option<u32> = std::env::var("SPPM_GPU_LOSE_DEVICE_AFTER").ok().and_then(|v| v.parse().ok());
-    while integrator.passes() < r.iterations {
+    progress.set_position(first_pass as u64);
+    while integrator.passes() < end_pass {
         if lose_device_after.is_some_and(|n| integrator.passes() - first_pass == n) {
             gpu.device.destroy();
         }
@@ -622,19 +730,30 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<Option<u8>, Err
     let seconds = start.elapsed().as_secs_f64();
     progress.finish_and_clear();
 
-    if output.exists() {
-        eprintln!("note: replacing {}", output.display());
+    let mut written: Vec<String> = Vec::new();
+    if let Some(output) = output {
+        if output.exists() {
+            eprintln!("note: replacing {}", output.display());
+        }
+        image_io::write_image(output, &image)?;
+        written.push(output.display().to_string());
     }
-    image_io::write_image(output, &image)?;
+    if let Some(partial) = &cli.partial {
+        if partial.exists() {
+            eprintln!("note: replacing {}", partial.display());
+        }
+        sppm_gpu::batch::write_partial(partial, &image, first_pass, integrator.passes(), &fingerprint)?;
+        written.push(format!("{} (passes {first_pass}..{})", partial.display(), integrator.passes()));
+    }
     let work = (integrator.passes() - first_pass) as u64 * integrator.work_per_pass();
     say!(
         "{}: {} passes, {work} {unit} in {:.2} s ({:.2} M {unit}/s, {:.2} passes/s) -> {}",
         experiments::method_name(r.method),
-        integrator.passes(),
+        integrator.passes() - first_pass,
         seconds,
         work as f64 / seconds / 1e6,
         (integrator.passes() - first_pass) as f64 / seconds,
-        output.display()
+        written.join(" and ")
     );
     if cli.stats {
         print_memory(&integrator.gpu_memory());
@@ -644,8 +763,8 @@ fn render(cli: &Cli, scene_path: &Path, output: &Path) -> Result<Option<u8>, Err
         eprintln!(
             "interrupted by {name} after {} of {} passes: wrote the image of those to {}",
             integrator.passes(),
-            r.iterations,
-            output.display()
+            end_pass,
+            written.join(" and ")
         );
     }
     Ok(interrupted.map(|(_, code)| code))

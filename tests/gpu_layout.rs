@@ -54,8 +54,8 @@ fn gpu_structs_match_wgsl() {
             direct_samples,
             work_first,
             work_end,
-            _pad0,
-            _pad1,
+            global_radius,
+            first_pass,
         ]
     );
     check!(module, GpuBvhNode, "BvhNode", [box_a, child_a, box_b, child_b]);

@@ -1,16 +1,19 @@
 // The SPPM estimate of a pixel after the passes so far (Hachisuka & Jensen 2009, eq. 11):
 // L = ld / k + tau / (k * photons_per_pass * pi * r^2), averaged over the pixel's samples,
-// with k = frame.pass_index + 1. Never NaN or infinite: such a value reads as 0.
+// with k = frame.pass_index + 1 - frame.first_pass passes. With a global radius schedule
+// tau is already a sum of densities (update_stats.wgsl): L = ld / k + tau / (k *
+// photons_per_pass), the mean of the passes' own estimates (Knaus & Zwicker 2011). Never NaN
+// or infinite: such a value reads as 0.
 
 @group(0) @binding(10) var<storage, read> vp_stats: array<VpStats>;
 
 fn pixel_estimate(pixel: u32) -> vec3f {
-    let k = f32(frame.pass_index + 1u);
+    let k = f32(frame.pass_index + 1u - frame.first_pass);
     let photons = k * f32(frame.photon_count);
     var sum = vec3f(0.0);
     for (var s = 0u; s < frame.spp; s++) {
         let st = vp_stats[pixel * frame.spp + s];
-        let area = PI * st.radius * st.radius;
+        let area = select(PI * st.radius * st.radius, 1.0, frame.global_radius > 0.0);
         sum += st.ld / k + st.tau * frame.power_total / (photons * area);
     }
     let l = sum / f32(frame.spp);

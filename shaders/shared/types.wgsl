@@ -42,8 +42,11 @@ struct Frame {
     // photons with indices in [work_first, work_end).
     work_first: u32,
     work_end: u32,
-    _pad0: u32,
-    _pad1: u32,
+    // SPPM with a global radius schedule: the radius of this pass, the same for every point
+    // (Knaus & Zwicker 2011); 0 with a radius per point.
+    global_radius: f32,
+    // The first pass this renderer ran: a batch of passes first_pass.. of a render.
+    first_pass: u32,
 }
 
 // An interior BVH node: its children's boxes, quantized to 16 bits per coordinate

@@ -30,6 +30,13 @@ pub struct GpuContext {
     errors: std::sync::Arc<std::sync::Mutex<Option<String>>>,
 }
 
+/// The Vulkan, Metal and DX12 adapters of this machine, in the order
+/// [`GpuContext::with_adapter`] numbers them.
+pub fn adapters() -> Vec<wgpu::AdapterInfo> {
+    let instance = GpuContext::instance();
+    pollster::block_on(instance.enumerate_adapters(wgpu::Backends::PRIMARY)).iter().map(|a| a.get_info()).collect()
+}
+
 /// Storage buffers the largest kernel binds in one stage.
 pub const STORAGE_BUFFERS_NEEDED: u32 = 14;
 
@@ -80,6 +87,33 @@ impl GpuContext {
         Self::on_instance(&Self::instance(), None, adjust)
     }
 
+    /// [`GpuContext::new`] on the adapter `selector` names: its index in [`adapters`], or a
+    /// part of its name (case-insensitive) that no other adapter's name has. One process per
+    /// GPU of a machine picks its GPU this way (Vulkan does not see `CUDA_VISIBLE_DEVICES`).
+    pub fn with_adapter(selector: &str) -> Result<Self, GpuError> {
+        let instance = Self::instance();
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::PRIMARY));
+        let list =
+            || adapters.iter().enumerate().map(|(i, a)| format!("{i}: {}", a.get_info().name)).collect::<Vec<_>>().join(", ");
+        let chosen = match selector.trim().parse::<usize>() {
+            Ok(i) => adapters.get(i).ok_or_else(|| GpuError(format!("no adapter {i}; the adapters are {}", list())))?,
+            Err(_) => {
+                let want = selector.to_lowercase();
+                let mut found = adapters.iter().filter(|a| a.get_info().name.to_lowercase().contains(&want));
+                match (found.next(), found.next()) {
+                    (Some(a), None) => a,
+                    (None, _) => {
+                        return Err(GpuError(format!("no adapter's name contains `{selector}`; the adapters are {}", list())))
+                    }
+                    (Some(_), Some(_)) => {
+                        return Err(GpuError(format!("several adapters' names contain `{selector}`: {}; give an index", list())))
+                    }
+                }
+            }
+        };
+        Self::on_adapter(chosen.clone(), |limits| limits)
+    }
+
     /// The instance [`GpuContext::new`] makes its device on: Vulkan, Metal or DX12. An
     /// application with a window makes its surface on it, then calls
     /// [`GpuContext::for_surface`].
@@ -112,6 +146,10 @@ impl GpuContext {
                  software Vulkan driver: apt-get install -y mesa-vulkan-drivers"
             ))
         })?;
+        Self::on_adapter(adapter, adjust)
+    }
+
+    fn on_adapter(adapter: wgpu::Adapter, adjust: impl FnOnce(wgpu::Limits) -> wgpu::Limits) -> Result<Self, GpuError> {
         let limits = adjust(required_limits(&adapter.limits())?);
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("sppm-gpu"),

@@ -8,6 +8,6 @@ pub mod readback;
 pub mod scene_buffers;
 pub mod types;
 
-pub use context::{check_device, required_limits, GpuContext, GpuError, STORAGE_BUFFERS_NEEDED};
+pub use context::{adapters, check_device, required_limits, GpuContext, GpuError, STORAGE_BUFFERS_NEEDED};
 pub use features::{Features, Specialization};
 pub use kernel::{shader_source, shader_source_for, validate, Kernel, Resource, KERNELS};

@@ -76,10 +76,13 @@ pub struct Frame {
     pub work_first: u32,
     /// See `work_first`.
     pub work_end: u32,
-    /// Padding to a multiple of 16 bytes; always 0.
-    pub _pad0: u32,
-    /// Padding; always 0.
-    pub _pad1: u32,
+    /// SPPM with [`RadiusSchedule::Global`](crate::scene::RadiusSchedule): the radius of this
+    /// pass, the same for every visible point; 0 when each point has its own.
+    pub global_radius: f32,
+    /// The first pass this renderer ran: a batch of a render split into batches renders
+    /// passes `first_pass..` (0 for a whole render). The estimate averages
+    /// `pass_index + 1 - first_pass` passes.
+    pub first_pass: u32,
 }
 
 /// A triangle as a corner and two edges.

@@ -154,6 +154,12 @@ impl Integrator for Bands {
             self.bands.len()
         )))
     }
+    fn start_at_pass(&mut self, first: u32) -> Result<(), Error> {
+        for band in &mut self.bands {
+            band.start_at_pass(first)?;
+        }
+        Ok(())
+    }
     fn set_camera(&mut self, camera: &crate::scene::Camera) -> Result<(), Error> {
         for band in &mut self.bands {
             band.set_camera(camera)?;

@@ -107,6 +107,12 @@ pub trait Integrator {
     /// Start over: no pass done, the pass under way (if any) dropped; the next pass draws the
     /// random numbers the first did.
     fn reset(&mut self);
+    /// Render the passes of a batch: the passes this integrator runs are passes `first`,
+    /// `first + 1`, ... of the whole render, each drawing the random numbers it draws there,
+    /// and the estimate is their mean. Batches of a render split this way merge into the
+    /// whole render's image (`sppm-gpu merge`). Only before any pass; an error for SPPM with
+    /// a radius per point, whose passes depend on every pass before them.
+    fn start_at_pass(&mut self, first: u32) -> Result<(), Error>;
     /// SPPM's gather radii over the visible points (read back); `None` for the path tracers.
     fn radius_stats(&self) -> Result<Option<sppm::RadiusStats>, Error> {
         Ok(None)

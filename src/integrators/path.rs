@@ -25,6 +25,8 @@ pub struct PathTracer {
     pixel_count: u32,
     path_trace: Kernel,
     group: wgpu::BindGroup,
+    /// The first pass this tracer runs ([`Integrator::start_at_pass`]).
+    first_pass: u32,
     /// The first pixel of the next part of the pass under way (0: a new pass).
     next_pixel: u32,
     /// `path_resolve_texture` for Rgba32Float and Rgba16Float targets, made when first used.
@@ -108,6 +110,7 @@ impl PathTracer {
             pixel_count,
             path_trace,
             group,
+            first_pass: 0,
             next_pixel: 0,
             resolve_texture: [None, None],
             frame_buffer,
@@ -163,6 +166,16 @@ impl Integrator for PathTracer {
         Ok(())
     }
 
+    /// Each pixel's sum counts its own samples, so a batch needs only its pass indices.
+    fn start_at_pass(&mut self, first: u32) -> Result<(), Error> {
+        if self.passes != self.first_pass || self.next_pixel != 0 {
+            return Err(Error::Setting("start_at_pass: passes have run already".into()));
+        }
+        self.first_pass = first;
+        self.passes = first;
+        Ok(())
+    }
+
     fn set_camera(&mut self, camera: &crate::scene::Camera) -> Result<(), Error> {
         super::set_frame_camera(&mut self.frame, camera)?;
         self.reset();
@@ -174,7 +187,7 @@ impl Integrator for PathTracer {
         let zeros = vec![0u8; self.radiance.size() as usize];
         self.queue.write_buffer(&self.radiance, 0, &zeros);
         self.next_pixel = 0;
-        self.passes = 0;
+        self.passes = self.first_pass;
     }
 
     fn passes(&self) -> u32 {

@@ -16,7 +16,7 @@ use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
 use crate::gpu::types::*;
 use crate::gpu::{Kernel, Resource, Specialization};
 use crate::image_io::Rgb32Image;
-use crate::scene::{DirectLight, Scene};
+use crate::scene::{DirectLight, RadiusSchedule, Scene};
 use std::ops::Range;
 use std::sync::Arc;
 
@@ -68,6 +68,23 @@ pub fn direct_samples(render: &crate::scene::RenderSettings) -> u32 {
     })
 }
 
+/// The squared radius of pass `pass` (from 0) under the global schedule of Knaus & Zwicker
+/// 2011 (eq. 14 there, with their pass i = `pass + 1`): r_i^2 = r_1^2 prod_{k=1}^{i-1} (k +
+/// alpha) / (k + 1). In f64, one product after another, so that a batch starting at any
+/// pass gets the radius a whole render has there, bit for bit.
+pub fn global_radius_sq(initial_radius: f32, alpha: f32, pass: u32) -> f64 {
+    let mut r2 = initial_radius as f64 * initial_radius as f64;
+    for k in 1..=pass {
+        r2 *= global_radius_factor(k, alpha);
+    }
+    r2
+}
+
+/// r_{k+1}^2 / r_k^2 = (k + alpha) / (k + 1).
+fn global_radius_factor(k: u32, alpha: f32) -> f64 {
+    (k as f64 + alpha as f64) / (k as f64 + 1.0)
+}
+
 /// Statistics a caller may read between passes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RadiusStats {
@@ -104,6 +121,10 @@ pub struct Sppm {
     passes: u32,
     photons_traced: u64,
     initial_radius: f32,
+    /// With [`RadiusSchedule::Global`]: the squared radius of the next pass.
+    global_radius_sq: Option<f64>,
+    /// The first pass this renderer runs ([`Integrator::start_at_pass`]).
+    first_pass: u32,
     /// The next part of the pass (see [`Integrator::record_pass_part`]).
     next: NextPart,
 
@@ -308,6 +329,8 @@ impl Sppm {
             photons_traced: 0,
             next: NextPart::Camera(0),
             initial_radius,
+            global_radius_sq: (r.radius_schedule == RadiusSchedule::Global).then(|| global_radius_sq(initial_radius, r.alpha, 0)),
+            first_pass: 0,
             camera_pass: Stage::new(device, "camera_pass", &buffers, &spec)?,
             grid_setup: Stage::new(device, "grid_setup", &buffers, &spec)?,
             grid_count: Stage::new(device, "grid_count", &buffers, &spec)?,
@@ -362,6 +385,8 @@ impl Sppm {
 
     /// This pass's frame constants, for the dispatch of items `first..end` of its stage.
     fn record_frame(&mut self, encoder: &mut wgpu::CommandEncoder, first: u32, end: u32) {
+        self.frame.global_radius = self.global_radius_sq.map_or(0.0, |r2| r2.sqrt() as f32);
+        self.frame.first_pass = self.first_pass;
         self.frame.pass_index = self.passes;
         self.frame.time = super::shutter_time(self.frame.seed, self.passes);
         self.frame.work_first = first;
@@ -408,6 +433,11 @@ impl Sppm {
         self.update_stats.dispatch(encoder, self.vp_count);
         self.passes += 1;
         self.photons_traced += self.frame.photon_count as u64;
+        // r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1) for the pass i (from 1) just done; the
+        // same products in the same order as global_radius_sq, so batches agree bit for bit.
+        if let Some(r2) = self.global_radius_sq.as_mut() {
+            *r2 *= global_radius_factor(self.passes, self.frame.alpha);
+        }
     }
 
     /// Run `record` in an encoder of its own and submit it.
@@ -460,7 +490,7 @@ impl Sppm {
     /// Point the frame's pass count at the last completed pass, from within the encoder, for
     /// the resolve kernels.
     fn record_resolve_frame(&self, encoder: &mut wgpu::CommandEncoder) -> Result<(), Error> {
-        if self.passes == 0 {
+        if self.passes == self.first_pass {
             return Err(Error::Setting("no pass has run yet: record or run a pass before resolving".into()));
         }
         if self.next != NextPart::Camera(0) {
@@ -576,8 +606,11 @@ impl Integrator for Sppm {
         let stats = vec![VpStats { radius: self.initial_radius, ..VpStats::default() }; self.vp_count as usize];
         self.queue.write_buffer(&self.buffers.vp_stats, 0, bytemuck::cast_slice(&stats));
         self.drop_pass_under_way();
-        self.passes = 0;
+        self.passes = self.first_pass;
         self.photons_traced = 0;
+        if self.global_radius_sq.is_some() {
+            self.global_radius_sq = Some(global_radius_sq(self.initial_radius, self.frame.alpha, self.first_pass));
+        }
     }
 
     fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> Part {
@@ -608,6 +641,23 @@ impl Integrator for Sppm {
 
     fn radius_stats(&self) -> Result<Option<RadiusStats>, Error> {
         Sppm::radius_stats(self).map(Some)
+    }
+
+    /// Only with a global radius schedule: with a radius per point, each pass depends on all
+    /// the passes before it.
+    fn start_at_pass(&mut self, first: u32) -> Result<(), Error> {
+        if self.global_radius_sq.is_none() && first != self.first_pass {
+            return Err(Error::Setting(format!(
+                "SPPM with a radius per point cannot start at pass {first}: each pass depends on every pass before it; \
+                 set radius_schedule = \"global\" (--radius-schedule global) to render passes in batches"
+            )));
+        }
+        if self.passes != self.first_pass {
+            return Err(Error::Setting("start_at_pass: passes have run already".into()));
+        }
+        self.first_pass = first;
+        Integrator::reset(self);
+        Ok(())
     }
 
     /// Move the camera and start over ([`Integrator::reset`]): the statistics of one view do not
@@ -649,13 +699,14 @@ impl Integrator for Sppm {
     fn image_of_state(&self, state: &[u8]) -> Result<Rgb32Image, Error> {
         let (passes, _, stats) = super::decode_state(state, self.buffers.vp_stats.size())?;
         let stats: Vec<VpStats> = bytemuck::pod_collect_to_vec(stats);
-        let (k, spp) = (passes.max(1) as f32, self.frame.spp.max(1) as usize);
+        let (k, spp) = (passes.saturating_sub(self.first_pass).max(1) as f32, self.frame.spp.max(1) as usize);
+        let global = self.global_radius_sq.is_some();
         let photons = k * self.frame.photon_count as f32;
         let mut image = Rgb32Image::new(self.frame.width, self.frame.height);
         for (pixel, samples) in image.pixels.iter_mut().zip(stats.chunks(spp)) {
             let mut sum = [0.0f32; 3];
             for st in samples {
-                let area = std::f32::consts::PI * st.radius * st.radius;
+                let area = if global { 1.0 } else { std::f32::consts::PI * st.radius * st.radius };
                 for (c, sum) in sum.iter_mut().enumerate() {
                     *sum += st.ld[c] / k + st.tau[c] * self.frame.power_total / (photons * area);
                 }
@@ -669,6 +720,9 @@ impl Integrator for Sppm {
         self.queue.write_buffer(&self.buffers.vp_stats, 0, stats);
         self.drop_pass_under_way();
         self.passes = passes;
+        if self.global_radius_sq.is_some() {
+            self.global_radius_sq = Some(global_radius_sq(self.initial_radius, self.frame.alpha, passes));
+        }
         self.photons_traced = photons;
         Ok(())
     }

@@ -120,6 +120,7 @@ impl SceneBuilder {
                 time_limit: None,
                 direct: DirectLight::Sampled,
                 direct_samples: None,
+                radius_schedule: super::RadiusSchedule::PerPoint,
             },
             camera: None,
             lens: None,

@@ -4,8 +4,8 @@
 
 use super::mesh::{self, Transform};
 use super::{
-    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, RenderSettings, Scene, SceneError, Shape, ShapeKind,
-    Sphere, Texture,
+    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, RadiusSchedule, RenderSettings, Scene, SceneError,
+    Shape, ShapeKind, Sphere, Texture,
 };
 use glam::{Vec2, Vec3};
 use std::fmt;
@@ -174,7 +174,9 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         "time_limit",
         "direct",
         "direct_samples",
+        "radius_schedule",
     ])?;
+    let schedules = [("per-point", RadiusSchedule::PerPoint), ("global", RadiusSchedule::Global)];
     let directs = [("sampled", DirectLight::Sampled), ("photons", DirectLight::Photons)];
     let methods = [("sppm", Method::Sppm), ("pt", Method::Pt), ("pt-nee", Method::PtNee)];
     Ok(RenderSettings {
@@ -191,6 +193,7 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         time_limit: t.opt("time_limit", |v| v.f64_in(Bound::Positive))?,
         direct: t.or("direct", DirectLight::Sampled, |v| v.choice("direct", &directs))?,
         direct_samples: t.opt("direct_samples", |v| v.u32_in(1, MAX_DIRECT_SAMPLES))?,
+        radius_schedule: t.or("radius_schedule", RadiusSchedule::PerPoint, |v| v.choice("radius_schedule", &schedules))?,
     })
 }
 

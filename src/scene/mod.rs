@@ -41,6 +41,21 @@ pub enum DirectLight {
     Photons,
 }
 
+/// How SPPM's gather radius shrinks over the passes (`radius_schedule` in `[render]`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RadiusSchedule {
+    /// Each visible point's radius shrinks with the photons it has gathered (Hachisuka &
+    /// Jensen 2009): the radius adapts to the local photon density, but each pass depends on
+    /// every pass before it. The default.
+    PerPoint,
+    /// The radius of pass i is a function of i alone, r_i^2 = r_1^2 prod_{k=1}^{i-1} (k + alpha)
+    /// / (k + 1), the same for every point (Knaus & Zwicker 2011, "Progressive photon mapping:
+    /// a probabilistic approach"). Each pass is an estimate of its own and the image is their
+    /// mean, so passes can run in separate batches, processes and machines and be merged
+    /// (`--passes A..B --partial`, `sppm-gpu merge`).
+    Global,
+}
+
 /// The `[render]` table, with defaults applied.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
@@ -73,6 +88,8 @@ pub struct RenderSettings {
     /// SPPM with sampled direct light: camera paths per visible point per pass that gather
     /// direct light (`direct_samples`); `None` asks for the automatic choice.
     pub direct_samples: Option<u32>,
+    /// SPPM's radius schedule (`radius_schedule`: `"per-point"`, the default, or `"global"`).
+    pub radius_schedule: RadiusSchedule,
 }
 
 /// The `[camera]` table.
