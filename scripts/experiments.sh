@@ -5,7 +5,8 @@
 #   bash scripts/experiments.sh                 # all of them (about 17 minutes on 2 cores)
 #   bash scripts/experiments.sh radius compare-box   # only those named
 #
-# Names: radius, alpha, alpha-large-radius, passes, compare-box, compare-spheres, direct.
+# Names: radius, alpha, alpha-large-radius, passes, compare-box, compare-spheres, direct,
+# radius-schedule.
 # Timings depend on the machine and on whatever else runs on it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -58,4 +59,10 @@ fi
 if want direct; then
     run direct-light-cornell-glossy compare scenes/cornell-glossy.toml --reference $refs/cornell-glossy.exr \
         --methods sppm,sppm-photons --time-limit 60 --downsample 8
+fi
+if want radius-schedule; then
+    for scene in cornell-box cornell-spheres; do
+        run radius-schedule-$scene sweep scenes/$scene.toml --param radius-schedule --values 0,1 --iterations 64 \
+            --reference $refs/$scene.exr --downsample 1
+    done
 fi

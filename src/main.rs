@@ -169,8 +169,8 @@ enum Command {
     /// charts and the final images side by side.
     Sweep {
         scene: PathBuf,
-        /// The setting to vary.
-        #[arg(long, value_parser = ["radius", "alpha", "photons"])]
+        /// The setting to vary (radius-schedule: 0 per point, 1 global).
+        #[arg(long, value_parser = ["radius", "alpha", "photons", "radius-schedule"])]
         param: String,
         /// Its values, comma-separated.
         #[arg(long, value_delimiter = ',', required = true)]

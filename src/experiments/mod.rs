@@ -14,7 +14,7 @@ use crate::gpu::{GpuContext, GpuError};
 use crate::image_io::{self, Rgb32Image};
 use crate::integrators::{self, Integrator};
 use crate::metrics;
-use crate::scene::{DirectLight, Method, RenderSettings, Scene};
+use crate::scene::{DirectLight, Method, RadiusSchedule, RenderSettings, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use plot::{Chart, Series, Tile};
 use std::path::{Path, PathBuf};
@@ -390,6 +390,9 @@ pub enum SweepParam {
     Alpha,
     /// Photons per pass.
     Photons,
+    /// SPPM's radius schedule: 0 per point (Hachisuka & Jensen 2009), 1 global (Knaus &
+    /// Zwicker 2011).
+    RadiusSchedule,
 }
 
 impl SweepParam {
@@ -399,7 +402,8 @@ impl SweepParam {
             "radius" => Ok(Self::Radius),
             "alpha" => Ok(Self::Alpha),
             "photons" => Ok(Self::Photons),
-            _ => Err(Error::Setting(format!("unknown parameter `{name}`: expected radius, alpha or photons"))),
+            "radius-schedule" => Ok(Self::RadiusSchedule),
+            _ => Err(Error::Setting(format!("unknown parameter `{name}`: expected radius, alpha, photons or radius-schedule"))),
         }
     }
 
@@ -409,6 +413,7 @@ impl SweepParam {
             Self::Radius => "radius",
             Self::Alpha => "alpha",
             Self::Photons => "photons",
+            Self::RadiusSchedule => "radius-schedule",
         }
     }
 
@@ -418,6 +423,8 @@ impl SweepParam {
             Self::Radius => format!("radius {value}"),
             Self::Alpha => format!("alpha {value}"),
             Self::Photons => format!("{value} photons"),
+            Self::RadiusSchedule if value == 0.0 => "radius per point".into(),
+            Self::RadiusSchedule => "global radius".into(),
         }
     }
 
@@ -427,6 +434,9 @@ impl SweepParam {
             Self::Radius if value > 0.0 && value.is_finite() => render.radius = Some(value as f32),
             Self::Alpha if value > 0.0 && value < 1.0 => render.alpha = value as f32,
             Self::Photons if value >= 1.0 && value <= u32::MAX as f64 && value.fract() == 0.0 => render.photons = value as u32,
+            Self::RadiusSchedule if value == 0.0 || value == 1.0 => {
+                render.radius_schedule = if value == 1.0 { RadiusSchedule::Global } else { RadiusSchedule::PerPoint }
+            }
             _ => return Err(Error::Setting(format!("{value} is not a valid {}", self.name()))),
         }
         Ok(())
