@@ -192,23 +192,30 @@ struct FrameStats {
 
 impl FrameStats {
     fn summary(&self) -> String {
-        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64 * 1e3;
-        let max = |v: &[f64]| v.iter().cloned().fold(0.0, f64::max) * 1e3;
-        format!(
+        let mean = |v: &[f64]| v.iter().fold(0.0, |a, b| a + b) / v.len().max(1) as f64 * 1e3;
+        let max = |v: &[f64]| v.iter().fold(0.0f64, |a, &b| a.max(b)) * 1e3;
+        let mut text = format!(
             "frames: {} while rendering in {:.1} s, {:.1} frames/s, longest frame {:.0} ms; {} parts of passes, {:.0} ms \
-             each on average; input to the next frame {:.0} ms on average, {:.0} ms at most ({} inputs); a camera move or \
-             method switch to its first pass {:.0} ms on average",
+             each on average",
             self.frames_rendering,
             self.seconds_rendering,
             self.frames_rendering as f64 / self.seconds_rendering.max(1e-9),
             self.longest_frame * 1e3,
             self.parts,
             self.part_seconds / self.parts.max(1) as f64 * 1e3,
-            mean(&self.input_to_frame),
-            max(&self.input_to_frame),
-            self.input_to_frame.len(),
-            mean(&self.input_to_pass),
-        )
+        );
+        if !self.input_to_frame.is_empty() {
+            text += &format!(
+                "; input to the next frame {:.0} ms on average, {:.0} ms at most ({} inputs)",
+                mean(&self.input_to_frame),
+                max(&self.input_to_frame),
+                self.input_to_frame.len()
+            );
+        }
+        if !self.input_to_pass.is_empty() {
+            text += &format!("; a camera move or method switch to its first pass {:.0} ms on average", mean(&self.input_to_pass));
+        }
+        text
     }
 }
 
