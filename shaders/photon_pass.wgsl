@@ -2,7 +2,10 @@
 // proportion to power, and at every diffuse hit add their flux to the visible points within
 // radius; at the first hit only when the camera pass does not sample direct light. Flux is
 // accumulated in 64-bit fixed point built from two u32 atomics, so the sum does not depend on
-// the order in which photons arrive: the same seed gives the same image.
+// the order in which photons arrive: the same seed gives the same image. A point's weight
+// (throughput times albedo / pi) is the same for every photon of the pass, so it multiplies
+// the sum once, in update_stats, rather than each photon here: a deposit loads only the
+// point's normal.
 
 #import types
 #import rng
@@ -43,20 +46,18 @@ fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f) {
     if dot(delta, delta) >= q.w * q.w {
         return;
     }
-    let vp = visible_points[v];
     // A photon from behind the visible point's surface does not light it.
-    if dot(vp.normal, d) >= 0.0 {
+    if dot(visible_points[v].normal, d) >= 0.0 {
         return;
     }
-    let contribution = beta * vp.weight;
     // Guard against NaN and overflow: such a photon adds nothing rather than everything.
-    if !all(contribution >= vec3f(0.0)) || !all(contribution < vec3f(1.0e9)) {
+    if !all(beta >= vec3f(0.0)) || !all(beta < vec3f(1.0e9)) {
         return;
     }
     let base = v * ACCUM_STRIDE;
-    accumulate_fixed(base, contribution.x);
-    accumulate_fixed(base + 2u, contribution.y);
-    accumulate_fixed(base + 4u, contribution.z);
+    accumulate_fixed(base, beta.x);
+    accumulate_fixed(base + 2u, beta.y);
+    accumulate_fixed(base + 4u, beta.z);
     atomicAdd(&flux_accum[base + 6u], 1u);
 }
 

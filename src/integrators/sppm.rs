@@ -546,11 +546,17 @@ impl Sppm {
     }
 
     /// The photon pass's flux accumulator, read back: `ACCUM_STRIDE` words per visible point,
-    /// (lo, hi) 32.32 fixed-point pairs for r, g, b relative to `power_total`, then the photon
-    /// count. It holds the current pass's photons between `trace_photons` and
+    /// (lo, hi) 32.32 fixed-point pairs for r, g, b of the photons' own flux relative to
+    /// `power_total` (not yet times the point's weight, which `update_statistics` applies),
+    /// then the photon count. It holds the current pass's photons between `trace_photons` and
     /// `update_statistics`, which clears it.
     pub fn flux_accum(&self) -> Result<Vec<u32>, Error> {
         Ok(read_whole(&self.device, &self.queue, &self.buffers.flux_accum)?)
+    }
+
+    /// Visible points of the current pass (normal and weight), read back (for tests).
+    pub fn visible_points(&self) -> Result<Vec<VisiblePoint>, Error> {
+        Ok(read_whole(&self.device, &self.queue, &self.buffers.visible_points)?)
     }
 
     /// Visible points' positions and radii of the current pass (xyz, radius; radius 0 where
