@@ -151,13 +151,9 @@ impl Integrator for PathTracer {
     /// The mean of each pixel's samples, as [`Integrator::image`] computes it. Between the
     /// parts of a pass, pixels hold one sample more than others.
     fn record_resolve_to_texture(&mut self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) -> Result<(), Error> {
-        let slot = super::check_resolve_target(texture, self.frame.width, self.frame.height)?;
-        if self.resolve_texture[slot].is_none() {
-            let format = super::RESOLVE_FORMATS[slot];
-            self.resolve_texture[slot] =
-                Some(Kernel::specialized(&self.device, "path_resolve_texture", &[("rgba32float", format)], &[])?);
-        }
-        let kernel = self.resolve_texture[slot].as_ref().expect("made above");
+        let (width, height) = (self.frame.width, self.frame.height);
+        let kernel =
+            super::resolve_kernel(&self.device, &mut self.resolve_texture, "path_resolve_texture", texture, width, height)?;
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
         let resources =
             [Resource { name: "frame", buffer: &self.frame_buffer }, Resource { name: "radiance", buffer: &self.radiance }];

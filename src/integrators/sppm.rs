@@ -590,14 +590,10 @@ impl Integrator for Sppm {
     /// Record the estimate into the caller's 2D texture, which must be `width` x `height`,
     /// `Rgba16Float` or `Rgba32Float`, with `STORAGE_BINDING` usage; alpha is 1.
     fn record_resolve_to_texture(&mut self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) -> Result<(), Error> {
-        let slot = super::check_resolve_target(texture, self.frame.width, self.frame.height)?;
-        if self.resolve_texture[slot].is_none() {
-            let format = super::RESOLVE_FORMATS[slot];
-            self.resolve_texture[slot] =
-                Some(Kernel::specialized(&self.device, "resolve_texture", &[("rgba32float", format)], &[])?);
-        }
+        let (width, height) = (self.frame.width, self.frame.height);
+        super::check_resolve_target(texture, width, height)?;
         self.record_resolve_frame(encoder)?;
-        let kernel = self.resolve_texture[slot].as_ref().expect("made above");
+        let kernel = super::resolve_kernel(&self.device, &mut self.resolve_texture, "resolve_texture", texture, width, height)?;
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
         let group = kernel.bind_group_with_views(&self.device, &self.buffers.resources(), &[("out_image", &view)])?;
         kernel.dispatch(encoder, &group, self.pixel_count);
