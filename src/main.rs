@@ -367,10 +367,10 @@ fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Resul
     Ok(())
 }
 
-/// Refuse, before anything is loaded or rendered, outputs that would replace the scene itself
-/// or cannot be written as an image: a wrong extension, a directory that does not exist, a
-/// directory or file that cannot be written.
-fn check_output(output: &Path, scene_path: &Path) -> Result<(), Error> {
+/// Refuse, before anything is loaded or rendered, outputs that would replace their input (the
+/// scene, or a part to merge) or cannot be written as an image: a wrong extension, a
+/// directory that does not exist, a directory or file that cannot be written.
+fn check_output(output: &Path, input: &Path) -> Result<(), Error> {
     let ext = output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if !matches!(ext.as_deref(), Some("png") | Some("exr")) {
         return Err(Error::Setting(format!("{}: the output must end in .png or .exr", output.display())));
@@ -396,9 +396,13 @@ fn check_output(output: &Path, scene_path: &Path) -> Result<(), Error> {
         std::fs::File::create_new(&probe).map_err(cannot)?;
         let _ = std::fs::remove_file(&probe);
     }
-    if let (Ok(a), Ok(b)) = (output.canonicalize(), scene_path.canonicalize()) {
+    if let (Ok(a), Ok(b)) = (output.canonicalize(), input.canonicalize()) {
         if a == b {
-            return Err(Error::Setting(format!("{}: the output would overwrite the scene file", output.display())));
+            return Err(Error::Setting(format!(
+                "{}: the output would overwrite its input {}",
+                output.display(),
+                input.display()
+            )));
         }
     }
     Ok(())
@@ -496,7 +500,6 @@ fn parse_pass_range(text: &str) -> Result<(u32, u32), String> {
 
 /// `sppm-gpu merge PART... -o OUT`.
 fn merge(parts: &[PathBuf], output: &Path) -> Result<(), Error> {
-    check_output(output, &parts[0])?;
     for part in parts {
         check_output(output, part)?;
     }

@@ -227,6 +227,14 @@ fn command_line_batches_and_merge() {
     assert_eq!(code, Some(1), "{text}");
     assert!(text.contains("share passes") && text.contains("part-2..5.exr"), "{text}");
     assert!(!twice.exists());
+    // A merge onto one of its parts, and a part that is not there: refused before anything.
+    let (code, text) = run(binary().arg("merge").arg(part("0..2")).arg(part("2..5")).arg("-o").arg(part("0..2")));
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("would overwrite its input"), "{text}");
+    assert!(read_partial(&part("0..2")).is_ok(), "the part is intact");
+    let (code, text) = run(binary().arg("merge").arg(dir.join("missing.exr")).arg("-o").arg(dir.join("m.exr")));
+    assert_eq!(code, Some(1), "{text}");
+    assert!(text.contains("missing.exr"), "{text}");
     // A radius per point cannot be split, and a partial must be EXR.
     let (code, text) =
         run(binary().arg(&scene).args(["--width", "8", "--height", "8", "--passes", "2..4", "--partial"]).arg(part("x")));
