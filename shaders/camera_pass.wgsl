@@ -40,7 +40,7 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
     var o = ray.o;
     var d = ray.d;
     var beta = vec3f(1.0);
-    var path = CameraPath(vec3f(0.0), VisiblePoint(vec3f(0.0), 0u, vec3f(0.0), 0u), vec3f(0.0), false);
+    var path = CameraPath(vec3f(0.0), VisiblePoint(vec3f(0.0), 0u), vec3f(0.0), false);
     let sample_direct = frame.direct != 0u;
     // Density of the BSDF sample that led here, for MIS at an emitter; 0 after the camera,
     // mirrors and smooth glass, and when direct light is not sampled.
@@ -67,7 +67,7 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
             }
             // The visible point: the photon pass adds flux * weight for photons near it.
             let n = select(-s.ng, s.ng, dot(d, s.ng) < 0.0);
-            path.vp = VisiblePoint(n, 0u, beta * albedo * INV_PI, 0u);
+            path.vp = VisiblePoint(beta * albedo * INV_PI, encode_normal(n));
             path.position = s.p;
             path.found = true;
             break;

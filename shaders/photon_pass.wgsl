@@ -47,7 +47,7 @@ fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f) {
         return;
     }
     // A photon from behind the visible point's surface does not light it.
-    if dot(visible_points[v].normal, d) >= 0.0 {
+    if dot(decode_normal(visible_points[v].normal), d) >= 0.0 {
         return;
     }
     // Guard against NaN and overflow: such a photon adds nothing rather than everything.

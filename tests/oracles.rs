@@ -400,3 +400,56 @@ fn gpu_grid_build_matches_cpu_oracle() {
         }
     }
 }
+
+/// The octahedral map of `encode_normal` (shaders/shared/sampling.wgsl) undone on the host,
+/// from its two 16-bit signed normalized halves (x low, y high), normalized.
+fn decode_normal(e: u32) -> Vec3 {
+    let snorm = |h: u32| ((h as u16 as i16) as f32 / 32767.0).max(-1.0);
+    let (x, y) = (snorm(e & 0xffff), snorm(e >> 16));
+    let z = 1.0 - x.abs() - y.abs();
+    let t = (-z).max(0.0);
+    Vec3::new(x - t.copysign(x), y - t.copysign(y), z).normalize()
+}
+
+/// Each visible point keeps its surface's normal, facing the camera, in 32 bits within 1e-4
+/// radians: on a diffuse sphere seen from all sides and on the walls of a box around it.
+#[test]
+fn visible_points_keep_their_normals() {
+    let Some(gpu) = common::gpu() else { return };
+    let (center, radius) = (Vec3::new(0.1, -0.05, 0.0), 0.7);
+    let scene = sppm_gpu::scene::SceneBuilder::new(96, 96)
+        .photons(1000)
+        .camera([0.3, 0.4, 3.0], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 60.0)
+        .diffuse("white", [0.5, 0.5, 0.5])
+        .sphere(center, radius, "white")
+        .quad([-2.0, -1.0, -1.5], [4.0, 0.0, 0.0], [0.0, 3.0, 0.0], "white")
+        .emission([1.0, 1.0, 1.0])
+        .build()
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut sppm = renderer(&gpu, &scene);
+    sppm.trace_camera_paths();
+    let positions = sppm.visible_point_positions().unwrap();
+    let points = sppm.visible_points().unwrap();
+    let (mut on_sphere, mut on_wall, mut worst) = (0, 0, 0.0f32);
+    for (q, vp) in positions.iter().zip(&points) {
+        if q[3] == 0.0 {
+            continue;
+        }
+        let p = Vec3::new(q[0], q[1], q[2]);
+        let expected = if ((p - center).length() - radius).abs() < 1e-3 {
+            on_sphere += 1;
+            (p - center).normalize()
+        } else {
+            assert!((p.z + 1.5).abs() < 1e-3, "a visible point off both surfaces at {p}");
+            on_wall += 1;
+            Vec3::Z
+        };
+        // The chord between unit vectors, which is the angle for small angles (acos of a dot
+        // product near 1 loses it to f32 rounding).
+        let angle = (decode_normal(vp.normal) - expected).length();
+        worst = worst.max(angle);
+        assert!(angle < 1e-4, "normal at {p}: {} against {expected}, {angle} rad", decode_normal(vp.normal));
+    }
+    eprintln!("{on_sphere} points on the sphere, {on_wall} on the wall, worst angle {worst:.2e} rad");
+    assert!(on_sphere > 1000 && on_wall > 1000, "{on_sphere} on the sphere, {on_wall} on the wall");
+}

@@ -132,12 +132,11 @@ struct Emitter {
 // Where a camera path of the current pass ended on a non-specular surface.
 // Its position and radius live in `vp_points` (xyz, radius; radius 0 when there is none).
 struct VisiblePoint {
-    // Geometric normal, flipped to the side the camera path arrived from.
-    normal: vec3f,
-    _pad0: u32,
     // Path throughput times the BSDF (albedo / pi).
     weight: vec3f,
-    _pad1: u32,
+    // Geometric normal, flipped to the side the camera path arrived from, in 32 bits
+    // (encode_normal in shared/sampling.wgsl): a deposit loads one word for it.
+    normal: u32,
 }
 
 // Per visible-point SPPM statistics (Hachisuka & Jensen 2009, sec. 4).

@@ -204,16 +204,13 @@ pub struct GridScene {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct VisiblePoint {
-    /// Geometric normal, flipped to the side the camera path arrived from; photons arriving
-    /// from the other side are not counted.
-    pub normal: [f32; 3],
-    /// Padding; always 0.
-    pub _pad0: u32,
-    /// Path throughput times the BSDF, beta * albedo / pi: what a photon's flux is
-    /// multiplied by when it lands within the radius. Zero where there is no visible point.
+    /// Path throughput times the BSDF, beta * albedo / pi: what the flux of the photons that
+    /// land within the radius is multiplied by. Zero where there is no visible point.
     pub weight: [f32; 3],
-    /// Padding; always 0.
-    pub _pad1: u32,
+    /// Geometric normal, flipped to the side the camera path arrived from, octahedral in two
+    /// 16-bit signed normalized halves (`encode_normal` in `shaders/shared/sampling.wgsl`);
+    /// photons arriving from the other side are not counted.
+    pub normal: u32,
 }
 
 /// Per visible-point SPPM statistics, carried from pass to pass (Hachisuka & Jensen 2009,

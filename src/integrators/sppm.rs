@@ -238,7 +238,7 @@ impl Sppm {
 
     /// Bytes of the renderer's own buffers for a band of `rows` rows of `scene`'s image, as
     /// [`Integrator::gpu_memory`](super::Integrator::gpu_memory) reports them once allocated: computed before allocating, for
-    /// the memory check. Per visible point: the point (32), its position (16), statistics
+    /// the memory check. Per visible point: the point (16), its position (16), statistics
     /// (32), flux (32), up to 8 grid entries (32) and a grid bucket's count and offset (8 at
     /// most, the table being the point count rounded up to a power of two); per pixel: the
     /// image and its read-back copy (32).
