@@ -114,11 +114,16 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     // frame.direct_samples paths through the pixel (1 where photons carry direct light): each
     // is an unbiased estimate of the pixel's emitted and direct light, and the extra paths
     // cost no visible point, grid entry or photon deposit.
-    let first = trace_camera_path(px, py, &rng);
-    var ld = first.ld;
+    // One call site: the traversal inlined into this kernel once per call, not twice.
+    var first: CameraPath;
+    var ld = vec3f(0.0);
     let paths = max(frame.direct_samples, 1u);
-    for (var i = 1u; i < paths; i++) {
-        ld += trace_camera_path(px, py, &rng).ld;
+    for (var i = 0u; i < paths; i++) {
+        let path = trace_camera_path(px, py, &rng);
+        ld += path.ld;
+        if i == 0u {
+            first = path;
+        }
     }
     var position = vec4f(0.0);
     if first.found {
