@@ -50,10 +50,6 @@ fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f) {
     if dot(decode_normal(visible_points[v].normal), d) >= 0.0 {
         return;
     }
-    // Guard against NaN and overflow: such a photon adds nothing rather than everything.
-    if !all(beta >= vec3f(0.0)) || !all(beta < vec3f(1.0e9)) {
-        return;
-    }
     let base = v * ACCUM_STRIDE;
     accumulate_fixed(base, beta.x);
     accumulate_fixed(base + 2u, beta.y);
@@ -150,8 +146,11 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> bool {
     let m = materials[s.material];
     // At a diffuse hit; where the camera pass samples direct light, photons straight from a
     // light would count it twice: they deposit only after their first bounce. Called by
-    // every lane that hit something, so that they all help.
-    deposit(m.kind == MATERIAL_DIFFUSE && (frame.direct == 0u || (*ph).depth > 0u), s.p, d, (*ph).beta);
+    // every lane that hit something, so that they all help. A photon whose flux is NaN or
+    // overflows adds nothing rather than everything.
+    let beta = (*ph).beta;
+    let finite = all(beta >= vec3f(0.0)) && all(beta < vec3f(1.0e9));
+    deposit(m.kind == MATERIAL_DIFFUSE && (frame.direct == 0u || (*ph).depth > 0u) && finite, s.p, d, beta);
     var wi: vec3f;
     var f: vec3f;
     if m.kind == MATERIAL_DIFFUSE {

@@ -744,10 +744,10 @@ impl ApplicationHandler for App {
     }
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let name = self.scene_name();
         let Some(view) = self.view.as_mut() else { return };
         // Frames back to back while rendering; while paused, until the last part, the
         // read-back and the title are in, then only when something happens.
-        let name = self.options.scene_path.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
         let passes = view.renderer().passes();
         let settled = view.running.is_none() && view.readout.passes == passes && view.title(&name) == view.shown_title;
         let busy = !view.paused || !settled || view.restart.is_some();
