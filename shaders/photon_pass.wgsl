@@ -1,8 +1,8 @@
 // SPPM photon pass (Hachisuka & Jensen 2009, sec. 4): photons leave the emitters, chosen in
 // proportion to power, and at every diffuse hit add their flux to the visible points within
 // radius; at the first hit only when the camera pass does not sample direct light. Flux is
-// accumulated in 64-bit fixed point built from two u32 atomics, so the sum does not depend on
-// the order in which photons arrive: the same seed gives the same image. A point's weight
+// accumulated in 64-bit fixed point (shared/flux.wgsl), so the sum does not depend on the
+// order in which photons arrive: the same seed gives the same image. A point's weight
 // (throughput times albedo / pi) is the same for every photon of the pass, so it multiplies
 // the sum once, in update_stats, rather than each photon here: a deposit loads only the
 // point's normal.
@@ -15,29 +15,15 @@
 #import lights
 #import lanes
 #import grid
+#import flux
 
 @group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
 @group(0) @binding(9) var<storage, read> vp_points: array<vec4f>;
 @group(0) @binding(11) var<uniform> grid: GridParams;
 @group(0) @binding(12) var<storage, read> grid_cell_start: array<u32>;
 @group(0) @binding(13) var<storage, read> grid_entries: array<u32>;
-@group(0) @binding(14) var<storage, read_write> flux_accum: array<atomic<u32>>;
 
 const STREAM_PHOTON: u32 = 1u;
-
-// Add c >= 0 to the 32.32 fixed-point counter at words (lo, lo + 1). The carry out of the low
-// word is detected from the value it held, so the total is exact whatever the order.
-fn accumulate_fixed(lo: u32, c: f32) {
-    let hi_part = floor(c);
-    let lo_part = min((c - hi_part) * 4294967296.0, 4294967040.0);
-    let lo_add = u32(lo_part);
-    let old = atomicAdd(&flux_accum[lo], lo_add);
-    let carry = select(0u, 1u, old > 0xffffffffu - lo_add);
-    let hi_add = u32(hi_part) + carry;
-    if hi_add != 0u {
-        atomicAdd(&flux_accum[lo + 1u], hi_add);
-    }
-}
 
 // Add the photon's flux to visible point v if it lies within v's radius of p.
 fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f) {
@@ -50,11 +36,7 @@ fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f) {
     if dot(decode_normal(visible_points[v].normal), d) >= 0.0 {
         return;
     }
-    let base = v * ACCUM_STRIDE;
-    accumulate_fixed(base, beta.x);
-    accumulate_fixed(base + 2u, beta.y);
-    accumulate_fixed(base + 4u, beta.z);
-    atomicAdd(&flux_accum[base + 6u], 1u);
+    accumulate_flux(v, beta);
 }
 
 // The range of grid_entries listing the visible points that may lie within reach of p.

@@ -76,7 +76,8 @@
 //! [`Sppm::record_resolve_to_buffer`](integrators::Sppm::record_resolve_to_buffer) does the
 //! same into a buffer.
 //!
-//! Device requirements: no features, and the limits of
+//! Device requirements: no features (subgroups and 64-bit atomics are used where the device
+//! has them, [`gpu::DeviceCaps`]), and the limits of
 //! [`gpu::required_limits`]`(&adapter.limits())` (14 storage buffers per shader stage, the
 //! adapter's largest storage buffer binding and buffer size, wgpu's defaults otherwise).
 //! [`Sppm::new`](integrators::Sppm::new) checks the device ([`gpu::check_device`]) and returns

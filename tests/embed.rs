@@ -359,23 +359,26 @@ fn a_device_with_default_limits_is_refused() {
 }
 
 /// Where the device has subgroups, the photon pass's lanes share their deposits
-/// (`shaders/shared/lanes.wgsl`); an application's device without them gets kernels where
-/// each lane deposits alone (`lanes_single.wgsl`). Flux is summed in fixed point, so the two
-/// give the same image bit for bit.
+/// (`shaders/shared/lanes.wgsl`), and with 64-bit atomics each fixed-point sum takes one
+/// atomic (`flux.wgsl`); an application's device without them gets kernels where each lane
+/// deposits alone (`lanes_single.wgsl`) with pairs of u32 atomics (`flux_u32.wgsl`). Flux is
+/// summed in fixed point, so the two give the same image bit for bit.
 #[test]
-fn with_and_without_subgroups_the_same_image() {
-    let Some((adapter, device, queue)) = sppm_device() else { return };
-    assert!(!device.features().contains(wgpu::Features::SUBGROUP), "the application asked for no features");
+fn with_and_without_device_features_the_same_image() {
+    use sppm_gpu::gpu::DeviceCaps;
+    let Some((_adapter, device, queue)) = sppm_device() else { return };
+    assert_eq!(DeviceCaps::of(device.features()), DeviceCaps::NONE, "the application asked for no features");
     let Some(gpu) = common::gpu() else { return };
-    if !gpu.device.features().contains(wgpu::Features::SUBGROUP) {
-        assert!(!adapter.features().contains(wgpu::Features::SUBGROUP), "GpuContext asks for subgroups where there are");
-        eprintln!("this adapter has no subgroups: nothing to compare");
+    let caps = DeviceCaps::of(gpu.device.features());
+    assert_eq!(caps, DeviceCaps::of(gpu.adapter.features()), "GpuContext asks for subgroups and 64-bit atomics where there are");
+    if caps == DeviceCaps::NONE {
+        eprintln!("this adapter has neither subgroups nor 64-bit atomics: nothing to compare");
         return;
     }
     let scene = small("cornell-spheres.toml", 11);
     let (_, without) = reference(&device, &queue, &scene, PASSES);
     let (_, with) = reference(&gpu.device, &gpu.queue, &scene, PASSES);
-    assert_bit_equal(&with, &without, "with vs without subgroups");
+    assert_bit_equal(&with, &without, &format!("with {caps:?} vs without"));
     assert!(mean(&with) > 0.05, "mean {}", mean(&with));
 }
 

@@ -1,7 +1,7 @@
 //! Every kernel's WGSL, with its imports expanded, parses and validates with naga, and has
 //! exactly one entry point, named like its file.
 
-use sppm_gpu::gpu::{shader_source, shader_source_for, validate, KERNELS};
+use sppm_gpu::gpu::{shader_source, shader_source_for, validate, DeviceCaps, KERNELS};
 
 #[test]
 fn every_kernel_validates() {
@@ -20,14 +20,14 @@ fn imports_are_expanded_once() {
     assert_eq!(source.matches("struct Frame {").count(), 1);
 }
 
-/// Kernels for a device without subgroup operations use none: naga validates them without
-/// the capability.
+/// Kernels for a device without subgroup operations or 64-bit atomics use neither: naga
+/// validates them without the capabilities.
 #[test]
-fn kernels_without_subgroups_use_none() {
+fn kernels_without_subgroups_or_atomic64_use_neither() {
     for name in KERNELS {
-        let source = shader_source_for(name, false).unwrap();
-        for builtin in ["subgroupAdd", "subgroupExclusiveAdd", "subgroupBallot", "subgroupShuffle"] {
-            assert!(!source.contains(builtin), "{name} calls {builtin}");
+        let source = shader_source_for(name, DeviceCaps::NONE).unwrap();
+        for builtin in ["subgroupAdd", "subgroupExclusiveAdd", "subgroupBallot", "subgroupShuffle", "u64"] {
+            assert!(!source.contains(builtin), "{name} uses {builtin}");
         }
         let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{name}: {e}"));
         naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::empty())
@@ -35,4 +35,5 @@ fn kernels_without_subgroups_use_none() {
             .unwrap_or_else(|e| panic!("{name}: {e:?}"));
     }
     assert!(shader_source("photon_pass").unwrap().contains("subgroupBallot"));
+    assert!(shader_source("photon_pass").unwrap().contains("atomic<u64>"));
 }

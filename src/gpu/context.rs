@@ -2,6 +2,8 @@
 
 use std::fmt;
 
+use super::DeviceCaps;
+
 /// Errors from the GPU side: no adapter, a device the renderer cannot use, a lost device.
 #[derive(Debug, Clone)]
 pub struct GpuError(pub String);
@@ -16,7 +18,8 @@ impl std::error::Error for GpuError {}
 
 /// A device and queue owned by the renderer (the embedding API takes the caller's instead).
 pub struct GpuContext {
-    /// The device, created with [`required_limits`] and no features.
+    /// The device, created with [`required_limits`] and, where the adapter has them, the
+    /// optional features of [`DeviceCaps::wanted`].
     pub device: wgpu::Device,
     /// The device's queue; every pass and readback is submitted here.
     pub queue: wgpu::Queue,
@@ -153,8 +156,9 @@ impl GpuContext {
         let limits = adjust(required_limits(&adapter.limits())?);
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("sppm-gpu"),
-            // Subgroups where there are: the photon pass shares deposits between lanes.
-            required_features: adapter.features() & wgpu::Features::SUBGROUP,
+            // Subgroups and 64-bit atomics where there are: the photon pass shares deposits
+            // between lanes and adds each fixed-point sum with one atomic (DeviceCaps).
+            required_features: adapter.features() & DeviceCaps::wanted(),
             required_limits: limits,
             experimental_features: wgpu::ExperimentalFeatures::disabled(),
             memory_hints: wgpu::MemoryHints::Performance,

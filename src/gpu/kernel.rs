@@ -49,6 +49,8 @@ const FILES: &[(&str, &str)] = &[
     ("direct", include_str!("../../shaders/shared/direct.wgsl")),
     ("lanes", include_str!("../../shaders/shared/lanes.wgsl")),
     ("lanes_single", include_str!("../../shaders/shared/lanes_single.wgsl")),
+    ("flux", include_str!("../../shaders/shared/flux.wgsl")),
+    ("flux_u32", include_str!("../../shaders/shared/flux_u32.wgsl")),
     ("path_trace", include_str!("../../shaders/path_trace.wgsl")),
     ("path_resolve_texture", include_str!("../../shaders/path_resolve_texture.wgsl")),
     ("sampler_test", include_str!("../../shaders/sampler_test.wgsl")),
@@ -58,24 +60,63 @@ fn file(name: &str) -> Result<&'static str, GpuError> {
     FILES.iter().find(|(n, _)| *n == name).map(|(_, src)| *src).ok_or_else(|| GpuError(format!("no shader file named `{name}`")))
 }
 
-/// The WGSL of kernel `name` with its imports expanded, each shared file once, in order, for a
-/// device with subgroup operations.
-pub fn shader_source(name: &str) -> Result<String, GpuError> {
-    shader_source_for(name, true)
+/// What a device offers that the kernels use where it is there, each with a fallback that
+/// computes the same bits: the shared file to import in its place.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DeviceCaps {
+    /// Subgroup operations ([`wgpu::Features::SUBGROUP`]): the photon pass's lanes share
+    /// deposits (`lanes`); without, `lanes_single`.
+    pub subgroups: bool,
+    /// 64-bit integer atomics ([`wgpu::Features::SHADER_INT64_ATOMIC_ALL_OPS`]): one atomic
+    /// per fixed-point sum (`flux`); without, two u32 atomics and a carry (`flux_u32`).
+    pub atomic64: bool,
 }
 
-/// [`shader_source`] for a device with or without subgroup operations
-/// ([`wgpu::Features::SUBGROUP`]): without, `lanes` is replaced by `lanes_single`.
-pub fn shader_source_for(name: &str, subgroups: bool) -> Result<String, GpuError> {
-    fn expand(name: &str, subgroups: bool, seen: &mut Vec<String>, out: &mut String) -> Result<(), GpuError> {
-        let name = if name == "lanes" && !subgroups { "lanes_single" } else { name };
+impl DeviceCaps {
+    /// Everything the kernels can use.
+    pub const ALL: Self = Self { subgroups: true, atomic64: true };
+    /// Nothing beyond core WebGPU.
+    pub const NONE: Self = Self { subgroups: false, atomic64: false };
+
+    /// The wgpu features behind them, to ask a device for where the adapter has them.
+    pub fn wanted() -> wgpu::Features {
+        wgpu::Features::SUBGROUP | wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_ALL_OPS
+    }
+
+    /// What `features` (a device's) allow.
+    pub fn of(features: wgpu::Features) -> Self {
+        let int64 = wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_ALL_OPS;
+        Self { subgroups: features.contains(wgpu::Features::SUBGROUP), atomic64: features.contains(int64) }
+    }
+
+    /// The shared file imported in place of `name` on such a device.
+    fn file_for<'a>(&self, name: &'a str) -> &'a str {
+        match name {
+            "lanes" if !self.subgroups => "lanes_single",
+            "flux" if !self.atomic64 => "flux_u32",
+            _ => name,
+        }
+    }
+}
+
+/// The WGSL of kernel `name` with its imports expanded, each shared file once, in order, for a
+/// device with everything the kernels can use ([`DeviceCaps::ALL`]).
+pub fn shader_source(name: &str) -> Result<String, GpuError> {
+    shader_source_for(name, DeviceCaps::ALL)
+}
+
+/// [`shader_source`] for a device with `caps`: the fallback files of what it lacks imported
+/// instead.
+pub fn shader_source_for(name: &str, caps: DeviceCaps) -> Result<String, GpuError> {
+    fn expand(name: &str, caps: DeviceCaps, seen: &mut Vec<String>, out: &mut String) -> Result<(), GpuError> {
+        let name = caps.file_for(name);
         if seen.iter().any(|s| s == name) {
             return Ok(());
         }
         seen.push(name.to_string());
         for line in file(name)?.lines() {
             match line.trim().strip_prefix("#import ") {
-                Some(import) => expand(import.trim(), subgroups, seen, out)?,
+                Some(import) => expand(import.trim(), caps, seen, out)?,
                 None => {
                     out.push_str(line);
                     out.push('\n');
@@ -85,20 +126,25 @@ pub fn shader_source_for(name: &str, subgroups: bool) -> Result<String, GpuError
         Ok(())
     }
     let mut out = String::new();
-    expand(name, subgroups, &mut Vec::new(), &mut out)?;
+    expand(name, caps, &mut Vec::new(), &mut out)?;
     Ok(out)
 }
 
-/// Parse and validate WGSL with naga, as wgpu will (subgroup operations allowed: wgpu checks
-/// them against the device's features).
+/// Parse and validate WGSL with naga, as wgpu will (subgroup operations and 64-bit atomics
+/// allowed: wgpu checks them against the device's features).
 pub fn validate(name: &str, source: &str) -> Result<(naga::Module, naga::valid::ModuleInfo), GpuError> {
     let module =
         naga::front::wgsl::parse_str(source).map_err(|e| GpuError(format!("{name}.wgsl: {}", e.emit_to_string(source))))?;
-    let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::SUBGROUP)
-        .subgroup_stages(naga::valid::ShaderStages::COMPUTE)
-        .subgroup_operations(naga::valid::SubgroupOperationSet::all())
-        .validate(&module)
-        .map_err(|e| GpuError(format!("{name}.wgsl: {}", e.emit_to_string(source))))?;
+    let info = naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::SUBGROUP
+            | naga::valid::Capabilities::SHADER_INT64
+            | naga::valid::Capabilities::SHADER_INT64_ATOMIC_ALL_OPS,
+    )
+    .subgroup_stages(naga::valid::ShaderStages::COMPUTE)
+    .subgroup_operations(naga::valid::SubgroupOperationSet::all())
+    .validate(&module)
+    .map_err(|e| GpuError(format!("{name}.wgsl: {}", e.emit_to_string(source))))?;
     Ok((module, info))
 }
 
@@ -137,7 +183,7 @@ impl Kernel {
         replace: &[(&str, &str)],
         constants: &[(&str, f64)],
     ) -> Result<Self, GpuError> {
-        let mut source = shader_source_for(name, device.features().contains(wgpu::Features::SUBGROUP))?;
+        let mut source = shader_source_for(name, DeviceCaps::of(device.features()))?;
         for (token, text) in replace {
             source = source.replace(token, text);
         }

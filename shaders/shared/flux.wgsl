@@ -1,0 +1,24 @@
+// The photon pass's flux accumulator, added to with 64-bit atomics (a device with
+// SHADER_INT64_ATOMIC_ALL_OPS; flux_u32.wgsl is the same sum from pairs of u32 atomics). A
+// visible point's ACCUM_STRIDE words hold r, g, b in 32.32 fixed point, little-endian (low
+// word first, as update_stats reads them), then the photon count. Integer sums do not depend
+// on the order in which photons arrive: the same seed gives the same image on either path.
+
+@group(0) @binding(14) var<storage, read_write> flux_accum: array<atomic<u64>>;
+
+// c >= 0 in 32.32 fixed point, the low word rounded down and kept below 2^32.
+fn fixed_point(c: f32) -> u64 {
+    let hi = floor(c);
+    let lo = min((c - hi) * 4294967296.0, 4294967040.0);
+    return (u64(u32(hi)) << 32u) | u64(u32(lo));
+}
+
+// Add a photon's flux beta and one to the count of visible point v.
+fn accumulate_flux(v: u32, beta: vec3f) {
+    let base = v * (ACCUM_STRIDE / 2u);
+    atomicAdd(&flux_accum[base], fixed_point(beta.x));
+    atomicAdd(&flux_accum[base + 1u], fixed_point(beta.y));
+    atomicAdd(&flux_accum[base + 2u], fixed_point(beta.z));
+    // Words 6 and 7: the count, and a word no count reaches (fewer than 2^32 photons a pass).
+    atomicAdd(&flux_accum[base + 3u], 1lu);
+}
