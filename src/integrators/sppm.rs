@@ -318,6 +318,13 @@ impl Sppm {
         queue.write_buffer(&buffers.frame, 0, bytemuck::bytes_of(&frame));
         // The tracing kernels, compiled for what this scene has.
         let spec = Specialization::of(data);
+        // The two large kernels compile side by side: the driver may do its work when a
+        // pipeline is created (lavapipe runs Mesa's NIR passes then), on the calling thread.
+        let (camera_pass, photon_pass) = std::thread::scope(|s| {
+            let camera = s.spawn(|| Stage::new(device, "camera_pass", &buffers, &spec));
+            let photons = Stage::new(device, "photon_pass", &buffers, &spec);
+            (camera.join().unwrap_or_else(|e| std::panic::resume_unwind(e)), photons)
+        });
 
         Ok(Self {
             device: device.clone(),
@@ -331,12 +338,12 @@ impl Sppm {
             initial_radius,
             global_radius_sq: (r.radius_schedule == RadiusSchedule::Global).then(|| global_radius_sq(initial_radius, r.alpha, 0)),
             first_pass: 0,
-            camera_pass: Stage::new(device, "camera_pass", &buffers, &spec)?,
+            camera_pass: camera_pass?,
             grid_setup: Stage::new(device, "grid_setup", &buffers, &spec)?,
             grid_count: Stage::new(device, "grid_count", &buffers, &spec)?,
             grid_scan: Stage::new(device, "grid_scan", &buffers, &spec)?,
             grid_fill: Stage::new(device, "grid_fill", &buffers, &spec)?,
-            photon_pass: Stage::new(device, "photon_pass", &buffers, &spec)?,
+            photon_pass: photon_pass?,
             update_stats: Stage::new(device, "update_stats", &buffers, &spec)?,
             resolve: Stage::new(device, "resolve", &buffers, &spec)?,
             resolve_texture: [None, None],
