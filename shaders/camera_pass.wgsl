@@ -18,7 +18,6 @@
 #import direct
 
 @group(0) @binding(8) var<storage, read_write> visible_points: array<VisiblePoint>;
-@group(0) @binding(9) var<storage, read_write> vp_points: array<vec4f>;
 @group(0) @binding(10) var<storage, read_write> vp_stats: array<VpStats>;
 // The largest radius of this pass's visible points, as f32 bits, for grid_setup.
 @group(0) @binding(17) var<storage, read_write> grid_max_radius: array<atomic<u32>>;
@@ -26,11 +25,10 @@
 const STREAM_CAMERA: u32 = 0u;
 
 // What one camera path found: the light it gathered along the way, and where it ended on a
-// diffuse surface (radius 0 in `position` when it found none).
+// diffuse surface (`found`; the radius is set by the caller).
 struct CameraPath {
     ld: vec3f,
     vp: VisiblePoint,
-    position: vec3f,
     found: bool,
 }
 
@@ -40,7 +38,7 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
     var o = ray.o;
     var d = ray.d;
     var beta = vec3f(1.0);
-    var path = CameraPath(vec3f(0.0), VisiblePoint(vec3f(0.0), 0u), vec3f(0.0), false);
+    var path = CameraPath(vec3f(0.0), VisiblePoint(vec3f(0.0), 0.0, vec3f(0.0), 0u), false);
     let sample_direct = frame.direct != 0u;
     // Density of the BSDF sample that led here, for MIS at an emitter; 0 after the camera,
     // mirrors and smooth glass, and when direct light is not sampled.
@@ -67,8 +65,7 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
             }
             // The visible point: the photon pass adds flux * weight for photons near it.
             let n = select(-s.ng, s.ng, dot(d, s.ng) < 0.0);
-            path.vp = VisiblePoint(beta * albedo * INV_PI, encode_normal(n));
-            path.position = s.p;
+            path.vp = VisiblePoint(s.p, 0.0, beta * albedo * INV_PI, encode_normal(n));
             path.found = true;
             break;
         }
@@ -125,14 +122,13 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             first = path;
         }
     }
-    var position = vec4f(0.0);
+    var vp = first.vp;
     if first.found {
         // The point's own radius, or the pass's with a global schedule.
-        position = vec4f(first.position, select(vp_stats[index].radius, frame.global_radius, frame.global_radius > 0.0));
+        vp.radius = select(vp_stats[index].radius, frame.global_radius, frame.global_radius > 0.0);
         // Positive floats order like their bits.
-        atomicMax(&grid_max_radius[0], bitcast<u32>(position.w));
+        atomicMax(&grid_max_radius[0], bitcast<u32>(vp.radius));
     }
-    visible_points[index] = first.vp;
-    vp_points[index] = position;
+    visible_points[index] = vp;
     vp_stats[index].ld += ld / f32(paths);
 }

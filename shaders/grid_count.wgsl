@@ -6,7 +6,7 @@
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(2) var<storage, read> grid_params: GridParams;
 @group(0) @binding(3) var<storage, read_write> grid_cell_count: array<atomic<u32>>;
-@group(0) @binding(9) var<storage, read> vp_points: array<vec4f>;
+@group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
 
 @compute @workgroup_size(64)
 fn grid_count(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
@@ -14,7 +14,8 @@ fn grid_count(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     if index >= frame.vp_count {
         return;
     }
-    let b = point_buckets(grid_params, vp_points[index]);
+    let q = visible_points[index];
+    let b = point_buckets(grid_params, vec4f(q.p, q.radius));
     for (var i = 0u; i < b.count; i++) {
         atomicAdd(&grid_cell_count[b.h[i]], 1u);
     }

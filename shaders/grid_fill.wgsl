@@ -8,7 +8,7 @@
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(2) var<storage, read> grid_params: GridParams;
 @group(0) @binding(3) var<storage, read_write> grid_cell_count: array<atomic<u32>>;
-@group(0) @binding(9) var<storage, read> vp_points: array<vec4f>;
+@group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
 @group(0) @binding(12) var<storage, read> grid_cell_start: array<u32>;
 @group(0) @binding(13) var<storage, read_write> grid_entries: array<u32>;
 
@@ -18,7 +18,8 @@ fn grid_fill(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups)
     if index >= frame.vp_count {
         return;
     }
-    let b = point_buckets(grid_params, vp_points[index]);
+    let q = visible_points[index];
+    let b = point_buckets(grid_params, vec4f(q.p, q.radius));
     for (var i = 0u; i < b.count; i++) {
         let h = b.h[i];
         let slot = atomicSub(&grid_cell_count[h], 1u) - 1u;

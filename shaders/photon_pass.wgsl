@@ -18,7 +18,6 @@
 #import flux
 
 @group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
-@group(0) @binding(9) var<storage, read> vp_points: array<vec4f>;
 @group(0) @binding(11) var<uniform> grid: GridParams;
 @group(0) @binding(12) var<storage, read> grid_cell_start: array<u32>;
 @group(0) @binding(13) var<storage, read> grid_entries: array<u32>;
@@ -27,13 +26,13 @@ const STREAM_PHOTON: u32 = 1u;
 
 // Add the photon's flux to visible point v if it lies within v's radius of p.
 fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f) {
-    let q = vp_points[v];
-    let delta = p - q.xyz;
-    if dot(delta, delta) >= q.w * q.w {
+    let q = visible_points[v];
+    let delta = p - q.p;
+    if dot(delta, delta) >= q.radius * q.radius {
         return;
     }
     // A photon from behind the visible point's surface does not light it.
-    if dot(decode_normal(visible_points[v].normal), d) >= 0.0 {
+    if dot(decode_normal(q.normal), d) >= 0.0 {
         return;
     }
     accumulate_flux(v, beta);

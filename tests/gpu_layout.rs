@@ -65,7 +65,7 @@ fn gpu_structs_match_wgsl() {
     check!(module, GpuMaterial, "Material", [albedo, kind, ior, roughness, texture, texture_size]);
     check!(module, GpuShape, "Shape", [emission, emits, velocity, _pad]);
     check!(module, Emitter, "Emitter", [kind, prim_ref, cdf, pmf, position, area, radiance, radius, direction, _pad]);
-    check!(module, VisiblePoint, "VisiblePoint", [weight, normal]);
+    check!(module, VisiblePoint, "VisiblePoint", [p, radius, weight, normal]);
     check!(module, VpStats, "VpStats", [tau, n, ld, radius]);
     check!(module, GridParams, "GridParams", [origin, cell_size, res, table_mask]);
     check!(module, GridScene, "GridScene", [lo, table_size, hi, _pad]);

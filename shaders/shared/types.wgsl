@@ -129,9 +129,12 @@ struct Emitter {
     _pad: u32,
 }
 
-// Where a camera path of the current pass ended on a non-specular surface.
-// Its position and radius live in `vp_points` (xyz, radius; radius 0 when there is none).
+// Where a camera path of the current pass ended on a non-specular surface, in 32 bytes: what
+// a photon's deposit reads (position, radius, normal) lies in one cache line.
 struct VisiblePoint {
+    p: vec3f,
+    // Gather radius; 0 when the path found no point.
+    radius: f32,
     // Path throughput times the BSDF (albedo / pi).
     weight: vec3f,
     // Geometric normal, flipped to the side the camera path arrived from, in 32 bits

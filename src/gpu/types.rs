@@ -199,11 +199,16 @@ pub struct GridScene {
 }
 
 /// Where a camera path of the current pass ended on a diffuse surface (Hachisuka & Jensen
-/// 2009, sec. 4). Its position and radius are in the parallel `vp_points` buffer (xyz,
-/// radius; radius 0 where the path found none).
+/// 2009, sec. 4), in 32 bytes, so that what a photon's deposit reads (position, radius,
+/// normal) lies in one cache line.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct VisiblePoint {
+    /// Position.
+    pub p: [f32; 3],
+    /// Gather radius: the point's own, or the pass's with a global radius schedule; 0 where
+    /// the camera path found no point.
+    pub radius: f32,
     /// Path throughput times the BSDF, beta * albedo / pi: what the flux of the photons that
     /// land within the radius is multiplied by. Zero where there is no visible point.
     pub weight: [f32; 3],

@@ -148,7 +148,6 @@ struct Buffers {
     scene: Arc<SceneBuffers>,
     frame: wgpu::Buffer,
     visible_points: wgpu::Buffer,
-    vp_points: wgpu::Buffer,
     vp_stats: wgpu::Buffer,
     flux_accum: wgpu::Buffer,
     image: wgpu::Buffer,
@@ -186,7 +185,6 @@ impl Buffers {
         resources.extend([
             Resource { name: "frame", buffer: &self.frame },
             Resource { name: "visible_points", buffer: &self.visible_points },
-            Resource { name: "vp_points", buffer: &self.vp_points },
             Resource { name: "vp_stats", buffer: &self.vp_stats },
             Resource { name: "flux_accum", buffer: &self.flux_accum },
             Resource { name: "image", buffer: &self.image },
@@ -247,7 +245,7 @@ impl Sppm {
         let pixels = r.width as u64 * rows as u64;
         let points = pixels * r.spp as u64;
         let table = points.max(1).next_power_of_two();
-        let per_point = size_of::<VisiblePoint>() + 16 + size_of::<VpStats>() + ACCUM_STRIDE as usize * 4 + 8 * 4;
+        let per_point = size_of::<VisiblePoint>() + size_of::<VpStats>() + ACCUM_STRIDE as usize * 4 + 8 * 4;
         let fixed = [size_of::<Frame>(), size_of::<GridScene>(), 16, size_of::<GridParams>(), size_of::<GridParams>()]
             .map(|b| b.max(16) as u64);
         points * per_point as u64 + pixels * 32 + table * 4 + (table + 1) * 4 + fixed.iter().sum::<u64>()
@@ -303,7 +301,6 @@ impl Sppm {
             scene: scene_buffers,
             frame: buffer(device, "frame", size_of::<Frame>() as u64, uniform),
             visible_points: buffer(device, "visible_points", n * size_of::<VisiblePoint>() as u64, STORAGE),
-            vp_points: buffer(device, "vp_points", n * 16, STORAGE),
             vp_stats: storage_buffer(device, "vp_stats", &stats),
             flux_accum: buffer(device, "flux_accum", n * ACCUM_STRIDE as u64 * 4, STORAGE),
             image: buffer(device, "image", pixel_count as u64 * 16, STORAGE),
@@ -561,7 +558,7 @@ impl Sppm {
         Ok(read_whole(&self.device, &self.queue, &self.buffers.flux_accum)?)
     }
 
-    /// Visible points of the current pass (normal and weight), read back (for tests).
+    /// Visible points of the current pass, read back (for tests).
     pub fn visible_points(&self) -> Result<Vec<VisiblePoint>, Error> {
         Ok(read_whole(&self.device, &self.queue, &self.buffers.visible_points)?)
     }
@@ -569,7 +566,7 @@ impl Sppm {
     /// Visible points' positions and radii of the current pass (xyz, radius; radius 0 where
     /// the camera path found none), read back.
     pub fn visible_point_positions(&self) -> Result<Vec<[f32; 4]>, Error> {
-        Ok(read_whole(&self.device, &self.queue, &self.buffers.vp_points)?)
+        Ok(self.visible_points()?.iter().map(|v| [v.p[0], v.p[1], v.p[2], v.radius]).collect())
     }
 
     /// The per-pass constants the kernels see (camera, counts, alpha, `power_total`).
