@@ -54,13 +54,24 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
         }
         let m = materials[s.material];
         let wo = -d;
-        if m.kind == MATERIAL_DIFFUSE {
-            let albedo = diffuse_albedo(m, s.uv);
-            // The same numbers are drawn either way, so the two methods share streams.
-            let u_light = vec3f(rng_next(&rng), rng_next2(&rng));
-            if frame.nee != 0u {
-                l += beta * direct_light(s, wo, m, albedo, u_light);
-            }
+        let diffuse = m.kind == MATERIAL_DIFFUSE;
+        var albedo = m.albedo;
+        if diffuse {
+            albedo = diffuse_albedo(m, s.uv);
+        }
+        // Next-event estimation at diffuse, glossy and rough dielectric vertices (mirrors and
+        // smooth glass cannot sample lights), from one call site: the shadow ray's traversal
+        // is inlined once. At a diffuse vertex the numbers are drawn either way, so that the
+        // two methods share streams.
+        let nee = frame.nee != 0u && samples_lights(m);
+        var u_light = vec3f(0.0);
+        if nee || diffuse {
+            u_light = vec3f(rng_next(&rng), rng_next2(&rng));
+        }
+        if nee {
+            l += beta * direct_light(s, wo, m, albedo, u_light);
+        }
+        if diffuse {
             let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
             let wi = sample_cosine_hemisphere(n_in, rng_next2(&rng));
             if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 {
@@ -70,12 +81,6 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
             pdf_prev = select(0.0, abs(dot(wi, s.ns)) * INV_PI, frame.nee != 0u);
             d = wi;
         } else {
-            // Glossy and rough dielectric vertices sample lights too; mirrors and smooth
-            // glass cannot.
-            let nee = frame.nee != 0u && samples_lights(m);
-            if nee {
-                l += beta * direct_light(s, wo, m, m.albedo, vec3f(rng_next(&rng), rng_next2(&rng)));
-            }
             let next = sample_nondiffuse(m, d, s, vec3f(rng_next2(&rng), rng_next(&rng)), true);
             if all(next.weight == vec3f(0.0)) {
                 break;
