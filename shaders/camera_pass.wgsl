@@ -43,7 +43,11 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
     // Density of the BSDF sample that led here, for MIS at an emitter; 0 after the camera,
     // mirrors and smooth glass, and when direct light is not sampled.
     var pdf_prev = 0.0;
-    for (var depth = 0u; depth < frame.max_depth; depth++) {
+    // Past the visible point the path goes one segment further, only to meet emission that a
+    // BSDF sample hits (the other half of MIS there), traced by the same call as the rest: the
+    // traversal is inlined into the kernel once.
+    var to_emission = false;
+    for (var depth = 0u; depth < frame.max_depth || to_emission; depth++) {
         let hit = trace_closest(o, d, 3.4e38);
         if hit.prim_ref == 0xffffffffu {
             break;
@@ -54,30 +58,50 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         if shape.emits != 0u && dot(d, s.ng) < 0.0 {
             path.ld += beta * shape.emission * emission_weight(pdf_prev, o, hit, s, d);
         }
+        if to_emission {
+            break;
+        }
         let m = materials[s.material];
-        if m.kind == MATERIAL_DIFFUSE {
-            let albedo = diffuse_albedo(m, s.uv);
-            if sample_direct {
-                // Both MIS strategies here, since the path ends: a light sample and a BSDF
-                // sample that may hit a light.
-                path.ld += beta * direct_light(s, -d, m, albedo, vec3f(rng_next(rng), rng_next2(rng)));
-                path.ld += beta * bsdf_sampled_emission(s, -d, albedo, rng_next2(rng));
-            }
+        let diffuse = m.kind == MATERIAL_DIFFUSE;
+        var albedo = m.albedo;
+        if diffuse {
+            albedo = diffuse_albedo(m, s.uv);
+        }
+        // Next-event estimation at diffuse, glossy and rough dielectric vertices (mirrors and
+        // smooth glass cannot sample lights), from one call site: the shadow ray's traversal
+        // is inlined once.
+        let nee = sample_direct && samples_lights(m);
+        if nee {
+            path.ld += beta * direct_light(s, -d, m, albedo, vec3f(rng_next(rng), rng_next2(rng)));
+        }
+        if diffuse {
             // The visible point: the photon pass adds flux * weight for photons near it.
             let n = select(-s.ng, s.ng, dot(d, s.ng) < 0.0);
             path.vp = VisiblePoint(s.p, 0.0, beta * albedo * INV_PI, encode_normal(n));
             path.found = true;
-            break;
+            if !sample_direct {
+                break;
+            }
+            // The path ends here, so both MIS strategies are taken: the light sample above,
+            // and a cosine-sampled direction (f cos / pdf = albedo) whose emission the next
+            // segment weighs by emission_weight.
+            let wo = -d;
+            let n_out = select(-s.ns, s.ns, dot(wo, s.ng) > 0.0);
+            let wi = sample_cosine_hemisphere(n_out, rng_next2(rng));
+            if dot(wi, s.ng) * dot(wo, s.ng) <= 0.0 {
+                break;
+            }
+            beta *= albedo;
+            pdf_prev = abs(dot(wi, s.ns)) * INV_PI;
+            o = offset_origin(s.p, s.ng, wi);
+            d = wi;
+            to_emission = true;
+            continue;
         }
         // Specular and glossy surfaces are passed through by sampling them, so visible points
         // lie on diffuse surfaces only (as pbrt-v4's SPPM does for all but the last bounce):
         // the estimate at a glossy surface is then the unbiased average over its lobe of
         // the density estimates further on, and no BSDF has to be evaluated per photon.
-        // Glossy and rough dielectric vertices sample lights; mirrors and smooth glass cannot.
-        let nee = sample_direct && samples_lights(m);
-        if nee {
-            path.ld += beta * direct_light(s, -d, m, m.albedo, vec3f(rng_next(rng), rng_next2(rng)));
-        }
         let next = sample_nondiffuse(m, d, s, vec3f(rng_next2(rng), rng_next(rng)), true);
         if all(next.weight == vec3f(0.0)) {
             break;

@@ -67,29 +67,6 @@ fn direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, u: vec3f) -> 
     return b.f * abs(dot(ls.wi, s.ns)) * ls.li * weight;
 }
 
-// The other half of MIS at a diffuse vertex where the path ends (SPPM's visible point, whose
-// further light comes from photons that have bounced): a cosine-sampled direction, and the
-// emission it hits weighted by emission_weight, times albedo (f cos / pdf = albedo).
-fn bsdf_sampled_emission(s: Surface, wo: vec3f, albedo: vec3f, u: vec2f) -> vec3f {
-    let n_out = select(-s.ns, s.ns, dot(wo, s.ng) > 0.0);
-    let wi = sample_cosine_hemisphere(n_out, u);
-    if dot(wi, s.ng) * dot(wo, s.ng) <= 0.0 {
-        return vec3f(0.0);
-    }
-    let o = offset_origin(s.p, s.ng, wi);
-    let hit = trace_closest(o, wi, 3.4e38);
-    if hit.prim_ref == 0xffffffffu {
-        return vec3f(0.0);
-    }
-    let e = surface_at(hit, o, wi);
-    let shape = shapes[e.shape];
-    if shape.emits == 0u || dot(wi, e.ng) >= 0.0 {
-        return vec3f(0.0);
-    }
-    let pdf = abs(dot(wi, s.ns)) * INV_PI;
-    return albedo * shape.emission * emission_weight(pdf, o, hit, e, wi);
-}
-
 // MIS weight of emission that a ray from o along d hits (hit, at surface s), after a BSDF
 // sample of solid-angle density pdf_prev. pdf_prev is 0 where next-event estimation could
 // not have found the light (the camera, specular scattering): the emission then counts whole.
