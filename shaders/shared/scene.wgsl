@@ -2,7 +2,9 @@
 // query over them.
 
 @group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(1) var<storage, read> bvh_nodes: array<BvhNode>;
+// BvhNode (shared/types.wgsl) read as two vec4u, (box_a, child_a) and (box_b, child_b): two
+// loads a node rather than one per member (a CPU driver loads lane by lane, per load).
+@group(0) @binding(1) var<storage, read> bvh_nodes: array<vec4u>;
 @group(0) @binding(2) var<storage, read> prim_refs: array<u32>;
 @group(0) @binding(3) var<storage, read> triangles: array<Triangle>;
 @group(0) @binding(4) var<storage, read> spheres: array<Sphere>;
@@ -200,23 +202,27 @@ fn trace(o: vec3f, d: vec3f, t_max_in: f32, any_hit: bool) -> Hit {
             }
             continue;
         }
-        // Both children's boxes are in the node; visit the nearer first: push it last.
-        let node = bvh_nodes[r];
+        // Both children's boxes are in the node.
+        let node_a = bvh_nodes[2u * r];
+        let node_b = bvh_nodes[2u * r + 1u];
+        let node = BvhNode(node_a.xyz, node_a.w, node_b.xyz, node_b.w);
         let t_a = intersect_child(node.box_a, o, inv_d, hit.t);
         let t_b = intersect_child(node.box_b, o, inv_d, hit.t);
         let hit_a = t_a < hit.t;
         let hit_b = t_b < hit.t;
-        if hit_a && hit_b && sp + 2u <= BVH_STACK_SIZE {
-            let a_nearer = t_a <= t_b;
-            stack[sp] = select(node.child_a, node.child_b, a_nearer);
-            stack[sp + 1u] = select(node.child_b, node.child_a, a_nearer);
-            sp += 2u;
-        } else if hit_a && sp < BVH_STACK_SIZE {
-            stack[sp] = node.child_a;
-            sp += 1u;
-        } else if hit_b && sp < BVH_STACK_SIZE {
-            stack[sp] = node.child_b;
-            sp += 1u;
+        // The children entered, the nearer pushed last (popped first), with two stores
+        // whatever was hit: branches would each store lane by lane on a CPU driver. A slot
+        // past the count is overwritten later; with room for one of two, the nearer goes.
+        let count = select(0u, 1u, hit_a) + select(0u, 1u, hit_b);
+        let a_nearer = t_a <= t_b;
+        let near = select(node.child_b, node.child_a, a_nearer);
+        let far = select(node.child_a, node.child_b, a_nearer);
+        let only = select(node.child_b, node.child_a, hit_a);
+        if sp < BVH_STACK_SIZE {
+            let both_fit = sp + 2u <= BVH_STACK_SIZE;
+            stack[sp] = select(only, select(near, far, both_fit), hit_a && hit_b);
+            stack[min(sp + 1u, BVH_STACK_SIZE - 1u)] = near;
+            sp = min(sp + count, BVH_STACK_SIZE);
         }
     }
     return hit;
