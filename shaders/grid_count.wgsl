@@ -16,7 +16,9 @@ fn grid_count(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     }
     let q = visible_points[index];
     let b = point_buckets(grid_params, vec4f(q.p, q.radius));
-    for (var i = 0u; i < b.count; i++) {
-        atomicAdd(&grid_cell_count[b.h[i]], 1u);
+    for (var k = 0u; k < 8u; k++) {
+        if ((b.keep >> k) & 1u) != 0u {
+            atomicAdd(&grid_cell_count[b.h[k]], 1u);
+        }
     }
 }

@@ -20,8 +20,11 @@ fn grid_fill(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups)
     }
     let q = visible_points[index];
     let b = point_buckets(grid_params, vec4f(q.p, q.radius));
-    for (var i = 0u; i < b.count; i++) {
-        let h = b.h[i];
+    for (var k = 0u; k < 8u; k++) {
+        if ((b.keep >> k) & 1u) == 0u {
+            continue;
+        }
+        let h = b.h[k];
         let slot = atomicSub(&grid_cell_count[h], 1u) - 1u;
         let e = grid_cell_start[h] + slot;
         if e < arrayLength(&grid_entries) {

@@ -7,35 +7,35 @@ fn hash_cell(c: vec3u, table_mask: u32) -> u32 {
     return ((c.x * 73856093u) ^ (c.y * 19349663u) ^ (c.z * 83492791u)) & table_mask;
 }
 
-// The distinct buckets of the cells the box of point q (xyz, radius w) overlaps; count 0 for
-// no point (radius 0).
+// The buckets of the cells the box of point q (xyz, radius w) overlaps, at most two cells per
+// axis: h[k] for corner k = x + 2 y + 4 z of the 2x2x2 block from the box's lowest cell, and
+// bit k of `keep` set where that cell lies in the box and no earlier corner has its bucket (a
+// point is listed once per bucket). `keep` is 0 for no point (radius 0). The loops have
+// constant bounds, so a driver can unroll them and keep h in registers.
 struct PointBuckets {
     h: array<u32, 8>,
-    count: u32,
+    keep: u32,
 }
 
 fn point_buckets(g: GridParams, q: vec4f) -> PointBuckets {
     var out: PointBuckets;
-    out.count = 0u;
+    out.keep = 0u;
     if !(q.w > 0.0) || any(g.res == vec3u(0u)) {
         return out;
     }
     // Float to u32 saturates negative values to 0, as `as u32` does on the host.
     let lo = vec3u(max((q.xyz - q.w - g.origin) / g.cell_size, vec3f(0.0)));
     let hi = min(min(vec3u(max((q.xyz + q.w - g.origin) / g.cell_size, vec3f(0.0))), g.res - 1u), lo + 1u);
-    for (var z = lo.z; z <= hi.z; z++) {
-        for (var y = lo.y; y <= hi.y; y++) {
-            for (var x = lo.x; x <= hi.x; x++) {
-                let h = hash_cell(vec3u(x, y, z), g.table_mask);
-                var seen = false;
-                for (var i = 0u; i < out.count; i++) {
-                    seen = seen || out.h[i] == h;
-                }
-                if !seen {
-                    out.h[out.count] = h;
-                    out.count += 1u;
-                }
-            }
+    for (var k = 0u; k < 8u; k++) {
+        let c = lo + vec3u(k & 1u, (k >> 1u) & 1u, k >> 2u);
+        let h = hash_cell(c, g.table_mask);
+        out.h[k] = h;
+        var seen = any(c > hi);
+        for (var j = 0u; j < k; j++) {
+            seen = seen || (((out.keep >> j) & 1u) != 0u && out.h[j] == h);
+        }
+        if !seen {
+            out.keep |= 1u << k;
         }
     }
     return out;
