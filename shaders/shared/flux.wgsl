@@ -4,13 +4,14 @@
 // word first, as update_stats reads them), then the photon count. Integer sums do not depend
 // on the order in which photons arrive: the same seed gives the same image on either path.
 
+#import types
+
 @group(0) @binding(14) var<storage, read_write> flux_accum: array<atomic<u64>>;
 
-// c >= 0 in 32.32 fixed point, the low word rounded down and kept below 2^32.
+// c >= 0 in 32.32 fixed point (fixed_point_words), as one 64-bit word.
 fn fixed_point(c: f32) -> u64 {
-    let hi = floor(c);
-    let lo = min((c - hi) * 4294967296.0, 4294967040.0);
-    return (u64(u32(hi)) << 32u) | u64(u32(lo));
+    let w = fixed_point_words(c);
+    return (u64(w.y) << 32u) | u64(w.x);
 }
 
 // Add a photon's flux beta and one to the count of visible point v.

@@ -188,5 +188,13 @@ const MATERIAL_GLOSSY: u32 = 3u;
 // Words per visible point in the flux accumulator: (lo, hi) for r, g, b, then the photon count.
 const ACCUM_STRIDE: u32 = 8u;
 
+// c >= 0 in the accumulator's 32.32 fixed point as (lo, hi) words, the low word rounded down
+// and kept below 2^32: one rounding for shared/flux.wgsl and flux_u32.wgsl alike, so that the
+// two give the same sums.
+fn fixed_point_words(c: f32) -> vec2u {
+    let hi = floor(c);
+    return vec2u(u32(min((c - hi) * 4294967296.0, 4294967040.0)), u32(hi));
+}
+
 const PI: f32 = 3.14159265358979;
 const INV_PI: f32 = 0.318309886183791;
