@@ -19,7 +19,7 @@ fn grid_fill(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups)
         return;
     }
     let q = visible_points[index];
-    let b = point_buckets(grid_params, vec4f(q.p, q.radius));
+    let b = point_buckets(grid_params, q.p, q.radius);
     for (var k = 0u; k < 8u; k++) {
         if ((b.keep >> k) & 1u) == 0u {
             continue;

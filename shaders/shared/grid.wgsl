@@ -7,7 +7,7 @@ fn hash_cell(c: vec3u, table_mask: u32) -> u32 {
     return ((c.x * 73856093u) ^ (c.y * 19349663u) ^ (c.z * 83492791u)) & table_mask;
 }
 
-// The buckets of the cells the box of point q (xyz, radius w) overlaps, at most two cells per
+// The buckets of the cells the box [p - r, p + r] of a point overlaps, at most two cells per
 // axis: h[k] for corner k = x + 2 y + 4 z of the 2x2x2 block from the box's lowest cell, and
 // bit k of `keep` set where that cell lies in the box and no earlier corner has its bucket (a
 // point is listed once per bucket). `keep` is 0 for no point (radius 0). The loops have
@@ -17,15 +17,15 @@ struct PointBuckets {
     keep: u32,
 }
 
-fn point_buckets(g: GridParams, q: vec4f) -> PointBuckets {
+fn point_buckets(g: GridParams, p: vec3f, r: f32) -> PointBuckets {
     var out: PointBuckets;
     out.keep = 0u;
-    if !(q.w > 0.0) || any(g.res == vec3u(0u)) {
+    if !(r > 0.0) || any(g.res == vec3u(0u)) {
         return out;
     }
     // Float to u32 saturates negative values to 0, as `as u32` does on the host.
-    let lo = vec3u(max((q.xyz - q.w - g.origin) / g.cell_size, vec3f(0.0)));
-    let hi = min(min(vec3u(max((q.xyz + q.w - g.origin) / g.cell_size, vec3f(0.0))), g.res - 1u), lo + 1u);
+    let lo = vec3u(max((p - r - g.origin) / g.cell_size, vec3f(0.0)));
+    let hi = min(min(vec3u(max((p + r - g.origin) / g.cell_size, vec3f(0.0))), g.res - 1u), lo + 1u);
     for (var k = 0u; k < 8u; k++) {
         let c = lo + vec3u(k & 1u, (k >> 1u) & 1u, k >> 2u);
         let h = hash_cell(c, g.table_mask);
