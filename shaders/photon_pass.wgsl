@@ -1,11 +1,14 @@
 // SPPM photon pass (Hachisuka & Jensen 2009, sec. 4): photons leave the emitters, chosen in
 // proportion to power, and at every diffuse hit add their flux to the visible points within
-// radius; at the first hit only when the camera pass does not sample direct light. Flux is
-// accumulated in 64-bit fixed point (shared/flux.wgsl), so the sum does not depend on the
-// order in which photons arrive: the same seed gives the same image. A point's weight
-// (throughput times albedo / pi) is the same for every photon of the pass, so it multiplies
-// the sum once, in update_stats, rather than each photon here: a deposit loads only the
-// point's normal.
+// radius; at the first hit only when the camera pass does not sample direct light. A hit is
+// stored in its grid bucket's list (photon_hits), and photon_gather adds it to the points
+// around it after the pass: each point then sums its photons in registers, with no atomics,
+// from hits that its neighbours read too. Past frame.hit_capacity a hit is deposited at once,
+// through the grid of visible points. Either way flux is accumulated in 32.32 fixed point
+// (shared/flux.wgsl), so the sums do not depend on the order in which photons arrive or on
+// where they were added: the same seed gives the same image. A point's weight (throughput
+// times albedo / pi) is the same for every photon of the pass, so it multiplies the sum once,
+// in update_stats, rather than each photon here.
 
 #import types
 #import rng
@@ -21,6 +24,11 @@
 @group(0) @binding(11) var<uniform> grid: GridParams;
 @group(0) @binding(12) var<storage, read> grid_cell_start: array<u32>;
 @group(0) @binding(13) var<storage, read> grid_entries: array<u32>;
+// PhotonHit (shared/types.wgsl) as three vec4u, one store each.
+@group(0) @binding(23) var<storage, read_write> photon_hits: array<vec4u>;
+// Word 0: hits stored this pass. Word 1 + h: the first hit of bucket h's list (index plus
+// one; 0 for none).
+@group(0) @binding(24) var<storage, read_write> photon_hit_lists: array<atomic<u32>>;
 
 const STREAM_PHOTON: u32 = 1u;
 
@@ -38,27 +46,36 @@ fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f) {
     accumulate_flux(v, beta);
 }
 
-// The range of grid_entries listing the visible points that may lie within reach of p.
-fn bucket(p: vec3f) -> vec2u {
-    let c = floor((p - grid.origin) / grid.cell_size);
-    let res = vec3f(grid.res);
-    // Written so that a NaN position is outside too.
-    if !all((c >= vec3f(0.0)) & (c < res)) {
-        return vec2u(0u);
+// Put a hit in bucket h's list for photon_gather; false when the pass's hits are full.
+fn store_hit(h: u32, p: vec3f, d: vec3f, beta: vec3f) -> bool {
+    // Looked at first, so that the count stops near the capacity and cannot wrap.
+    if atomicLoad(&photon_hit_lists[0]) >= frame.hit_capacity {
+        return false;
     }
-    // The spatial hash the grid was built with (shared/grid.wgsl, src/accel/grid.rs).
-    let h = hash_cell(vec3u(c), grid.table_mask);
-    return vec2u(grid_cell_start[h], grid_cell_start[h + 1u]);
+    let i = atomicAdd(&photon_hit_lists[0], 1u);
+    if i >= frame.hit_capacity {
+        return false;
+    }
+    let next = atomicExchange(&photon_hit_lists[1u + h], i + 1u);
+    photon_hits[3u * i] = vec4u(bitcast<vec3u>(p), next);
+    photon_hits[3u * i + 1u] = vec4u(bitcast<vec3u>(d), 0u);
+    photon_hits[3u * i + 2u] = vec4u(bitcast<vec3u>(beta), 0u);
+    return true;
 }
 
-// Add the flux of the photons of the lanes where `deposits` to the visible points around
-// them. The lanes of a SIMD group share the work (shared/lanes.wgsl): one photon's bucket
-// at a time, each lane taking every n-th entry, so that no lane idles while another walks a
-// long bucket. Flux is added in fixed point, so who adds what does not change the sums.
+// Deposit the photons of the lanes where `deposits`: stored for photon_gather while there is
+// room, otherwise added to the visible points around them now. The lanes of a SIMD group share
+// the direct deposits (shared/lanes.wgsl): one photon's bucket at a time, each lane taking
+// every n-th entry, so that no lane idles while another walks a long bucket. Flux is added in
+// fixed point, so who adds what does not change the sums.
 fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f) {
     var range = vec2u(0u);
     if deposits {
-        range = bucket(p);
+        // The spatial hash the grid was built with (shared/grid.wgsl, src/accel/grid.rs).
+        let h = bucket_of(grid, p);
+        if h != NO_BUCKET && !store_hit(h, p, d, beta) {
+            range = vec2u(grid_cell_start[h], grid_cell_start[h + 1u]);
+        }
     }
     let rank = lane_rank();
     let lanes = lane_count();

@@ -857,6 +857,12 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
         radius.max,
         sppm.initial_radius()
     );
+    let (stored, capacity) = sppm.photon_hits_stored()?;
+    say!(
+        "  photon hits of the last pass gathered: {} (room for {capacity}){}",
+        stored.min(capacity),
+        if stored >= capacity { "; full, the rest deposited at once" } else { "" }
+    );
     Ok(())
 }
 

@@ -56,11 +56,18 @@ fn an_image_beyond_the_buffer_limit_goes_in_bands() {
     assert_eq!(banded.work_per_pass(), whole.work_per_pass(), "the pass's photons, whatever the bands");
     let (a, b) = (banded.image().unwrap(), whole.image().unwrap());
     assert!(a.pixels == b.pixels, "banded image differs from the whole one");
-    // The scene's buffers are counted once; the two bands' own add up to about the whole's.
+    // The scene's buffers are counted once; the two bands' per-point buffers add up to about
+    // the whole's. Room for photon hits goes by photons, not points: each band has its own,
+    // within the small device's buffer size.
     let (m_banded, m_whole) = (banded.gpu_memory(), whole.gpu_memory());
     assert_eq!(m_banded.scene, m_whole.scene);
-    let ratio = m_banded.renderer_bytes() as f64 / m_whole.renderer_bytes() as f64;
+    let per_point =
+        |m: &integrators::GpuMemory| m.renderer.iter().filter(|(n, _)| n != "photon_hits").map(|(_, b)| b).sum::<u64>();
+    let ratio = per_point(&m_banded) as f64 / per_point(&m_whole) as f64;
     assert!((0.95..1.3).contains(&ratio), "banded renderer memory {ratio}x the whole one's");
+    let hits: u64 = m_banded.renderer.iter().filter(|(n, _)| n == "photon_hits").map(|(_, b)| b).sum();
+    let per_band = (256 << 10) / 48 * 48;
+    assert_eq!(hits, 2 * per_band, "two bands' photon hit buffers, each as large as the device allows");
     small.check().unwrap();
 }
 

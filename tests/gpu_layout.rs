@@ -56,6 +56,10 @@ fn gpu_structs_match_wgsl() {
             work_end,
             global_radius,
             first_pass,
+            hit_capacity,
+            _pad0,
+            _pad1,
+            _pad2,
         ]
     );
     check!(module, GpuBvhNode, "BvhNode", [box_a, child_a, box_b, child_b]);
@@ -66,6 +70,7 @@ fn gpu_structs_match_wgsl() {
     check!(module, GpuShape, "Shape", [emission, emits, velocity, _pad]);
     check!(module, Emitter, "Emitter", [kind, prim_ref, cdf, pmf, position, area, radiance, radius, direction, _pad]);
     check!(module, VisiblePoint, "VisiblePoint", [p, radius, weight, normal]);
+    check!(module, PhotonHit, "PhotonHit", [p, next, d, _pad0, beta, _pad1]);
     check!(module, VpStats, "VpStats", [tau, n, ld, radius]);
     check!(module, GridParams, "GridParams", [origin, cell_size, res, table_mask]);
     check!(module, GridScene, "GridScene", [lo, table_size, hi, _pad]);

@@ -1,5 +1,6 @@
 //! The GPU memory a render takes (`--stats`) follows the scene and the image: the scene's
-//! buffers grow with its primitives and not with the image, the renderer's with the pixels.
+//! buffers grow with its primitives and not with the image, the renderer's with the pixels and
+//! the photons.
 
 mod common;
 
@@ -11,7 +12,7 @@ fn memory(gpu: &sppm_gpu::gpu::GpuContext, scene: &Scene) -> integrators::GpuMem
 }
 
 #[test]
-fn renderer_memory_follows_the_pixels_scene_memory_the_primitives() {
+fn renderer_memory_follows_the_pixels_and_photons_scene_memory_the_primitives() {
     let Some(gpu) = common::gpu() else { return };
     let mut scene = common::load_scene("cornell-box.toml");
     scene.render.width = 64;
@@ -21,13 +22,18 @@ fn renderer_memory_follows_the_pixels_scene_memory_the_primitives() {
     scene.render.height = 128;
     let large = memory(&gpu, &scene);
     assert_eq!(small.scene, large.scene, "the scene's buffers do not depend on the image");
-    let ratio = large.renderer_bytes() as f64 / small.renderer_bytes() as f64;
-    assert!((ratio - 4.0).abs() < 0.05, "4x the pixels, {ratio}x the renderer's memory");
-    // About 136 bytes a visible point (statistics 32, flux 32, the point 16, its position 16,
-    // its grid entries and bucket up to 40) and 32 a pixel (the image and its staging copy):
-    // 168 at one sample a pixel.
-    let per_pixel = large.renderer_bytes() as f64 / (128.0 * 128.0);
-    assert!((160.0..180.0).contains(&per_pixel), "{per_pixel} bytes per pixel");
+    // About 172 bytes a pixel at one sample a pixel: per visible point its statistics 32,
+    // flux 32, the point 32, its grid entries 32 and bucket lists up to 12, and 32 a pixel (the
+    // image and its staging copy).
+    let per_pixel = (large.renderer_bytes() - small.renderer_bytes()) as f64 / (128.0 * 128.0 - 64.0 * 64.0);
+    assert!((160.0..185.0).contains(&per_pixel), "{per_pixel} bytes per pixel");
+    // And room for two photon hits of 48 bytes a photon, whatever the image.
+    let photons = scene.render.photons;
+    scene.render.photons = photons / 2;
+    let fewer = memory(&gpu, &scene);
+    let per_photon = (large.renderer_bytes() - fewer.renderer_bytes()) as f64 / (photons - photons / 2) as f64;
+    assert_eq!(per_photon, 96.0, "bytes per photon");
+    scene.render.photons = photons;
 
     // A scene with a mesh of thousands of triangles: about 110 bytes a primitive.
     let bunny = common::load_scene("gallery/bunny-cube.toml");

@@ -269,6 +269,38 @@ fn deposit_fixed_point_is_consistent() {
     assert!(carried > with_photons / 4, "only {carried} points exercised the high word");
 }
 
+/// Where a photon's flux is added does not change a bit of the sums: after a pass whose hits
+/// all go to the gather (photon_gather.wgsl), one where none fits and every hit is deposited
+/// at once through the grid of visible points, and one where part of them do, the
+/// accumulators are the same word for word.
+#[test]
+fn gathered_and_direct_deposits_leave_the_same_bits() {
+    let Some(gpu) = common::gpu() else { return };
+    let scene = scene("cornell-spheres.toml", 32, 20_000);
+    let one_pass = |capacity: Option<u32>| {
+        let mut sppm = renderer(&gpu, &scene);
+        if let Some(c) = capacity {
+            sppm.set_photon_hit_capacity(c);
+        }
+        sppm.trace_camera_paths();
+        sppm.build_grid().unwrap();
+        sppm.trace_photons();
+        (sppm.flux_accum().unwrap(), sppm.photon_hits_stored().unwrap())
+    };
+    let (gathered, (hits, capacity)) = one_pass(None);
+    assert!(hits > 1000 && hits <= capacity, "{hits} hits for {capacity} places: all should be gathered");
+    let counted = gathered.chunks(ACCUM_STRIDE as usize).filter(|s| s[6] > 0).count();
+    assert!(counted > 100, "only {counted} points got photons");
+    for capacity in [0, hits / 3] {
+        let (accum, (stored, _)) = one_pass(Some(capacity));
+        assert!(stored >= capacity, "capacity {capacity}: only {stored} hits stored, the buffer did not fill");
+        if let Some(w) = gathered.iter().zip(&accum).position(|(x, y)| x != y) {
+            let point = w / ACCUM_STRIDE as usize;
+            panic!("capacity {capacity}: word {w} (point {point}) {} gathered, {} deposited at once", gathered[w], accum[w]);
+        }
+    }
+}
+
 /// The deposit is order-independent: two renderers with the same scene and seed leave the
 /// same bits in the accumulator after one pass, and another seed does not.
 #[test]

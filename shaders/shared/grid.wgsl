@@ -7,6 +7,17 @@ fn hash_cell(c: vec3u, table_mask: u32) -> u32 {
     return ((c.x * 73856093u) ^ (c.y * 19349663u) ^ (c.z * 83492791u)) & table_mask;
 }
 
+// The bucket of the cell holding p, or NO_BUCKET outside the grid (a NaN position too).
+fn bucket_of(g: GridParams, p: vec3f) -> u32 {
+    let c = floor((p - g.origin) / g.cell_size);
+    if !all((c >= vec3f(0.0)) & (c < vec3f(g.res))) {
+        return NO_BUCKET;
+    }
+    return hash_cell(vec3u(c), g.table_mask);
+}
+
+const NO_BUCKET: u32 = 0xffffffffu;
+
 // The buckets of the cells the box [p - r, p + r] of a point overlaps, at most two cells per
 // axis: h[k] for corner k = x + 2 y + 4 z of the 2x2x2 block from the box's lowest cell, and
 // bit k of `keep` set where that cell lies in the box and no earlier corner has its bucket (a

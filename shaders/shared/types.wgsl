@@ -47,6 +47,12 @@ struct Frame {
     global_radius: f32,
     // The first pass this renderer ran: a batch of passes first_pass.. of a render.
     first_pass: u32,
+    // SPPM: photon hits the photon pass may store for photon_gather (at most the length of
+    // photon_hits); a hit past it is deposited at once through the grid of visible points.
+    hit_capacity: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // An interior BVH node: its children's boxes, quantized to 16 bits per coordinate
@@ -159,6 +165,19 @@ struct GridScene {
     table_size: u32,
     hi: vec3f,
     _pad: u32,
+}
+
+// A photon's diffuse hit that deposits, stored by photon_pass and gathered by the visible
+// points around it (photon_gather): where it hit, the next hit of its bucket's list (index
+// plus one; 0 ends the list), the direction it arrived along and its flux. The kernels read
+// it as three vec4u, one load each.
+struct PhotonHit {
+    p: vec3f,
+    next: u32,
+    d: vec3f,
+    _pad0: u32,
+    beta: vec3f,
+    _pad1: u32,
 }
 
 struct GridParams {

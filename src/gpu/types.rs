@@ -83,6 +83,16 @@ pub struct Frame {
     /// passes `first_pass..` (0 for a whole render). The estimate averages
     /// `pass_index + 1 - first_pass` passes.
     pub first_pass: u32,
+    /// SPPM: photon hits the photon pass may store in `photon_hits` for `photon_gather`;
+    /// a hit past it is deposited at once through the grid of visible points (the same
+    /// sums: see [`PhotonHit`]).
+    pub hit_capacity: u32,
+    /// Padding to a multiple of 16 bytes; always 0.
+    pub _pad0: u32,
+    /// Padding; always 0.
+    pub _pad1: u32,
+    /// Padding; always 0.
+    pub _pad2: u32,
 }
 
 /// A triangle as a corner and two edges.
@@ -196,6 +206,28 @@ pub struct GridScene {
     pub hi: [f32; 3],
     /// Padding to 32 bytes; always 0.
     pub _pad: u32,
+}
+
+/// A photon's diffuse hit that deposits (48 bytes), stored by `photon_pass` in a list per
+/// bucket of the grid (the bucket of the cell the hit lies in) and gathered after the pass by
+/// each visible point from the buckets of the cells its disc overlaps (`photon_gather`). The
+/// gather adds the same 32.32 fixed-point terms a direct deposit adds, so where a hit is
+/// deposited does not change a bit of the sums.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct PhotonHit {
+    /// Where the photon hit.
+    pub p: [f32; 3],
+    /// The next hit in the same bucket's list, as its index plus one; 0 ends the list.
+    pub next: u32,
+    /// The photon's direction of travel.
+    pub d: [f32; 3],
+    /// Padding; always 0.
+    pub _pad0: u32,
+    /// The photon's flux, relative to [`Frame::power_total`].
+    pub beta: [f32; 3],
+    /// Padding; always 0.
+    pub _pad1: u32,
 }
 
 /// Where a camera path of the current pass ended on a diffuse surface (Hachisuka & Jensen

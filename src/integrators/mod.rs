@@ -231,7 +231,7 @@ pub fn memory_need(device: &wgpu::Device, scene: &Scene) -> MemoryNeed {
     let bands = (0..r.height).step_by(rows as usize).map(|y0| (y0 + rows).min(r.height) - y0);
     let renderer = bands
         .map(|band| match r.method {
-            Method::Sppm => Sppm::renderer_bytes(scene, band),
+            Method::Sppm => Sppm::renderer_bytes(scene, band, device.limits().max_storage_buffer_binding_size),
             Method::Pt | Method::PtNee => PathTracer::renderer_bytes(scene, band),
         })
         .sum();

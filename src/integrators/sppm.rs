@@ -4,7 +4,9 @@
 //! a path per visible-point slot to its visible point, sampling direct light on the way
 //! (and `direct_samples` paths in all gathering it); `grid_setup`, `grid_count`, `grid_scan`
 //! and `grid_fill` build the hashed grid over the points (src/accel/grid.rs is its CPU
-//! oracle); `photon_pass` traces photons and adds their flux to the points within radius;
+//! oracle); `photon_pass` traces photons and stores their diffuse hits in a list per grid
+//! bucket (adding the flux of those past the room for hits to the points within radius at
+//! once); `photon_gather` adds the stored hits within each point's radius to it;
 //! `update_stats` folds that into each point's statistics (N, radius, tau). `resolve` turns
 //! the statistics into an image at any time.
 
@@ -66,6 +68,17 @@ pub fn direct_samples(render: &crate::scene::RenderSettings) -> u32 {
         let points = render.width as u64 * render.height as u64 * render.spp as u64;
         (3 * render.photons as u64 / (2 * points).max(1)).clamp(1, 64) as u32
     })
+}
+
+/// Photon hits a pass may store for the gather ([`PhotonHit`], 48 bytes each): two a photon,
+/// within one storage buffer of `max_binding` bytes. A hit past them is deposited at once
+/// (the same sums, found more slowly). Photons deposit from their second diffuse hit on where
+/// direct light is sampled, and about 0.9 hits a photon reach the gather on cornell-box,
+/// cornell-glossy, cornell-spheres and the glass dragon; 1.5 to 1.7 with direct light from
+/// photons (`sppm-gpu bench` prints the count).
+pub fn photon_hit_capacity(render: &crate::scene::RenderSettings, max_binding: u64) -> u32 {
+    let want = render.photons as u64 * 2;
+    want.min(max_binding / size_of::<PhotonHit>() as u64).min(u32::MAX as u64) as u32
 }
 
 /// The squared radius of pass `pass` (from 0) under the global schedule of Knaus & Zwicker
@@ -134,6 +147,7 @@ pub struct Sppm {
     grid_scan: Stage,
     grid_fill: Stage,
     photon_pass: Stage,
+    photon_gather: Stage,
     update_stats: Stage,
     resolve: Stage,
     /// `resolve_texture` for Rgba32Float and Rgba16Float targets, made when first used.
@@ -158,6 +172,8 @@ struct Buffers {
     grid_cell_count: wgpu::Buffer,
     grid_cell_start: wgpu::Buffer,
     grid_entries: wgpu::Buffer,
+    photon_hits: wgpu::Buffer,
+    photon_hit_lists: wgpu::Buffer,
 }
 
 /// A kernel and its bind group.
@@ -195,6 +211,8 @@ impl Buffers {
             Resource { name: "grid_cell_count", buffer: &self.grid_cell_count },
             Resource { name: "grid_cell_start", buffer: &self.grid_cell_start },
             Resource { name: "grid_entries", buffer: &self.grid_entries },
+            Resource { name: "photon_hits", buffer: &self.photon_hits },
+            Resource { name: "photon_hit_lists", buffer: &self.photon_hit_lists },
         ]);
         resources
     }
@@ -234,13 +252,15 @@ impl Sppm {
         (points / per_row.max(1)).min(u32::MAX as u64) as u32
     }
 
-    /// Bytes of the renderer's own buffers for a band of `rows` rows of `scene`'s image, as
-    /// [`Integrator::gpu_memory`](super::Integrator::gpu_memory) reports them once allocated: computed before allocating, for
-    /// the memory check. Per visible point: the point (16), its position (16), statistics
-    /// (32), flux (32), up to 8 grid entries (32) and a grid bucket's count and offset (8 at
-    /// most, the table being the point count rounded up to a power of two); per pixel: the
-    /// image and its read-back copy (32).
-    pub fn renderer_bytes(scene: &Scene, rows: u32) -> u64 {
+    /// Bytes of the renderer's own buffers for a band of `rows` rows of `scene`'s image on a
+    /// device whose storage buffers hold `max_binding` bytes, as
+    /// [`Integrator::gpu_memory`](super::Integrator::gpu_memory) reports them once allocated:
+    /// computed before allocating, for the memory check. Per visible point: the point (32),
+    /// statistics (32), flux (32), up to 8 grid entries (32) and two buckets' lists (of grid
+    /// entries and of photon hits: 12 at most, the table being the point count rounded up to a
+    /// power of two); per pixel: the image and its read-back copy (32); per photon: room for
+    /// its hits ([`photon_hit_capacity`]).
+    pub fn renderer_bytes(scene: &Scene, rows: u32, max_binding: u64) -> u64 {
         let r = &scene.render;
         let pixels = r.width as u64 * rows as u64;
         let points = pixels * r.spp as u64;
@@ -248,7 +268,8 @@ impl Sppm {
         let per_point = size_of::<VisiblePoint>() + size_of::<VpStats>() + ACCUM_STRIDE as usize * 4 + 8 * 4;
         let fixed = [size_of::<Frame>(), size_of::<GridScene>(), 16, size_of::<GridParams>(), size_of::<GridParams>()]
             .map(|b| b.max(16) as u64);
-        points * per_point as u64 + pixels * 32 + table * 4 + (table + 1) * 4 + fixed.iter().sum::<u64>()
+        let hits = (photon_hit_capacity(r, max_binding) as u64 * size_of::<PhotonHit>() as u64).max(16);
+        points * per_point as u64 + pixels * 32 + table * 4 + 2 * (table + 1) * 4 + hits + fixed.iter().sum::<u64>()
     }
 
     /// [`Sppm::new_rows`] on scene buffers already uploaded (shared between bands).
@@ -290,6 +311,8 @@ impl Sppm {
         frame.vp_count = vp_count;
 
         let n = vp_count as u64;
+        let hit_capacity = photon_hit_capacity(r, device.limits().max_storage_buffer_binding_size);
+        frame.hit_capacity = hit_capacity;
         // Each point is listed in at most 8 buckets (2 cells per axis); the table has a bucket
         // per point, rounded up to a power of two.
         let table_size = vp_count.next_power_of_two();
@@ -311,6 +334,8 @@ impl Sppm {
             grid_cell_count: buffer(device, "grid_cell_count", table_size as u64 * 4, STORAGE),
             grid_cell_start: buffer(device, "grid_cell_start", (table_size as u64 + 1) * 4, STORAGE),
             grid_entries: buffer(device, "grid_entries", n * 8 * 4, STORAGE),
+            photon_hits: buffer(device, "photon_hits", hit_capacity as u64 * size_of::<PhotonHit>() as u64, STORAGE),
+            photon_hit_lists: buffer(device, "photon_hit_lists", (table_size as u64 + 1) * 4, STORAGE),
         };
         queue.write_buffer(&buffers.frame, 0, bytemuck::bytes_of(&frame));
         // The tracing kernels, compiled for what this scene has.
@@ -341,6 +366,7 @@ impl Sppm {
             grid_scan: Stage::new(device, "grid_scan", &buffers, &spec)?,
             grid_fill: Stage::new(device, "grid_fill", &buffers, &spec)?,
             photon_pass: photon_pass?,
+            photon_gather: Stage::new(device, "photon_gather", &buffers, &spec)?,
             update_stats: Stage::new(device, "update_stats", &buffers, &spec)?,
             resolve: Stage::new(device, "resolve", &buffers, &spec)?,
             resolve_texture: [None, None],
@@ -419,6 +445,8 @@ impl Sppm {
         self.grid_count.dispatch(encoder, self.vp_count);
         self.grid_scan.kernel.dispatch_groups(encoder, &self.grid_scan.group, 1);
         self.grid_fill.dispatch(encoder, self.vp_count);
+        // No photon hits stored yet.
+        encoder.clear_buffer(&b.photon_hit_lists, 0, None);
         // The photon pass reads the parameters as a uniform.
         encoder.copy_buffer_to_buffer(&b.grid_params, 0, &b.grid, 0, size_of::<GridParams>() as u64);
     }
@@ -427,10 +455,14 @@ impl Sppm {
         self.record_photon_slice(encoder, 0, self.frame.photon_count);
     }
 
-    /// Photons `first..end` of this pass.
+    /// Photons `first..end` of this pass; after the last, the visible points gather the
+    /// hits the photons stored.
     fn record_photon_slice(&mut self, encoder: &mut wgpu::CommandEncoder, first: u32, end: u32) {
         self.record_frame(encoder, first, end);
         self.photon_pass.dispatch(encoder, (end - first).div_ceil(PHOTONS_PER_THREAD));
+        if end == self.frame.photon_count {
+            self.photon_gather.dispatch(encoder, self.vp_count);
+        }
     }
 
     fn record_statistics(&mut self, encoder: &mut wgpu::CommandEncoder) {
@@ -473,6 +505,22 @@ impl Sppm {
     /// is then complete.
     pub fn update_statistics(&mut self) {
         self.submit("update_stats", Self::record_statistics);
+    }
+
+    /// Store at most `capacity` photon hits a pass for the gather (no more than there is room
+    /// for, [`photon_hit_capacity`]), depositing the rest at once: the same sums bit for bit,
+    /// found another way (for tests, and to compare the two).
+    pub fn set_photon_hit_capacity(&mut self, capacity: u32) {
+        let room = self.buffers.photon_hits.size() / size_of::<PhotonHit>() as u64;
+        self.frame.hit_capacity = capacity.min(room as u32);
+    }
+
+    /// Photon hits of the last photon stage stored for the gather, and the capacity: a count
+    /// at or above the capacity means that the hits past it were deposited at once (the
+    /// count stops there; for `bench`).
+    pub fn photon_hits_stored(&self) -> Result<(u32, u32), Error> {
+        let words: Vec<u32> = read_whole(&self.device, &self.queue, &self.buffers.photon_hit_lists)?;
+        Ok((words[0], self.frame.hit_capacity))
     }
 
     /// Block until the GPU has finished all submitted work (for stage timings).
