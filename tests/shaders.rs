@@ -37,3 +37,25 @@ fn kernels_without_subgroups_or_atomic64_use_neither() {
     assert!(shader_source("photon_pass").unwrap().contains("subgroupBallot"));
     assert!(shader_source("photon_pass").unwrap().contains("atomic<u64>"));
 }
+
+/// The storage-buffer limit the renderer asks a device for is what its largest kernel binds
+/// in one stage: no fewer (pipeline creation would fail) and no more (a device that could run
+/// every kernel would be refused).
+#[test]
+fn storage_buffers_needed_is_the_largest_kernels_count() {
+    let counts: Vec<(&str, u32)> = KERNELS
+        .iter()
+        .map(|name| {
+            let (module, info) = validate(name, &shader_source(name).unwrap()).unwrap_or_else(|e| panic!("{e}"));
+            let used = info.get_entry_point(0);
+            let storage = module
+                .global_variables
+                .iter()
+                .filter(|(handle, var)| matches!(var.space, naga::AddressSpace::Storage { .. }) && !used[*handle].is_empty())
+                .count();
+            (*name, storage as u32)
+        })
+        .collect();
+    let most = counts.iter().map(|(_, n)| *n).max().unwrap();
+    assert_eq!(sppm_gpu::gpu::STORAGE_BUFFERS_NEEDED, most, "storage buffers per kernel: {counts:?}");
+}
