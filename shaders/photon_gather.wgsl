@@ -41,7 +41,7 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
         if ((b.keep >> k) & 1u) == 0u {
             continue;
         }
-        var next = photon_hit_lists[1u + b.h[k]];
+        var next = photon_hit_lists[2u + b.h[k]];
         while next != 0u {
             let i = 3u * (next - 1u);
             let head = photon_hits[i];

@@ -3,8 +3,10 @@
 // radius; at the first hit only when the camera pass does not sample direct light. A hit is
 // stored in its grid bucket's list (photon_hits), and photon_gather adds it to the points
 // around it after the pass: each point then sums its photons in registers, with no atomics,
-// from hits that its neighbours read too. Past frame.hit_capacity a hit is deposited at once,
-// through the grid of visible points. Either way flux is accumulated in 32.32 fixed point
+// from hits that its neighbours read too. A thread whose hit finds no room (past
+// frame.hit_capacity) saves its state and stops; after the gather, the grid of visible points
+// is built and the kernel runs again with frame.resume = 1 to finish those threads, depositing
+// at once through the grid. Either way flux is accumulated in 32.32 fixed point
 // (shared/flux.wgsl), so the sums do not depend on the order in which photons arrive or on
 // where they were added: the same seed gives the same image. A point's weight (throughput
 // times albedo / pi) is the same for every photon of the pass, so it multiplies the sum once,
@@ -26,9 +28,11 @@
 @group(0) @binding(13) var<storage, read> grid_entries: array<u32>;
 // PhotonHit (shared/types.wgsl) as three vec4u, one store each.
 @group(0) @binding(23) var<storage, read_write> photon_hits: array<vec4u>;
-// Word 0: hits stored this pass. Word 1 + h: the first hit of bucket h's list (index plus
-// one; 0 for none).
+// Word 0: hits stored this pass. Word 1: threads that stopped for want of room. Word 2 + h:
+// the first hit of bucket h's list (index plus one; 0 for none).
 @group(0) @binding(24) var<storage, read_write> photon_hit_lists: array<atomic<u32>>;
+// The state of each thread that stopped, as four vec4u (see suspend).
+@group(0) @binding(25) var<storage, read_write> photon_suspended: array<vec4u>;
 
 const STREAM_PHOTON: u32 = 1u;
 
@@ -56,25 +60,32 @@ fn store_hit(h: u32, p: vec3f, d: vec3f, beta: vec3f) -> bool {
     if i >= frame.hit_capacity {
         return false;
     }
-    let next = atomicExchange(&photon_hit_lists[1u + h], i + 1u);
+    let next = atomicExchange(&photon_hit_lists[2u + h], i + 1u);
     photon_hits[3u * i] = vec4u(bitcast<vec3u>(p), next);
     photon_hits[3u * i + 1u] = vec4u(bitcast<vec3u>(d), 0u);
     photon_hits[3u * i + 2u] = vec4u(bitcast<vec3u>(beta), 0u);
     return true;
 }
 
-// Deposit the photons of the lanes where `deposits`: stored for photon_gather while there is
-// room, otherwise added to the visible points around them now. The lanes of a SIMD group share
-// the direct deposits (shared/lanes.wgsl): one photon's bucket at a time, each lane taking
-// every n-th entry, so that no lane idles while another walks a long bucket. Flux is added in
-// fixed point, so who adds what does not change the sums.
-fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f) {
+// Deposit the photons of the lanes where `deposits`: stored for photon_gather, or when
+// resuming, added to the visible points around them at once. False where a hit found no room
+// (the thread then stops). The lanes of a SIMD group share the direct deposits
+// (shared/lanes.wgsl): one photon's bucket at a time, each lane taking every n-th entry, so
+// that no lane idles while another walks a long bucket. Flux is added in fixed point, so who
+// adds what does not change the sums.
+fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f) -> bool {
     var range = vec2u(0u);
+    var stored = true;
     if deposits {
-        // The spatial hash the grid was built with (shared/grid.wgsl, src/accel/grid.rs).
+        // The cell's bucket in the spatial hash of the grid (shared/grid.wgsl,
+        // src/accel/grid.rs).
         let h = bucket_of(grid, p);
-        if h != NO_BUCKET && !store_hit(h, p, d, beta) {
-            range = vec2u(grid_cell_start[h], grid_cell_start[h + 1u]);
+        if h != NO_BUCKET {
+            if frame.resume == 0u {
+                stored = store_hit(h, p, d, beta);
+            } else {
+                range = vec2u(grid_cell_start[h], grid_cell_start[h + 1u]);
+            }
         }
     }
     let rank = lane_rank();
@@ -94,6 +105,7 @@ fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f) {
             }
         }
     }
+    return stored;
 }
 
 // Photons each thread traces, one after another.
@@ -133,11 +145,17 @@ fn emit_photon(rng: ptr<function, Rng>) -> Photon {
     return Photon(offset_origin(l.p, l.n, d), d, beta, 0u);
 }
 
-// One bounce of a photon: deposit at a diffuse hit, then scatter. False when the photon ends.
-fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> bool {
+// What became of a photon after a bounce.
+const PHOTON_ENDED: u32 = 0u;
+const PHOTON_GOES_ON: u32 = 1u;
+// Its hit found no room: the bounce is to be done again, from the same state, when resuming.
+const PHOTON_NO_ROOM: u32 = 2u;
+
+// One bounce of a photon: deposit at a diffuse hit, then scatter.
+fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
     let hit = trace_closest((*ph).o, (*ph).d, 3.4e38);
     if hit.prim_ref == 0xffffffffu {
-        return false;
+        return PHOTON_ENDED;
     }
     let d = (*ph).d;
     let s = surface_at(hit, (*ph).o, d);
@@ -148,7 +166,11 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> bool {
     // overflows adds nothing rather than everything.
     let beta = (*ph).beta;
     let finite = all(beta >= vec3f(0.0)) && all(beta < vec3f(1.0e9));
-    deposit(m.kind == MATERIAL_DIFFUSE && (frame.direct == 0u || (*ph).depth > 0u) && finite, s.p, d, beta);
+    // Nothing has been drawn or changed yet in this bounce, so when the hit finds no room the
+    // photon's state is the one to resume from.
+    if !deposit(m.kind == MATERIAL_DIFFUSE && (frame.direct == 0u || (*ph).depth > 0u) && finite, s.p, d, beta) {
+        return PHOTON_NO_ROOM;
+    }
     var wi: vec3f;
     var f: vec3f;
     if m.kind == MATERIAL_DIFFUSE {
@@ -158,43 +180,69 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> bool {
         f = diffuse_albedo(m, s.uv);
         // A shading normal can send the photon through the surface; end it there.
         if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 {
-            return false;
+            return PHOTON_ENDED;
         }
     } else {
         let next = sample_nondiffuse(m, d, s, vec3f(rng_next2(rng), rng_next(rng)), false);
         wi = next.wi;
         f = next.weight;
         if all(f == vec3f(0.0)) {
-            return false;
+            return PHOTON_ENDED;
         }
     }
     // Russian roulette that keeps the photon's largest channel constant (pbrt-v4 sec. 16.3).
     let beta_new = (*ph).beta * f;
     let q = max(0.0, 1.0 - max_component(beta_new) / max_component((*ph).beta));
     if rng_next(rng) < q {
-        return false;
+        return PHOTON_ENDED;
     }
     (*ph).beta = beta_new / (1.0 - q);
     (*ph).o = offset_origin(s.p, s.ng, wi);
     (*ph).d = wi;
     (*ph).depth += 1u;
-    return (*ph).depth < frame.max_depth;
+    return select(PHOTON_ENDED, PHOTON_GOES_ON, (*ph).depth < frame.max_depth);
+}
+
+// Save the state of a thread whose photon found no room, to be resumed after the gather: one
+// slot per thread at most, as a thread stops at its first such hit.
+fn suspend(ph: Photon, rng: Rng, next: u32, end: u32) {
+    let slot = atomicAdd(&photon_hit_lists[1], 1u);
+    photon_suspended[4u * slot] = vec4u(bitcast<vec3u>(ph.o), ph.depth);
+    photon_suspended[4u * slot + 1u] = vec4u(bitcast<vec3u>(ph.d), rng.state);
+    photon_suspended[4u * slot + 2u] = vec4u(bitcast<vec3u>(ph.beta), next);
+    photon_suspended[4u * slot + 3u] = vec4u(end, 0u, 0u, 0u);
 }
 
 // Each thread traces PHOTONS_PER_THREAD photons and starts the next as soon as one ends, so
 // the lanes of a SIMD group stay busy although path lengths differ (path regeneration,
 // Novak et al. 2010). Photon i draws from its own random stream: the result does not depend
-// on which thread traced it.
+// on which thread traced it, nor on whether it stopped for want of room and was resumed.
 @compute @workgroup_size(64)
 fn photon_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    // This dispatch's part of the pass: photons [work_first, work_end).
     let thread = gid.x + gid.y * groups.x * 64u;
-    let first = frame.work_first + thread * PHOTONS_PER_THREAD;
-    let end = min(first + PHOTONS_PER_THREAD, min(frame.work_end, frame.photon_count));
-    var next = first;
+    var next: u32;
+    var end: u32;
     var alive = false;
     var ph: Photon;
     var rng: Rng;
+    if frame.resume == 0u {
+        // This dispatch's part of the pass: photons [work_first, work_end).
+        next = frame.work_first + thread * PHOTONS_PER_THREAD;
+        end = min(next + PHOTONS_PER_THREAD, min(frame.work_end, frame.photon_count));
+    } else {
+        // Thread `thread` of those that stopped, from the state it saved.
+        if thread >= atomicLoad(&photon_hit_lists[1]) {
+            return;
+        }
+        let a = photon_suspended[4u * thread];
+        let b = photon_suspended[4u * thread + 1u];
+        let c = photon_suspended[4u * thread + 2u];
+        ph = Photon(bitcast<vec3f>(a.xyz), bitcast<vec3f>(b.xyz), bitcast<vec3f>(c.xyz), a.w);
+        rng = Rng(b.w);
+        next = c.w;
+        end = photon_suspended[4u * thread + 3u].x;
+        alive = true;
+    }
     loop {
         if !alive {
             if next >= end {
@@ -204,6 +252,11 @@ fn photon_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             ph = emit_photon(&rng);
             next += 1u;
         }
-        alive = photon_bounce(&ph, &rng);
+        let after = photon_bounce(&ph, &rng);
+        if after == PHOTON_NO_ROOM {
+            suspend(ph, rng, next, end);
+            break;
+        }
+        alive = after == PHOTON_GOES_ON;
     }
 }

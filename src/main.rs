@@ -857,11 +857,10 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
         radius.max,
         sppm.initial_radius()
     );
-    let (stored, capacity) = sppm.photon_hits_stored()?;
+    let (gathered, resumed) = sppm.photon_hits_gathered()?;
     say!(
-        "  photon hits of the last pass gathered: {} (room for {capacity}){}",
-        stored.min(capacity),
-        if stored >= capacity { "; full, the rest deposited at once" } else { "" }
+        "  photon hits of the last pass gathered: {gathered} (room for {} at a time); photon threads resumed to deposit at once: {resumed}",
+        sppm.photon_hit_capacity()
     );
     Ok(())
 }

@@ -57,17 +57,22 @@ fn an_image_beyond_the_buffer_limit_goes_in_bands() {
     let (a, b) = (banded.image().unwrap(), whole.image().unwrap());
     assert!(a.pixels == b.pixels, "banded image differs from the whole one");
     // The scene's buffers are counted once; the two bands' per-point buffers add up to about
-    // the whole's. Room for photon hits goes by photons, not points: each band has its own,
-    // within the small device's buffer size.
+    // the whole's. Room for photon hits (48 bytes) and for the states of photon threads that
+    // find none (64 bytes) goes by photons, not points: each band has its own, within the
+    // small device's buffer size, so these bands also saved and resumed photon threads.
     let (m_banded, m_whole) = (banded.gpu_memory(), whole.gpu_memory());
     assert_eq!(m_banded.scene, m_whole.scene);
-    let per_point =
-        |m: &integrators::GpuMemory| m.renderer.iter().filter(|(n, _)| n != "photon_hits").map(|(_, b)| b).sum::<u64>();
+    let by_photons = ["photon_hits", "photon_suspended"];
+    let per_point = |m: &integrators::GpuMemory| {
+        m.renderer.iter().filter(|(n, _)| !by_photons.contains(&n.as_str())).map(|(_, b)| b).sum::<u64>()
+    };
     let ratio = per_point(&m_banded) as f64 / per_point(&m_whole) as f64;
     assert!((0.95..1.3).contains(&ratio), "banded renderer memory {ratio}x the whole one's");
-    let hits: u64 = m_banded.renderer.iter().filter(|(n, _)| n == "photon_hits").map(|(_, b)| b).sum();
-    let per_band = (256 << 10) / 48 * 48;
-    assert_eq!(hits, 2 * per_band, "two bands' photon hit buffers, each as large as the device allows");
+    for (name, size) in by_photons.iter().zip([48, 64]) {
+        let bytes: u64 = m_banded.renderer.iter().filter(|(n, _)| n == name).map(|(_, b)| b).sum();
+        let per_band = (256 << 10) / size * size;
+        assert_eq!(bytes, 2 * per_band, "two bands' {name}, each as large as the device allows");
+    }
     small.check().unwrap();
 }
 

@@ -57,7 +57,7 @@ fn gpu_structs_match_wgsl() {
             global_radius,
             first_pass,
             hit_capacity,
-            _pad0,
+            resume,
             _pad1,
             _pad2,
         ]

@@ -48,9 +48,11 @@ struct Frame {
     // The first pass this renderer ran: a batch of passes first_pass.. of a render.
     first_pass: u32,
     // SPPM: photon hits the photon pass may store for photon_gather (at most the length of
-    // photon_hits); a hit past it is deposited at once through the grid of visible points.
+    // photon_hits). A thread whose hit finds no room stops and is resumed after the gather.
     hit_capacity: u32,
-    _pad0: u32,
+    // SPPM: 0 when photon_pass traces this part's photons, 1 when it resumes the threads that
+    // found no room, depositing at once through the grid of visible points.
+    resume: u32,
     _pad1: u32,
     _pad2: u32,
 }

@@ -41,7 +41,7 @@ pub fn adapters() -> Vec<wgpu::AdapterInfo> {
 }
 
 /// Storage buffers the largest kernel binds in one stage.
-pub const STORAGE_BUFFERS_NEEDED: u32 = 15;
+pub const STORAGE_BUFFERS_NEEDED: u32 = 16;
 
 /// What the renderer needs from a device, within what `adapter` offers.
 pub fn required_limits(adapter: &wgpu::Limits) -> Result<wgpu::Limits, GpuError> {

@@ -17,6 +17,7 @@ pub const KERNELS: &[&str] = &[
     "grid_fill",
     "photon_pass",
     "photon_gather",
+    "photon_resume_setup",
     "update_stats",
     "resolve",
     "resolve_texture",
@@ -35,6 +36,7 @@ const FILES: &[(&str, &str)] = &[
     ("grid_fill", include_str!("../../shaders/grid_fill.wgsl")),
     ("photon_pass", include_str!("../../shaders/photon_pass.wgsl")),
     ("photon_gather", include_str!("../../shaders/photon_gather.wgsl")),
+    ("photon_resume_setup", include_str!("../../shaders/photon_resume_setup.wgsl")),
     ("update_stats", include_str!("../../shaders/update_stats.wgsl")),
     ("resolve", include_str!("../../shaders/resolve.wgsl")),
     ("resolve_texture", include_str!("../../shaders/resolve_texture.wgsl")),
@@ -301,6 +303,22 @@ impl Kernel {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
         pass.dispatch_workgroups(groups, 1, 1);
+    }
+
+    /// Record a dispatch whose workgroup counts a kernel wrote: three u32 at byte `offset`
+    /// of `args` (a buffer with `INDIRECT` usage), laid out as [`Kernel::dispatch`] would.
+    pub fn dispatch_indirect(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        bind_group: &wgpu::BindGroup,
+        args: &wgpu::Buffer,
+        offset: u64,
+    ) {
+        let mut pass =
+            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.name), timestamp_writes: None });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.dispatch_workgroups_indirect(args, offset);
     }
 
     /// Record a dispatch of `threads` invocations. More than 65535 workgroups spill into y;

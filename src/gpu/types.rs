@@ -83,12 +83,13 @@ pub struct Frame {
     /// passes `first_pass..` (0 for a whole render). The estimate averages
     /// `pass_index + 1 - first_pass` passes.
     pub first_pass: u32,
-    /// SPPM: photon hits the photon pass may store in `photon_hits` for `photon_gather`;
-    /// a hit past it is deposited at once through the grid of visible points (the same
-    /// sums: see [`PhotonHit`]).
+    /// SPPM: photon hits the photon pass may store in `photon_hits` for `photon_gather`. A
+    /// thread whose hit finds no room stops, and is resumed after the gather (see `resume`).
     pub hit_capacity: u32,
-    /// Padding to a multiple of 16 bytes; always 0.
-    pub _pad0: u32,
+    /// SPPM: 0 when `photon_pass` traces the photons `work_first..work_end`; 1 when it
+    /// resumes the threads that found no room for a hit, which then deposit at once through
+    /// the grid of visible points (the same sums: see [`PhotonHit`]).
+    pub resume: u32,
     /// Padding; always 0.
     pub _pad1: u32,
     /// Padding; always 0.

@@ -81,6 +81,21 @@ pub fn photon_hit_capacity(render: &crate::scene::RenderSettings, max_binding: u
     want.min(max_binding / size_of::<PhotonHit>() as u64).min(u32::MAX as u64) as u32
 }
 
+/// Bytes of the state a photon thread saves when its hit finds no room.
+const SUSPENDED_STATE_BYTES: u64 = 64;
+
+/// Bytes of room for the states of photon threads: every thread of a pass, within one
+/// storage buffer of `max_binding` bytes (a pass then gathers its hits more than once).
+fn suspended_bytes(render: &crate::scene::RenderSettings, max_binding: u64) -> u64 {
+    let threads = (render.photons.div_ceil(PHOTONS_PER_THREAD) as u64).max(1);
+    threads.min(max_binding / SUSPENDED_STATE_BYTES).max(1) * SUSPENDED_STATE_BYTES
+}
+
+/// What `photon_resume_setup` writes: workgroup counts for grid_count and grid_fill,
+/// photon_pass resuming and grid_scan (9 words), then the pass's hits gathered and threads
+/// resumed.
+const RESUME_ARGS_BYTES: u64 = 44;
+
 /// The squared radius of pass `pass` (from 0) under the global schedule of Knaus & Zwicker
 /// 2011 (eq. 14 there, with their pass i = `pass + 1`): r_i^2 = r_1^2 prod_{k=1}^{i-1} (k +
 /// alpha) / (k + 1). In f64, one product after another, so that a batch starting at any
@@ -140,6 +155,10 @@ pub struct Sppm {
     first_pass: u32,
     /// The next part of the pass (see [`Integrator::record_pass_part`]).
     next: NextPart,
+    /// Photon threads whose state `photon_suspended` has room for.
+    suspend_room: u32,
+    /// Photon threads dispatched since the hits were last gathered.
+    threads_pending: u32,
 
     camera_pass: Stage,
     grid_setup: Stage,
@@ -148,6 +167,7 @@ pub struct Sppm {
     grid_fill: Stage,
     photon_pass: Stage,
     photon_gather: Stage,
+    photon_resume_setup: Stage,
     update_stats: Stage,
     resolve: Stage,
     /// `resolve_texture` for Rgba32Float and Rgba16Float targets, made when first used.
@@ -174,6 +194,8 @@ struct Buffers {
     grid_entries: wgpu::Buffer,
     photon_hits: wgpu::Buffer,
     photon_hit_lists: wgpu::Buffer,
+    photon_suspended: wgpu::Buffer,
+    photon_resume_args: wgpu::Buffer,
 }
 
 /// A kernel and its bind group.
@@ -213,6 +235,8 @@ impl Buffers {
             Resource { name: "grid_entries", buffer: &self.grid_entries },
             Resource { name: "photon_hits", buffer: &self.photon_hits },
             Resource { name: "photon_hit_lists", buffer: &self.photon_hit_lists },
+            Resource { name: "photon_suspended", buffer: &self.photon_suspended },
+            Resource { name: "photon_resume_args", buffer: &self.photon_resume_args },
         ]);
         resources
     }
@@ -269,7 +293,14 @@ impl Sppm {
         let fixed = [size_of::<Frame>(), size_of::<GridScene>(), 16, size_of::<GridParams>(), size_of::<GridParams>()]
             .map(|b| b.max(16) as u64);
         let hits = (photon_hit_capacity(r, max_binding) as u64 * size_of::<PhotonHit>() as u64).max(16);
-        points * per_point as u64 + pixels * 32 + table * 4 + 2 * (table + 1) * 4 + hits + fixed.iter().sum::<u64>()
+        let photons = hits + suspended_bytes(r, max_binding).max(16) + RESUME_ARGS_BYTES;
+        points * per_point as u64
+            + pixels * 32
+            + table * 4
+            + (table + 1) * 4
+            + (table + 2) * 4
+            + photons
+            + fixed.iter().sum::<u64>()
     }
 
     /// [`Sppm::new_rows`] on scene buffers already uploaded (shared between bands).
@@ -311,7 +342,8 @@ impl Sppm {
         frame.vp_count = vp_count;
 
         let n = vp_count as u64;
-        let hit_capacity = photon_hit_capacity(r, device.limits().max_storage_buffer_binding_size);
+        let max_binding = device.limits().max_storage_buffer_binding_size;
+        let hit_capacity = photon_hit_capacity(r, max_binding);
         frame.hit_capacity = hit_capacity;
         // Each point is listed in at most 8 buckets (2 cells per axis); the table has a bucket
         // per point, rounded up to a power of two.
@@ -335,7 +367,9 @@ impl Sppm {
             grid_cell_start: buffer(device, "grid_cell_start", (table_size as u64 + 1) * 4, STORAGE),
             grid_entries: buffer(device, "grid_entries", n * 8 * 4, STORAGE),
             photon_hits: buffer(device, "photon_hits", hit_capacity as u64 * size_of::<PhotonHit>() as u64, STORAGE),
-            photon_hit_lists: buffer(device, "photon_hit_lists", (table_size as u64 + 1) * 4, STORAGE),
+            photon_hit_lists: buffer(device, "photon_hit_lists", (table_size as u64 + 2) * 4, STORAGE),
+            photon_suspended: buffer(device, "photon_suspended", suspended_bytes(r, max_binding), STORAGE),
+            photon_resume_args: buffer(device, "photon_resume_args", RESUME_ARGS_BYTES, STORAGE | wgpu::BufferUsages::INDIRECT),
         };
         queue.write_buffer(&buffers.frame, 0, bytemuck::bytes_of(&frame));
         // The tracing kernels, compiled for what this scene has.
@@ -357,6 +391,8 @@ impl Sppm {
             passes: 0,
             photons_traced: 0,
             next: NextPart::Camera(0),
+            suspend_room: (buffers.photon_suspended.size() / SUSPENDED_STATE_BYTES) as u32,
+            threads_pending: 0,
             initial_radius,
             global_radius_sq: (r.radius_schedule == RadiusSchedule::Global).then(|| global_radius_sq(initial_radius, r.alpha, 0)),
             first_pass: 0,
@@ -367,6 +403,7 @@ impl Sppm {
             grid_fill: Stage::new(device, "grid_fill", &buffers, &spec)?,
             photon_pass: photon_pass?,
             photon_gather: Stage::new(device, "photon_gather", &buffers, &spec)?,
+            photon_resume_setup: Stage::new(device, "photon_resume_setup", &buffers, &spec)?,
             update_stats: Stage::new(device, "update_stats", &buffers, &spec)?,
             resolve: Stage::new(device, "resolve", &buffers, &spec)?,
             resolve_texture: [None, None],
@@ -438,31 +475,75 @@ impl Sppm {
         self.camera_pass.dispatch(encoder, end - first);
     }
 
+    /// The grid's cells for this pass's points, and empty photon hit lists. The grid's lists
+    /// of points are built only when a photon thread finds no room for a hit (see
+    /// [`Sppm::record_photon_slice`]).
     fn record_grid(&mut self, encoder: &mut wgpu::CommandEncoder) {
         let b = &self.buffers;
-        encoder.clear_buffer(&b.grid_cell_count, 0, None);
         self.grid_setup.kernel.dispatch_groups(encoder, &self.grid_setup.group, 1);
-        self.grid_count.dispatch(encoder, self.vp_count);
-        self.grid_scan.kernel.dispatch_groups(encoder, &self.grid_scan.group, 1);
-        self.grid_fill.dispatch(encoder, self.vp_count);
-        // No photon hits stored yet.
         encoder.clear_buffer(&b.photon_hit_lists, 0, None);
+        encoder.clear_buffer(&b.photon_resume_args, 36, None);
+        self.threads_pending = 0;
         // The photon pass reads the parameters as a uniform.
         encoder.copy_buffer_to_buffer(&b.grid_params, 0, &b.grid, 0, size_of::<GridParams>() as u64);
+    }
+
+    /// The grid's lists of visible points (a counting sort into its buckets), with workgroup
+    /// counts from `photon_resume_args` when `indirect` (none when no thread stopped).
+    fn record_point_grid(&mut self, encoder: &mut wgpu::CommandEncoder, indirect: bool) {
+        let b = &self.buffers;
+        encoder.clear_buffer(&b.grid_cell_count, 0, None);
+        if indirect {
+            self.grid_count.kernel.dispatch_indirect(encoder, &self.grid_count.group, &b.photon_resume_args, 0);
+            self.grid_scan.kernel.dispatch_indirect(encoder, &self.grid_scan.group, &b.photon_resume_args, 24);
+            self.grid_fill.kernel.dispatch_indirect(encoder, &self.grid_fill.group, &b.photon_resume_args, 0);
+        } else {
+            self.grid_count.dispatch(encoder, self.vp_count);
+            self.grid_scan.kernel.dispatch_groups(encoder, &self.grid_scan.group, 1);
+            self.grid_fill.dispatch(encoder, self.vp_count);
+        }
     }
 
     fn record_photons(&mut self, encoder: &mut wgpu::CommandEncoder) {
         self.record_photon_slice(encoder, 0, self.frame.photon_count);
     }
 
-    /// Photons `first..end` of this pass; after the last, the visible points gather the
-    /// hits the photons stored.
+    /// Photons `first..end` of this pass, in dispatches of at most as many threads as there
+    /// is room to save the state of. After the last photon of the pass, or when that room is
+    /// taken, the hits stored so far are gathered ([`Sppm::record_photon_flush`]).
     fn record_photon_slice(&mut self, encoder: &mut wgpu::CommandEncoder, first: u32, end: u32) {
-        self.record_frame(encoder, first, end);
-        self.photon_pass.dispatch(encoder, (end - first).div_ceil(PHOTONS_PER_THREAD));
-        if end == self.frame.photon_count {
-            self.photon_gather.dispatch(encoder, self.vp_count);
+        let mut at = first;
+        while at < end {
+            if self.threads_pending == self.suspend_room {
+                self.record_photon_flush(encoder);
+            }
+            let threads = (self.suspend_room - self.threads_pending).min((end - at).div_ceil(PHOTONS_PER_THREAD));
+            let to = end.min(at.saturating_add(threads * PHOTONS_PER_THREAD));
+            self.record_frame(encoder, at, to);
+            self.photon_pass.dispatch(encoder, threads);
+            self.threads_pending += threads;
+            at = to;
         }
+        if end == self.frame.photon_count {
+            self.record_photon_flush(encoder);
+        }
+    }
+
+    /// The visible points gather the hits stored; then, for the photon threads that stopped
+    /// for want of room (if any: the dispatches are sized on the GPU), the grid's lists of
+    /// points are built and the threads resumed, to deposit at once. The hit lists are then
+    /// empty again.
+    fn record_photon_flush(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        self.photon_gather.dispatch(encoder, self.vp_count);
+        self.photon_resume_setup.kernel.dispatch_groups(encoder, &self.photon_resume_setup.group, 1);
+        self.record_point_grid(encoder, true);
+        self.frame.resume = 1;
+        self.upload_frame(encoder, &self.frame);
+        let args = &self.buffers.photon_resume_args;
+        self.photon_pass.kernel.dispatch_indirect(encoder, &self.photon_pass.group, args, 12);
+        self.frame.resume = 0;
+        encoder.clear_buffer(&self.buffers.photon_hit_lists, 0, None);
+        self.threads_pending = 0;
     }
 
     fn record_statistics(&mut self, encoder: &mut wgpu::CommandEncoder) {
@@ -489,10 +570,17 @@ impl Sppm {
         self.submit("camera_pass", Self::record_camera_paths);
     }
 
-    /// Stage 2: build the hashed grid over the visible points.
+    /// Stage 2: size the hashed grid's cells to the visible points' radii, and empty the
+    /// photon hit lists.
     pub fn build_grid(&mut self) -> Result<(), Error> {
         self.submit("grid", Self::record_grid);
         Ok(())
+    }
+
+    /// The grid's lists of visible points, which a pass builds only for photons that find no
+    /// room for their hits (for tests of the grid, after [`Sppm::build_grid`]).
+    pub fn build_point_grid(&mut self) {
+        self.submit("grid", |s, encoder| s.record_point_grid(encoder, false));
     }
 
     /// Stage 3: trace this pass's photons, adding their flux to the visible points around
@@ -515,12 +603,16 @@ impl Sppm {
         self.frame.hit_capacity = capacity.min(room as u32);
     }
 
-    /// Photon hits of the last photon stage stored for the gather, and the capacity: a count
-    /// at or above the capacity means that the hits past it were deposited at once (the
-    /// count stops there; for `bench`).
-    pub fn photon_hits_stored(&self) -> Result<(u32, u32), Error> {
-        let words: Vec<u32> = read_whole(&self.device, &self.queue, &self.buffers.photon_hit_lists)?;
-        Ok((words[0], self.frame.hit_capacity))
+    /// Of the last photon stage: the hits gathered, and the photon threads that found no room
+    /// for a hit and were resumed to deposit at once (for `bench` and tests).
+    pub fn photon_hits_gathered(&self) -> Result<(u32, u32), Error> {
+        let words: Vec<u32> = read_whole(&self.device, &self.queue, &self.buffers.photon_resume_args)?;
+        Ok((words[9], words[10]))
+    }
+
+    /// Photon hits a pass may store for the gather at a time.
+    pub fn photon_hit_capacity(&self) -> u32 {
+        self.frame.hit_capacity
     }
 
     /// Block until the GPU has finished all submitted work (for stage timings).
