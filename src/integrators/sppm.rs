@@ -623,8 +623,9 @@ impl Sppm {
         Ok(())
     }
 
-    /// The grid as the GPU built it this pass: parameters, bucket offsets and entries (for
-    /// tests against the CPU oracle).
+    /// The grid as the GPU built it: parameters, bucket offsets and entries, the last two as
+    /// of the last time its lists of points were built ([`Sppm::build_point_grid`], or a pass
+    /// that resumed photon threads; for tests against the CPU oracle).
     pub fn grid(&self) -> Result<(GridParams, Vec<u32>, Vec<u32>), Error> {
         let read = |b: &wgpu::Buffer| -> Result<Vec<u32>, Error> { Ok(read_whole(&self.device, &self.queue, b)?) };
         let params: GridParams = bytemuck::pod_read_unaligned(bytemuck::cast_slice(&read(&self.buffers.grid_params)?[..8]));
