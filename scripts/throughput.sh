@@ -35,7 +35,7 @@ for bin in "${binaries[@]}"; do
     "$bin" scenes/cornell-box.toml --method pt-nee --time-limit "$seconds" -o "$out/ptnee.exr" 2>&1 | tail -1
     echo "-- the study's run: cornell-spheres 512x512, 20 x 200k photons, max_depth 32"
     /usr/bin/time -f "%e s wall" "$bin" "${study[@]}" -o "$out/study.exr" 2>&1 | tail -2
-    "$bin" bench "${study[@]}" 2>&1 | tail -6
+    "$bin" bench "${study[@]}" 2>&1 | grep -v "^warning"
 done
 
 if [ -n "${MITSUBA_PYTHON:-}" ]; then
