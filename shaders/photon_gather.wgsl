@@ -4,7 +4,8 @@
 // the radius is met exactly once; the tests are those of a direct deposit (distance below the
 // radius, arriving from the side the point faces). The sums are kept in registers in the
 // 32.32 fixed point of shared/flux.wgsl and added once, without atomics: only this thread
-// writes its point's words, after the photon pass's direct deposits. Integer sums do not
+// writes its point's words in this dispatch (the direct deposits of resumed photon threads,
+// with atomics, are dispatches of their own). Integer sums do not
 // depend on the order of the terms, so the accumulator holds the bits a direct deposit of
 // every hit would leave.
 

@@ -2,13 +2,15 @@
 //!
 //! One pass, recorded into one command encoder with no trip to the host: `camera_pass` traces
 //! a path per visible-point slot to its visible point, sampling direct light on the way
-//! (and `direct_samples` paths in all gathering it); `grid_setup`, `grid_count`, `grid_scan`
-//! and `grid_fill` build the hashed grid over the points (src/accel/grid.rs is its CPU
-//! oracle); `photon_pass` traces photons and stores their diffuse hits in a list per grid
-//! bucket (adding the flux of those past the room for hits to the points within radius at
-//! once); `photon_gather` adds the stored hits within each point's radius to it;
-//! `update_stats` folds that into each point's statistics (N, radius, tau). `resolve` turns
-//! the statistics into an image at any time.
+//! (and `direct_samples` paths in all gathering it); `grid_setup` sizes a hashed grid's cells
+//! to the points' radii; `photon_pass` traces photons and stores their diffuse hits in a
+//! list per grid bucket; `photon_gather` adds the stored hits within each point's radius to
+//! it. A photon thread whose hit finds no room stops; `photon_resume_setup` then sizes
+//! indirect dispatches that list the points in the grid's buckets (`grid_count`, `grid_scan`,
+//! `grid_fill`; src/accel/grid.rs is their CPU oracle) and resume those threads, which add
+//! their hits to the points within radius at once. `update_stats` folds the pass's photons
+//! into each point's statistics (N, radius, tau). `resolve` turns the statistics into an
+//! image at any time.
 
 use super::{Integrator, Part, PartSize, Work};
 use crate::accel::GridParams;
