@@ -28,8 +28,9 @@
 @group(0) @binding(13) var<storage, read> grid_entries: array<u32>;
 // PhotonHit (shared/types.wgsl) as three vec4u, one store each.
 @group(0) @binding(23) var<storage, read_write> photon_hits: array<vec4u>;
-// Word 0: hits stored this pass. Word 1: threads that stopped for want of room. Word 2 + h:
-// the first hit of bucket h's list (index plus one; 0 for none).
+// Word 0: hits stored since the last gather (past the capacity: attempts that found no
+// room). Word 1: threads that stopped for want of room. Word 2 + h: the first hit of bucket
+// h's list (index plus one; 0 for none).
 @group(0) @binding(24) var<storage, read_write> photon_hit_lists: array<atomic<u32>>;
 // The state of each thread that stopped, as four vec4u (see suspend).
 @group(0) @binding(25) var<storage, read_write> photon_suspended: array<vec4u>;
