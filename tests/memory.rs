@@ -34,6 +34,14 @@ fn renderer_memory_follows_the_pixels_and_photons_scene_memory_the_primitives() 
     let fewer = memory(&gpu, &scene);
     let per_photon = (large.renderer_bytes() - fewer.renderer_bytes()) as f64 / (photons - photons / 2) as f64;
     assert_eq!(per_photon, 100.0, "bytes per photon");
+    // Up to a cap: past a million photons a pass gathers more than once, and the memory stays.
+    let need = |photons: u32| {
+        let mut s = scene.clone();
+        s.render.photons = photons;
+        integrators::memory_need(&gpu.device, &s).renderer
+    };
+    assert!(need(1 << 20) > need(1 << 19), "the memory grows with the photons up to the cap");
+    assert_eq!(need(1 << 20), need(1 << 24), "past the cap the memory stays");
     scene.render.photons = photons;
 
     // A scene with a mesh of thousands of triangles: about 110 bytes a primitive.

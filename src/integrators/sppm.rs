@@ -72,25 +72,37 @@ pub fn direct_samples(render: &crate::scene::RenderSettings) -> u32 {
     })
 }
 
-/// Photon hits a pass may store for the gather ([`PhotonHit`], 48 bytes each): two a photon,
-/// within one storage buffer of `max_binding` bytes. A hit past them is deposited at once
-/// (the same sums, found more slowly). Photons deposit from their second diffuse hit on where
-/// direct light is sampled, and about 0.9 hits a photon reach the gather on cornell-box,
-/// cornell-glossy, cornell-spheres and the glass dragon; 1.5 to 1.7 with direct light from
-/// photons (`sppm-gpu bench` prints the count).
+/// Room for photon hits a photon: about 0.9 hits a photon reach the gather on cornell-box,
+/// cornell-glossy, cornell-spheres and the glass dragon where direct light is sampled (photons
+/// deposit from their second diffuse hit on), 1.5 to 1.7 with direct light from photons
+/// (`sppm-gpu bench` prints the count).
+const HITS_PER_PHOTON: u64 = 2;
+
+/// The most photon hits stored between two gathers (96 MiB of [`PhotonHit`]s): a pass of
+/// more than half as many photons gathers more than once, so memory stops growing with the
+/// photon count there.
+const MAX_HITS: u64 = 1 << 21;
+
+/// Photon hits stored for the gather at a time ([`PhotonHit`], 48 bytes each):
+/// [`HITS_PER_PHOTON`] a photon, at most [`MAX_HITS`], within one storage buffer of
+/// `max_binding` bytes. A hit past them is deposited at once (the same sums, found more
+/// slowly).
 pub fn photon_hit_capacity(render: &crate::scene::RenderSettings, max_binding: u64) -> u32 {
-    let want = render.photons as u64 * 2;
+    let want = (render.photons as u64 * HITS_PER_PHOTON).min(MAX_HITS);
     want.min(max_binding / size_of::<PhotonHit>() as u64).min(u32::MAX as u64) as u32
 }
 
 /// Bytes of the state a photon thread saves when its hit finds no room.
 const SUSPENDED_STATE_BYTES: u64 = 64;
 
-/// Bytes of room for the states of photon threads: every thread of a pass, within one
-/// storage buffer of `max_binding` bytes (a pass then gathers its hits more than once).
+/// Bytes of room for the states of photon threads: every thread of a pass, or as many as the
+/// room for hits expects ([`HITS_PER_PHOTON`] for each of their photons), within one storage
+/// buffer of `max_binding` bytes. The photons of a pass go in rounds of that many threads,
+/// each gathered before the next.
 fn suspended_bytes(render: &crate::scene::RenderSettings, max_binding: u64) -> u64 {
-    let threads = (render.photons.div_ceil(PHOTONS_PER_THREAD) as u64).max(1);
-    threads.min(max_binding / SUSPENDED_STATE_BYTES).max(1) * SUSPENDED_STATE_BYTES
+    let threads = render.photons.div_ceil(PHOTONS_PER_THREAD) as u64;
+    let by_hits = photon_hit_capacity(render, max_binding) as u64 / (HITS_PER_PHOTON * PHOTONS_PER_THREAD as u64);
+    threads.min(by_hits).min(max_binding / SUSPENDED_STATE_BYTES).max(1) * SUSPENDED_STATE_BYTES
 }
 
 /// What `photon_resume_setup` writes: workgroup counts for grid_count and grid_fill,
