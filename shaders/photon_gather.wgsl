@@ -47,12 +47,10 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
             let i = 3u * (next - 1u);
             let head = photon_hits[i];
             next = head.w;
-            let delta = bitcast<vec3f>(head.xyz) - q.p;
-            if dot(delta, delta) >= q.radius * q.radius {
+            if !within_radius(q.p, q.radius, bitcast<vec3f>(head.xyz)) {
                 continue;
             }
-            // A photon from behind the visible point's surface does not light it.
-            if dot(n, bitcast<vec3f>(photon_hits[i + 1u].xyz)) >= 0.0 {
+            if !lights_side(n, bitcast<vec3f>(photon_hits[i + 1u].xyz)) {
                 continue;
             }
             let beta = bitcast<vec3f>(photon_hits[i + 2u].xyz);

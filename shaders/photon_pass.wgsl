@@ -40,15 +40,9 @@ const STREAM_PHOTON: u32 = 1u;
 // Add the photon's flux to visible point v if it lies within v's radius of p.
 fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f) {
     let q = visible_points[v];
-    let delta = p - q.p;
-    if dot(delta, delta) >= q.radius * q.radius {
-        return;
+    if within_radius(q.p, q.radius, p) && lights_side(decode_normal(q.normal), d) {
+        accumulate_flux(v, beta);
     }
-    // A photon from behind the visible point's surface does not light it.
-    if dot(decode_normal(q.normal), d) >= 0.0 {
-        return;
-    }
-    accumulate_flux(v, beta);
 }
 
 // Put a hit in bucket h's list for photon_gather; false when the pass's hits are full.

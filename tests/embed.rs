@@ -358,11 +358,12 @@ fn a_device_with_default_limits_is_refused() {
     assert_eq!(limits.max_storage_buffers_per_shader_stage, sppm_gpu::gpu::STORAGE_BUFFERS_NEEDED);
 }
 
-/// Where the device has subgroups, the photon pass's lanes share their deposits
-/// (`shaders/shared/lanes.wgsl`), and with 64-bit atomics each fixed-point sum takes one
+/// Where the device has subgroups, the photon pass's lanes share the deposits they make at
+/// once (`shaders/shared/lanes.wgsl`), and with 64-bit atomics each fixed-point sum takes one
 /// atomic (`flux.wgsl`); an application's device without them gets kernels where each lane
 /// deposits alone (`lanes_single.wgsl`) with pairs of u32 atomics (`flux_u32.wgsl`). Flux is
-/// summed in fixed point, so the two give the same image bit for bit.
+/// summed in fixed point, so the two give the same image bit for bit. With no room for photon
+/// hits, so that every deposit takes that way (the gather uses neither feature).
 #[test]
 fn with_and_without_device_features_the_same_image() {
     use sppm_gpu::gpu::DeviceCaps;
@@ -376,9 +377,22 @@ fn with_and_without_device_features_the_same_image() {
         return;
     }
     let scene = small("cornell-spheres.toml", 11);
-    let (_, without) = reference(&device, &queue, &scene, PASSES);
-    let (_, with) = reference(&gpu.device, &gpu.queue, &scene, PASSES);
+    let direct_deposits = |device: &wgpu::Device, queue: &wgpu::Queue| {
+        let mut sppm = Sppm::new(device, queue, &scene).unwrap_or_else(|e| panic!("{e}"));
+        sppm.set_photon_hit_capacity(0);
+        for _ in 0..PASSES {
+            sppm.run_pass().unwrap_or_else(|e| panic!("{e}"));
+        }
+        let resumed = sppm.photon_hits_gathered().unwrap_or_else(|e| panic!("{e}")).1;
+        assert!(resumed > 0, "no photon thread deposited at once");
+        sppm.image().unwrap_or_else(|e| panic!("{e}"))
+    };
+    let without = direct_deposits(&device, &queue);
+    let with = direct_deposits(&gpu.device, &gpu.queue);
     assert_bit_equal(&with, &without, &format!("with {caps:?} vs without"));
+    // And the gather, the way deposits take where there is room, gives the same image.
+    let (_, gathered) = reference(&gpu.device, &gpu.queue, &scene, PASSES);
+    assert_bit_equal(&gathered, &with, "gathered vs deposited at once");
     assert!(mean(&with) > 0.05, "mean {}", mean(&with));
 }
 

@@ -213,7 +213,8 @@ fn cornell_box_deposit_bounds(scene: &Scene) -> (f64, f64) {
     (b_max, b_min)
 }
 
-/// The photon pass's fixed-point accumulator after one pass: every slot is consistent
+/// The fixed-point accumulator after one pass, summed by the gather and, with no room for
+/// hits, by the photon pass's atomics: every slot is consistent
 /// (flux only with photons, photons only at real visible points, the spare word unused),
 /// and each point's flux lies between its photon count times the smallest and the largest
 /// possible contribution. The upper bound catches swapped or misplaced words; the lower
@@ -223,11 +224,23 @@ fn cornell_box_deposit_bounds(scene: &Scene) -> (f64, f64) {
 fn deposit_fixed_point_is_consistent() {
     let Some(gpu) = common::gpu() else { return };
     let scene = scene("cornell-box.toml", 32, 50_000);
-    let (per_photon_max, per_photon_sum_min) = cornell_box_deposit_bounds(&scene);
-    let mut sppm = renderer(&gpu, &scene);
+    // Summed by the gather, and with no room for hits by the photon pass's atomics.
+    for capacity in [None, Some(0)] {
+        deposit_fixed_point_is_consistent_with(&gpu, &scene, capacity);
+    }
+}
+
+fn deposit_fixed_point_is_consistent_with(gpu: &GpuContext, scene: &Scene, capacity: Option<u32>) {
+    let (per_photon_max, per_photon_sum_min) = cornell_box_deposit_bounds(scene);
+    let mut sppm = renderer(gpu, scene);
+    if let Some(c) = capacity {
+        sppm.set_photon_hit_capacity(c);
+    }
     sppm.trace_camera_paths();
     sppm.build_grid().unwrap();
     sppm.trace_photons();
+    let resumed = sppm.photon_hits_gathered().unwrap().1;
+    assert_eq!(resumed > 0, capacity == Some(0), "capacity {capacity:?}: {resumed} photon threads resumed");
     let accum = sppm.flux_accum().unwrap();
     let points = sppm.visible_point_positions().unwrap();
     assert!(accum.len() >= points.len() * ACCUM_STRIDE as usize);

@@ -18,6 +18,19 @@ fn bucket_of(g: GridParams, p: vec3f) -> u32 {
 
 const NO_BUCKET: u32 = 0xffffffffu;
 
+// Whether a photon at p is within the radius r of a visible point at vp (the photon pass's
+// deposits and photon_gather decide with this one expression; a NaN distance is not).
+fn within_radius(vp: vec3f, r: f32, p: vec3f) -> bool {
+    let delta = p - vp;
+    return !(dot(delta, delta) >= r * r);
+}
+
+// Whether a photon travelling along d lights the side that normal n faces (a photon from
+// behind a visible point's surface does not light it).
+fn lights_side(n: vec3f, d: vec3f) -> bool {
+    return !(dot(n, d) >= 0.0);
+}
+
 // The buckets of the cells the box [p - r, p + r] of a point overlaps, at most two cells per
 // axis: h[k] for corner k = x + 2 y + 4 z of the 2x2x2 block from the box's lowest cell, and
 // bit k of `keep` set where that cell lies in the box and no earlier corner has its bucket (a

@@ -1,6 +1,9 @@
-//! Hashed uniform grid over the SPPM visible points, for the photon pass: a photon landing at
-//! `p` looks at the points listed in the hash bucket of the grid cell containing `p`, and
-//! keeps those within their radius (Hachisuka & Jensen 2009, section 4.2).
+//! Hashed uniform grid over the SPPM visible points (Hachisuka & Jensen 2009, section 4.2).
+//! Its cells also sort photon hits into buckets for `photon_gather`, where each point walks
+//! the buckets its box overlaps; the points' lists are built for photons that deposit at once
+//! (threads resumed when the room for hits ran out): a photon landing at `p` looks at the
+//! points listed in the hash bucket of the grid cell containing `p`, and keeps those within
+//! their radius.
 //!
 //! Each point is a sphere `|p - xyz| < r` (radius in `w`). Cells are cubes of side
 //! `CELL_RADII * max r`. Smaller cells mean fewer candidates per photon lookup (a lookup

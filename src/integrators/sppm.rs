@@ -308,13 +308,9 @@ impl Sppm {
             .map(|b| b.max(16) as u64);
         let hits = (photon_hit_capacity(r, max_binding) as u64 * size_of::<PhotonHit>() as u64).max(16);
         let photons = hits + suspended_bytes(r, max_binding).max(16) + RESUME_ARGS_BYTES;
-        points * per_point as u64
-            + pixels * 32
-            + table * 4
-            + (table + 1) * 4
-            + (table + 2) * 4
-            + photons
-            + fixed.iter().sum::<u64>()
+        // Buffers of fewer than 16 bytes are made 16 bytes long.
+        let tables = (table * 4).max(16) + ((table + 1) * 4).max(16) + ((table + 2) * 4).max(16);
+        points * per_point as u64 + pixels * 32 + tables + photons + fixed.iter().sum::<u64>()
     }
 
     /// [`Sppm::new_rows`] on scene buffers already uploaded (shared between bands).
@@ -532,7 +528,7 @@ impl Sppm {
                 self.record_photon_flush(encoder);
             }
             let threads = (self.suspend_room - self.threads_pending).min((end - at).div_ceil(PHOTONS_PER_THREAD));
-            let to = end.min(at.saturating_add(threads * PHOTONS_PER_THREAD));
+            let to = end.min(at.saturating_add(threads.saturating_mul(PHOTONS_PER_THREAD)));
             self.record_frame(encoder, at, to);
             self.photon_pass.dispatch(encoder, threads);
             self.threads_pending += threads;
