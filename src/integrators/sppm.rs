@@ -105,10 +105,14 @@ fn suspended_bytes(render: &crate::scene::RenderSettings, max_binding: u64) -> u
     threads.min(by_hits).min(max_binding / SUSPENDED_STATE_BYTES).max(1) * SUSPENDED_STATE_BYTES
 }
 
-/// What `photon_resume_setup` writes: workgroup counts for grid_count and grid_fill,
-/// photon_pass resuming and grid_scan (9 words), then the pass's hits gathered and threads
-/// resumed.
-const RESUME_ARGS_BYTES: u64 = 44;
+/// What `photon_resume_setup` writes (`photon_resume_args`, its layout there), as byte
+/// offsets: the workgroup counts of grid_count and grid_fill, of photon_pass resuming and of
+/// grid_scan, then the pass's hits gathered and threads resumed (a word each).
+const ARGS_GRID: u64 = 0;
+const ARGS_RESUME: u64 = 12;
+const ARGS_SCAN: u64 = 24;
+const ARGS_COUNTS: u64 = 36;
+const RESUME_ARGS_BYTES: u64 = ARGS_COUNTS + 8;
 
 /// The squared radius of pass `pass` (from 0) under the global schedule of Knaus & Zwicker
 /// 2011 (eq. 14 there, with their pass i = `pass + 1`): r_i^2 = r_1^2 prod_{k=1}^{i-1} (k +
@@ -492,7 +496,7 @@ impl Sppm {
         let b = &self.buffers;
         self.grid_setup.kernel.dispatch_groups(encoder, &self.grid_setup.group, 1);
         encoder.clear_buffer(&b.photon_hit_lists, 0, None);
-        encoder.clear_buffer(&b.photon_resume_args, 36, None);
+        encoder.clear_buffer(&b.photon_resume_args, ARGS_COUNTS, None);
         self.threads_pending = 0;
         // The photon pass reads the parameters as a uniform.
         encoder.copy_buffer_to_buffer(&b.grid_params, 0, &b.grid, 0, size_of::<GridParams>() as u64);
@@ -504,9 +508,9 @@ impl Sppm {
         let b = &self.buffers;
         encoder.clear_buffer(&b.grid_cell_count, 0, None);
         if indirect {
-            self.grid_count.kernel.dispatch_indirect(encoder, &self.grid_count.group, &b.photon_resume_args, 0);
-            self.grid_scan.kernel.dispatch_indirect(encoder, &self.grid_scan.group, &b.photon_resume_args, 24);
-            self.grid_fill.kernel.dispatch_indirect(encoder, &self.grid_fill.group, &b.photon_resume_args, 0);
+            self.grid_count.kernel.dispatch_indirect(encoder, &self.grid_count.group, &b.photon_resume_args, ARGS_GRID);
+            self.grid_scan.kernel.dispatch_indirect(encoder, &self.grid_scan.group, &b.photon_resume_args, ARGS_SCAN);
+            self.grid_fill.kernel.dispatch_indirect(encoder, &self.grid_fill.group, &b.photon_resume_args, ARGS_GRID);
         } else {
             self.grid_count.dispatch(encoder, self.vp_count);
             self.grid_scan.kernel.dispatch_groups(encoder, &self.grid_scan.group, 1);
@@ -550,7 +554,7 @@ impl Sppm {
         self.frame.resume = 1;
         self.upload_frame(encoder, &self.frame);
         let args = &self.buffers.photon_resume_args;
-        self.photon_pass.kernel.dispatch_indirect(encoder, &self.photon_pass.group, args, 12);
+        self.photon_pass.kernel.dispatch_indirect(encoder, &self.photon_pass.group, args, ARGS_RESUME);
         self.frame.resume = 0;
         encoder.clear_buffer(&self.buffers.photon_hit_lists, 0, None);
         self.threads_pending = 0;
@@ -617,7 +621,8 @@ impl Sppm {
     /// for a hit and were resumed to deposit at once (for `bench` and tests).
     pub fn photon_hits_gathered(&self) -> Result<(u32, u32), Error> {
         let words: Vec<u32> = read_whole(&self.device, &self.queue, &self.buffers.photon_resume_args)?;
-        Ok((words[9], words[10]))
+        let first = (ARGS_COUNTS / 4) as usize;
+        Ok((words[first], words[first + 1]))
     }
 
     /// Photon hits a pass may store for the gather at a time.
