@@ -4,7 +4,9 @@
 //!
 //! `cargo bench --bench traversal [-- SCENE.toml ...]`; without arguments, cornell-box,
 //! cornell-spheres and the gallery's glass dragon (11k triangles). `VARIANTS="A=1,B=0;A=0"`
-//! compares kernels with other override constants, interleaved in one run.
+//! compares kernels with other override constants, interleaved in one run, and counts the
+//! rays whose hit is not the first variant's bit for bit (a variant meant to change only the
+//! speed must read 0).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -100,6 +102,9 @@ fn main() {
         let staging = staging_buffer(&gpu.device, "hits_staging", hits.size());
         let mut best = vec![f64::INFINITY; kernels.len()];
         let mut hit_counts = vec![0; kernels.len()];
+        // Rays whose hit differs from the first variant's, bit for bit.
+        let mut first_hits: Vec<[u32; 4]> = Vec::new();
+        let mut differing = vec![0; kernels.len()];
         // The first round compiles the kernels (lavapipe compiles at first use): untimed.
         for round in 0..=REPEATS {
             for (k, (kernel, group)) in kernels.iter().zip(&groups).enumerate() {
@@ -108,19 +113,28 @@ fn main() {
                 kernel.dispatch(&mut encoder, group, RAYS as u32);
                 gpu.queue.submit([encoder.finish()]);
                 let out: Vec<[f32; 4]> = read_buffer(&gpu.device, &gpu.queue, &hits, &staging, hits.size()).unwrap();
+                // A kernel the device refused leaves the hits as they were: fail, do not time it.
+                gpu.check().unwrap_or_else(|e| panic!("{e}"));
                 if round > 0 {
                     best[k] = best[k].min(start.elapsed().as_secs_f64());
                 }
                 hit_counts[k] = out.iter().filter(|h| h[1].to_bits() != u32::MAX).count();
+                let bits: Vec<[u32; 4]> = out.iter().map(|h| h.map(f32::to_bits)).collect();
+                if k == 0 {
+                    first_hits = bits;
+                } else {
+                    differing[k] = bits.iter().zip(&first_hits).filter(|(a, b)| a != b).count();
+                }
             }
         }
         for (k, (name, _)) in variants.iter().enumerate() {
             println!(
-                "{:<22} {:>7} primitives {:>6.2} M rays/s ({:.1}% hit) {}",
+                "{:<22} {:>7} primitives {:>6.2} M rays/s ({:.1}% hit, {} hits not those of the first variant) {}",
                 path.file_name().unwrap().to_string_lossy(),
                 scene.triangles.len() + scene.spheres.len(),
                 RAYS as f64 / best[k] / 1e6,
                 100.0 * hit_counts[k] as f64 / RAYS as f64,
+                differing[k],
                 name
             );
         }
