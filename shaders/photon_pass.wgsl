@@ -62,8 +62,8 @@ fn store_hit(h: u32, p: vec3f, d: vec3f, beta: vec3f) -> bool {
     return true;
 }
 
-// Deposit the photons of the lanes where `deposits`: stored for photon_gather, or when
-// resuming, added to the visible points around them at once. False where a hit found no room
+// Deposit the photons of the lanes where `deposits`: stored for photon_gather, or with
+// frame.at_once, added to the visible points around them at once. False where a hit found no room
 // (the thread then stops). The lanes of a SIMD group share the direct deposits
 // (shared/lanes.wgsl): one photon's bucket at a time, each lane taking every n-th entry, so
 // that no lane idles while another walks a long bucket. Flux is added in fixed point, so who
@@ -76,7 +76,7 @@ fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f) -> bool {
         // src/accel/grid.rs).
         let h = bucket_of(grid, p);
         if h != NO_BUCKET {
-            if frame.resume == 0u {
+            if frame.at_once == 0u {
                 stored = store_hit(h, p, d, beta);
             } else {
                 range = vec2u(grid_cell_start[h], grid_cell_start[h + 1u]);

@@ -857,11 +857,18 @@ fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
         radius.max,
         sppm.initial_radius()
     );
-    let (gathered, resumed) = sppm.photon_hits_gathered()?;
-    say!(
-        "  photon hits of the last pass gathered: {gathered} (room for {} at a time); photon threads resumed to deposit at once: {resumed}",
-        sppm.photon_hit_capacity()
-    );
+    if sppm.deposits_at_once() {
+        say!(
+            "  photon hits added at once to the visible points around them (at least {} photons a visible point)",
+            sppm_gpu::integrators::sppm::AT_ONCE_PHOTONS_PER_POINT
+        );
+    } else {
+        let (gathered, resumed) = sppm.photon_hits_gathered()?;
+        say!(
+            "  photon hits of the last pass gathered: {gathered} (room for {} at a time); photon threads resumed to deposit at once: {resumed}",
+            sppm.photon_hit_capacity()
+        );
+    }
     Ok(())
 }
 

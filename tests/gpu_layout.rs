@@ -58,7 +58,7 @@ fn gpu_structs_match_wgsl() {
             first_pass,
             hit_capacity,
             resume,
-            _pad1,
+            at_once,
             _pad2,
         ]
     );

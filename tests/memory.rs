@@ -17,6 +17,8 @@ fn renderer_memory_follows_the_pixels_and_photons_scene_memory_the_primitives() 
     let mut scene = common::load_scene("cornell-box.toml");
     scene.render.width = 64;
     scene.render.height = 64;
+    // Fewer photons than 32 a visible point, so that both images gather their hits.
+    scene.render.photons = 100_000;
     let small = memory(&gpu, &scene);
     scene.render.width = 128;
     scene.render.height = 128;
@@ -34,14 +36,18 @@ fn renderer_memory_follows_the_pixels_and_photons_scene_memory_the_primitives() 
     let fewer = memory(&gpu, &scene);
     let per_photon = (large.renderer_bytes() - fewer.renderer_bytes()) as f64 / (photons - photons / 2) as f64;
     assert_eq!(per_photon, 100.0, "bytes per photon");
-    // Up to a cap: past a million photons a pass gathers more than once, and the memory stays.
-    let need = |photons: u32| {
+    // Up to a cap: past a million photons a pass gathers more than once, and the memory stays
+    // (at 1024x1024, below 32 photons a visible point).
+    let need = |photons: u32, size: u32| {
         let mut s = scene.clone();
-        s.render.photons = photons;
+        (s.render.photons, s.render.width, s.render.height) = (photons, size, size);
         integrators::memory_need(&gpu.device, &s).renderer
     };
-    assert!(need(1 << 20) > need(1 << 19), "the memory grows with the photons up to the cap");
-    assert_eq!(need(1 << 20), need(1 << 24), "past the cap the memory stays");
+    assert!(need(1 << 20, 1024) > need(1 << 19, 1024), "the memory grows with the photons up to the cap");
+    assert_eq!(need(1 << 20, 1024), need(1 << 24, 1024), "past the cap the memory stays");
+    // From 32 photons a visible point the hits are added at once: no room for them at all.
+    assert!(need(600_000, 128) < need(400_000, 128), "36 photons a point need no room for hits, 24 do");
+    assert_eq!(need(600_000, 128), need(1 << 24, 128), "nor more photons");
     scene.render.photons = photons;
 
     // A scene with a mesh of thousands of triangles: about 110 bytes a primitive.

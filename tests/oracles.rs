@@ -15,7 +15,7 @@ use sppm_gpu::accel::build_grid;
 use sppm_gpu::accel::grid::{brute_force_within, point_within};
 use sppm_gpu::gpu::types::{VpStats, ACCUM_STRIDE};
 use sppm_gpu::gpu::GpuContext;
-use sppm_gpu::integrators::Sppm;
+use sppm_gpu::integrators::{Deposits, Sppm};
 use sppm_gpu::scene::Scene;
 use std::collections::HashSet;
 
@@ -44,6 +44,10 @@ fn scene(name: &str, size: u32, photons: u32) -> Scene {
 
 fn renderer(gpu: &GpuContext, scene: &Scene) -> Sppm {
     Sppm::new(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn renderer_with(gpu: &GpuContext, scene: &Scene, deposits: Deposits) -> Sppm {
+    Sppm::with_deposits(&gpu.device, &gpu.queue, scene, deposits).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Decode the 32.32 fixed-point pair at `words[0..2]` (lo, hi) exactly.
@@ -224,23 +228,27 @@ fn cornell_box_deposit_bounds(scene: &Scene) -> (f64, f64) {
 fn deposit_fixed_point_is_consistent() {
     let Some(gpu) = common::gpu() else { return };
     let scene = scene("cornell-box.toml", 32, 50_000);
-    // Summed by the gather, and with no room for hits by the photon pass's atomics.
-    for capacity in [None, Some(0)] {
-        deposit_fixed_point_is_consistent_with(&gpu, &scene, capacity);
+    // Summed by the gather; with no room for hits, by the atomics of resumed photon threads;
+    // and by the atomics of a pass that adds every hit at once (49 photons a point, as the
+    // renderer chooses by itself here).
+    assert!(renderer(&gpu, &scene).deposits_at_once(), "49 photons a visible point are added at once");
+    for (deposits, capacity) in [(Deposits::Gathered, None), (Deposits::Gathered, Some(0)), (Deposits::AtOnce, None)] {
+        deposit_fixed_point_is_consistent_with(&gpu, &scene, deposits, capacity);
     }
 }
 
-fn deposit_fixed_point_is_consistent_with(gpu: &GpuContext, scene: &Scene, capacity: Option<u32>) {
+fn deposit_fixed_point_is_consistent_with(gpu: &GpuContext, scene: &Scene, deposits: Deposits, capacity: Option<u32>) {
     let (per_photon_max, per_photon_sum_min) = cornell_box_deposit_bounds(scene);
-    let mut sppm = renderer(gpu, scene);
+    let mut sppm = renderer_with(gpu, scene, deposits);
     if let Some(c) = capacity {
         sppm.set_photon_hit_capacity(c);
     }
     sppm.trace_camera_paths();
     sppm.build_grid().unwrap();
     sppm.trace_photons();
-    let resumed = sppm.photon_hits_gathered().unwrap().1;
-    assert_eq!(resumed > 0, capacity == Some(0), "capacity {capacity:?}: {resumed} photon threads resumed");
+    let (gathered, resumed) = sppm.photon_hits_gathered().unwrap();
+    assert_eq!(resumed > 0, capacity == Some(0), "{deposits:?} {capacity:?}: {resumed} photon threads resumed");
+    assert_eq!(gathered > 0, deposits == Deposits::Gathered && capacity.is_none(), "{deposits:?}: {gathered} hits gathered");
     let accum = sppm.flux_accum().unwrap();
     let points = sppm.visible_point_positions().unwrap();
     assert!(accum.len() >= points.len() * ACCUM_STRIDE as usize);
@@ -285,14 +293,22 @@ fn deposit_fixed_point_is_consistent_with(gpu: &GpuContext, scene: &Scene, capac
 /// Where a photon's flux is added does not change a bit of the sums: after a pass whose hits
 /// all go to the gather (photon_gather.wgsl), one with no room for hits (every photon thread
 /// stops at its first deposit, and is resumed after the gather to deposit at once through the
-/// grid of visible points) and one with room for a third, the accumulators are the same word
-/// for word.
+/// grid of visible points), one with room for a third, and one that adds every hit at once
+/// (`Deposits::AtOnce`, the grid's lists built before the photons), the accumulators are the
+/// same word for word.
 #[test]
 fn gathered_and_direct_deposits_leave_the_same_bits() {
     let Some(gpu) = common::gpu() else { return };
     let scene = scene("cornell-spheres.toml", 32, 20_000);
+    let mut at_once = renderer_with(&gpu, &scene, Deposits::AtOnce);
+    at_once.trace_camera_paths();
+    at_once.build_grid().unwrap();
+    at_once.trace_photons();
+    assert_eq!(at_once.photon_hits_gathered().unwrap(), (0, 0), "nothing stored, nothing resumed");
+    let at_once = at_once.flux_accum().unwrap();
     let one_pass = |capacity: Option<u32>| {
         let mut sppm = renderer(&gpu, &scene);
+        assert!(!sppm.deposits_at_once(), "20 photons a visible point are gathered");
         if let Some(c) = capacity {
             sppm.set_photon_hit_capacity(c);
         }
@@ -305,6 +321,10 @@ fn gathered_and_direct_deposits_leave_the_same_bits() {
     assert!(hits > 1000 && hits <= capacity && resumed == 0, "{hits} hits for {capacity} places, {resumed} threads resumed");
     let counted = gathered.chunks(ACCUM_STRIDE as usize).filter(|s| s[6] > 0).count();
     assert!(counted > 100, "only {counted} points got photons");
+    if let Some(w) = gathered.iter().zip(&at_once).position(|(x, y)| x != y) {
+        let point = w / ACCUM_STRIDE as usize;
+        panic!("word {w} (point {point}) {} gathered, {} all added at once", gathered[w], at_once[w]);
+    }
     for capacity in [0, hits / 3] {
         let (accum, (some_hits, resumed), _) = one_pass(Some(capacity));
         assert!(

@@ -51,9 +51,12 @@ struct Frame {
     // photon_hits). A thread whose hit finds no room stops and is resumed after the gather.
     hit_capacity: u32,
     // SPPM: 0 when photon_pass traces this part's photons, 1 when it resumes the threads that
-    // found no room, depositing at once through the grid of visible points.
+    // found no room.
     resume: u32,
-    _pad1: u32,
+    // SPPM: 1 when photon_pass adds each hit to the visible points around it at once, through
+    // the grid of visible points, rather than storing it for photon_gather: for resumed
+    // threads, and for every photon where photons outnumber visible points.
+    at_once: u32,
     _pad2: u32,
 }
 

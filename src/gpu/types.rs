@@ -87,11 +87,13 @@ pub struct Frame {
     /// thread whose hit finds no room stops, and is resumed after the gather (see `resume`).
     pub hit_capacity: u32,
     /// SPPM: 0 when `photon_pass` traces the photons `work_first..work_end`; 1 when it
-    /// resumes the threads that found no room for a hit, which then deposit at once through
-    /// the grid of visible points (the same sums: see [`PhotonHit`]).
+    /// resumes the threads that found no room for a hit (see `at_once`).
     pub resume: u32,
-    /// Padding; always 0.
-    pub _pad1: u32,
+    /// SPPM: 1 when `photon_pass` adds each hit's flux to the visible points around it at
+    /// once, through the grid of visible points, rather than storing it for `photon_gather`
+    /// (the same sums: see [`PhotonHit`]): for resumed threads, and for every photon where
+    /// photons outnumber visible points (`integrators::sppm::deposits_at_once`).
+    pub at_once: u32,
     /// Padding; always 0.
     pub _pad2: u32,
 }

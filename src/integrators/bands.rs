@@ -6,7 +6,7 @@
 
 use std::sync::Arc;
 
-use super::{Integrator, PathTracer, Sppm};
+use super::{Deposits, Integrator, PathTracer, Sppm};
 use crate::error::Error;
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
 use crate::image_io::Rgb32Image;
@@ -43,7 +43,8 @@ impl Bands {
                 let shared = scene_buffers.clone();
                 Ok::<_, Error>(match scene.render.method {
                     Method::Sppm => {
-                        Box::new(Sppm::with_scene_buffers(device, queue, scene, &data, shared, rows)?) as Box<dyn Integrator>
+                        Box::new(Sppm::with_scene_buffers(device, queue, scene, &data, shared, rows, Deposits::Auto)?)
+                            as Box<dyn Integrator>
                     }
                     Method::Pt | Method::PtNee => {
                         Box::new(PathTracer::with_scene_buffers(device, queue, scene, &data, shared, rows)?)

@@ -8,7 +8,7 @@ pub mod sppm;
 
 pub use bands::Bands;
 pub use path::PathTracer;
-pub use sppm::Sppm;
+pub use sppm::{Deposits, Sppm};
 
 use crate::error::Error;
 use crate::image_io::Rgb32Image;

@@ -8,7 +8,9 @@
 //! it. A photon thread whose hit finds no room stops; `photon_resume_setup` then sizes
 //! indirect dispatches that list the points in the grid's buckets (`grid_count`, `grid_scan`,
 //! `grid_fill`; src/accel/grid.rs is their CPU oracle) and resume those threads, which add
-//! their hits to the points within radius at once. `update_stats` folds the pass's photons
+//! their hits to the points within radius at once. Where photons outnumber visible points
+//! ([`deposits_at_once`]) the grid's lists are built before the photons, and every hit is
+//! added at once. `update_stats` folds the pass's photons
 //! into each point's statistics (N, radius, tau). `resolve` turns the statistics into an
 //! image at any time.
 
@@ -83,11 +85,43 @@ const HITS_PER_PHOTON: u64 = 2;
 /// photon count there.
 const MAX_HITS: u64 = 1 << 21;
 
+/// Photons per visible point from which a pass adds each photon hit to the visible points
+/// around it at once rather than storing it for `photon_gather`. The gather reads each hit
+/// once for all the points near it, but walks every hit of the buckets a point overlaps; a
+/// direct deposit walks the points listed in the hit's bucket. Measured on cornell-box
+/// (`sppm-gpu bench`, BENCHMARKS.md "Session 9"): at 12 photons a point the gather is about
+/// 10% faster, at 24 the two are even, at 49 the direct deposits are 25% faster.
+pub const AT_ONCE_PHOTONS_PER_POINT: u64 = 32;
+
+/// How a pass adds its photons to the visible points: the same fixed-point sums either way,
+/// so the image is the same bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Deposits {
+    /// At once where photons outnumber `points` [`AT_ONCE_PHOTONS_PER_POINT`] to 1
+    /// ([`deposits_at_once`]), gathered otherwise.
+    Auto,
+    /// Hits stored in the grid's buckets and gathered by the visible points
+    /// (`photon_gather`); a hit that finds no room is added at once.
+    Gathered,
+    /// Every hit added at once to the visible points listed in its bucket, the grid's lists
+    /// built before the photons. No room for hits is allocated.
+    AtOnce,
+}
+
+/// Whether a pass of `render.photons` photons over `points` visible points adds each hit at
+/// once ([`Deposits::Auto`]).
+pub fn deposits_at_once(render: &crate::scene::RenderSettings, points: u64) -> bool {
+    render.photons as u64 >= AT_ONCE_PHOTONS_PER_POINT * points.max(1)
+}
+
 /// Photon hits stored for the gather at a time ([`PhotonHit`], 48 bytes each):
 /// [`HITS_PER_PHOTON`] a photon, at most [`MAX_HITS`], within one storage buffer of
-/// `max_binding` bytes. A hit past them is deposited at once (the same sums, found more
-/// slowly).
-pub fn photon_hit_capacity(render: &crate::scene::RenderSettings, max_binding: u64) -> u32 {
+/// `max_binding` bytes; none where hits are added at once. A hit past them is deposited at
+/// once (the same sums, found more slowly).
+pub fn photon_hit_capacity(render: &crate::scene::RenderSettings, at_once: bool, max_binding: u64) -> u32 {
+    if at_once {
+        return 0;
+    }
     let want = (render.photons as u64 * HITS_PER_PHOTON).min(MAX_HITS);
     want.min(max_binding / size_of::<PhotonHit>() as u64).min(u32::MAX as u64) as u32
 }
@@ -99,9 +133,9 @@ const SUSPENDED_STATE_BYTES: u64 = 64;
 /// room for hits expects ([`HITS_PER_PHOTON`] for each of their photons), within one storage
 /// buffer of `max_binding` bytes. The photons of a pass go in rounds of that many threads,
 /// each gathered before the next.
-fn suspended_bytes(render: &crate::scene::RenderSettings, max_binding: u64) -> u64 {
+fn suspended_bytes(render: &crate::scene::RenderSettings, at_once: bool, max_binding: u64) -> u64 {
     let threads = render.photons.div_ceil(PHOTONS_PER_THREAD) as u64;
-    let by_hits = photon_hit_capacity(render, max_binding) as u64 / (HITS_PER_PHOTON * PHOTONS_PER_THREAD as u64);
+    let by_hits = photon_hit_capacity(render, at_once, max_binding) as u64 / (HITS_PER_PHOTON * PHOTONS_PER_THREAD as u64);
     threads.min(by_hits).min(max_binding / SUSPENDED_STATE_BYTES).max(1) * SUSPENDED_STATE_BYTES
 }
 
@@ -177,6 +211,8 @@ pub struct Sppm {
     suspend_room: u32,
     /// Photon threads dispatched since the hits were last gathered.
     threads_pending: u32,
+    /// Whether every photon hit is added at once ([`Deposits::AtOnce`]).
+    at_once: bool,
 
     camera_pass: Stage,
     grid_setup: Stage,
@@ -273,6 +309,16 @@ impl Sppm {
         Self::new_rows(device, queue, scene, 0..scene.render.height)
     }
 
+    /// [`Sppm::new`] adding photons to the visible points as `deposits` says rather than as
+    /// the photon count suggests: the same image bit for bit, found another way (for tests,
+    /// and to compare the two).
+    pub fn with_deposits(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, deposits: Deposits) -> Result<Self, Error> {
+        crate::gpu::check_device(device)?;
+        let data = SceneData::new(scene)?;
+        let scene_buffers = Arc::new(SceneBuffers::new(device, &data));
+        Self::with_scene_buffers(device, queue, scene, &data, scene_buffers, 0..scene.render.height, deposits)
+    }
+
     /// The renderer for rows `rows` of `scene`'s image only: a band of an image whose
     /// visible points do not fit in one set of buffers (see [`Sppm::max_rows`] and
     /// [`Bands`](super::Bands)). Its image is `width` x `rows.len()`, and equals those rows of
@@ -282,7 +328,7 @@ impl Sppm {
         crate::gpu::check_device(device)?;
         let data = SceneData::new(scene)?;
         let scene_buffers = Arc::new(SceneBuffers::new(device, &data));
-        Self::with_scene_buffers(device, queue, scene, &data, scene_buffers, rows)
+        Self::with_scene_buffers(device, queue, scene, &data, scene_buffers, rows, Deposits::Auto)
     }
 
     /// Rows of `scene`'s image whose visible points fit in one set of this device's buffers;
@@ -301,7 +347,7 @@ impl Sppm {
     /// statistics (32), flux (32), up to 8 grid entries (32) and two buckets' lists (of grid
     /// entries and of photon hits: 12 at most, the table being the point count rounded up to a
     /// power of two); per pixel: the image and its read-back copy (32); per photon: room for
-    /// its hits ([`photon_hit_capacity`]).
+    /// its hits ([`photon_hit_capacity`]; none where hits are added at once).
     pub fn renderer_bytes(scene: &Scene, rows: u32, max_binding: u64) -> u64 {
         let r = &scene.render;
         let pixels = r.width as u64 * rows as u64;
@@ -310,8 +356,9 @@ impl Sppm {
         let per_point = size_of::<VisiblePoint>() + size_of::<VpStats>() + ACCUM_STRIDE as usize * 4 + 8 * 4;
         let fixed = [size_of::<Frame>(), size_of::<GridScene>(), 16, size_of::<GridParams>(), size_of::<GridParams>()]
             .map(|b| b.max(16) as u64);
-        let hits = (photon_hit_capacity(r, max_binding) as u64 * size_of::<PhotonHit>() as u64).max(16);
-        let photons = hits + suspended_bytes(r, max_binding).max(16) + RESUME_ARGS_BYTES;
+        let at_once = deposits_at_once(r, points);
+        let hits = (photon_hit_capacity(r, at_once, max_binding) as u64 * size_of::<PhotonHit>() as u64).max(16);
+        let photons = hits + suspended_bytes(r, at_once, max_binding).max(16) + RESUME_ARGS_BYTES;
         // Buffers of fewer than 16 bytes are made 16 bytes long.
         let tables = (table * 4).max(16) + ((table + 1) * 4).max(16) + ((table + 2) * 4).max(16);
         points * per_point as u64 + pixels * 32 + tables + photons + fixed.iter().sum::<u64>()
@@ -325,6 +372,7 @@ impl Sppm {
         data: &SceneData,
         scene_buffers: Arc<SceneBuffers>,
         rows: Range<u32>,
+        deposits: Deposits,
     ) -> Result<Self, Error> {
         let r = &scene.render;
         let mut frame = super::band_frame(scene, data, &rows)?;
@@ -357,7 +405,13 @@ impl Sppm {
 
         let n = vp_count as u64;
         let max_binding = device.limits().max_storage_buffer_binding_size;
-        let hit_capacity = photon_hit_capacity(r, max_binding);
+        let at_once = match deposits {
+            Deposits::Auto => deposits_at_once(r, n),
+            Deposits::Gathered => false,
+            Deposits::AtOnce => true,
+        };
+        frame.at_once = at_once as u32;
+        let hit_capacity = photon_hit_capacity(r, at_once, max_binding);
         frame.hit_capacity = hit_capacity;
         // Each point is listed in at most 8 buckets (2 cells per axis); the table has a bucket
         // per point, rounded up to a power of two.
@@ -382,7 +436,7 @@ impl Sppm {
             grid_entries: buffer(device, "grid_entries", n * 8 * 4, STORAGE),
             photon_hits: buffer(device, "photon_hits", hit_capacity as u64 * size_of::<PhotonHit>() as u64, STORAGE),
             photon_hit_lists: buffer(device, "photon_hit_lists", (table_size as u64 + 2) * 4, STORAGE),
-            photon_suspended: buffer(device, "photon_suspended", suspended_bytes(r, max_binding), STORAGE),
+            photon_suspended: buffer(device, "photon_suspended", suspended_bytes(r, at_once, max_binding), STORAGE),
             photon_resume_args: buffer(device, "photon_resume_args", RESUME_ARGS_BYTES, STORAGE | wgpu::BufferUsages::INDIRECT),
         };
         queue.write_buffer(&buffers.frame, 0, bytemuck::bytes_of(&frame));
@@ -407,6 +461,7 @@ impl Sppm {
             next: NextPart::Camera(0),
             suspend_room: (buffers.photon_suspended.size() / SUSPENDED_STATE_BYTES) as u32,
             threads_pending: 0,
+            at_once,
             initial_radius,
             global_radius_sq: (r.radius_schedule == RadiusSchedule::Global).then(|| global_radius_sq(initial_radius, r.alpha, 0)),
             first_pass: 0,
@@ -490,8 +545,8 @@ impl Sppm {
     }
 
     /// The grid's cells for this pass's points, and empty photon hit lists. The grid's lists
-    /// of points are built only when a photon thread finds no room for a hit (see
-    /// [`Sppm::record_photon_slice`]).
+    /// of points are built here where every hit is added at once, otherwise only when a
+    /// photon thread finds no room for a hit (see [`Sppm::record_photon_slice`]).
     fn record_grid(&mut self, encoder: &mut wgpu::CommandEncoder) {
         let b = &self.buffers;
         self.grid_setup.kernel.dispatch_groups(encoder, &self.grid_setup.group, 1);
@@ -500,6 +555,9 @@ impl Sppm {
         self.threads_pending = 0;
         // The photon pass reads the parameters as a uniform.
         encoder.copy_buffer_to_buffer(&b.grid_params, 0, &b.grid, 0, size_of::<GridParams>() as u64);
+        if self.at_once {
+            self.record_point_grid(encoder, false);
+        }
     }
 
     /// The grid's lists of visible points (a counting sort into its buckets), with workgroup
@@ -526,6 +584,12 @@ impl Sppm {
     /// is room to save the state of. After the last photon of the pass, or when that room is
     /// taken, the hits stored so far are gathered ([`Sppm::record_photon_flush`]).
     fn record_photon_slice(&mut self, encoder: &mut wgpu::CommandEncoder, first: u32, end: u32) {
+        if self.at_once {
+            // Nothing stored, nothing to gather.
+            self.record_frame(encoder, first, end);
+            self.photon_pass.dispatch(encoder, (end - first).div_ceil(PHOTONS_PER_THREAD));
+            return;
+        }
         let mut at = first;
         while at < end {
             if self.threads_pending == self.suspend_room {
@@ -552,10 +616,12 @@ impl Sppm {
         self.photon_resume_setup.kernel.dispatch_groups(encoder, &self.photon_resume_setup.group, 1);
         self.record_point_grid(encoder, true);
         self.frame.resume = 1;
+        self.frame.at_once = 1;
         self.upload_frame(encoder, &self.frame);
         let args = &self.buffers.photon_resume_args;
         self.photon_pass.kernel.dispatch_indirect(encoder, &self.photon_pass.group, args, ARGS_RESUME);
         self.frame.resume = 0;
+        self.frame.at_once = 0;
         encoder.clear_buffer(&self.buffers.photon_hit_lists, 0, None);
         self.threads_pending = 0;
     }
@@ -623,6 +689,11 @@ impl Sppm {
         let words: Vec<u32> = read_whole(&self.device, &self.queue, &self.buffers.photon_resume_args)?;
         let first = (ARGS_COUNTS / 4) as usize;
         Ok((words[first], words[first + 1]))
+    }
+
+    /// Whether every photon hit is added at once rather than gathered ([`Deposits`]).
+    pub fn deposits_at_once(&self) -> bool {
+        self.at_once
     }
 
     /// Photon hits a pass may store for the gather at a time.
