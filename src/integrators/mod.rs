@@ -89,7 +89,8 @@ pub trait Integrator {
     /// pass does, so the image does not depend on how passes are cut into parts, bit for bit.
     /// What it recorded comes back, so that a caller can fit the next part to a time budget.
     /// SPPM's parts: slices of the camera paths (the grid is built after the last), then
-    /// slices of the photons (the statistics are updated after the last). The path tracers':
+    /// slices of the photons, ending on a multiple of 16 photons (a photon thread's) where the
+    /// size allows (the statistics are updated after the last). The path tracers':
     /// slices of the pixels.
     fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> Part;
     /// Record one whole pass (or the rest of the pass under way) into `encoder`, without

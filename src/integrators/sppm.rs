@@ -211,6 +211,8 @@ pub struct Sppm {
     suspend_room: u32,
     /// Photon threads dispatched since the hits were last gathered.
     threads_pending: u32,
+    /// Gathers recorded since the renderer was made.
+    gathers: u64,
     /// Whether every photon hit is added at once ([`Deposits::AtOnce`]).
     at_once: bool,
 
@@ -461,6 +463,7 @@ impl Sppm {
             next: NextPart::Camera(0),
             suspend_room: (buffers.photon_suspended.size() / SUSPENDED_STATE_BYTES) as u32,
             threads_pending: 0,
+            gathers: 0,
             at_once,
             initial_radius,
             global_radius_sq: (r.radius_schedule == RadiusSchedule::Global).then(|| global_radius_sq(initial_radius, r.alpha, 0)),
@@ -613,6 +616,7 @@ impl Sppm {
     /// empty again.
     fn record_photon_flush(&mut self, encoder: &mut wgpu::CommandEncoder) {
         self.photon_gather.dispatch(encoder, self.vp_count);
+        self.gathers += 1;
         self.photon_resume_setup.kernel.dispatch_groups(encoder, &self.photon_resume_setup.group, 1);
         self.record_point_grid(encoder, true);
         self.frame.resume = 1;
@@ -689,6 +693,12 @@ impl Sppm {
         let words: Vec<u32> = read_whole(&self.device, &self.queue, &self.buffers.photon_resume_args)?;
         let first = (ARGS_COUNTS / 4) as usize;
         Ok((words[first], words[first + 1]))
+    }
+
+    /// Gathers recorded since the renderer was made: one a pass, unless the room for hits or
+    /// for the states of photon threads ran out within one (for tests).
+    pub fn gathers(&self) -> u64 {
+        self.gathers
     }
 
     /// Whether every photon hit is added at once rather than gathered ([`Deposits`]).
@@ -859,7 +869,12 @@ impl Integrator for Sppm {
                 Part { work: Work::CameraPaths, items: end - first, pass_done: false }
             }
             NextPart::Photons(first) => {
-                let end = first.saturating_add(size.photons.max(1)).min(self.frame.photon_count);
+                let want = first.saturating_add(size.photons.max(1)).min(self.frame.photon_count);
+                // A part ends at a photon thread's block where it can, so that the parts of a
+                // pass take the threads of a whole pass: parts that split blocks take a few
+                // more, past the room to save their states, and the pass gathers twice.
+                let block_end = want / PHOTONS_PER_THREAD * PHOTONS_PER_THREAD;
+                let end = if want < self.frame.photon_count && block_end > first { block_end } else { want };
                 self.record_photon_slice(encoder, first, end);
                 self.next = NextPart::Photons(end);
                 let pass_done = end == self.frame.photon_count;
