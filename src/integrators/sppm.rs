@@ -126,6 +126,16 @@ pub fn photon_hit_capacity(render: &crate::scene::RenderSettings, at_once: bool,
     want.min(max_binding / size_of::<PhotonHit>() as u64).min(u32::MAX as u64) as u32
 }
 
+/// Bytes of `photon_hit_lists`: two counts and a list head a bucket of the grid's `table`;
+/// none where hits are added at once.
+fn hit_lists_bytes(table: u64, at_once: bool) -> u64 {
+    if at_once {
+        0
+    } else {
+        (table + 2) * 4
+    }
+}
+
 /// Bytes of the state a photon thread saves when its hit finds no room.
 const SUSPENDED_STATE_BYTES: u64 = 64;
 
@@ -349,7 +359,8 @@ impl Sppm {
     /// statistics (32), flux (32), up to 8 grid entries (32) and two buckets' lists (of grid
     /// entries and of photon hits: 12 at most, the table being the point count rounded up to a
     /// power of two); per pixel: the image and its read-back copy (32); per photon: room for
-    /// its hits ([`photon_hit_capacity`]; none where hits are added at once).
+    /// its hits ([`photon_hit_capacity`]). Where hits are added at once there is neither room
+    /// for hits nor their lists.
     pub fn renderer_bytes(scene: &Scene, rows: u32, max_binding: u64) -> u64 {
         let r = &scene.render;
         let pixels = r.width as u64 * rows as u64;
@@ -362,7 +373,7 @@ impl Sppm {
         let hits = (photon_hit_capacity(r, at_once, max_binding) as u64 * size_of::<PhotonHit>() as u64).max(16);
         let photons = hits + suspended_bytes(r, at_once, max_binding).max(16) + RESUME_ARGS_BYTES;
         // Buffers of fewer than 16 bytes are made 16 bytes long.
-        let tables = (table * 4).max(16) + ((table + 1) * 4).max(16) + ((table + 2) * 4).max(16);
+        let tables = (table * 4).max(16) + ((table + 1) * 4).max(16) + hit_lists_bytes(table, at_once).max(16);
         points * per_point as u64 + pixels * 32 + tables + photons + fixed.iter().sum::<u64>()
     }
 
@@ -437,7 +448,7 @@ impl Sppm {
             grid_cell_start: buffer(device, "grid_cell_start", (table_size as u64 + 1) * 4, STORAGE),
             grid_entries: buffer(device, "grid_entries", n * 8 * 4, STORAGE),
             photon_hits: buffer(device, "photon_hits", hit_capacity as u64 * size_of::<PhotonHit>() as u64, STORAGE),
-            photon_hit_lists: buffer(device, "photon_hit_lists", (table_size as u64 + 2) * 4, STORAGE),
+            photon_hit_lists: buffer(device, "photon_hit_lists", hit_lists_bytes(table_size as u64, at_once), STORAGE),
             photon_suspended: buffer(device, "photon_suspended", suspended_bytes(r, at_once, max_binding), STORAGE),
             photon_resume_args: buffer(device, "photon_resume_args", RESUME_ARGS_BYTES, STORAGE | wgpu::BufferUsages::INDIRECT),
         };
@@ -553,7 +564,9 @@ impl Sppm {
     fn record_grid(&mut self, encoder: &mut wgpu::CommandEncoder) {
         let b = &self.buffers;
         self.grid_setup.kernel.dispatch_groups(encoder, &self.grid_setup.group, 1);
-        encoder.clear_buffer(&b.photon_hit_lists, 0, None);
+        if !self.at_once {
+            encoder.clear_buffer(&b.photon_hit_lists, 0, None);
+        }
         encoder.clear_buffer(&b.photon_resume_args, ARGS_COUNTS, None);
         self.threads_pending = 0;
         // The photon pass reads the parameters as a uniform.
