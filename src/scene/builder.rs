@@ -428,7 +428,7 @@ impl SceneBuilder {
                     MaterialKind::Diffuse { albedo: Vec3::ONE, texture: Some(texture) }
                 }
             };
-            materials.push(Material { name: name.to_owned(), kind, line: 0 });
+            materials.push(Material { name: name.to_owned(), kind, one_sided: false, line: 0 });
         }
         let lights = self
             .lights

@@ -245,7 +245,7 @@ const UNIT: Bound = Bound::Closed(0.0, 1.0);
 fn read_material(name: &str, entry: &Value, textures: &mut Vec<Texture>) -> Result<Material> {
     let t = entry.table()?;
     let read = t.typed("material type", MATERIAL_TYPES, &["type"])?;
-    Ok(Material { name: name.to_owned(), kind: read(&t, textures)?, line: entry.line })
+    Ok(Material { name: name.to_owned(), kind: read(&t, textures)?, one_sided: false, line: entry.line })
 }
 
 /// Lambertian: `albedo`, or `texture` in its place.

@@ -150,6 +150,9 @@ pub struct Material {
     pub name: String,
     /// Its scattering model and parameters.
     pub kind: MaterialKind,
+    /// Black when seen from behind its shading normal, as Mitsuba's BSDFs are unless
+    /// wrapped in `twosided`. TOML materials are two-sided; dielectrics ignore it.
+    pub one_sided: bool,
     /// Line of the material's entry in `[materials]`.
     pub line: usize,
 }
