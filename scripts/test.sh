@@ -10,4 +10,6 @@ cargo fmt --version >/dev/null 2>&1 || rustup component add rustfmt
 cargo clippy --version >/dev/null 2>&1 || rustup component add clippy
 cargo fmt --all -- --check
 cargo clippy --release --all-targets --workspace -- -D warnings
+# The API docs build without a warning (broken or redundant links, private items linked).
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --workspace
 cargo test --release --workspace

@@ -19,7 +19,10 @@ set -euo pipefail
 
 cd "$(dirname "$0")/../.."
 repo="$(pwd)"
-bin="$repo/target/release/sppm-gpu"
+# The binary cargo built: under CARGO_TARGET_DIR when that is set, as cargo itself does.
+target_dir="${CARGO_TARGET_DIR:-$repo/target}"
+[[ "$target_dir" = /* ]] || target_dir="$repo/$target_dir"
+bin="$target_dir/release/sppm-gpu"
 scene="$repo/scenes/cornell-box.toml"
 passes=8
 batches=4

@@ -115,7 +115,7 @@ pub fn deposits_at_once(render: &crate::scene::RenderSettings, points: u64) -> b
 }
 
 /// Photon hits stored for the gather at a time ([`PhotonHit`], 48 bytes each):
-/// [`HITS_PER_PHOTON`] a photon, at most [`MAX_HITS`], within one storage buffer of
+/// `HITS_PER_PHOTON` (2) a photon, at most `MAX_HITS` (2^21), within one storage buffer of
 /// `max_binding` bytes; none where hits are added at once. A hit past them is deposited at
 /// once (the same sums, found more slowly).
 pub fn photon_hit_capacity(render: &crate::scene::RenderSettings, at_once: bool, max_binding: u64) -> u32 {
@@ -354,7 +354,7 @@ impl Sppm {
 
     /// Bytes of the renderer's own buffers for a band of `rows` rows of `scene`'s image on a
     /// device whose storage buffers hold `max_binding` bytes, as
-    /// [`Integrator::gpu_memory`](super::Integrator::gpu_memory) reports them once allocated:
+    /// [`Integrator::gpu_memory`] reports them once allocated:
     /// computed before allocating, for the memory check. Per visible point: the point (32),
     /// statistics (32), flux (32), up to 8 grid entries (32) and two buckets' lists (of grid
     /// entries and of photon hits: 12 at most, the table being the point count rounded up to a
