@@ -121,6 +121,7 @@ impl SceneBuilder {
                 direct: DirectLight::Sampled,
                 direct_samples: None,
                 radius_schedule: super::RadiusSchedule::PerPoint,
+                filter: super::PixelFilter::Box,
             },
             camera: None,
             lens: None,

@@ -194,6 +194,7 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         direct: t.or("direct", DirectLight::Sampled, |v| v.choice("direct", &directs))?,
         direct_samples: t.opt("direct_samples", |v| v.u32_in(1, MAX_DIRECT_SAMPLES))?,
         radius_schedule: t.or("radius_schedule", RadiusSchedule::PerPoint, |v| v.choice("radius_schedule", &schedules))?,
+        filter: super::PixelFilter::Box,
     })
 }
 

@@ -56,6 +56,27 @@ pub enum RadiusSchedule {
     Global,
 }
 
+/// The pixel filter (`filter` in `[render]`; Mitsuba's `rfilter`): each camera sample's
+/// offset from the pixel centre is drawn from the filter's density, separably in x and y
+/// (filter importance sampling, pbrt-v4 sec. 8.8.3), so a pixel is the filter-weighted mean
+/// of the radiance around it, as Mitsuba's weighted splatting converges to.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PixelFilter {
+    /// Uniform over the pixel's square (radius 1/2 pixel). The default.
+    Box,
+    /// `max(0, 1 - |x| / radius)`, radius in pixels (Mitsuba's `tent`, default radius 1).
+    Tent {
+        /// Half-width in pixels.
+        radius: f32,
+    },
+    /// `max(0, exp(-x^2 / (2 stddev^2)) - exp(-radius^2 / (2 stddev^2)))` with radius = 4
+    /// stddev, in pixels (Mitsuba 3's `gaussian`, default stddev 0.5; Mitsuba's default filter).
+    Gaussian {
+        /// Standard deviation in pixels.
+        stddev: f32,
+    },
+}
+
 /// The `[render]` table, with defaults applied.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
@@ -90,6 +111,8 @@ pub struct RenderSettings {
     pub direct_samples: Option<u32>,
     /// SPPM's radius schedule (`radius_schedule`: `"per-point"`, the default, or `"global"`).
     pub radius_schedule: RadiusSchedule,
+    /// The pixel filter (default [`PixelFilter::Box`]).
+    pub filter: PixelFilter,
 }
 
 /// The `[camera]` table.
