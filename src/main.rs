@@ -21,7 +21,8 @@ use std::time::Instant;
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
-    /// Scene file (TOML, format version 1).
+    /// Scene file: TOML (format version 1), or Mitsuba scene XML (`.xml`, versions 0.5/0.6
+    /// and 2/3).
     #[arg(required_unless_present = "list_adapters")]
     scene: Option<PathBuf>,
     /// Output image: .png (sRGB, clamped) or .exr (linear float RGB).
@@ -114,6 +115,18 @@ struct Overrides {
     /// run in batches; Knaus & Zwicker 2011) (overrides render.radius_schedule).
     #[arg(long, value_parser = ["per-point", "global"])]
     radius_schedule: Option<String>,
+    /// Set a Mitsuba XML scene's parameter `$name`, as Mitsuba's own `-D name=value` (over the
+    /// file's `<default>`); repeatable.
+    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
+    defines: Vec<(String, String)>,
+}
+
+/// `NAME=VALUE` of `-D`.
+fn parse_define(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((name, value)) if !name.is_empty() => Ok((name.to_owned(), value.to_owned())),
+        _ => Err(format!("\"{text}\" is not NAME=VALUE")),
+    }
 }
 
 #[derive(clap::Subcommand, Debug)]
@@ -255,7 +268,17 @@ fn diff(image: &Path, reference: &Path, downsample: u32, error_image: Option<&Pa
 
 /// Load a scene and apply the command line's overrides; also its name (the file stem).
 fn load_scene(path: &Path, overrides: &Overrides) -> Result<(scene::Scene, String), Error> {
-    let mut scene = scene::load(path)?;
+    let mut scene = scene::load_with(path, &overrides.defines)?;
+    // A Mitsuba film's size sets its field of view along one axis: one of --width and
+    // --height alone keeps the file's aspect ratio, and so the framing.
+    if scene::is_mitsuba_xml(path) {
+        let (w, h) = (scene.render.width as f64, scene.render.height as f64);
+        match (overrides.width, overrides.height) {
+            (Some(width), None) => scene.render.height = ((width as f64 * h / w).round() as u32).max(1),
+            (None, Some(height)) => scene.render.width = ((height as f64 * w / h).round() as u32).max(1),
+            _ => {}
+        }
+    }
     apply_overrides(overrides, &mut scene.render)?;
     let name = path.file_stem().map_or_else(|| path.display().to_string(), |s| s.to_string_lossy().into_owned());
     Ok((scene, name))
@@ -644,8 +667,7 @@ fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> {
     if cli.passes.is_some() && (cli.checkpoint.is_some() || cli.resume.is_some()) {
         return Err(Error::Setting("--passes renders a batch: it takes no --checkpoint or --resume".into()));
     }
-    let mut scene = scene::load(scene_path)?;
-    apply_overrides(&cli.overrides, &mut scene.render)?;
+    let (scene, _) = load_scene(scene_path, &cli.overrides)?;
     let gpu = match &cli.adapter {
         Some(selector) => GpuContext::with_adapter(selector)?,
         None => GpuContext::new()?,
@@ -794,8 +816,7 @@ fn print_memory(memory: &integrators::GpuMemory) {
 
 /// Run the scene's passes with a wait after each stage and print where the time goes.
 fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
-    let mut scene = scene::load(scene_path)?;
-    apply_overrides(overrides, &mut scene.render)?;
+    let (scene, _) = load_scene(scene_path, overrides)?;
     let gpu = GpuContext::new()?;
     let mut sppm = Sppm::new(&gpu.device, &gpu.queue, &scene)?;
     let r = &scene.render;

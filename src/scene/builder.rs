@@ -659,8 +659,8 @@ impl Check<'_> {
             }),
             Geometry::Cube { scale, rotate, translate } => {
                 let transform = self.transform(&key, scale, rotate, translate)?;
-                let (triangles, skipped) =
-                    mesh::triangles(&mesh::unit_cube(), &transform, false, index).map_err(|e| self.error(&key, e))?;
+                let (triangles, skipped) = mesh::triangles(&mesh::unit_cube(), &transform, mesh::Normals::Flat, index)
+                    .map_err(|e| self.error(&key, e))?;
                 let scale_key = format!("{key}.scale");
                 if triangles.is_empty() {
                     return Err(self.error(
@@ -682,7 +682,9 @@ impl Check<'_> {
                 let file_key = format!("{key}.file");
                 let obj = mesh::read_obj(&path)
                     .map_err(|e| self.error(&file_key, format!("cannot read mesh {}: {e}", path.display())))?;
-                let (triangles, skipped) = mesh::triangles(&obj, &transform, smooth, index).map_err(|e| self.error(&key, e))?;
+                let (triangles, skipped) =
+                    mesh::triangles(&obj, &transform, if smooth { mesh::Normals::Smooth } else { mesh::Normals::Flat }, index)
+                        .map_err(|e| self.error(&key, e))?;
                 if triangles.is_empty() {
                     return Err(
                         self.error(&file_key, format!("all {skipped} triangles of mesh {} are degenerate", path.display()))

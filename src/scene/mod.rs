@@ -1,5 +1,5 @@
-//! Scene description: the TOML format (version 1, see README), parsed and validated into
-//! world-space primitives. No wgpu here.
+//! Scene description: the TOML format (version 1, see README) and Mitsuba's scene XML
+//! ([`mitsuba`]), each parsed and validated into the same world-space [`Scene`]. No wgpu here.
 //!
 //! Loading turns every shape into triangles (quads, cubes, meshes) or analytic spheres, in
 //! world space, each tagged with its shape index so that emission, velocity and texture
@@ -9,10 +9,35 @@ mod builder;
 mod error;
 mod load;
 mod mesh;
+pub mod mitsuba;
+mod ply;
+mod serialized;
 
 pub use builder::SceneBuilder;
 pub use error::SceneError;
-pub use load::{load, load_str, MAX_DIRECT_SAMPLES};
+pub use load::{load_str, MAX_DIRECT_SAMPLES};
+
+/// Reads a scene file: Mitsuba scene XML when its name ends in `.xml`, our TOML otherwise.
+pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
+    load_with(path, &[])
+}
+
+/// Reads a scene file as [`load`] does, with Mitsuba's `-D name=value` parameters for an XML
+/// scene's `$name`s (refused for a TOML scene, which has none).
+pub fn load_with(path: &std::path::Path, defines: &[(String, String)]) -> Result<Scene, SceneError> {
+    if is_mitsuba_xml(path) {
+        return mitsuba::load(path, defines);
+    }
+    if let Some((name, _)) = defines.first() {
+        return Err(SceneError::new(path, None, Some(name), "-D sets parameters of Mitsuba XML scenes; this is a TOML scene"));
+    }
+    load::load(path)
+}
+
+/// Whether `path` names a Mitsuba XML scene (by its extension, in any case).
+pub fn is_mitsuba_xml(path: &std::path::Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("xml"))
+}
 
 use glam::{Vec2, Vec3};
 use std::path::PathBuf;

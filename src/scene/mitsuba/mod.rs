@@ -1,0 +1,183 @@
+//! Mitsuba's scene XML (versions 0.5/0.6 and 2/3), read into the same [`Scene`] as our TOML,
+//! rendered as Mitsuba 3 renders it. Every element is either modelled exactly, or refused
+//! with an error naming the file, line and element; only what cannot change the image (a
+//! film's file format, tone mapping of an LDR film, a sampler's kind) is passed over with a
+//! warning.
+//!
+//! - [`xml`]: files, `<include>`, `<default>`, `$name` and `-D`, camelCase names of 0.x files.
+//! - [`props`]: a plugin's typed parameters, each of which must be read.
+//! - [`bsdf`]: `diffuse`, `twosided`, `dielectric`, `roughdielectric`, `conductor`,
+//!   `roughconductor`.
+//! - [`shape`]: `obj`, `ply`, `serialized`, `rectangle`, `cube`, `disk`, `sphere`,
+//!   `shapegroup` / `instance`, area emitters.
+//! - [`sensor`]: `perspective`, `thinlens`, the film, its pixel filter, the sampler and the
+//!   integrator; `point` and `directional` emitters.
+//!
+//! Conventions taken from Mitsuba 3 (and checked against its renders, tests/mitsuba_xml.rs):
+//! BSDFs are one-sided unless wrapped in `twosided`; a shape without a BSDF is a one-sided
+//! `diffuse` of reflectance 0.5; meshes without `face_normals` are smooth, with the file's
+//! normals or else angle-weighted vertex normals; the default pixel filter is `gaussian`.
+
+mod bsdf;
+mod props;
+mod sensor;
+mod shape;
+mod xml;
+
+use super::{Light, Material, Scene, SceneError, Shape, Sphere, Texture, Triangle};
+use std::collections::HashMap;
+use std::path::Path;
+use xml::Node;
+
+pub use xml::snake_case;
+
+type Result<T> = std::result::Result<T, SceneError>;
+
+/// Reads Mitsuba scene XML `path`; `defines` are the command line's `-D name=value`.
+pub fn load(path: &Path, defines: &[(String, String)]) -> Result<Scene> {
+    let (root, _version) = xml::read_scene(path, defines)?;
+    let mut reader = SceneReader::new(&root, path.parent().unwrap_or(Path::new("")))?;
+    reader.read(&root)?;
+    reader.finish(path)
+}
+
+/// The scene as it is being read.
+struct SceneReader<'a> {
+    /// Elements with an `id`, for `<ref>`.
+    ids: HashMap<&'a str, &'a Node>,
+    /// Materials so far, and the material of each BSDF element read (by address), so that a
+    /// BSDF shared by reference is one material.
+    materials: Vec<Material>,
+    material_of: HashMap<*const Node, u32>,
+    textures: Vec<Texture>,
+    shapes: Vec<Shape>,
+    triangles: Vec<Triangle>,
+    spheres: Vec<Sphere>,
+    lights: Vec<Light>,
+    sensor: Option<sensor::SensorSettings>,
+    integrator: Option<&'a Node>,
+    /// The scene file's directory, where files named in included fragments are also looked
+    /// for.
+    root: std::path::PathBuf,
+}
+
+impl<'a> SceneReader<'a> {
+    /// Collects the ids of every element under `root`.
+    fn new(root: &'a Node, dir: &Path) -> Result<Self> {
+        let mut ids = HashMap::new();
+        fn walk<'a>(node: &'a Node, ids: &mut HashMap<&'a str, &'a Node>) -> Result<()> {
+            // A <ref>'s id names another element.
+            if let Some(id) = node.attr("id").filter(|_| node.tag != "ref") {
+                if let Some(previous) = ids.insert(id, node) {
+                    return Err(node.error(
+                        Some("id"),
+                        format!("id \"{id}\" is already taken by {} on line {}", previous.describe(), previous.line),
+                    ));
+                }
+            }
+            node.children.iter().try_for_each(|c| walk(c, ids))
+        }
+        walk(root, &mut ids)?;
+        Ok(SceneReader {
+            ids,
+            materials: Vec::new(),
+            material_of: HashMap::new(),
+            textures: Vec::new(),
+            shapes: Vec::new(),
+            triangles: Vec::new(),
+            spheres: Vec::new(),
+            lights: Vec::new(),
+            sensor: None,
+            integrator: None,
+            root: dir.to_path_buf(),
+        })
+    }
+
+    /// The element a `<ref id=".."/>` names, which must have tag `tag` (or any object tag
+    /// when `tag` is empty).
+    fn deref(&self, node: &'a Node, tag: &str) -> Result<&'a Node> {
+        if node.tag != "ref" {
+            return Ok(node);
+        }
+        node.allow_attrs(&["id", "name"])?;
+        let id = node.req_attr("id")?;
+        let target = self.ids.get(id).ok_or_else(|| node.error(Some("id"), format!("no element has id \"{id}\"")))?;
+        if !tag.is_empty() && target.tag != tag {
+            return Err(
+                node.error(Some("id"), format!("\"{id}\" is {} (line {}), not a <{tag}>", target.describe(), target.line))
+            );
+        }
+        Ok(target)
+    }
+
+    /// The children of `<scene>`.
+    fn read(&mut self, root: &'a Node) -> Result<()> {
+        root.allow_attrs(&["version"])?;
+        for node in &root.children {
+            match node.tag.as_str() {
+                "shape" => self.shape(node, glam::Mat4::IDENTITY)?,
+                // An area emitter declared apart, for the shapes that refer to it.
+                "emitter" if node.attr("type") == Some("area") && node.attr("id").is_some() => {}
+                "emitter" => sensor::light(node, &mut self.lights)?,
+                "sensor" => {
+                    if self.sensor.is_some() {
+                        return Err(node.error(None, "a second <sensor>: sppm-gpu renders one camera"));
+                    }
+                    self.sensor = Some(sensor::sensor(node)?);
+                }
+                "integrator" => {
+                    if self.integrator.is_some() {
+                        return Err(node.error(None, "a second <integrator>"));
+                    }
+                    self.integrator = Some(node);
+                }
+                // Declared for reference: read when a shape or BSDF refers to them.
+                "bsdf" | "texture" => {
+                    node.req_attr("id")?;
+                }
+                "medium" | "phase" | "volume" => {
+                    return Err(node.error(None, format!("{}: participating media are not rendered by sppm-gpu", node.describe())))
+                }
+                "path" => {
+                    return Err(node.error(None, "<path> (a search path) is not read: give file names relative to the scene"))
+                }
+                other => return Err(node.error(None, format!("<{other}> is not an element of a Mitsuba <scene>"))),
+            }
+        }
+        Ok(())
+    }
+
+    /// Everything read, put together.
+    fn finish(self, path: &Path) -> Result<Scene> {
+        let Some(sensor) = self.sensor else {
+            return Err(SceneError::new(path, None, Some("sensor"), "the scene has no <sensor>: sppm-gpu needs a camera"));
+        };
+        let render = sensor::render_settings(&sensor, self.integrator)?;
+        let scene = Scene {
+            path: path.to_path_buf(),
+            render,
+            camera: sensor.camera,
+            materials: self.materials,
+            textures: self.textures,
+            shapes: self.shapes,
+            triangles: self.triangles,
+            spheres: self.spheres,
+            lights: self.lights,
+        };
+        let lit = scene.shapes.iter().any(|s| s.emission.is_some_and(|e| e.max_element() > 0.0))
+            || scene.lights.iter().any(|l| match l.kind {
+                super::LightKind::Point { intensity: e, .. } | super::LightKind::Directional { irradiance: e, .. } => {
+                    e.max_element() > 0.0
+                }
+            });
+        if !lit {
+            return Err(SceneError::new(
+                path,
+                None,
+                Some("emitter"),
+                "the scene has no light: no area emitter with positive radiance, no point or directional emitter",
+            ));
+        }
+        Ok(scene)
+    }
+}

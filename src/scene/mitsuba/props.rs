@@ -1,0 +1,371 @@
+//! A plugin's parameters, as Mitsuba's `Properties`: the named children of an object element
+//! (`<float name=".." value=".."/>`, `<rgb ..>`, `<transform ..>`, a nested `<bsdf>` or
+//! `<ref>`), read by type. Every parameter must be read by the plugin that owns it:
+//! [`Props::finish`] refuses any left over, so a parameter we do not model is an error rather
+//! than a silently different scene.
+
+use super::super::SceneError;
+use super::xml::Node;
+use glam::{Mat3, Mat4, Vec3, Vec4};
+use std::cell::Cell;
+
+type Result<T> = std::result::Result<T, SceneError>;
+
+/// Tags of property elements (as opposed to nested objects).
+const PROPERTY_TAGS: &[&str] =
+    &["float", "integer", "boolean", "string", "rgb", "srgb", "spectrum", "point", "vector", "transform"];
+
+/// Tags of nested objects.
+pub const OBJECT_TAGS: &[&str] =
+    &["bsdf", "texture", "emitter", "shape", "sensor", "film", "rfilter", "sampler", "integrator", "medium", "phase", "volume"];
+
+/// One object element's parameters and nested objects.
+pub struct Props<'a> {
+    /// The object element.
+    pub node: &'a Node,
+    /// `(name, element, read)` for each named property and nested object.
+    named: Vec<(&'a str, &'a Node, Cell<bool>)>,
+    /// Nested objects without a name, and whether each was taken.
+    unnamed: Vec<(&'a Node, Cell<bool>)>,
+}
+
+/// A spectrum-valued parameter: a constant colour or a texture element.
+pub enum Spectrum<'a> {
+    /// Linear RGB.
+    Rgb(Vec3),
+    /// A `<texture>` element (or the one a `<ref>` names, resolved by the caller).
+    Texture(&'a Node),
+}
+
+impl<'a> Props<'a> {
+    /// The parameters of object element `node`.
+    pub fn new(node: &'a Node) -> Result<Self> {
+        let mut named: Vec<(&str, &Node, Cell<bool>)> = Vec::new();
+        let mut unnamed = Vec::new();
+        for child in &node.children {
+            let is_object = OBJECT_TAGS.contains(&child.tag.as_str()) || child.tag == "ref";
+            if !is_object && !PROPERTY_TAGS.contains(&child.tag.as_str()) {
+                return Err(child.error(None, format!("<{}> is not an element of Mitsuba's scene format", child.tag)));
+            }
+            match child.attr("name") {
+                Some(name) => {
+                    if named.iter().any(|(n, _, _)| *n == name) {
+                        return Err(child.error(Some(name), format!("{} sets `{name}` twice", node.describe())));
+                    }
+                    named.push((name, child, Cell::new(false)));
+                }
+                None if is_object => unnamed.push((child, Cell::new(false))),
+                None => return Err(child.error(None, format!("<{}> needs a `name` attribute", child.tag))),
+            }
+        }
+        Ok(Props { node, named, unnamed })
+    }
+
+    /// The element of parameter `name`, marked read.
+    pub fn get(&self, name: &str) -> Option<&'a Node> {
+        self.named.iter().find(|(n, _, _)| *n == name).map(|(_, node, read)| {
+            read.set(true);
+            *node
+        })
+    }
+
+    /// Whether parameter `name` is given (without reading it).
+    pub fn has(&self, name: &str) -> bool {
+        self.named.iter().any(|(n, _, _)| *n == name)
+    }
+
+    /// Unnamed nested objects and `<ref>`s, every one, marked read (the caller sorts them).
+    pub fn all_objects(&self) -> Vec<&'a Node> {
+        self.unnamed
+            .iter()
+            .map(|(node, read)| {
+                read.set(true);
+                *node
+            })
+            .collect()
+    }
+
+    /// Refuses any parameter or nested object not read: `what` describes the plugin.
+    pub fn finish(&self) -> Result<()> {
+        if let Some((name, node, _)) = self.named.iter().find(|(_, _, read)| !read.get()) {
+            return Err(node.error(
+                Some(name),
+                format!(
+                    "{} has no parameter `{name}` that sppm-gpu reads (not in Mitsuba 3, or not modelled here)",
+                    self.node.describe()
+                ),
+            ));
+        }
+        if let Some((node, _)) = self.unnamed.iter().find(|(_, read)| !read.get()) {
+            return Err(node.error(None, format!("{} inside {} is not read by sppm-gpu", node.describe(), self.node.describe())));
+        }
+        Ok(())
+    }
+
+    /// A `<float>` (or `<integer>`) parameter.
+    pub fn float(&self, name: &str) -> Result<Option<f32>> {
+        let Some(node) = self.get(name) else { return Ok(None) };
+        if node.tag != "float" && node.tag != "integer" {
+            return Err(node.error(Some(name), format!("`{name}` is a number: <float name=\"{name}\" value=\"...\"/>")));
+        }
+        node.allow_attrs(&["name", "value"])?;
+        parse_f32(node, node.req_attr("value")?, name).map(Some)
+    }
+
+    /// A `<float>` with a default.
+    pub fn float_or(&self, name: &str, default: f32) -> Result<f32> {
+        Ok(self.float(name)?.unwrap_or(default))
+    }
+
+    /// An `<integer>` parameter.
+    pub fn integer(&self, name: &str) -> Result<Option<i64>> {
+        let Some(node) = self.get(name) else { return Ok(None) };
+        if node.tag != "integer" {
+            return Err(node.error(Some(name), format!("`{name}` is an integer: <integer name=\"{name}\" value=\"...\"/>")));
+        }
+        node.allow_attrs(&["name", "value"])?;
+        let text = node.req_attr("value")?;
+        text.trim().parse::<i64>().map(Some).map_err(|_| node.error(Some(name), format!("\"{text}\" is not an integer")))
+    }
+
+    /// A `<boolean>` parameter with a default.
+    pub fn boolean_or(&self, name: &str, default: bool) -> Result<bool> {
+        let Some(node) = self.get(name) else { return Ok(default) };
+        if node.tag != "boolean" {
+            return Err(node.error(Some(name), format!("`{name}` is a boolean: <boolean name=\"{name}\" value=\"true\"/>")));
+        }
+        node.allow_attrs(&["name", "value"])?;
+        match node.req_attr("value")?.trim() {
+            "true" => Ok(true),
+            "false" => Ok(false),
+            other => Err(node.error(Some(name), format!("\"{other}\" is not a boolean (true or false)"))),
+        }
+    }
+
+    /// A `<string>` parameter.
+    pub fn string(&self, name: &str) -> Result<Option<&'a str>> {
+        let Some(node) = self.get(name) else { return Ok(None) };
+        if node.tag != "string" {
+            return Err(node.error(Some(name), format!("`{name}` is a string: <string name=\"{name}\" value=\"...\"/>")));
+        }
+        node.allow_attrs(&["name", "value"])?;
+        node.req_attr("value").map(Some)
+    }
+
+    /// A `<point>` or `<vector>` parameter: `value="x, y, z"` or `x=".." y=".." z=".."`.
+    pub fn vec3(&self, name: &str) -> Result<Option<Vec3>> {
+        let Some(node) = self.get(name) else { return Ok(None) };
+        if node.tag != "point" && node.tag != "vector" {
+            return Err(node.error(Some(name), format!("`{name}` is a <point> or <vector>")));
+        }
+        xyz(node, 0.0).map(Some)
+    }
+
+    /// A spectrum parameter: `<rgb>`, `<srgb>` (decoded to linear), a constant `<spectrum>`
+    /// or `<float>`, or a nested `<texture>` / `<ref>` (returned as the element).
+    pub fn spectrum(&self, name: &str) -> Result<Option<Spectrum<'a>>> {
+        let Some(node) = self.get(name) else { return Ok(None) };
+        spectrum_of(node, name).map(Some)
+    }
+
+    /// A `<transform>` parameter as a 4x4 matrix.
+    pub fn transform(&self, name: &str) -> Result<Option<Mat4>> {
+        let Some(node) = self.get(name) else { return Ok(None) };
+        if node.tag != "transform" {
+            return Err(node.error(Some(name), format!("`{name}` is a <transform>")));
+        }
+        transform(node).map(Some)
+    }
+}
+
+/// The colour or texture of a spectrum element.
+pub fn spectrum_of<'a>(node: &'a Node, name: &str) -> Result<Spectrum<'a>> {
+    match node.tag.as_str() {
+        "rgb" | "srgb" => {
+            node.allow_attrs(&["name", "value"])?;
+            let text = node.req_attr("value")?;
+            let rgb = if let Some(hex) = text.trim().strip_prefix('#') {
+                let bytes = (hex.len() == 6)
+                    .then(|| (0..3).map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).ok()).collect::<Option<Vec<u8>>>())
+                    .flatten()
+                    .ok_or_else(|| node.error(Some(name), format!("\"{text}\" is not a colour #rrggbb")))?;
+                Vec3::new(bytes[0] as f32, bytes[1] as f32, bytes[2] as f32) / 255.0
+            } else {
+                let v = numbers(node, text, name)?;
+                match v.len() {
+                    1 => Vec3::splat(v[0]),
+                    3 => Vec3::new(v[0], v[1], v[2]),
+                    n => return Err(node.error(Some(name), format!("an RGB value has 1 or 3 numbers, not {n}"))),
+                }
+            };
+            // <srgb> is sRGB-encoded (Mitsuba 0.x); Mitsuba 3's <rgb> is linear.
+            Ok(Spectrum::Rgb(if node.tag == "srgb" { rgb.map(srgb_to_linear) } else { rgb }))
+        }
+        "spectrum" => {
+            node.allow_attrs(&["name", "value"])?;
+            let text = node.req_attr("value")?;
+            if text.contains(':') {
+                return Err(node.error(
+                    Some(name),
+                    "a spectrum given by wavelengths is not read by sppm-gpu (an RGB renderer): give <rgb> values",
+                ));
+            }
+            let v = numbers(node, text, name)?;
+            if v.len() != 1 {
+                return Err(node.error(Some(name), "a <spectrum> without wavelengths is one number"));
+            }
+            Ok(Spectrum::Rgb(Vec3::splat(v[0])))
+        }
+        "float" => {
+            node.allow_attrs(&["name", "value"])?;
+            Ok(Spectrum::Rgb(Vec3::splat(parse_f32(node, node.req_attr("value")?, name)?)))
+        }
+        "texture" | "ref" => Ok(Spectrum::Texture(node)),
+        "blackbody" => Err(node.error(Some(name), "<blackbody> spectra are not read by sppm-gpu: give <rgb> values")),
+        _ => Err(node.error(Some(name), format!("`{name}` is a colour (<rgb>, <spectrum>, <float>) or a <texture>"))),
+    }
+}
+
+/// The sRGB electro-optical transfer function (IEC 61966-2-1).
+fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// One finite number.
+pub fn parse_f32(node: &Node, text: &str, key: &str) -> Result<f32> {
+    let v = numbers(node, text, key)?;
+    if v.len() != 1 {
+        return Err(node.error(Some(key), format!("\"{text}\" is not one number")));
+    }
+    Ok(v[0])
+}
+
+/// Finite numbers separated by commas and/or white space.
+pub fn numbers(node: &Node, text: &str, key: &str) -> Result<Vec<f32>> {
+    text.split(|c: char| c == ',' || c.is_whitespace())
+        .filter(|s| !s.is_empty())
+        .map(|s| match s.parse::<f32>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            Ok(_) => Err(node.error(Some(key), format!("{s} is not a finite 32-bit number"))),
+            Err(_) => Err(node.error(Some(key), format!("\"{s}\" is not a number"))),
+        })
+        .collect()
+}
+
+/// A vector given as `value="x y z"` or by `x`, `y`, `z` attributes (each `missing` when left
+/// out).
+fn xyz(node: &Node, missing: f32) -> Result<Vec3> {
+    node.allow_attrs(&["name", "value", "x", "y", "z"])?;
+    if let Some(text) = node.attr("value") {
+        if node.attr("x").is_some() || node.attr("y").is_some() || node.attr("z").is_some() {
+            return Err(node.error(Some("value"), "give either `value` or `x`, `y`, `z`, not both"));
+        }
+        let v = numbers(node, text, "value")?;
+        return match v.len() {
+            3 => Ok(Vec3::new(v[0], v[1], v[2])),
+            1 => Ok(Vec3::splat(v[0])),
+            n => Err(node.error(Some("value"), format!("a vector has 3 numbers, not {n}"))),
+        };
+    }
+    let mut out = [missing; 3];
+    for (i, axis) in ["x", "y", "z"].iter().enumerate() {
+        if let Some(text) = node.attr(axis) {
+            out[i] = parse_f32(node, text, axis)?;
+        }
+    }
+    Ok(Vec3::from_array(out))
+}
+
+/// A `<transform>` element's matrix: its operations in order, each applied after (to the
+/// left of) the ones before it, as Mitsuba composes them.
+pub fn transform(node: &Node) -> Result<Mat4> {
+    node.allow_attrs(&["name"])?;
+    let mut m = Mat4::IDENTITY;
+    for op in &node.children {
+        let step = match op.tag.as_str() {
+            "translate" => Mat4::from_translation(xyz(op, 0.0)?),
+            "scale" => {
+                // A single `value` scales uniformly; x, y, z left out keep that axis.
+                let s = xyz(op, 1.0)?;
+                Mat4::from_scale(s)
+            }
+            "rotate" => {
+                op.allow_attrs(&["value", "x", "y", "z", "angle", "axis"])?;
+                let angle = parse_f32(op, op.req_attr("angle")?, "angle")?;
+                let axis = match (op.attr("axis"), op.attr("value")) {
+                    (Some(text), _) | (None, Some(text)) => {
+                        let v = numbers(op, text, "axis")?;
+                        if v.len() != 3 {
+                            return Err(op.error(Some("axis"), "a rotation axis has 3 numbers"));
+                        }
+                        Vec3::new(v[0], v[1], v[2])
+                    }
+                    (None, None) => {
+                        let mut a = [0.0; 3];
+                        for (i, k) in ["x", "y", "z"].iter().enumerate() {
+                            if let Some(text) = op.attr(k) {
+                                a[i] = parse_f32(op, text, k)?;
+                            }
+                        }
+                        Vec3::from_array(a)
+                    }
+                };
+                let axis = axis.try_normalize().ok_or_else(|| op.error(Some("axis"), "the rotation axis is zero"))?;
+                Mat4::from_axis_angle(axis, angle.to_radians())
+            }
+            "matrix" => {
+                op.allow_attrs(&["value"])?;
+                let v = numbers(op, op.req_attr("value")?, "value")?;
+                match v.len() {
+                    // Row-major, as written.
+                    16 => Mat4::from_cols_array(&[
+                        v[0], v[4], v[8], v[12], v[1], v[5], v[9], v[13], v[2], v[6], v[10], v[14], v[3], v[7], v[11], v[15],
+                    ]),
+                    9 => Mat4::from_mat3(Mat3::from_cols_array(&[v[0], v[3], v[6], v[1], v[4], v[7], v[2], v[5], v[8]])),
+                    n => return Err(op.error(Some("value"), format!("a matrix has 16 (or 9) numbers, not {n}"))),
+                }
+            }
+            "lookat" | "lookAt" => {
+                op.allow_attrs(&["origin", "target", "up"])?;
+                let point = |k: &str| -> Result<Vec3> {
+                    let v = numbers(op, op.req_attr(k)?, k)?;
+                    if v.len() != 3 {
+                        return Err(op.error(Some(k), format!("`{k}` has 3 numbers")));
+                    }
+                    Ok(Vec3::new(v[0], v[1], v[2]))
+                };
+                let origin = point("origin")?;
+                let target = point("target")?;
+                let up = match op.attr("up") {
+                    Some(_) => point("up")?,
+                    None => Vec3::Y,
+                };
+                look_at(op, origin, target, up)?
+            }
+            other => {
+                return Err(
+                    op.error(None, format!("<{other}> is not a transform operation (translate, rotate, scale, matrix, lookat)"))
+                )
+            }
+        };
+        m = step * m;
+    }
+    if !m.is_finite() {
+        return Err(node.error(node.attr("name"), "the transform overflows 32-bit floats"));
+    }
+    Ok(m)
+}
+
+/// Mitsuba's look-at: columns left = up x dir, up' = dir x left, dir, origin; the camera
+/// looks along its local +z.
+fn look_at(op: &Node, origin: Vec3, target: Vec3, up: Vec3) -> Result<Mat4> {
+    let dir = (target - origin).try_normalize().ok_or_else(|| op.error(Some("target"), "target equals origin"))?;
+    let left =
+        up.cross(dir).try_normalize().ok_or_else(|| op.error(Some("up"), "`up` is zero or parallel to the view direction"))?;
+    let new_up = dir.cross(left);
+    Ok(Mat4::from_cols(left.extend(0.0), new_up.extend(0.0), dir.extend(0.0), Vec4::new(origin.x, origin.y, origin.z, 1.0)))
+}

@@ -1,0 +1,411 @@
+//! The camera and how the image is made: Mitsuba 3's sensors, film, reconstruction filters,
+//! samplers and integrators (its plugin reference), and the emitters that are not shapes.
+//!
+//! - `perspective`: `fov` with `fov_axis` (`x`, `y`, `diagonal`, `smaller`, `larger`; default
+//!   `x`) or `focal_length` (35 mm equivalent, a diagonal field of view of
+//!   2 atan(43.27 mm / 2 f)); `to_world` with the camera looking along its +z, +y up and +x
+//!   to the image's left. `thinlens`: also `aperture_radius` and `focus_distance`.
+//! - `hdrfilm`/`ldrfilm`: `width` (768), `height` (576); an `rfilter`: `box`, `tent`
+//!   (`radius` 1) or `gaussian` (`stddev` 0.5, the default).
+//! - Any sampler: `sample_count` (4) becomes the number of passes; `seed` our seed.
+//! - `path`/`volpath`: `max_depth` (-1, unbounded) counts path vertices after the camera's,
+//!   so 2 is direct light alone: our `max_depth` (scattering events) is one less. `sppm`
+//!   (Mitsuba 0.6): `photon_count`, `initial_radius` (0: automatic), `alpha`, `max_depth`,
+//!   `max_passes`. Any other integrator is a warning, and our default method renders.
+//! - `point`: `intensity` (1) at `position` or `to_world`'s origin. `directional`:
+//!   `irradiance` (1) along `direction` or `to_world`'s +z.
+
+use super::props::{Props, Spectrum};
+use super::xml::Node;
+use super::Result;
+use crate::scene::{Camera, DirectLight, Light, LightKind, Method, PixelFilter, RadiusSchedule, RenderSettings};
+use glam::{Mat4, Vec3};
+
+/// Our `max_depth` for Mitsuba's -1 (unbounded): Russian roulette ends paths long before.
+const UNBOUNDED_DEPTH: u32 = 1024;
+
+/// What the sensor element says.
+pub(super) struct SensorSettings {
+    pub camera: Camera,
+    pub width: u32,
+    pub height: u32,
+    pub filter: PixelFilter,
+    /// The sampler's `sample_count` (Mitsuba's default 4).
+    pub sample_count: u32,
+    /// The sampler's `seed`.
+    pub seed: u32,
+}
+
+/// Reads a `<sensor>`.
+pub(super) fn sensor(node: &Node) -> Result<SensorSettings> {
+    node.allow_attrs(&["type", "id", "name"])?;
+    let kind = node.req_attr("type")?;
+    if kind != "perspective" && kind != "thinlens" {
+        return Err(node.error(Some("type"), format!("the `{kind}` sensor is not modelled by sppm-gpu: perspective or thinlens")));
+    }
+    let p = Props::new(node)?;
+    let mut width = 768;
+    let mut height = 576;
+    let mut filter = PixelFilter::Gaussian { stddev: 0.5 };
+    let mut sample_count = 4;
+    let mut seed = 0;
+    let (mut films, mut samplers) = (0, 0);
+    for object in p.all_objects() {
+        match object.tag.as_str() {
+            "film" => {
+                films += 1;
+                (width, height, filter) = film(object)?;
+            }
+            "sampler" => {
+                samplers += 1;
+                (sample_count, seed) = sampler(object)?;
+            }
+            _ => return Err(object.error(None, format!("{} inside a sensor", object.describe()))),
+        }
+        if films > 1 || samplers > 1 {
+            return Err(object.error(None, format!("a second {} in the sensor", object.describe())));
+        }
+    }
+    let aspect = width as f32 / height as f32;
+    let fov = vertical_fov(&p, aspect)?;
+    let to_world = p.transform("to_world")?.unwrap_or(Mat4::IDENTITY);
+    let position = to_world.transform_point3(Vec3::ZERO);
+    let forward = to_world.transform_vector3(Vec3::Z).normalize_or_zero();
+    let up = to_world.transform_vector3(Vec3::Y).normalize_or_zero();
+    let left = to_world.transform_vector3(Vec3::X).normalize_or_zero();
+    let at = p.get("to_world").unwrap_or(node);
+    if forward == Vec3::ZERO || up == Vec3::ZERO || forward.dot(up).abs() > 1e-3 || left.dot(forward).abs() > 1e-3 {
+        return Err(at.error(Some("to_world"), "the sensor's to_world shears or collapses its axes"));
+    }
+    // Mitsuba's image runs from camera +x (left) to -x; a transform that mirrors x (a scale
+    // of -1, common in exported scenes) mirrors the image, which our camera cannot.
+    if left.dot(up.cross(forward)) < 0.0 {
+        return Err(
+            at.error(Some("to_world"), "the sensor's to_world mirrors the image (a negative scale): not modelled by sppm-gpu")
+        );
+    }
+    let mut camera =
+        Camera { position, look_at: position + forward, up, fov, aperture_radius: 0.0, focus_distance: 1.0, aperture_line: None };
+    if kind == "thinlens" {
+        let need = |name: &str| -> Result<f32> {
+            p.float(name)?.ok_or_else(|| node.error(Some(name), format!("a thinlens sensor needs `{name}`")))
+        };
+        camera.aperture_radius = need("aperture_radius")?;
+        camera.focus_distance = need("focus_distance")?;
+        camera.aperture_line = Some(node.line);
+    } else {
+        // A pinhole has no focal plane: Mitsuba's perspective camera takes and ignores it.
+        p.float("focus_distance")?;
+    }
+    for name in ["near_clip", "far_clip"] {
+        if let Some(v) = p.float(name)? {
+            let default = if name == "near_clip" { 0.01 } else { 10000.0 };
+            if v != default {
+                eprintln!(
+                    "warning: {}:{}: {name} {v} is not applied (sppm-gpu has no clipping planes)",
+                    node.file.display(),
+                    node.line
+                );
+            }
+        }
+    }
+    if p.float("shutter_open")?.unwrap_or(0.0) != 0.0 || p.float("shutter_close")?.unwrap_or(0.0) != 0.0 {
+        return Err(node.error(Some("shutter_open"), "a shutter interval (motion blur) from Mitsuba is not modelled"));
+    }
+    for name in ["principal_point_offset_x", "principal_point_offset_y"] {
+        if p.float(name)?.unwrap_or(0.0) != 0.0 {
+            return Err(node.error(Some(name), format!("{name} (an off-centre image) is not modelled by sppm-gpu")));
+        }
+    }
+    p.finish()?;
+    crate::scene::validate_camera(&camera).map_err(|e| node.error(None, e))?;
+    Ok(SensorSettings { camera, width, height, filter, sample_count, seed })
+}
+
+/// The vertical field of view in degrees, from `fov` and `fov_axis` or `focal_length`.
+fn vertical_fov(p: &Props, aspect: f32) -> Result<f32> {
+    let tan_half = |deg: f32| (deg.to_radians() * 0.5).tan();
+    let (fov, axis) = match (p.float("fov")?, p.string("focal_length")?) {
+        (Some(_), Some(_)) => return Err(p.node.error(Some("fov"), "give `fov` or `focal_length`, not both")),
+        (Some(fov), None) => {
+            if !(fov > 0.0 && fov < 180.0) {
+                return Err(p.get("fov").unwrap().error(Some("fov"), format!("fov {fov} is outside (0, 180)")));
+            }
+            (fov, p.string("fov_axis")?.unwrap_or("x"))
+        }
+        (None, focal) => {
+            let text = focal.unwrap_or("50mm");
+            let at = p.get("focal_length").unwrap_or(p.node);
+            let mm: f32 =
+                text.trim().trim_end_matches("mm").parse().ok().filter(|f: &f32| f.is_finite() && *f > 0.0).ok_or_else(|| {
+                    at.error(Some("focal_length"), format!("\"{text}\" is not a focal length such as \"50mm\""))
+                })?;
+            if p.has("fov_axis") {
+                p.string("fov_axis")?;
+            }
+            // The 35 mm frame's diagonal, 43.27 mm, over the image's diagonal.
+            let diagonal = 2.0 * (36.0f32.hypot(24.0) / (2.0 * mm)).atan().to_degrees();
+            (diagonal, "diagonal")
+        }
+    };
+    let t = tan_half(fov);
+    let tan_y = match axis {
+        "x" => t / aspect,
+        "y" => t,
+        "diagonal" => t / (1.0 + aspect * aspect).sqrt(),
+        "smaller" if aspect < 1.0 => t / aspect,
+        "smaller" => t,
+        "larger" if aspect > 1.0 => t / aspect,
+        "larger" => t,
+        other => {
+            let at = p.get("fov_axis").unwrap_or(p.node);
+            return Err(at.error(Some("fov_axis"), format!("\"{other}\" is not a fov_axis (x, y, diagonal, smaller, larger)")));
+        }
+    };
+    Ok(2.0 * tan_y.atan().to_degrees())
+}
+
+/// A film's size and pixel filter.
+fn film(node: &Node) -> Result<(u32, u32, PixelFilter)> {
+    node.allow_attrs(&["type", "id", "name"])?;
+    let kind = node.req_attr("type")?;
+    if kind != "hdrfilm" && kind != "ldrfilm" {
+        return Err(node.error(Some("type"), format!("the `{kind}` film is not read by sppm-gpu: hdrfilm or ldrfilm")));
+    }
+    let p = Props::new(node)?;
+    let size = |name: &str, default: i64| -> Result<u32> {
+        let v = p.integer(name)?.unwrap_or(default);
+        if !(1..=crate::scene::load::MAX_RESOLUTION as i64).contains(&v) {
+            let at = p.get(name).unwrap_or(node);
+            return Err(at.error(Some(name), format!("{name} {v} is outside 1..={}", crate::scene::load::MAX_RESOLUTION)));
+        }
+        Ok(v as u32)
+    };
+    let width = size("width", 768)?;
+    let height = size("height", 576)?;
+    // A crop window that is the whole image changes nothing; any other is not modelled.
+    let crop = [("crop_offset_x", 0), ("crop_offset_y", 0), ("crop_width", width as i64), ("crop_height", height as i64)];
+    for (name, whole) in crop {
+        if let Some(v) = p.integer(name)? {
+            if v != whole {
+                return Err(p.get(name).unwrap().error(Some(name), "a crop window is not modelled by sppm-gpu yet"));
+            }
+        }
+    }
+    // What only the output file's encoding depends on: read and passed over.
+    for name in ["file_format", "pixel_format", "component_format", "banner", "high_quality_edges", "sample_border", "compensate"]
+    {
+        p.get(name);
+    }
+    // An LDR film's tone mapping: our PNG output applies its own (sRGB, clamped).
+    for name in ["tonemap_method", "gamma", "exposure", "key", "burn"] {
+        if p.get(name).is_some() {
+            eprintln!(
+                "warning: {}:{}: ldrfilm's {name} is not applied: sppm-gpu writes linear EXR or sRGB PNG",
+                node.file.display(),
+                node.line
+            );
+        }
+    }
+    let mut filter = PixelFilter::Gaussian { stddev: 0.5 };
+    let filters = p.all_objects();
+    if filters.len() > 1 {
+        return Err(filters[1].error(None, "a second <rfilter> in the film"));
+    }
+    for f in filters {
+        if f.tag != "rfilter" {
+            return Err(f.error(None, format!("{} inside a film", f.describe())));
+        }
+        filter = rfilter(f)?;
+    }
+    p.finish()?;
+    Ok((width, height, filter))
+}
+
+/// A reconstruction filter.
+fn rfilter(node: &Node) -> Result<PixelFilter> {
+    node.allow_attrs(&["type", "id", "name"])?;
+    let p = Props::new(node)?;
+    let filter = match node.req_attr("type")? {
+        "box" => PixelFilter::Box,
+        "tent" => PixelFilter::Tent { radius: positive(&p, "radius", 1.0)? },
+        "gaussian" => PixelFilter::Gaussian { stddev: positive(&p, "stddev", 0.5)? },
+        other => {
+            return Err(
+                node.error(Some("type"), format!("the `{other}` filter is not modelled by sppm-gpu: box, tent or gaussian"))
+            )
+        }
+    };
+    p.finish()?;
+    Ok(filter)
+}
+
+/// A positive `<float>` parameter (at most 16 pixels: filter sizes).
+fn positive(p: &Props, name: &str, default: f32) -> Result<f32> {
+    let v = p.float_or(name, default)?;
+    if !(v > 0.0 && v <= 16.0) {
+        return Err(p.get(name).unwrap_or(p.node).error(Some(name), format!("{name} {v} is outside (0, 16] pixels")));
+    }
+    Ok(v)
+}
+
+/// A sampler's sample count and seed; its kind changes only the noise.
+fn sampler(node: &Node) -> Result<(u32, u32)> {
+    node.allow_attrs(&["type", "id", "name"])?;
+    node.req_attr("type")?;
+    let p = Props::new(node)?;
+    let count = p.integer("sample_count")?.unwrap_or(4);
+    if !(1..=u32::MAX as i64).contains(&count) {
+        return Err(p.get("sample_count").unwrap().error(Some("sample_count"), format!("sample_count {count} is not positive")));
+    }
+    let seed = p.integer("seed")?.unwrap_or(0);
+    let seed =
+        u32::try_from(seed).map_err(|_| p.get("seed").unwrap().error(Some("seed"), format!("seed {seed} is outside 0..2^32")))?;
+    // How the kinds place their points: noise, not the image's expectation.
+    for name in ["jitter", "scramble", "dimension", "strength", "randomize"] {
+        p.get(name);
+    }
+    p.finish()?;
+    Ok((count as u32, seed))
+}
+
+/// Our render settings from the sensor and the integrator element.
+pub(super) fn render_settings(sensor: &SensorSettings, integrator: Option<&Node>) -> Result<RenderSettings> {
+    let mut render = RenderSettings {
+        width: sensor.width,
+        height: sensor.height,
+        method: Method::Sppm,
+        iterations: sensor.sample_count,
+        spp: 1,
+        photons: 100_000,
+        radius: None,
+        alpha: 0.6667,
+        max_depth: UNBOUNDED_DEPTH,
+        seed: sensor.seed,
+        time_limit: None,
+        direct: DirectLight::Sampled,
+        direct_samples: None,
+        radius_schedule: RadiusSchedule::PerPoint,
+        filter: sensor.filter,
+    };
+    let Some(node) = integrator else { return Ok(render) };
+    node.allow_attrs(&["type", "id", "name"])?;
+    let kind = node.req_attr("type")?;
+    let p = Props::new(node)?;
+    match kind {
+        "path" | "volpath" | "sppm" => {
+            render.max_depth = max_depth(&p)?;
+            p.integer("rr_depth")?;
+            if p.boolean_or("hide_emitters", false)? {
+                return Err(p
+                    .get("hide_emitters")
+                    .unwrap()
+                    .error(Some("hide_emitters"), "hide_emitters is not modelled by sppm-gpu"));
+            }
+            if kind == "sppm" {
+                if let Some(n) = p.integer("photon_count")? {
+                    render.photons = u32::try_from(n).ok().filter(|&n| n > 0).ok_or_else(|| {
+                        p.get("photon_count").unwrap().error(Some("photon_count"), format!("photon_count {n} is not positive"))
+                    })?;
+                }
+                if let Some(r) = p.float("initial_radius")? {
+                    if r < 0.0 {
+                        return Err(p.get("initial_radius").unwrap().error(Some("initial_radius"), "initial_radius is negative"));
+                    }
+                    render.radius = (r > 0.0).then_some(r);
+                }
+                if let Some(a) = p.float("alpha")? {
+                    if !(a > 0.0 && a < 1.0) {
+                        return Err(p.get("alpha").unwrap().error(Some("alpha"), format!("alpha {a} is outside (0, 1)")));
+                    }
+                    render.alpha = a;
+                }
+                if let Some(n) = p.integer("max_passes")? {
+                    if n > 0 {
+                        render.iterations = n.min(u32::MAX as i64) as u32;
+                    }
+                }
+                // How Mitsuba 0.6 split its work: nothing the image depends on.
+                for name in ["granularity", "rr_start", "auto_cancel"] {
+                    p.get(name);
+                }
+            }
+            p.finish()?;
+        }
+        other => {
+            eprintln!(
+                "warning: {}:{}: the `{other}` integrator is not one sppm-gpu has: rendering with SPPM (--method picks another)",
+                node.file.display(),
+                node.line
+            );
+        }
+    }
+    Ok(render)
+}
+
+/// Mitsuba's `max_depth` (path vertices after the camera; -1 unbounded) as ours (scattering
+/// events): one less.
+fn max_depth(p: &Props) -> Result<u32> {
+    match p.integer("max_depth")? {
+        None | Some(-1) => Ok(UNBOUNDED_DEPTH),
+        Some(d) if d >= 2 => Ok((d - 1).min(UNBOUNDED_DEPTH as i64) as u32),
+        Some(d) => Err(p.get("max_depth").unwrap().error(
+            Some("max_depth"),
+            format!(
+                "max_depth {d}: Mitsuba would render {} ; sppm-gpu needs 2 or more (or -1)",
+                if d == 1 { "only the emitters seen directly" } else { "nothing" }
+            ),
+        )),
+    }
+}
+
+/// A top-level `<emitter>`: point or directional.
+pub(super) fn light(node: &Node, lights: &mut Vec<Light>) -> Result<()> {
+    node.allow_attrs(&["type", "id", "name"])?;
+    let kind = node.req_attr("type")?;
+    let p = Props::new(node)?;
+    let rgb = |name: &str| -> Result<Vec3> {
+        match p.spectrum(name)? {
+            None => Ok(Vec3::ONE),
+            Some(Spectrum::Rgb(v)) if v.min_element() >= 0.0 => Ok(v),
+            Some(Spectrum::Rgb(_)) => Err(p.get(name).unwrap().error(Some(name), format!("{name} is negative"))),
+            Some(Spectrum::Texture(_)) => {
+                Err(p.get(name).unwrap().error(Some(name), format!("a textured {name} is not modelled")))
+            }
+        }
+    };
+    let to_world = p.transform("to_world")?;
+    let light = match kind {
+        "point" => {
+            let intensity = rgb("intensity")?;
+            let position = match (p.vec3("position")?, to_world) {
+                (Some(_), Some(_)) => return Err(node.error(Some("position"), "give `position` or `to_world`, not both")),
+                (Some(x), None) => x,
+                (None, m) => m.unwrap_or(Mat4::IDENTITY).transform_point3(Vec3::ZERO),
+            };
+            LightKind::Point { position, intensity }
+        }
+        "directional" => {
+            let irradiance = rgb("irradiance")?;
+            let direction = match (p.vec3("direction")?, to_world) {
+                (Some(_), Some(_)) => return Err(node.error(Some("direction"), "give `direction` or `to_world`, not both")),
+                (Some(d), None) => d,
+                (None, m) => m.unwrap_or(Mat4::IDENTITY).transform_vector3(Vec3::Z),
+            };
+            let direction =
+                direction.try_normalize().ok_or_else(|| node.error(Some("direction"), "the light's direction is zero"))?;
+            LightKind::Directional { direction, irradiance }
+        }
+        "area" => return Err(node.error(Some("type"), "an area emitter belongs inside the <shape> that emits")),
+        "constant" | "envmap" | "sunsky" | "skysun" | "sky" | "sun" => {
+            return Err(node.error(Some("type"), format!("the `{kind}` environment emitter is not modelled by sppm-gpu yet")))
+        }
+        "spot" | "projector" => {
+            return Err(node.error(Some("type"), format!("the `{kind}` emitter is not modelled by sppm-gpu yet")))
+        }
+        other => return Err(node.error(Some("type"), format!("`{other}` is not a Mitsuba 3 emitter plugin"))),
+    };
+    p.finish()?;
+    lights.push(Light { kind: light, line: node.line });
+    Ok(())
+}

@@ -1,0 +1,286 @@
+//! Mitsuba 3's shape plugins, as our shapes (its plugin reference, "Shapes"). Every shape
+//! takes `to_world` (identity), `flip_normals` (false), a BSDF (nested or `<ref>`) and an
+//! `area` emitter:
+//!
+//! - `obj`, `ply`, `serialized` (`shape_index`, 0): triangle meshes from a file (`filename`),
+//!   smooth unless `face_normals` (false): the file's vertex normals, or else Mitsuba's
+//!   angle-weighted ones. Faces keep the file's winding under a mirroring transform, as
+//!   Mitsuba's face normals do.
+//! - `rectangle`: `[-1, 1]^2` in the plane z = 0, facing +z. `cube`: `[-1, 1]^3`, facing out.
+//! - `disk`: the unit disk in z = 0, facing +z, tessellated into 256 triangles (its area is
+//!   0.01% short of the disk's).
+//! - `sphere`: `center` (0), `radius` (1), analytic; `to_world` must scale it uniformly.
+//! - `shapegroup` and `instance`: a group's shapes, copied under each instance's `to_world`.
+
+use super::props::{Props, Spectrum};
+use super::xml::Node;
+use super::{Result, SceneReader};
+use crate::scene::mesh::{self, IndexedMesh, Normals, Transform};
+use crate::scene::{ply, serialized, Shape, ShapeKind, Sphere, Triangle};
+use glam::{Mat3, Mat4, Vec2, Vec3};
+use std::path::{Path, PathBuf};
+
+/// Segments of a tessellated `disk`.
+const DISK_SEGMENTS: u32 = 256;
+
+impl<'a> SceneReader<'a> {
+    /// Reads shape element `node` under the parent transform `parent` (an instance's).
+    pub(super) fn shape(&mut self, node: &'a Node, parent: Mat4) -> Result<()> {
+        node.allow_attrs(&["type", "id", "name"])?;
+        let kind = node.req_attr("type")?;
+        if kind == "shapegroup" {
+            // Read through its instances.
+            if parent != Mat4::IDENTITY {
+                return Err(node.error(None, "a shapegroup inside another shapegroup"));
+            }
+            node.req_attr("id")?;
+            return Ok(());
+        }
+        let p = Props::new(node)?;
+        let to_world = parent * p.transform("to_world")?.unwrap_or(Mat4::IDENTITY);
+        if kind == "instance" {
+            let refs = p.all_objects();
+            let [group] = refs.as_slice() else {
+                return Err(node.error(None, "an instance refers to one shapegroup: <ref id=\"...\"/>"));
+            };
+            let group = self.deref(group, "shape")?;
+            if group.attr("type") != Some("shapegroup") {
+                return Err(node.error(None, format!("an instance of {}: it must refer to a shapegroup", group.describe())));
+            }
+            p.finish()?;
+            for child in &group.children {
+                if child.tag != "shape" {
+                    return Err(child.error(None, format!("{} in a shapegroup: it holds shapes only", child.describe())));
+                }
+                self.shape(child, to_world)?;
+            }
+            return Ok(());
+        }
+
+        let mut bsdf = None;
+        let mut emission = None;
+        for object in p.all_objects() {
+            let target = self.deref(object, "")?;
+            match target.tag.as_str() {
+                "bsdf" if bsdf.is_none() => bsdf = Some(object),
+                "emitter" if emission.is_none() => emission = Some(area_emitter(target)?),
+                "bsdf" | "emitter" => return Err(object.error(None, format!("a second {} in one shape", target.describe()))),
+                "medium" => return Err(object.error(None, "participating media are not rendered by sppm-gpu")),
+                _ => return Err(object.error(None, format!("{} inside a shape", target.describe()))),
+            }
+        }
+        let flip = p.boolean_or("flip_normals", false)?;
+        let index = self.shapes.len() as u32;
+        let first = self.triangles.len();
+        let linear = Mat3::from_mat4(to_world);
+        let translation = to_world.w_axis.truncate();
+        let transform = Transform::from_affine(linear, translation);
+        let shape_kind = match kind {
+            "obj" | "ply" | "serialized" => {
+                let path = file_name(&p, node, &self.root)?;
+                let face_normals = p.boolean_or("face_normals", false)?;
+                let (mut indexed, file_face_normals) = match kind {
+                    "obj" => (read_mesh(&p, &path, mesh::read_obj)?, false),
+                    "ply" => (read_mesh(&p, &path, ply::read_ply)?, false),
+                    _ => {
+                        let shape_index = p.integer("shape_index")?.unwrap_or(0);
+                        let shape_index = u32::try_from(shape_index).map_err(|_| {
+                            p.get("shape_index")
+                                .unwrap()
+                                .error(Some("shape_index"), format!("shape_index {shape_index} is negative"))
+                        })?;
+                        if p.has("max_smooth_angle") {
+                            return Err(p.get("max_smooth_angle").unwrap().error(
+                                Some("max_smooth_angle"),
+                                "max_smooth_angle (splitting vertices at creases) is not modelled by sppm-gpu",
+                            ));
+                        }
+                        let read = read_mesh(&p, &path, |path| serialized::read_serialized(path, shape_index))?;
+                        (read.mesh, read.face_normals)
+                    }
+                };
+                // Mitsuba reads OBJ's `vt` flipped unless told not to; the coordinates are kept
+                // for textures.
+                let flip_tex = p.boolean_or("flip_tex_coords", true)?;
+                if flip_tex && kind == "obj" {
+                    if let Some(uvs) = &mut indexed.uvs {
+                        uvs.iter_mut().for_each(|uv| uv.y = 1.0 - uv.y);
+                    }
+                }
+                let normals = if face_normals || file_face_normals { Normals::Flat } else { Normals::MitsubaSmooth };
+                self.add_mesh(node, indexed, &transform, normals, index, &path)?;
+                ShapeKind::Mesh
+            }
+            "rectangle" => {
+                // An analytic shape's normal is transformed as a normal: it stays on the side
+                // of M^-T z even when M mirrors, as mesh::triangles keeps it.
+                let quad = IndexedMesh {
+                    positions: vec![
+                        Vec3::new(-1.0, -1.0, 0.0),
+                        Vec3::new(1.0, -1.0, 0.0),
+                        Vec3::new(1.0, 1.0, 0.0),
+                        Vec3::new(-1.0, 1.0, 0.0),
+                    ],
+                    normals: None,
+                    uvs: Some(vec![Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0), Vec2::new(0.0, 1.0)]),
+                    indices: vec![[0, 1, 2], [0, 2, 3]],
+                };
+                self.add_flat(node, &quad, &transform, index)?;
+                ShapeKind::Quad
+            }
+            "cube" => {
+                self.add_mesh(node, mesh::unit_cube(), &transform, Normals::Flat, index, Path::new("cube"))?;
+                ShapeKind::Cube
+            }
+            "disk" => {
+                let mut disk = IndexedMesh { positions: vec![Vec3::ZERO], ..IndexedMesh::default() };
+                for i in 0..DISK_SEGMENTS {
+                    let phi = 2.0 * std::f32::consts::PI * i as f32 / DISK_SEGMENTS as f32;
+                    disk.positions.push(Vec3::new(phi.cos(), phi.sin(), 0.0));
+                    disk.indices.push([0, 1 + i, 1 + (i + 1) % DISK_SEGMENTS]);
+                }
+                self.add_flat(node, &disk, &transform, index)?;
+                ShapeKind::Mesh
+            }
+            "sphere" => {
+                let center = p.vec3("center")?.unwrap_or(Vec3::ZERO);
+                let radius = p.float_or("radius", 1.0)?;
+                if !(radius > 0.0) {
+                    return Err(p
+                        .get("radius")
+                        .unwrap_or(node)
+                        .error(Some("radius"), format!("radius {radius} is not positive")));
+                }
+                let scale = uniform_scale(linear).ok_or_else(|| {
+                    node.error(
+                        Some("to_world"),
+                        "a sphere's to_world scales it unevenly or shears it: an ellipsoid is not modelled",
+                    )
+                })?;
+                if flip {
+                    return Err(node.error(Some("flip_normals"), "a sphere facing inwards is not modelled by sppm-gpu"));
+                }
+                self.spheres.push(Sphere { center: to_world.transform_point3(center), radius: radius * scale, shape: index });
+                ShapeKind::Sphere
+            }
+            "cylinder" | "bsplinecurve" | "linearcurve" | "sdfgrid" | "ellipsoids" | "ellipsoidsmesh" => {
+                return Err(node.error(Some("type"), format!("the `{kind}` shape is not modelled by sppm-gpu")))
+            }
+            other => return Err(node.error(Some("type"), format!("`{other}` is not a Mitsuba 3 shape plugin"))),
+        };
+        if flip {
+            self.triangles[first..].iter_mut().for_each(flip_triangle);
+        }
+        let material = self.material(bsdf, node)?;
+        p.finish()?;
+        let triangles = &self.triangles[first..];
+        let spheres = if shape_kind == ShapeKind::Sphere { &self.spheres[self.spheres.len() - 1..] } else { &[] };
+        mesh::check_extent(triangles, spheres, Vec3::ZERO).map_err(|e| node.error(Some("to_world"), e))?;
+        self.shapes.push(Shape { kind: shape_kind, material, emission, velocity: None, line: node.line, velocity_line: None });
+        Ok(())
+    }
+
+    /// Appends a mesh's world-space triangles, keeping the file's winding under a mirroring
+    /// transform (Mitsuba's face normals are the cross products of world-space edges).
+    fn add_mesh(
+        &mut self,
+        node: &Node,
+        mut indexed: IndexedMesh,
+        transform: &Transform,
+        normals: Normals,
+        shape: u32,
+        path: &Path,
+    ) -> Result<()> {
+        if transform.flips_winding() {
+            // mesh::triangles turns mirrored faces around; turn them first so they stay.
+            indexed.indices.iter_mut().for_each(|t| t.swap(1, 2));
+        }
+        let (triangles, skipped) =
+            mesh::triangles(&indexed, transform, normals, shape).map_err(|e| node.error(Some("to_world"), e))?;
+        if triangles.is_empty() {
+            return Err(node.error(None, format!("all {skipped} triangles of {} have no area", path.display())));
+        }
+        if skipped > 0 {
+            eprintln!(
+                "warning: {}:{}: {skipped} triangles of {} have no area and are skipped",
+                node.file.display(),
+                node.line,
+                path.display()
+            );
+        }
+        self.triangles.extend(triangles);
+        Ok(())
+    }
+
+    /// Appends a flat analytic shape given as triangles in object space: its normal follows
+    /// the transformed normal, so mirrored faces are turned around (mesh::triangles does).
+    fn add_flat(&mut self, node: &Node, indexed: &IndexedMesh, transform: &Transform, shape: u32) -> Result<()> {
+        let (triangles, skipped) =
+            mesh::triangles(indexed, transform, Normals::Flat, shape).map_err(|e| node.error(Some("to_world"), e))?;
+        if skipped > 0 {
+            return Err(node.error(Some("to_world"), "the shape has no area in 32-bit floats (to_world scales it to nothing)"));
+        }
+        self.triangles.extend(triangles);
+        Ok(())
+    }
+}
+
+/// The `filename` of a mesh shape, relative to the file that names it or the scene's
+/// directory `root`.
+fn file_name(p: &Props, node: &Node, root: &Path) -> Result<PathBuf> {
+    let name =
+        p.string("filename")?.ok_or_else(|| node.error(Some("filename"), format!("{} needs a `filename`", node.describe())))?;
+    Ok(super::xml::resolve(name, &node.file, root))
+}
+
+/// Reads a mesh file, with errors placed at the `filename` parameter.
+fn read_mesh<T>(p: &Props, path: &Path, read: impl FnOnce(&Path) -> std::result::Result<T, String>) -> Result<T> {
+    let at = p.get("filename").unwrap_or(p.node);
+    read(path).map_err(|e| at.error(Some("filename"), format!("{}: {e}", path.display())))
+}
+
+/// An `<emitter type="area">` inside a shape: its `radiance`.
+fn area_emitter(node: &Node) -> Result<Vec3> {
+    node.allow_attrs(&["type", "id", "name"])?;
+    let kind = node.req_attr("type")?;
+    if kind != "area" {
+        return Err(node.error(Some("type"), format!("a `{kind}` emitter inside a shape: only `area` emitters belong there")));
+    }
+    let p = Props::new(node)?;
+    let radiance = match p.spectrum("radiance")? {
+        Some(Spectrum::Rgb(rgb)) => rgb,
+        Some(Spectrum::Texture(_)) => {
+            return Err(p.get("radiance").unwrap().error(Some("radiance"), "textured emission is not modelled by sppm-gpu"))
+        }
+        None => return Err(node.error(Some("radiance"), "an area emitter needs a `radiance`")),
+    };
+    if radiance.min_element() < 0.0 {
+        return Err(p.get("radiance").unwrap().error(Some("radiance"), "radiance is negative"));
+    }
+    p.finish()?;
+    Ok(radiance)
+}
+
+/// The factor of a similarity transform's linear part (rotation times a uniform scale,
+/// possibly mirrored), or `None` when it shears or scales unevenly.
+fn uniform_scale(linear: Mat3) -> Option<f32> {
+    let lengths = [linear.x_axis.length(), linear.y_axis.length(), linear.z_axis.length()];
+    let s = lengths[0];
+    let close = |a: f32, b: f32| (a - b).abs() <= 1e-4 * s;
+    let orthogonal = close(linear.x_axis.dot(linear.y_axis) / s, 0.0)
+        && close(linear.y_axis.dot(linear.z_axis) / s, 0.0)
+        && close(linear.x_axis.dot(linear.z_axis) / s, 0.0);
+    (s > 0.0 && close(lengths[1], s) && close(lengths[2], s) && orthogonal).then_some(s)
+}
+
+/// `flip_normals`: the other side becomes the front.
+fn flip_triangle(t: &mut Triangle) {
+    t.p.swap(1, 2);
+    if let Some(n) = &mut t.n {
+        n.swap(1, 2);
+        *n = n.map(|n| -n);
+    }
+    if let Some(uv) = &mut t.uv {
+        uv.swap(1, 2);
+    }
+}

@@ -1,0 +1,283 @@
+//! The XML layer of Mitsuba's scene format: files read into one tree of [`Node`]s, each
+//! knowing its file and line, with the format's own structure resolved as Mitsuba 3 resolves
+//! it (`src/core/xml.cpp` there):
+//! - `<default name="n" value="v"/>` sets parameter `n` unless the command line's `-D n=v`
+//!   (or an earlier default) did; `$n` in any later attribute is replaced by its value.
+//! - `<include filename="f"/>` splices in the children of `f`'s `<scene>` (relative to the
+//!   including file), refusing a file that includes itself, directly or not.
+//! - Version 0.x files name their parameters in camelCase (`toWorld`, `intIOR`); Mitsuba 3
+//!   reads them as snake_case (`to_world`, `int_ior`), and so do we.
+
+use super::super::SceneError;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+
+type Result<T> = std::result::Result<T, SceneError>;
+
+/// An XML element after includes, defaults and substitution.
+#[derive(Clone, Debug)]
+pub struct Node {
+    /// The element's tag (`shape`, `float`, `rgb`, ...).
+    pub tag: String,
+    /// Attributes in file order, `$name` substituted.
+    pub attrs: Vec<(String, String)>,
+    /// Child elements (comments and text dropped).
+    pub children: Vec<Node>,
+    /// The file the element is in.
+    pub file: Rc<PathBuf>,
+    /// Its 1-based line.
+    pub line: usize,
+}
+
+impl Node {
+    /// Attribute `name`, when present.
+    pub fn attr(&self, name: &str) -> Option<&str> {
+        self.attrs.iter().find(|(k, _)| k == name).map(|(_, v)| v.as_str())
+    }
+
+    /// An error at this element; `key` names what in it is wrong.
+    pub fn error(&self, key: Option<&str>, message: impl Into<String>) -> SceneError {
+        SceneError::new(&self.file, Some(self.line), key, message)
+    }
+
+    /// Attribute `name`, or an error naming it.
+    pub fn req_attr(&self, name: &str) -> Result<&str> {
+        self.attr(name).ok_or_else(|| self.error(Some(name), format!("<{}> needs a `{name}` attribute", self.tag)))
+    }
+
+    /// Refuses attributes other than `allowed`.
+    pub fn allow_attrs(&self, allowed: &[&str]) -> Result<()> {
+        match self.attrs.iter().find(|(k, _)| !allowed.contains(&k.as_str())) {
+            Some((k, _)) => Err(self.error(Some(k), format!("<{}> takes no attribute `{k}`", self.tag))),
+            None => Ok(()),
+        }
+    }
+
+    /// `<tag type="...">` or `<tag>` with its name, for messages.
+    pub fn describe(&self) -> String {
+        match (self.attr("type"), self.attr("name")) {
+            (Some(t), _) => format!("<{} type=\"{t}\">", self.tag),
+            (None, Some(n)) => format!("<{} name=\"{n}\">", self.tag),
+            _ => format!("<{}>", self.tag),
+        }
+    }
+}
+
+/// The root `<scene>` of `path` with includes spliced in, and its version's major number.
+pub fn read_scene(path: &Path, defines: &[(String, String)]) -> Result<(Node, u32)> {
+    let root = path.parent().map(Path::to_path_buf);
+    let mut reader = Reader { params: HashMap::new(), stack: Vec::new(), version: None, root };
+    for (name, value) in defines {
+        if !is_param_name(name) {
+            return Err(SceneError::new(path, None, Some(name), format!("-D {name}={value}: not a parameter name")));
+        }
+        reader.params.insert(name.clone(), value.clone());
+    }
+    let root = reader.file(path, None)?;
+    let version = reader.version.unwrap_or(3);
+    Ok((root, version))
+}
+
+/// What reading the files keeps: parameters, the chain of includes, the version.
+struct Reader {
+    params: HashMap<String, String>,
+    /// The files being read, outermost first, canonicalized: an include cycle repeats one.
+    stack: Vec<PathBuf>,
+    /// Major version of the outermost file.
+    version: Option<u32>,
+    /// The outermost file's directory.
+    root: Option<PathBuf>,
+}
+
+/// A file named in `file`: relative to `file`'s directory where it is there, else to the
+/// scene's (`root`), as Mitsuba's file resolver, which holds the scene's directory, finds
+/// files named in included fragments.
+pub fn resolve(name: &str, file: &Path, root: &Path) -> PathBuf {
+    let local = file.parent().unwrap_or(Path::new("")).join(name);
+    let from_root = root.join(name);
+    if !local.exists() && from_root.exists() {
+        from_root
+    } else {
+        local
+    }
+}
+
+impl Reader {
+    /// Reads `path`'s `<scene>` element. `from` is the `<include>` that names it.
+    fn file(&mut self, path: &Path, from: Option<&Node>) -> Result<Node> {
+        let at = |message: String| match from {
+            Some(node) => node.error(Some("filename"), message),
+            None => SceneError::new(path, None, None, message),
+        };
+        let bytes = std::fs::read(path).map_err(|e| at(format!("cannot read {}: {e}", path.display())))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            let line = e.as_bytes()[..e.utf8_error().valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
+            SceneError::new(path, Some(line), None, "the file is not UTF-8 text")
+        })?;
+        let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+        if self.stack.contains(&canonical) {
+            return Err(at(format!("{} includes itself (through {} files)", path.display(), self.stack.len())));
+        }
+        if self.stack.len() >= 64 {
+            return Err(at("includes nest more than 64 files deep".into()));
+        }
+        let options = roxmltree::ParsingOptions { allow_dtd: false, ..Default::default() };
+        let document = roxmltree::Document::parse_with_options(&text, options).map_err(|e| {
+            let pos = e.pos();
+            SceneError::new(path, Some(pos.row as usize), None, format!("malformed XML: {e}"))
+        })?;
+        let file = Rc::new(path.to_path_buf());
+        let root = document.root_element();
+        let line = |n: roxmltree::Node| document.text_pos_at(n.range().start).row as usize;
+        if root.tag_name().name() != "scene" {
+            return Err(SceneError::new(path, Some(line(root)), None, "the root element is not <scene>"));
+        }
+        let version = root.attribute("version").unwrap_or("3.0.0");
+        let major = version.split('.').next().and_then(|m| m.trim().parse::<u32>().ok()).ok_or_else(|| {
+            SceneError::new(path, Some(line(root)), Some("version"), format!("version \"{version}\" is not a version number"))
+        })?;
+        if !matches!(major, 0 | 2 | 3) {
+            return Err(SceneError::new(
+                path,
+                Some(line(root)),
+                Some("version"),
+                format!("version {version}: Mitsuba scene files are 0.x, 2.x or 3.x"),
+            ));
+        }
+        self.version.get_or_insert(major);
+        self.stack.push(canonical);
+        let result = self.element(root, &document, &file, major);
+        self.stack.pop();
+        result
+    }
+
+    /// Converts `element` and its subtree, resolving defaults, substitution and includes.
+    fn element(
+        &mut self,
+        element: roxmltree::Node,
+        document: &roxmltree::Document,
+        file: &Rc<PathBuf>,
+        major: u32,
+    ) -> Result<Node> {
+        let line = document.text_pos_at(element.range().start).row as usize;
+        let mut node =
+            Node { tag: element.tag_name().name().to_owned(), attrs: Vec::new(), children: Vec::new(), file: file.clone(), line };
+        if element.tag_name().namespace().is_some() {
+            return Err(node.error(None, "XML namespaces are not part of Mitsuba's format"));
+        }
+        for a in element.attributes() {
+            let value = self.substitute(a.value(), &node, a.name())?;
+            // Mitsuba 3 upgrades 0.x files' parameter names from camelCase to snake_case.
+            let value = if major == 0 && a.name() == "name" { snake_case(&value) } else { value };
+            node.attrs.push((a.name().to_owned(), value));
+        }
+        for child in element.children() {
+            if child.is_text() && !child.text().unwrap_or("").trim().is_empty() {
+                let line = document.text_pos_at(child.range().start).row as usize;
+                return Err(SceneError::new(
+                    file,
+                    Some(line),
+                    None,
+                    format!("text inside <{}>: Mitsuba's format has none", node.tag),
+                ));
+            }
+            if !child.is_element() {
+                continue;
+            }
+            let child = self.element(child, document, file, major)?;
+            match child.tag.as_str() {
+                "default" => {
+                    child.allow_attrs(&["name", "value"])?;
+                    let name = child.req_attr("name")?;
+                    if !is_param_name(name) {
+                        return Err(child.error(Some("name"), format!("\"{name}\" is not a parameter name")));
+                    }
+                    let value = child.req_attr("value")?.to_owned();
+                    self.params.entry(name.to_owned()).or_insert(value);
+                }
+                "include" => {
+                    child.allow_attrs(&["filename"])?;
+                    let name = child.req_attr("filename")?;
+                    let root = self.root.clone().unwrap_or_default();
+                    let included = self.file(&resolve(name, file, &root), Some(&child))?;
+                    node.children.extend(included.children);
+                }
+                _ => node.children.push(child),
+            }
+        }
+        Ok(node)
+    }
+
+    /// `text` with each `$name` replaced by its parameter's value.
+    fn substitute(&self, text: &str, node: &Node, attr: &str) -> Result<String> {
+        let mut out = String::with_capacity(text.len());
+        let mut rest = text;
+        while let Some(at) = rest.find('$') {
+            out.push_str(&rest[..at]);
+            let after = &rest[at + 1..];
+            let len = after.find(|c: char| !(c.is_ascii_alphanumeric() || c == '_')).unwrap_or(after.len());
+            let name = &after[..len];
+            if name.is_empty() {
+                return Err(node.error(Some(attr), format!("a `$` not followed by a parameter name in \"{text}\"")));
+            }
+            match self.params.get(name) {
+                Some(value) => out.push_str(value),
+                None => {
+                    return Err(node.error(
+                        Some(attr),
+                        format!("${name} is not defined: give it a <default name=\"{name}\" value=\"...\"/> or -D {name}=..."),
+                    ))
+                }
+            }
+            rest = &after[len..];
+        }
+        out.push_str(rest);
+        Ok(out)
+    }
+}
+
+/// Whether `name` can be a `$parameter`: letters, digits and underscores.
+fn is_param_name(name: &str) -> bool {
+    !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// `toWorld` -> `to_world`, `intIOR` -> `int_ior`: an underscore between a lower-case letter
+/// or digit and the capital after it, then everything lower case (Mitsuba 3's upgrade of 0.x
+/// files).
+pub fn snake_case(name: &str) -> String {
+    let mut out = String::with_capacity(name.len() + 4);
+    let mut prev: Option<char> = None;
+    for c in name.chars() {
+        if c.is_ascii_uppercase() && prev.is_some_and(|p| p.is_ascii_lowercase() || p.is_ascii_digit()) {
+            out.push('_');
+        }
+        out.push(c.to_ascii_lowercase());
+        prev = Some(c);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::snake_case;
+
+    #[test]
+    fn camel_case_names_become_snake_case() {
+        for (camel, snake) in [
+            ("toWorld", "to_world"),
+            ("intIOR", "int_ior"),
+            ("extIOR", "ext_ior"),
+            ("sampleCount", "sample_count"),
+            ("maxDepth", "max_depth"),
+            ("fovAxis", "fov_axis"),
+            ("specularReflectance", "specular_reflectance"),
+            ("shapeIndex", "shape_index"),
+            ("cropOffsetX", "crop_offset_x"),
+            ("radiance", "radiance"),
+            ("max_depth", "max_depth"),
+        ] {
+            assert_eq!(snake_case(camel), snake, "{camel}");
+        }
+    }
+}
