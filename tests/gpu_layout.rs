@@ -59,7 +59,12 @@ fn gpu_structs_match_wgsl() {
             hit_capacity,
             resume,
             at_once,
+            pixel_filter,
+            filter_width,
             _pad2,
+            _pad3,
+            _pad4,
+            filter_cdf,
         ]
     );
     check!(module, GpuBvhNode, "BvhNode", [box_a, child_a, box_b, child_b]);
@@ -102,4 +107,8 @@ fn wgsl_constants_match_rust() {
     assert_eq!(constant("LEAF_BIT"), sppm_gpu::accel::bvh::LEAF_BIT);
     assert_eq!(constant("LEAF_COUNT_SHIFT"), sppm_gpu::accel::bvh::LEAF_COUNT_SHIFT);
     assert_eq!(constant("LEAF_FIRST_MASK"), sppm_gpu::accel::bvh::LEAF_FIRST_MASK);
+    assert_eq!(constant("FILTER_BOX"), FILTER_BOX);
+    assert_eq!(constant("FILTER_TENT"), FILTER_TENT);
+    assert_eq!(constant("FILTER_GAUSSIAN"), FILTER_GAUSSIAN);
+    assert_eq!(constant("FILTER_TABLE_SIZE"), FILTER_TABLE_SIZE);
 }

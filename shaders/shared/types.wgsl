@@ -57,8 +57,27 @@ struct Frame {
     // the grid of visible points, rather than storing it for photon_gather: for resumed
     // threads, and for every photon where photons outnumber visible points.
     at_once: u32,
+    // The pixel filter (FILTER_*): the density of a camera sample's offset from its pixel's
+    // centre, in x and in y (shared/camera.wgsl).
+    pixel_filter: u32,
+    // FILTER_TENT: the radius; FILTER_GAUSSIAN: the standard deviation (pixels).
+    filter_width: f32,
     _pad2: u32,
+    _pad3: u32,
+    _pad4: u32,
+    // FILTER_GAUSSIAN: the CDF of the filter's density on [0, 4] standard deviations at the
+    // ends of FILTER_TABLE_SIZE equal intervals, C_1..C_256 (C_0 = 0, C_256 = 1), four a vec4f.
+    filter_cdf: array<vec4f, 64>,
 }
+
+// Pixel filters (Frame.pixel_filter), as Mitsuba 3 defines them: box, radius 1/2 pixel;
+// tent, max(0, 1 - |x| / radius); gaussian, max(0, exp(-x^2 / (2 stddev^2)) - exp(-8)) on
+// |x| < 4 stddev.
+const FILTER_BOX: u32 = 0u;
+const FILTER_TENT: u32 = 1u;
+const FILTER_GAUSSIAN: u32 = 2u;
+// Intervals of Frame.filter_cdf.
+const FILTER_TABLE_SIZE: u32 = 256u;
 
 // An interior BVH node: its children's boxes, quantized to 16 bits per coordinate
 // (lo.x | lo.y << 16, lo.z | hi.x << 16, hi.y | hi.z << 16; decoded with BvhParams), and

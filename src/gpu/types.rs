@@ -8,7 +8,7 @@ pub use crate::accel::GridParams;
 
 /// Per-pass constants (uniform `frame`).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct Frame {
     /// Camera position, world space: the pinhole, or the centre of the thin lens.
     pub cam_position: [f32; 3],
@@ -94,8 +94,29 @@ pub struct Frame {
     /// (the same sums: see [`PhotonHit`]): for resumed threads, and for every photon where
     /// photons outnumber visible points (`integrators::sppm::deposits_at_once`).
     pub at_once: u32,
+    /// The pixel filter ([`FILTER_BOX`], [`FILTER_TENT`] or [`FILTER_GAUSSIAN`]): the density
+    /// of a camera sample's offset from its pixel's centre, in x and in y (set by
+    /// `integrators::set_pixel_filter`).
+    pub pixel_filter: u32,
+    /// [`FILTER_TENT`]: the radius; [`FILTER_GAUSSIAN`]: the standard deviation (pixels).
+    pub filter_width: f32,
     /// Padding; always 0.
     pub _pad2: u32,
+    /// Padding; always 0.
+    pub _pad3: u32,
+    /// Padding; always 0.
+    pub _pad4: u32,
+    /// [`FILTER_GAUSSIAN`]: the CDF of the filter's density on [0, 4] standard deviations at
+    /// the ends of [`FILTER_TABLE_SIZE`] equal intervals, `C_1..=C_256` (`C_0 = 0`,
+    /// `C_256 = 1`), four an entry; zeros for the other filters.
+    pub filter_cdf: [[f32; 4]; FILTER_TABLE_SIZE as usize / 4],
+}
+
+impl Default for Frame {
+    /// All zeros (a box filter).
+    fn default() -> Self {
+        Self::zeroed()
+    }
 }
 
 /// A triangle as a corner and two edges.
@@ -301,3 +322,12 @@ pub const MATERIAL_GLOSSY: u32 = 3;
 pub const ACCUM_STRIDE: u32 = 8;
 /// Invocations per workgroup of every kernel.
 pub const WORKGROUP_SIZE: u32 = 64;
+/// [`Frame::pixel_filter`]: uniform over the pixel's square (Mitsuba's `box`, radius 1/2).
+pub const FILTER_BOX: u32 = 0;
+/// [`Frame::pixel_filter`]: `max(0, 1 - |x| / radius)` (Mitsuba's `tent`).
+pub const FILTER_TENT: u32 = 1;
+/// [`Frame::pixel_filter`]: `max(0, exp(-x^2 / (2 stddev^2)) - exp(-8))` on `|x| < 4 stddev`
+/// (Mitsuba 3's `gaussian`).
+pub const FILTER_GAUSSIAN: u32 = 2;
+/// Intervals of [`Frame::filter_cdf`].
+pub const FILTER_TABLE_SIZE: u32 = 256;

@@ -3,10 +3,12 @@
 //! driven through [`Integrator`].
 
 pub mod bands;
+pub mod filter;
 pub mod path;
 pub mod sppm;
 
 pub use bands::Bands;
+pub use filter::set_pixel_filter;
 pub use path::PathTracer;
 pub use sppm::{Deposits, Sppm};
 
@@ -300,7 +302,7 @@ fn band_frame(scene: &Scene, data: &crate::gpu::scene_buffers::SceneData, rows: 
     if rows.is_empty() || rows.end > height {
         return Err(Error::Setting(format!("rows {rows:?} are not within the image's {height} rows")));
     }
-    Ok(Frame {
+    let mut frame = Frame {
         height: rows.end - rows.start,
         row_offset: rows.start,
         emitter_count: data.emitters.len() as u32,
@@ -310,7 +312,17 @@ fn band_frame(scene: &Scene, data: &crate::gpu::scene_buffers::SceneData, rows: 
         direct_samples: sppm::direct_samples(&scene.render),
         work_end: u32::MAX,
         ..camera_frame(scene)
-    })
+    };
+    set_pixel_filter(&mut frame, scene.render.filter)?;
+    Ok(frame)
+}
+
+/// What the tracing kernels of `scene` are compiled for: the features of its `data`, and its
+/// pixel filter.
+fn specialization(scene: &Scene, data: &crate::gpu::scene_buffers::SceneData) -> crate::gpu::Specialization {
+    let mut spec = crate::gpu::Specialization::of(data);
+    spec.constants.extend(filter::pixel_filter_constants(scene.render.filter));
+    spec
 }
 
 /// The camera part of [`Frame`]: position and the image-plane basis at distance 1

@@ -7,7 +7,7 @@ use crate::error::Error;
 use crate::gpu::readback::{read_buffer, staging_buffer};
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
 use crate::gpu::types::Frame;
-use crate::gpu::{Kernel, Resource, Specialization};
+use crate::gpu::{Kernel, Resource};
 use crate::image_io::Rgb32Image;
 use crate::scene::{Method, Scene};
 use std::ops::Range;
@@ -85,7 +85,7 @@ impl PathTracer {
         }
         frame.nee = (r.method == Method::PtNee) as u32;
 
-        let path_trace = Specialization::of(data).kernel(device, "path_trace")?;
+        let path_trace = super::specialization(scene, data).kernel(device, "path_trace")?;
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
             contents: bytemuck::bytes_of(&frame),

@@ -454,7 +454,7 @@ impl Sppm {
         };
         queue.write_buffer(&buffers.frame, 0, bytemuck::bytes_of(&frame));
         // The tracing kernels, compiled for what this scene has.
-        let spec = Specialization::of(data);
+        let spec = super::specialization(scene, data);
         // The two large kernels compile side by side: the driver may do its work when a
         // pipeline is created (lavapipe runs Mesa's NIR passes then), on the calling thread.
         let (camera_pass, photon_pass) = std::thread::scope(|s| {
