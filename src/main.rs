@@ -1,5 +1,6 @@
 //! The `sppm-gpu` command line: render a scene file to PNG or EXR.
 
+mod cli;
 mod view;
 
 use clap::Parser;
@@ -238,6 +239,13 @@ enum Command {
         #[command(flatten)]
         overrides: Overrides,
     },
+    /// What a scene holds as loaded (TOML or Mitsuba XML): image and settings, camera,
+    /// shapes, triangles, materials and lights by kind, and the kernel features it turns on.
+    Info {
+        scene: PathBuf,
+        #[command(flatten)]
+        overrides: Overrides,
+    },
     /// Time each stage of an SPPM pass (waiting for the GPU after each) and report
     /// throughput.
     Bench {
@@ -325,7 +333,7 @@ fn experiment(command: &Command) -> Result<(), Error> {
             };
             experiments::passes(&scene, &name, &opts).map(drop)
         }
-        Command::Diff { .. } | Command::Bench { .. } | Command::View { .. } | Command::Merge { .. } => {
+        Command::Diff { .. } | Command::Bench { .. } | Command::View { .. } | Command::Merge { .. } | Command::Info { .. } => {
             unreachable!("not an experiment")
         }
     }
@@ -437,6 +445,11 @@ fn run(cli: &Cli) -> Result<ExitCode, Error> {
     }
     if let Some(Command::Bench { scene, overrides }) = &cli.command {
         return bench(scene, overrides).map(|()| ExitCode::SUCCESS);
+    }
+    if let Some(Command::Info { scene, overrides }) = &cli.command {
+        let (loaded, _) = load_scene(scene, overrides)?;
+        print!("{}", cli::info::report(&loaded)?);
+        return Ok(ExitCode::SUCCESS);
     }
     if let Some(Command::View { scene, reference, passes_then_pause, exposure, overrides }) = &cli.command {
         if let Some(line) = view::no_display() {

@@ -1,0 +1,105 @@
+//! `sppm-gpu info SCENE`: what a scene holds, as loaded (TOML or Mitsuba XML): the image and
+//! its settings, the camera, shapes, triangles, materials and lights by kind, and the kernel
+//! features it turns on (the `USES_*` constants its kernels are specialized with).
+
+use sppm_gpu::gpu::scene_buffers::SceneData;
+use sppm_gpu::gpu::Features;
+use sppm_gpu::scene::{LightKind, MaterialKind, Method, PixelFilter, Scene, ShapeKind};
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+/// The report for `scene`, as printed.
+pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
+    let mut out = String::new();
+    let r = &scene.render;
+    let format = if sppm_gpu::scene::is_mitsuba_xml(&scene.path) { "Mitsuba scene XML" } else { "TOML" };
+    let _ = writeln!(out, "scene:      {} ({format})", scene.path.display());
+    let filter = match r.filter {
+        PixelFilter::Box => "box".to_string(),
+        PixelFilter::Tent { radius } => format!("tent, radius {radius} px"),
+        PixelFilter::Gaussian { stddev } => format!("gaussian, stddev {stddev} px"),
+    };
+    let _ = writeln!(out, "image:      {} x {}, {filter} filter", r.width, r.height);
+    let method = match r.method {
+        Method::Sppm => "sppm",
+        Method::Pt => "pt",
+        Method::PtNee => "pt-nee",
+    };
+    let radius = r.radius.map_or_else(|| "automatic".to_string(), |x| x.to_string());
+    let _ = writeln!(
+        out,
+        "render:     {method}, {} iterations, {} photons a pass, radius {radius}, alpha {}, max depth {}, seed {}",
+        r.iterations, r.photons, r.alpha, r.max_depth, r.seed
+    );
+    let c = &scene.camera;
+    let lens = if c.aperture_radius > 0.0 {
+        format!(", aperture radius {} focused at {}", c.aperture_radius, c.focus_distance)
+    } else {
+        String::new()
+    };
+    let _ =
+        writeln!(out, "camera:     at {} looking at {}, up {}, vertical fov {:.4} deg{lens}", c.position, c.look_at, c.up, c.fov);
+    let mut shapes = BTreeMap::new();
+    for s in &scene.shapes {
+        let kind = match s.kind {
+            ShapeKind::Quad => "quad",
+            ShapeKind::Sphere => "sphere",
+            ShapeKind::Cube => "cube",
+            ShapeKind::Mesh => "mesh",
+        };
+        *shapes.entry(kind).or_insert(0) += 1;
+    }
+    let _ = writeln!(
+        out,
+        "shapes:     {} ({}); {} triangles, {} analytic spheres",
+        scene.shapes.len(),
+        counts(&shapes),
+        scene.triangles.len(),
+        scene.spheres.len()
+    );
+    let mut materials = BTreeMap::new();
+    for m in &scene.materials {
+        let kind = match m.kind {
+            MaterialKind::Diffuse { texture: Some(_), .. } => "textured diffuse",
+            MaterialKind::Diffuse { .. } => "diffuse",
+            MaterialKind::Mirror { .. } => "mirror",
+            MaterialKind::Glossy { .. } => "glossy conductor",
+            MaterialKind::Dielectric { roughness, .. } if roughness > 0.0 => "rough dielectric",
+            MaterialKind::Dielectric { .. } => "dielectric",
+        };
+        *materials.entry(kind).or_insert(0) += 1;
+    }
+    let one_sided = scene.materials.iter().filter(|m| m.one_sided).count();
+    let _ = writeln!(
+        out,
+        "materials:  {} ({}); {one_sided} one-sided, {} textures",
+        scene.materials.len(),
+        counts(&materials),
+        scene.textures.len()
+    );
+    let mut lights = BTreeMap::new();
+    let area = scene.shapes.iter().filter(|s| s.emission.is_some_and(|e| e.max_element() > 0.0)).count();
+    if area > 0 {
+        lights.insert("area", area);
+    }
+    for l in &scene.lights {
+        let kind = match l.kind {
+            LightKind::Point { .. } => "point",
+            LightKind::Directional { .. } => "directional",
+        };
+        *lights.entry(kind).or_insert(0) += 1;
+    }
+    let _ = writeln!(out, "lights:     {} ({})", lights.values().sum::<usize>(), counts(&lights));
+    let data = SceneData::new(scene)?;
+    let on: Vec<&str> = Features::of(&data).constants().into_iter().filter(|(_, v)| *v != 0.0).map(|(name, _)| name).collect();
+    let _ = writeln!(out, "kernels:    {}", on.join(" "));
+    Ok(out)
+}
+
+/// `3 diffuse, 1 mirror`.
+fn counts(by_kind: &BTreeMap<&str, usize>) -> String {
+    if by_kind.is_empty() {
+        return "none".into();
+    }
+    by_kind.iter().map(|(k, n)| format!("{n} {k}")).collect::<Vec<_>>().join(", ")
+}

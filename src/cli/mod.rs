@@ -1,0 +1,4 @@
+//! Subcommands, one file each (as cargo's `commands/`); main.rs parses the command line and
+//! dispatches. New subcommands go here; the older ones move here as they are next changed.
+
+pub mod info;
