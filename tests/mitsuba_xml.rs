@@ -184,6 +184,19 @@ fn fov_axes_and_focal_length_give_the_vertical_field_of_view() {
     close(with(r#"<string name="focal_length" value="50mm"/>"#), vertical((39.5978f32.to_radians() / 2.0).tan() / 1.5));
 }
 
+/// Mitsuba's `lookat` target is often one unit ahead (its cbox: 800 units from the box); our
+/// look-at distance sets SPPM's automatic radius, which at one unit gathered almost nothing
+/// (the cbox rendered with a black ceiling). The reader looks at the depth of the scene's
+/// centre instead.
+#[test]
+fn the_look_at_point_lies_at_the_scenes_depth() {
+    let text = scene_with(r#"    <shape type="sphere"><point name="center" x="0" y="0" z="-96"/><float name="radius" value="1"/></shape>"#)
+        .replace(r#"target="0, 0, 0""#, r#"target="0, 0, 3""#);
+    let s = load_files("look-at", &[("s.xml", &text)], &[]).unwrap_or_else(|e| panic!("{e}"));
+    // Bounds: the rectangle [-1, 1]^2 at z = 0 and the sphere down to z = -97: centre z = -48.5.
+    assert!((s.camera.look_at - Vec3::new(0.0, 0.0, -48.5)).length() < 1e-4, "{}", s.camera.look_at);
+}
+
 #[test]
 fn transforms_compose_in_mitsubas_order() {
     // scale, then rotate, then translate: the sphere's centre goes to rotate(scale(c)) + t.

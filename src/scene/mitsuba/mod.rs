@@ -153,7 +153,7 @@ impl<'a> SceneReader<'a> {
             return Err(SceneError::new(path, None, Some("sensor"), "the scene has no <sensor>: sppm-gpu needs a camera"));
         };
         let render = sensor::render_settings(&sensor, self.integrator)?;
-        let scene = Scene {
+        let mut scene = Scene {
             path: path.to_path_buf(),
             render,
             camera: sensor.camera,
@@ -164,6 +164,15 @@ impl<'a> SceneReader<'a> {
             spheres: self.spheres,
             lights: self.lights,
         };
+        // Our camera's look-at point sets the automatic SPPM radius (pixel footprints at its
+        // distance); Mitsuba's `lookat` target is often one unit ahead. Look at the scene's
+        // centre's depth instead: the same view.
+        let (lo, hi) = scene.bounds();
+        let c = &mut scene.camera;
+        let forward = (c.look_at - c.position).normalize();
+        let depth = forward.dot((lo + hi) * 0.5 - c.position);
+        let depth = if depth > 0.0 { depth } else { (hi - lo).length().max(1.0) };
+        c.look_at = c.position + forward * depth;
         let lit = scene.shapes.iter().any(|s| s.emission.is_some_and(|e| e.max_element() > 0.0))
             || scene.lights.iter().any(|l| match l.kind {
                 super::LightKind::Point { intensity: e, .. } | super::LightKind::Directional { irradiance: e, .. } => {

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Render the references of the Mitsuba XML test scenes (scenes/mitsuba/*.xml) with Mitsuba 3
+# itself into tests/references/mitsuba/, through ../shared/tools/mitsuba_xml.py (its docstring
+# says how to set up the venv: pip install mitsuba==3.9.1 numpy, apt-get install libllvm19).
+#   MITSUBA_PYTHON=/path/to/venv/bin/python bash scripts/mitsuba-references.sh [SPP]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+python="${MITSUBA_PYTHON:-.venv-mi/bin/python}"
+spp="${1:-8192}"
+mkdir -p tests/references/mitsuba
+for scene in box lights legacy; do
+    "$python" ../shared/tools/mitsuba_xml.py "scenes/mitsuba/$scene.xml" "tests/references/mitsuba/$scene.exr" \
+        --spp "$spp" --chunk 64
+done
