@@ -190,11 +190,26 @@ fn fov_axes_and_focal_length_give_the_vertical_field_of_view() {
 /// centre instead.
 #[test]
 fn the_look_at_point_lies_at_the_scenes_depth() {
-    let text = scene_with(r#"    <shape type="sphere"><point name="center" x="0" y="0" z="-96"/><float name="radius" value="1"/></shape>"#)
-        .replace(r#"target="0, 0, 0""#, r#"target="0, 0, 3""#);
+    let text = scene_with(
+        r#"    <shape type="sphere"><point name="center" x="0" y="0" z="-96"/><float name="radius" value="1"/></shape>"#,
+    )
+    .replace(r#"target="0, 0, 0""#, r#"target="0, 0, 3""#);
     let s = load_files("look-at", &[("s.xml", &text)], &[]).unwrap_or_else(|e| panic!("{e}"));
     // Bounds: the rectangle [-1, 1]^2 at z = 0 and the sphere down to z = -97: centre z = -48.5.
     assert!((s.camera.look_at - Vec3::new(0.0, 0.0, -48.5)).length() < 1e-4, "{}", s.camera.look_at);
+}
+
+/// A `lookat` without `up` takes Mitsuba 3's: the first tangent of its orthonormal basis
+/// about the view direction (the camera matrices printed by Mitsuba 3.9.1).
+#[test]
+fn lookat_without_up_is_mitsubas() {
+    // Mitsuba's to_world for origin (0, 2.2, 4), target (0, 0.3, 0) has y column (1, 0, 0).
+    for (target, up) in [("0, 0, 1", Vec3::X), ("1, 0, 0", Vec3::NEG_Z), ("0, -1.9, -4", Vec3::X)] {
+        let lookat = format!(r#"<lookat origin="0, 0, 0" target="{target}"/>"#);
+        let text = scene_with("").replace(r#"<lookat origin="0, 0, 4" target="0, 0, 0"/>"#, &lookat);
+        let s = load_files("lookat-up", &[("s.xml", &text)], &[]).unwrap_or_else(|e| panic!("{e}"));
+        assert!((s.camera.up - up).length() < 1e-5, "{target}: {}", s.camera.up);
+    }
 }
 
 #[test]

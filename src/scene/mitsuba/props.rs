@@ -342,7 +342,7 @@ pub fn transform(node: &Node) -> Result<Mat4> {
                 let target = point("target")?;
                 let up = match op.attr("up") {
                     Some(_) => point("up")?,
-                    None => Vec3::Y,
+                    None => default_up(target - origin),
                 };
                 look_at(op, origin, target, up)?
             }
@@ -358,6 +358,17 @@ pub fn transform(node: &Node) -> Result<Mat4> {
         return Err(node.error(node.attr("name"), "the transform overflows 32-bit floats"));
     }
     Ok(m)
+}
+
+/// The `up` of a `lookat` that gives none, as Mitsuba 3 picks it: the first tangent of
+/// `coordinate_system(dir)`, the branchless orthonormal basis of Duff et al. 2017 ("Building
+/// an orthonormal basis, revisited", JCGT 6(1)).
+fn default_up(dir: Vec3) -> Vec3 {
+    let n = dir.normalize_or_zero();
+    let sign = 1f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x)
 }
 
 /// Mitsuba's look-at: columns left = up x dir, up' = dir x left, dir, origin; the camera
