@@ -73,14 +73,16 @@ const NOT_YET: &[&str] = &[
 ];
 
 impl<'a> SceneReader<'a> {
-    /// The material of a shape's BSDF element (nested or a `<ref>`), or of Mitsuba's default
-    /// BSDF (a one-sided `diffuse` of reflectance 0.5) when it has none.
-    pub(super) fn material(&mut self, bsdf: Option<&'a Node>, shape: &Node) -> Result<u32> {
+    /// The material of a shape's BSDF element (nested or a `<ref>`), or of Mitsuba 3's
+    /// default BSDF when it has none: a one-sided `diffuse` of reflectance 0.5, or 0 for a
+    /// shape that emits (as Mitsuba 3.9.1 gives them, checked by printing its shapes' BSDFs).
+    pub(super) fn material(&mut self, bsdf: Option<&'a Node>, shape: &Node, emits: bool) -> Result<u32> {
         let Some(bsdf) = bsdf else {
             let index = self.materials.len() as u32;
+            let albedo = if emits { 0.0 } else { 0.5 };
             self.materials.push(Material {
                 name: format!("default-{}:{}", shape.file.display(), shape.line),
-                kind: MaterialKind::Diffuse { albedo: Vec3::splat(0.5), texture: None },
+                kind: MaterialKind::Diffuse { albedo: Vec3::splat(albedo), texture: None },
                 one_sided: true,
                 line: shape.line,
             });

@@ -15,7 +15,7 @@
 //!
 //! Conventions taken from Mitsuba 3 (and checked against its renders, tests/mitsuba_xml.rs):
 //! BSDFs are one-sided unless wrapped in `twosided`; a shape without a BSDF is a one-sided
-//! `diffuse` of reflectance 0.5; meshes without `face_normals` are smooth, with the file's
+//! `diffuse` of reflectance 0.5, or 0 when it emits; meshes without `face_normals` are smooth, with the file's
 //! normals or else angle-weighted vertex normals; the default pixel filter is `gaussian`.
 
 mod bsdf;

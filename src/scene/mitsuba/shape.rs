@@ -171,7 +171,7 @@ impl<'a> SceneReader<'a> {
         if flip {
             self.triangles[first..].iter_mut().for_each(flip_triangle);
         }
-        let material = self.material(bsdf, node)?;
+        let material = self.material(bsdf, node, emission.is_some())?;
         p.finish()?;
         let triangles = &self.triangles[first..];
         let spheres = if shape_kind == ShapeKind::Sphere { &self.spheres[self.spheres.len() - 1..] } else { &[] };
