@@ -437,3 +437,313 @@ proptest! {
         prop_assert_eq!(scene.triangles.iter().all(|t| t.uv.is_some()), with_vt);
     }
 }
+
+// --- PLY and Mitsuba .serialized files ---
+
+/// Writes `bytes` as mesh file `dir/file` beside a scene `dir/file.toml` that uses it (with
+/// `extra` keys in the shape; the scene is rewritten only when its text changes, writing
+/// files being slow); the scene's path. Its `file` key is on line 16, the shape on 13.
+fn mesh_file_scene(file: &str, bytes: &[u8], extra: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("sppm-fuzz-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join(file), bytes).unwrap();
+    let text = format!(
+        "[render]\nwidth = 8\nheight = 8\niterations = 1\n\n[camera]\nposition = [0, 0, 5]\n\
+         look_at = [0, 0, 0]\nfov = 40\n\n[materials]\n\
+         white = {{ type = \"diffuse\", albedo = [0.5, 0.5, 0.5] }}\n\
+         [[shapes]]\ntype = \"mesh\"\nmaterial = \"white\"\nfile = \"{file}\"\n{extra}"
+    );
+    let path = dir.join(format!("{file}.toml"));
+    if std::fs::read_to_string(&path).ok().as_deref() != Some(text.as_str()) {
+        std::fs::write(&path, text).unwrap();
+    }
+    path
+}
+
+/// Loads a scene whose one shape is a mesh file: a scene that passes `check_scene`, or an
+/// error at the mesh's `file` key (or, for geometry beyond 32-bit floats, the shape).
+fn check_mesh_file_scene(path: &Path) -> Result<(), TestCaseError> {
+    match scene::load(path) {
+        Ok(scene) => check_scene(&scene),
+        Err(error) => {
+            let text = std::fs::read_to_string(path).unwrap();
+            check_error(&error, path, &text)?;
+            let line = match error.key.as_deref() {
+                Some("shapes[0].file") => 16,
+                Some("shapes[0]") => 13,
+                _ => return Err(TestCaseError::fail(format!("wrong key: {error}"))),
+            };
+            prop_assert_eq!(error.line, Some(line), "{}", error);
+            Ok(())
+        }
+    }
+}
+
+/// A quad (one four-sided face) and a triangle, with normals and texture coordinates, as
+/// ASCII PLY.
+const PLY_ASCII: &str = "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n\
+    property float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float u\n\
+    property float v\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n\
+    0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0 0 0 1 0 1\n0.5 0.5 1 0 1 1 0.5 0.5\n\
+    4 0 1 2 3\n3 0 4 1\n";
+
+/// [`PLY_ASCII`] in `encoding`: 0 ASCII, 1 binary little endian, 2 big endian.
+fn valid_ply(encoding: u8) -> Vec<u8> {
+    if encoding == 0 {
+        return PLY_ASCII.as_bytes().to_vec();
+    }
+    let big = encoding == 2;
+    let (header, payload) = PLY_ASCII.split_once("end_header\n").unwrap();
+    let format = if big { "binary_big_endian" } else { "binary_little_endian" };
+    let mut out = header.replace("ascii", format).into_bytes();
+    out.extend(b"end_header\n");
+    let lines: Vec<&str> = payload.lines().collect();
+    for line in &lines[..5] {
+        for x in line.split(' ').map(|x| x.parse::<f32>().unwrap()) {
+            out.extend(if big { x.to_be_bytes() } else { x.to_le_bytes() });
+        }
+    }
+    for line in &lines[5..] {
+        let mut words = line.split(' ');
+        out.push(words.next().unwrap().parse().unwrap());
+        for i in words.map(|i| i.parse::<i32>().unwrap()) {
+            out.extend(if big { i.to_be_bytes() } else { i.to_le_bytes() });
+        }
+    }
+    out
+}
+
+/// PLY header lines, valid and not, for random headers.
+const PLY_LINES: &[&str] = &[
+    "format ascii 1.0",
+    "format binary_little_endian 1.0",
+    "format binary_big_endian 1.0",
+    "format ascii 2.0",
+    "element vertex 3",
+    "element vertex 0",
+    "element vertex 4294967296",
+    "element vertex 99999999999999999999",
+    "element face 1",
+    "element face 18446744073709551615",
+    "element edge 2",
+    "property float x",
+    "property double y",
+    "property uchar z",
+    "property int z",
+    "property float nx",
+    "property float u",
+    "property float v",
+    "property list uchar int vertex_indices",
+    "property list int uint vertex_index",
+    "property list uint float vertex_indices",
+    "property list char char vertex_indices",
+    "property list uchar int x",
+    "comment x",
+    "obj_info y",
+    "end_header",
+    "",
+];
+
+/// One edit of a file's bytes.
+#[derive(Clone, Debug)]
+enum ByteEdit {
+    Xor(Index, u8),
+    Truncate(Index),
+    Insert(Index, Vec<u8>),
+    Delete(Index, usize),
+    /// Overwrite with the low `width` bytes of an odd number, little or big endian.
+    Word(Index, u64, usize, bool),
+}
+
+/// Numbers that counts, offsets, indices and floats are replaced with.
+const ODD_WORDS: &[u64] = &[
+    0,
+    1,
+    2,
+    3,
+    4,
+    5,
+    0xff,
+    0xffff,
+    0x7fff_ffff,
+    0x8000_0000,
+    0xffff_ffff,
+    1 << 32,
+    1 << 40,
+    u64::MAX,
+    0x7fc0_0000,           // f32 NaN
+    0x7f80_0000,           // f32 infinity
+    0x7ff8_0000_0000_0000, // f64 NaN
+    0x7fef_ffff_ffff_ffff, // f64 maximum
+    0x3f80_0000,           // f32 1
+];
+
+fn byte_edit() -> impl Strategy<Value = ByteEdit> {
+    prop_oneof![
+        3 => (any::<Index>(), 1..=255u8).prop_map(|(i, x)| ByteEdit::Xor(i, x)),
+        1 => any::<Index>().prop_map(ByteEdit::Truncate),
+        1 => (any::<Index>(), prop::collection::vec(any::<u8>(), 1..16)).prop_map(|(i, b)| ByteEdit::Insert(i, b)),
+        1 => (any::<Index>(), 1..16usize).prop_map(|(i, n)| ByteEdit::Delete(i, n)),
+        3 => (any::<Index>(), prop::sample::select(ODD_WORDS), prop::sample::select(vec![1usize, 2, 4, 8]), any::<bool>())
+            .prop_map(|(i, w, n, big)| ByteEdit::Word(i, w, n, big)),
+    ]
+}
+
+fn apply_bytes(bytes: &mut Vec<u8>, edit: &ByteEdit) {
+    let len = bytes.len();
+    match edit {
+        ByteEdit::Xor(i, x) if len > 0 => bytes[i.index(len)] ^= x,
+        ByteEdit::Truncate(i) => bytes.truncate(i.index(len + 1)),
+        ByteEdit::Insert(i, new) => {
+            let at = i.index(len + 1);
+            bytes.splice(at..at, new.iter().copied());
+        }
+        ByteEdit::Delete(i, n) if len > 0 => {
+            let at = i.index(len);
+            bytes.drain(at..(at + n).min(len));
+        }
+        ByteEdit::Word(i, word, width, big) if len > 0 => {
+            let at = i.index(len);
+            let le = word.to_le_bytes();
+            let word: Vec<u8> = if *big { le[..*width].iter().rev().copied().collect() } else { le[..*width].to_vec() };
+            for (k, b) in word.into_iter().enumerate() {
+                if let Some(byte) = bytes.get_mut(at + k) {
+                    *byte = b;
+                }
+            }
+        }
+        _ => {}
+    }
+}
+
+/// A PLY file: edits of a valid one in any encoding, a header of random lines and random
+/// payload bytes, or random bytes.
+fn ply_file() -> impl Strategy<Value = Vec<u8>> {
+    let edited = (0..3u8, prop::collection::vec(byte_edit(), 1..4)).prop_map(|(encoding, edits)| {
+        let mut bytes = valid_ply(encoding);
+        edits.iter().for_each(|edit| apply_bytes(&mut bytes, edit));
+        bytes
+    });
+    let header = (prop::collection::vec(prop::sample::select(PLY_LINES), 0..14), prop::collection::vec(any::<u8>(), 0..64))
+        .prop_map(|(lines, payload)| {
+            let mut bytes = format!("ply\n{}\n", lines.join("\n")).into_bytes();
+            bytes.extend(payload);
+            bytes
+        });
+    // Edits of the payload alone get past the header more often.
+    let payload_edited = (0..3u8, prop::collection::vec(byte_edit(), 1..4)).prop_map(|(encoding, edits)| {
+        let bytes = valid_ply(encoding);
+        let end = bytes.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+        let mut payload = bytes[end..].to_vec();
+        edits.iter().for_each(|edit| apply_bytes(&mut payload, edit));
+        [&bytes[..end], &payload].concat()
+    });
+    prop_oneof![3 => edited, 3 => payload_edited, 3 => header, 1 => prop::collection::vec(any::<u8>(), 0..64)]
+}
+
+/// The decompressed data of a `.serialized` shape (Mitsuba 3's `serialized` plugin): a
+/// quad and a triangle with normals, texture coordinates and colours as `flags` says.
+fn serialized_body(version: u16, flags: u32) -> Vec<u8> {
+    let double = flags & 0x2000 != 0;
+    let mut body = flags.to_le_bytes().to_vec();
+    if version == 4 {
+        body.extend(b"fuzz\0");
+    }
+    body.extend(5u64.to_le_bytes());
+    body.extend(3u64.to_le_bytes());
+    let positions = [0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 1., 0., 0.5, 0.5, 1.];
+    let mut reals: Vec<f32> = positions.to_vec();
+    for (flag, per_vertex) in [(0x1, 3), (0x2, 2), (0x8, 3)] {
+        if flags & flag != 0 {
+            reals.extend((0..5 * per_vertex).map(|i| (i % 3) as f32 * 0.5));
+        }
+    }
+    for x in reals {
+        if double {
+            body.extend(f64::from(x).to_le_bytes());
+        } else {
+            body.extend(x.to_le_bytes());
+        }
+    }
+    body.extend([0u32, 1, 2, 0, 2, 3, 0, 4, 1].iter().flat_map(|i| i.to_le_bytes()));
+    body
+}
+
+/// A `.serialized` file of shapes given by their decompressed data.
+fn serialized_file(bodies: &[Vec<u8>], version: u16) -> Vec<u8> {
+    use std::io::Write;
+    let mut out = Vec::new();
+    let mut offsets = Vec::new();
+    for body in bodies {
+        offsets.push(out.len() as u64);
+        out.extend(0x041Cu16.to_le_bytes());
+        out.extend(version.to_le_bytes());
+        let mut encoder = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::fast());
+        encoder.write_all(body).unwrap();
+        out.extend(encoder.finish().unwrap());
+    }
+    for offset in offsets {
+        if version == 4 {
+            out.extend(offset.to_le_bytes());
+        } else {
+            out.extend((offset as u32).to_le_bytes());
+        }
+    }
+    out.extend((bodies.len() as u32).to_le_bytes());
+    out
+}
+
+/// A `.serialized` file of two shapes: edits of the decompressed data of each (so that
+/// they reach past the decompressor), edits of the file's bytes, or random data behind a
+/// valid header.
+fn serialized_file_strategy() -> impl Strategy<Value = Vec<u8>> {
+    let flags = prop_oneof![
+        4 => (0..16u32).prop_map(|bits| (bits & 0xb) | if bits & 4 != 0 { 0x2000 } else { 0x1000 } | (bits & 1) << 4),
+        1 => any::<u32>(),
+    ];
+    let version = prop_oneof![8 => prop::sample::select(vec![3u16, 4]), 1 => any::<u16>()];
+    let edits = || prop::collection::vec(byte_edit(), 0..3);
+    let edited = (version, flags.clone(), flags, edits(), edits(), edits()).prop_map(|(version, f0, f1, e0, e1, file)| {
+        let mut bodies = [serialized_body(version, f0), serialized_body(version, f1)];
+        for (body, edits) in bodies.iter_mut().zip([e0, e1]) {
+            edits.iter().for_each(|edit| apply_bytes(body, edit));
+        }
+        let mut bytes = serialized_file(&bodies, version);
+        file.iter().for_each(|edit| apply_bytes(&mut bytes, edit));
+        bytes
+    });
+    let random = (prop::sample::select(vec![3u16, 4]), prop::collection::vec(any::<u8>(), 0..96), any::<bool>()).prop_map(
+        |(version, data, compress)| {
+            if compress {
+                serialized_file(&[data], version)
+            } else {
+                [&0x041Cu16.to_le_bytes()[..], &version.to_le_bytes(), &data].concat()
+            }
+        },
+    );
+    prop_oneof![8 => edited, 2 => random, 1 => prop::collection::vec(any::<u8>(), 0..64)]
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// PLY files, edited valid ones and random ones: a scene or an error at the mesh's
+    /// `file` key, never a panic.
+    #[test]
+    fn random_ply_files_never_panic(bytes in ply_file(), smooth in any::<bool>()) {
+        let path = mesh_file_scene("random.ply", &bytes, &format!("smooth = {smooth}\n"));
+        check_mesh_file_scene(&path)?;
+    }
+
+    /// Mitsuba `.serialized` files, edited valid ones and random ones, read at shape 0, 1
+    /// or 2: a scene or an error at the mesh's `file` key, never a panic.
+    #[test]
+    fn random_serialized_files_never_panic(
+        bytes in serialized_file_strategy(),
+        shape_index in 0..3u32,
+        smooth in any::<bool>(),
+    ) {
+        let path = mesh_file_scene("random.serialized", &bytes, &format!("smooth = {smooth}\nshape_index = {shape_index}\n"));
+        check_mesh_file_scene(&path)?;
+    }
+}

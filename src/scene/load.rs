@@ -2,7 +2,8 @@
 //! keeps its line for error messages: each table is checked for unknown keys, each value for
 //! its type and range, and each shape is turned into world-space primitives.
 
-use super::mesh::{self, Transform};
+use super::mesh::{self, Normals, Transform};
+use super::{ply, serialized};
 use super::{
     Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, RadiusSchedule, RenderSettings, Scene, SceneError,
     Shape, ShapeKind, Sphere, Texture,
@@ -292,7 +293,7 @@ const SHAPE_TYPES: &[(&str, ShapeKind, &[&str])] = &[
     ("quad", ShapeKind::Quad, &["corner", "u", "v", "uv_scale"]),
     ("sphere", ShapeKind::Sphere, &["center", "radius"]),
     ("cube", ShapeKind::Cube, &["scale", "rotate", "translate"]),
-    ("mesh", ShapeKind::Mesh, &["file", "smooth", "scale", "rotate", "translate"]),
+    ("mesh", ShapeKind::Mesh, &["file", "smooth", "shape_index", "scale", "rotate", "translate"]),
 ];
 
 /// Keys every shape allows.
@@ -332,7 +333,7 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
         }),
         ShapeKind::Cube => {
             let (triangles, skipped) =
-                mesh::triangles(&mesh::unit_cube(), &read_transform(&t)?, false, index).map_err(|e| t.error_here(e))?;
+                mesh::triangles(&mesh::unit_cube(), &read_transform(&t)?, Normals::Flat, index).map_err(|e| t.error_here(e))?;
             if triangles.is_empty() {
                 return Err(t.error_at(
                     "scale",
@@ -367,15 +368,36 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
     Ok(shape)
 }
 
-/// Reads a `mesh` shape's OBJ file and appends its world-space triangles; gives the
-/// warning to print when some of its triangles are degenerate and skipped.
+/// Reads a `mesh` shape's file (OBJ, PLY or Mitsuba `.serialized`, by its extension, in
+/// any case; `shape_index` picks a `.serialized` file's shape) and appends its world-space
+/// triangles; gives the warning to print when some of its triangles are degenerate and
+/// skipped. A `.serialized` file's face-normals flag is ignored: `smooth` decides.
 fn read_mesh(t: &Table, index: u32, scene: &mut Scene) -> Result<Option<SceneError>> {
     let transform = read_transform(t)?;
     let smooth = t.or("smooth", false, Value::bool)?;
     let file = t.require("file")?;
     let path = file.path()?;
-    let obj = file.read_file("mesh", &path, mesh::read_obj)?;
-    let (triangles, skipped) = mesh::triangles(&obj, &transform, smooth, index).map_err(|e| t.error_here(e))?;
+    let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if extension.as_deref() != Some("serialized") && t.get("shape_index").is_some() {
+        return Err(t.error_at("shape_index", "shape_index applies only to a .serialized mesh file"));
+    }
+    let mesh = match extension.as_deref() {
+        Some("obj") => file.read_file("mesh", &path, mesh::read_obj)?,
+        Some("ply") => file.read_file("mesh", &path, ply::read_ply)?,
+        Some("serialized") => {
+            let shape_index = t.or("shape_index", 0, |v| v.u32_in(0, u32::MAX))?;
+            serialized::read_serialized(&path, shape_index)
+                .map_err(|e| file.error(format!("cannot read mesh {}: {e}", path.display())))?
+                .mesh
+        }
+        _ => {
+            return Err(
+                file.error(format!("unknown mesh file type {}: expected a .obj, .ply or .serialized file", path.display()))
+            )
+        }
+    };
+    let normals = if smooth { Normals::Smooth } else { Normals::Flat };
+    let (triangles, skipped) = mesh::triangles(&mesh, &transform, normals, index).map_err(|e| t.error_here(e))?;
     if triangles.is_empty() {
         return Err(file.error(format!("all {skipped} triangles of mesh {} are degenerate", path.display())));
     }

@@ -22,8 +22,10 @@ pub(super) struct IndexedMesh {
     pub indices: Vec<[u32; 3]>,
 }
 
-/// Scale, then rotation about x, y and z (in that order), then translation:
-/// `M = T * Rz * Ry * Rx * S`.
+/// An affine object-to-world transform `M p = A p + t`, with the normal matrix
+/// `(A^-1)^T` for normals. [`Transform::new`] builds it from scale, then rotation about x, y
+/// and z (in that order), then translation (`M = T * Rz * Ry * Rx * S`);
+/// [`Transform::from_affine`] from any linear part and translation.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Transform {
     linear: Mat3,
@@ -38,6 +40,14 @@ impl Transform {
         let r = rotate_degrees * (std::f32::consts::PI / 180.0);
         let linear =
             Mat3::from_rotation_z(r.z) * Mat3::from_rotation_y(r.y) * Mat3::from_rotation_x(r.x) * Mat3::from_diagonal(scale);
+        Self::from_affine(linear, translation)
+    }
+
+    /// The general affine transform `p -> linear * p + translation`: the upper 3x3 block and
+    /// the last column of a 4x4 matrix whose last row is `0 0 0 1` (Mitsuba's `<transform>`
+    /// and `<matrix>`). Normals go through the inverse transpose of `linear`, so `linear`
+    /// should be invertible: a singular one gives zero-area triangles, which are skipped.
+    pub fn from_affine(linear: Mat3, translation: Vec3) -> Self {
         Transform { linear, translation, normal_matrix: linear.inverse().transpose() }
     }
 
@@ -235,14 +245,34 @@ fn append_if_complete<T>(all: &mut Option<Vec<T>>, flat: &[f32], count: usize, w
     }
 }
 
+/// Which shading normals [`triangles`] gives a mesh's vertices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Normals {
+    /// None: triangles are shaded with their geometric normals (`smooth = false` in a TOML
+    /// scene; Mitsuba's `face_normals = true`).
+    Flat,
+    /// The file's normals, or else per position (so that texture seams do not split them)
+    /// the area-weighted average of the normals of the faces around it (`smooth = true` in a
+    /// TOML scene).
+    Smooth,
+    /// What Mitsuba 3 does for a mesh without `face_normals`: the file's normals, or else
+    /// those of its `Mesh::recompute_vertex_normals` (src/render/mesh.cpp): per vertex index,
+    /// not position, the sum over the faces that use the vertex of the face's unit normal
+    /// times the face's interior angle at the vertex (Thürmer & Wüthrich 1998, "Computing
+    /// vertex normals from polygonal facets", JGT 3(1)), normalized. Computed in world space,
+    /// as Mitsuba does after applying `to_world`.
+    MitsubaSmooth,
+}
+
 /// The world-space triangles of `mesh` under `transform`, and how many were skipped for
-/// having zero area. With `smooth`, each vertex gets a shading normal: the file's, or else
-/// the area-weighted average of the normals of the faces around its position. Errors when
-/// the transform takes a vertex out of the range of 32-bit floats.
+/// having zero area. `normals` says which shading normals the vertices get; a vertex whose
+/// normal is zero (a zero normal in the file, or faces whose normals cancel) takes its
+/// triangle's geometric normal. Errors when the transform takes a vertex out of the range
+/// of 32-bit floats.
 pub(super) fn triangles(
     mesh: &IndexedMesh,
     transform: &Transform,
-    smooth: bool,
+    normals: Normals,
     shape: u32,
 ) -> Result<(Vec<Triangle>, usize), String> {
     let world: Vec<Vec3> = mesh.positions.iter().map(|&p| transform.point(p)).collect();
@@ -258,10 +288,12 @@ pub(super) fn triangles(
     }
     let skipped = mesh.indices.len() - faces.len();
 
-    let normals = smooth.then(|| match &mesh.normals {
-        Some(file_normals) => file_normals.iter().map(|&n| transform.normal(n)).collect(),
-        None => averaged_normals(&world, &faces),
-    });
+    let file_normals = || mesh.normals.as_ref().map(|n| n.iter().map(|&n| transform.normal(n)).collect::<Vec<_>>());
+    let normals = match normals {
+        Normals::Flat => None,
+        Normals::Smooth => Some(file_normals().unwrap_or_else(|| averaged_normals(&world, &faces))),
+        Normals::MitsubaSmooth => Some(file_normals().unwrap_or_else(|| angle_weighted_normals(&world, &faces))),
+    };
     let triangles = faces
         .iter()
         .map(|&face| Triangle {
@@ -330,6 +362,35 @@ fn averaged_normals(world: &[Vec3], faces: &[[usize; 3]]) -> Vec<Vec3> {
     world.iter().map(|&p| sums.get(&key(p)).copied().unwrap_or_default().normalize_or_zero()).collect()
 }
 
+/// Per-vertex unit normals as Mitsuba 3's `Mesh::recompute_vertex_normals` computes them
+/// (see [`Normals::MitsubaSmooth`]): for each vertex index, the sum of the unit normals of
+/// the faces that use it, each weighted by the face's interior angle there; zero where they
+/// cancel or no face uses the vertex. `faces` have nonzero area.
+fn angle_weighted_normals(world: &[Vec3], faces: &[[usize; 3]]) -> Vec<Vec3> {
+    let mut sums = vec![Vec3::ZERO; world.len()];
+    for &face in faces {
+        let n = face_normal(world, face).normalize_or_zero();
+        for corner in 0..3 {
+            let at = world[face[corner]];
+            let to_next = (world[face[(corner + 1) % 3]] - at).normalize_or_zero();
+            let to_previous = (world[face[(corner + 2) % 3]] - at).normalize_or_zero();
+            sums[face[corner]] += n * unit_angle(to_next, to_previous);
+        }
+    }
+    sums.into_iter().map(Vec3::normalize_or_zero).collect()
+}
+
+/// The angle between unit vectors `a` and `b`, accurate near 0 and pi as well (it uses the
+/// half chord, `|a - b| / 2 = sin(angle / 2)`, rather than `acos` of the dot product).
+fn unit_angle(a: Vec3, b: Vec3) -> f32 {
+    let half_chord = |v: Vec3| (v.length() * 0.5).min(1.0).asin();
+    if a.dot(b) < 0.0 {
+        std::f32::consts::PI - 2.0 * half_chord(a + b)
+    } else {
+        2.0 * half_chord(a - b)
+    }
+}
+
 /// Reads an sRGB image (PNG) and decodes it to linear RGB, row 0 at the top.
 pub(super) fn read_texture(path: &Path) -> Result<Texture, String> {
     let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
@@ -344,5 +405,125 @@ fn srgb_to_linear(c: f32) -> f32 {
         c / 12.92
     } else {
         ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
+
+    fn identity() -> Transform {
+        Transform::new(Vec3::ONE, Vec3::ZERO, Vec3::ZERO)
+    }
+
+    /// The shading normal `triangles` gives the vertex at `p`, the same in every triangle
+    /// that has it.
+    fn normal_at(triangles: &[Triangle], p: Vec3) -> Vec3 {
+        let normals: Vec<Vec3> =
+            triangles.iter().flat_map(|t| (0..3).filter(move |&k| t.p[k] == p).map(move |k| t.n.unwrap()[k])).collect();
+        assert!(!normals.is_empty(), "no vertex at {p}");
+        assert!(normals.iter().all(|&n| n == normals[0]), "the normals at {p} differ: {normals:?}");
+        normals[0]
+    }
+
+    #[track_caller]
+    fn assert_close(a: Vec3, b: Vec3) {
+        assert!((a - b).length() < 1e-6, "{a} != {b}");
+    }
+
+    /// The tetrahedron O = 0, A = (2, 0, 0), B = (0, 1, 0), C = (0, 0, 1), wound outwards:
+    /// faces OBA (-z), OCB (-x), OAC (-y) and ABC ((1, 2, 2) / 3).
+    fn tetrahedron() -> IndexedMesh {
+        IndexedMesh {
+            positions: vec![Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::Y, Vec3::Z],
+            normals: None,
+            uvs: None,
+            indices: vec![[0, 2, 1], [0, 3, 2], [0, 1, 3], [1, 2, 3]],
+        }
+    }
+
+    /// Mitsuba's recomputed vertex normals, against angle-weighted sums worked out by hand.
+    #[test]
+    fn mitsuba_smooth_weights_unit_face_normals_by_angle() {
+        let (triangles, skipped) = triangles(&tetrahedron(), &identity(), Normals::MitsubaSmooth, 0).unwrap();
+        assert_eq!((triangles.len(), skipped), (4, 0));
+        let (minus_x, minus_y, minus_z, abc) = (-Vec3::X, -Vec3::Y, -Vec3::Z, Vec3::new(1.0, 2.0, 2.0) / 3.0);
+        // O: a right angle in each of its three faces.
+        let o = FRAC_PI_2 * (minus_x + minus_y + minus_z);
+        // A: angle(AO, AB) = angle(AO, AC) = acos(2 / sqrt 5); angle(AB, AC) = acos(4 / 5).
+        let a = (2.0 / 5f32.sqrt()).acos() * (minus_z + minus_y) + 0.8f32.acos() * abc;
+        // B: angle(BO, BA) = acos(1 / sqrt 5), angle(BO, BC) = pi / 4, angle(BA, BC) =
+        // acos(1 / sqrt 10); C is B with y and z swapped.
+        let b = (1.0 / 5f32.sqrt()).acos() * minus_z + FRAC_PI_4 * minus_x + (0.1f32.sqrt()).acos() * abc;
+        let c = (1.0 / 5f32.sqrt()).acos() * minus_y + FRAC_PI_4 * minus_x + (0.1f32.sqrt()).acos() * abc;
+        let mesh = tetrahedron();
+        for (p, expected) in mesh.positions.iter().zip([o, a, b, c]) {
+            assert_close(normal_at(&triangles, *p), expected.normalize());
+        }
+        // Weighting by area instead (the `Smooth` normals) gives another normal at O.
+        let (smooth, _) = super::triangles(&tetrahedron(), &identity(), Normals::Smooth, 0).unwrap();
+        assert_close(normal_at(&smooth, Vec3::ZERO), -Vec3::new(0.5, 1.0, 1.0).normalize());
+    }
+
+    /// Mitsuba sums per vertex index: vertices that share a position but not an index (a
+    /// seam) keep their own normals, where `Smooth` averages them.
+    #[test]
+    fn mitsuba_smooth_sums_per_vertex_index() {
+        // Two triangles folded along the edge from 0 to (0, 1, 0), the edge's vertices
+        // duplicated: one in the plane z = 0 facing +z, the other in x = 0 facing +x.
+        let mesh = IndexedMesh {
+            positions: vec![Vec3::ZERO, Vec3::Y, Vec3::X, Vec3::ZERO, Vec3::Y, Vec3::Z],
+            normals: None,
+            uvs: None,
+            indices: vec![[0, 2, 1], [3, 4, 5]],
+        };
+        let (mitsuba, _) = triangles(&mesh, &identity(), Normals::MitsubaSmooth, 0).unwrap();
+        assert_eq!(mitsuba[0].n.unwrap(), [Vec3::Z; 3]);
+        assert_eq!(mitsuba[1].n.unwrap(), [Vec3::X; 3]);
+        let (smooth, _) = triangles(&mesh, &identity(), Normals::Smooth, 0).unwrap();
+        assert_close(smooth[0].n.unwrap()[0], Vec3::new(1.0, 0.0, 1.0).normalize());
+    }
+
+    /// With normals in the file, `MitsubaSmooth` uses them (transformed, unit length), as
+    /// `Smooth` does; `Flat` gives none.
+    #[test]
+    fn file_normals_are_kept() {
+        let mut mesh = tetrahedron();
+        mesh.normals = Some(vec![Vec3::new(0.0, 0.0, 2.0); 4]);
+        let transform = Transform::new(Vec3::new(1.0, 1.0, 4.0), Vec3::ZERO, Vec3::ZERO);
+        let (mitsuba, _) = triangles(&mesh, &transform, Normals::MitsubaSmooth, 0).unwrap();
+        let (smooth, _) = triangles(&mesh, &transform, Normals::Smooth, 0).unwrap();
+        assert_eq!(mitsuba, smooth);
+        assert!(mitsuba.iter().all(|t| t.n == Some([Vec3::Z; 3])));
+        let (flat, _) = triangles(&mesh, &transform, Normals::Flat, 0).unwrap();
+        assert!(flat.iter().all(|t| t.n.is_none()));
+    }
+
+    /// A general affine transform: the same as `new` for a scale-rotate-translate, normals
+    /// by the inverse transpose (perpendicular to transformed tangents under a shear), and
+    /// mirrors detected.
+    #[test]
+    fn affine_transforms() {
+        let (scale, rotate, translate) = (Vec3::new(2.0, 3.0, 0.5), Vec3::new(10.0, 20.0, 30.0), Vec3::new(1.0, -2.0, 3.0));
+        let r = rotate * (std::f32::consts::PI / 180.0);
+        let linear =
+            Mat3::from_rotation_z(r.z) * Mat3::from_rotation_y(r.y) * Mat3::from_rotation_x(r.x) * Mat3::from_diagonal(scale);
+        let (a, b) = (Transform::new(scale, rotate, translate), Transform::from_affine(linear, translate));
+        let p = Vec3::new(0.3, -0.7, 1.1);
+        assert_eq!(a.point(p), b.point(p));
+        assert_eq!(a.normal(p), b.normal(p));
+
+        // x' = x + y: the plane with normal (1, 1, 0) is spanned by (1, -1, 0) and z.
+        let shear = Transform::from_affine(Mat3::from_cols(Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Z), Vec3::ONE);
+        assert_eq!(shear.point(Vec3::new(1.0, 2.0, 3.0)), Vec3::new(4.0, 3.0, 4.0));
+        let n = shear.normal(Vec3::new(1.0, 1.0, 0.0));
+        assert!((n.length() - 1.0).abs() < 1e-6);
+        for tangent in [Vec3::new(1.0, -1.0, 0.0), Vec3::Z] {
+            let image = shear.point(tangent) - shear.point(Vec3::ZERO);
+            assert!(n.dot(image).abs() < 1e-6, "{n} is not perpendicular to {image}");
+        }
+        assert!(!shear.flips_winding());
+        assert!(Transform::from_affine(Mat3::from_diagonal(Vec3::new(-1.0, 1.0, 1.0)), Vec3::ZERO).flips_winding());
     }
 }
