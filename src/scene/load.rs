@@ -388,7 +388,6 @@ fn read_mesh(t: &Table, index: u32, scene: &mut Scene) -> Result<Option<SceneErr
             let shape_index = t.or("shape_index", 0, |v| v.u32_in(0, u32::MAX))?;
             serialized::read_serialized(&path, shape_index)
                 .map_err(|e| file.error(format!("cannot read mesh {}: {e}", path.display())))?
-                .mesh
         }
         _ => {
             return Err(

@@ -30,17 +30,6 @@ use glam::{Vec2, Vec3};
 use std::io::{ErrorKind, Read};
 use std::path::Path;
 
-/// A shape read from a `.serialized` file.
-#[derive(Clone, Debug)]
-pub(super) struct SerializedMesh {
-    /// Its positions, normals and texture coordinates when the file has them, and triangles.
-    pub mesh: IndexedMesh,
-    /// Whether the file's flags ask for face normals (`0x0010`): Mitsuba 0.6 then shaded the
-    /// mesh flat; Mitsuba 3 ignores the flag and goes by the plugin's `face_normals`
-    /// parameter alone. The caller decides.
-    pub face_normals: bool,
-}
-
 /// The format identifier each shape starts with.
 const MAGIC: u16 = 0x041C;
 
@@ -48,6 +37,9 @@ const MAGIC: u16 = 0x041C;
 const HAS_NORMALS: u32 = 0x0001;
 const HAS_TEXCOORDS: u32 = 0x0002;
 const HAS_COLORS: u32 = 0x0008;
+/// Face normals asked for: Mitsuba 3 ignores it (its `face_normals` parameter decides), and
+/// so do we; the tests write it.
+#[cfg(test)]
 const FACE_NORMALS: u32 = 0x0010;
 const DOUBLE_PRECISION: u32 = 0x2000;
 
@@ -68,13 +60,13 @@ const CHUNK: usize = 1 << 14;
 /// message says how many it has), a broken dictionary, truncated or corrupt compressed data,
 /// counts that the data cannot hold, more than `u32::MAX` vertices, no triangles, an index
 /// beyond the vertices, a number that is not finite in 32-bit floats.
-pub(super) fn read_serialized(path: &Path, shape_index: u32) -> Result<SerializedMesh, String> {
+pub(super) fn read_serialized(path: &Path, shape_index: u32) -> Result<IndexedMesh, String> {
     let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
     parse_serialized(&bytes, shape_index)
 }
 
 /// Parses the bytes of a `.serialized` file (see [`read_serialized`]).
-fn parse_serialized(bytes: &[u8], shape_index: u32) -> Result<SerializedMesh, String> {
+fn parse_serialized(bytes: &[u8], shape_index: u32) -> Result<IndexedMesh, String> {
     let version = match shape_header(bytes, 0) {
         Some((MAGIC, version @ (3 | 4))) => version,
         Some((MAGIC, version)) => {
@@ -161,7 +153,7 @@ fn parse_serialized(bytes: &[u8], shape_index: u32) -> Result<SerializedMesh, St
         uvs: uvs.map(|uv| uv.into_iter().map(Vec2::from_array).collect()),
         indices,
     };
-    Ok(SerializedMesh { mesh, face_normals: flags & FACE_NORMALS != 0 })
+    Ok(mesh)
 }
 
 /// The format identifier and version at byte `offset`, when the file is that long.
@@ -328,16 +320,15 @@ mod tests {
         for version in [3, 4] {
             let bytes = file(version);
             let quad = parse_serialized(&bytes, 0).unwrap();
-            check(&quad.mesh);
-            assert!(!quad.face_normals);
-            assert_eq!(quad.mesh.indices, [[0, 1, 2], [0, 2, 3]]);
-            assert_eq!(quad.mesh.positions[2], Vec3::new(1.0, 1.0, 0.0));
-            assert_eq!(quad.mesh.normals.as_ref().unwrap(), &[Vec3::Z; 4]);
-            assert_eq!(quad.mesh.uvs.as_ref().unwrap()[3], Vec2::Y);
+            check(&quad);
+            assert_eq!(quad.indices, [[0, 1, 2], [0, 2, 3]]);
+            assert_eq!(quad.positions[2], Vec3::new(1.0, 1.0, 0.0));
+            assert_eq!(quad.normals.as_ref().unwrap(), &[Vec3::Z; 4]);
+            assert_eq!(quad.uvs.as_ref().unwrap()[3], Vec2::Y);
             let triangle = parse_serialized(&bytes, 1).unwrap();
-            check(&triangle.mesh);
-            assert!(triangle.face_normals && triangle.mesh.normals.is_none() && triangle.mesh.uvs.is_none());
-            assert_eq!(triangle.mesh.positions, [Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0)]);
+            check(&triangle);
+            assert!(triangle.normals.is_none() && triangle.uvs.is_none());
+            assert_eq!(triangle.positions, [Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0)]);
             let error = parse_serialized(&bytes, 2).unwrap_err();
             assert!(error.contains("the file has 2 shapes"), "{error}");
         }
@@ -359,7 +350,7 @@ mod tests {
             for variant in variants {
                 for shape_index in [0, 1, 2, u32::MAX] {
                     match parse_serialized(&variant, shape_index) {
-                        Ok(read) => check(&read.mesh),
+                        Ok(read) => check(&read),
                         Err(message) => assert!(!message.is_empty()),
                     }
                 }

@@ -217,7 +217,7 @@ fn ior(p: &Props, name: &str, default: f32) -> Result<f32> {
         })?,
         _ => return Err(node.error(Some(name), format!("`{name}` is a <float> or a <string> naming a medium"))),
     };
-    if !(value >= 1.0) {
+    if value.is_nan() || value < 1.0 {
         return Err(node.error(Some(name), format!("an index of refraction below 1 ({value})")));
     }
     Ok(value)

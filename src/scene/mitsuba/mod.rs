@@ -4,13 +4,13 @@
 //! film's file format, tone mapping of an LDR film, a sampler's kind) is passed over with a
 //! warning.
 //!
-//! - [`xml`]: files, `<include>`, `<default>`, `$name` and `-D`, camelCase names of 0.x files.
-//! - [`props`]: a plugin's typed parameters, each of which must be read.
-//! - [`bsdf`]: `diffuse`, `twosided`, `dielectric`, `roughdielectric`, `conductor`,
+//! - `xml.rs`: files, `<include>`, `<default>`, `$name` and `-D`, camelCase names of 0.x files.
+//! - `props.rs`: a plugin's typed parameters, each of which must be read.
+//! - `bsdf.rs`: `diffuse`, `twosided`, `dielectric`, `roughdielectric`, `conductor`,
 //!   `roughconductor`.
-//! - [`shape`]: `obj`, `ply`, `serialized`, `rectangle`, `cube`, `disk`, `sphere`,
+//! - `shape.rs`: `obj`, `ply`, `serialized`, `rectangle`, `cube`, `disk`, `sphere`,
 //!   `shapegroup` / `instance`, area emitters.
-//! - [`sensor`]: `perspective`, `thinlens`, the film, its pixel filter, the sampler and the
+//! - `sensor.rs`: `perspective`, `thinlens`, the film, its pixel filter, the sampler and the
 //!   integrator; `point` and `directional` emitters.
 //!
 //! Conventions taken from Mitsuba 3 (and checked against its renders, tests/mitsuba_xml.rs):

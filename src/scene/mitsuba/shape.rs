@@ -79,9 +79,9 @@ impl<'a> SceneReader<'a> {
             "obj" | "ply" | "serialized" => {
                 let path = file_name(&p, node, &self.root)?;
                 let face_normals = p.boolean_or("face_normals", false)?;
-                let (mut indexed, file_face_normals) = match kind {
-                    "obj" => (read_mesh(&p, &path, mesh::read_obj)?, false),
-                    "ply" => (read_mesh(&p, &path, ply::read_ply)?, false),
+                let mut indexed = match kind {
+                    "obj" => read_mesh(&p, &path, mesh::read_obj)?,
+                    "ply" => read_mesh(&p, &path, ply::read_ply)?,
                     _ => {
                         let shape_index = p.integer("shape_index")?.unwrap_or(0);
                         let shape_index = u32::try_from(shape_index).map_err(|_| {
@@ -95,8 +95,9 @@ impl<'a> SceneReader<'a> {
                                 "max_smooth_angle (splitting vertices at creases) is not modelled by sppm-gpu",
                             ));
                         }
-                        let read = read_mesh(&p, &path, |path| serialized::read_serialized(path, shape_index))?;
-                        (read.mesh, read.face_normals)
+                        // Mitsuba 3 reads the file's face-normal flag but shades by the
+                        // plugin's `face_normals` alone.
+                        read_mesh(&p, &path, |path| serialized::read_serialized(path, shape_index))?
                     }
                 };
                 // Mitsuba reads OBJ's `vt` flipped unless told not to; the coordinates are kept
@@ -107,7 +108,7 @@ impl<'a> SceneReader<'a> {
                         uvs.iter_mut().for_each(|uv| uv.y = 1.0 - uv.y);
                     }
                 }
-                let normals = if face_normals || file_face_normals { Normals::Flat } else { Normals::MitsubaSmooth };
+                let normals = if face_normals { Normals::Flat } else { Normals::MitsubaSmooth };
                 self.add_mesh(node, indexed, &transform, normals, index, &path)?;
                 ShapeKind::Mesh
             }
@@ -145,7 +146,7 @@ impl<'a> SceneReader<'a> {
             "sphere" => {
                 let center = p.vec3("center")?.unwrap_or(Vec3::ZERO);
                 let radius = p.float_or("radius", 1.0)?;
-                if !(radius > 0.0) {
+                if radius <= 0.0 {
                     return Err(p
                         .get("radius")
                         .unwrap_or(node)
