@@ -1,7 +1,8 @@
 //! Fuzzing the scene loader with proptest: mutated copies of the canonical scenes, and random
 //! OBJ files behind a mesh shape. The loader must answer each with a scene or an error that
 //! names the scene file (and a line inside it), never a panic; what it accepts must be finite
-//! geometry the renderer can use.
+//! geometry the renderer can use. Mutated copies of the Mitsuba XML test scenes (lines, numbers,
+//! attribute values) go through the XML reader the same way.
 //!
 //! 2048 cases per property (about two seconds in all in release mode), from a fixed seed so
 //! that CI runs the same cases every time; `PROPTEST_CASES=N` and `PROPTEST_RNG_SEED=S` fuzz
@@ -745,5 +746,82 @@ proptest! {
     ) {
         let path = mesh_file_scene("random.serialized", &bytes, &format!("smooth = {smooth}\nshape_index = {shape_index}\n"));
         check_mesh_file_scene(&path)?;
+    }
+}
+
+// --- Mitsuba scene XML ---
+
+/// A folder holding the Mitsuba test scenes' meshes and included fragment, where mutated
+/// copies of the scenes are written (one file per case, under a name of its own).
+fn mitsuba_dir() -> PathBuf {
+    let source = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/mitsuba"));
+    let dir = std::env::temp_dir().join(format!("sppm-gpu-fuzz-mitsuba-{}", std::process::id()));
+    if !dir.join("meshes").exists() {
+        std::fs::create_dir_all(dir.join("meshes")).unwrap();
+        for entry in std::fs::read_dir(source.join("meshes")).unwrap() {
+            let path = entry.unwrap().path();
+            std::fs::copy(&path, dir.join("meshes").join(path.file_name().unwrap())).unwrap();
+        }
+        std::fs::copy(source.join("legacy-walls.xml"), dir.join("legacy-walls.xml")).unwrap();
+    }
+    dir
+}
+
+/// The Mitsuba test scenes' texts.
+fn mitsuba_scenes() -> Vec<String> {
+    ["box.xml", "legacy.xml", "lights.xml"]
+        .iter()
+        .map(|name| {
+            std::fs::read_to_string(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/mitsuba")).join(name)).unwrap()
+        })
+        .collect()
+}
+
+/// Values an XML attribute is replaced with.
+const ODD_ATTRIBUTES: &[&str] =
+    &["", "nan", "1e39", "-1", "0", "$undefined", "$", "#zz0000", "1, 2", "1 2 3 4", "true", "x", "ggx", "none", "\u{1F600}"];
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// Mutated Mitsuba XML scenes (lines, numbers and attribute values): a scene or an error
+    /// that names a file of the scene and a line inside it, never a panic.
+    #[test]
+    fn mutated_mitsuba_scenes_never_panic(
+        which in any::<Index>(),
+        mutations in prop::collection::vec(mutation(), 0..3),
+        attribute in any::<Index>(),
+        value in any::<Index>(),
+        edit_attribute in any::<bool>(),
+        case in any::<u64>(),
+    ) {
+        let scenes = mitsuba_scenes();
+        let mut text = mutations.iter().fold(which.get(&scenes).clone(), |text, m| apply(&text, m));
+        if edit_attribute {
+            // Replace the value of one attribute: the text between a `="` and the next `"`.
+            let starts: Vec<usize> = text.match_indices("=\"").map(|(i, _)| i + 2).collect();
+            if !starts.is_empty() {
+                let start = starts[attribute.index(starts.len())];
+                if let Some(len) = text[start..].find('"') {
+                    text = format!("{}{}{}", &text[..start], value.get(ODD_ATTRIBUTES), &text[start + len..]);
+                }
+            }
+        }
+        let dir = mitsuba_dir();
+        let path = dir.join(format!("case-{case:016x}.xml"));
+        std::fs::write(&path, &text).unwrap();
+        let result = scene::load(&path);
+        let _ = std::fs::remove_file(&path);
+        match result {
+            Ok(scene) => check_scene(&scene)?,
+            Err(error) => {
+                prop_assert!(error.file == path || error.file.starts_with(&dir), "{}", error);
+                prop_assert!(error.to_string().starts_with(&error.file.display().to_string()), "{}", error);
+                prop_assert!(!error.message.is_empty());
+                if let (Some(line), true) = (error.line, error.file == path) {
+                    prop_assert!(line >= 1 && line <= text.lines().count() + 1, "line {} of {}: {}", line, text.lines().count(), error);
+                }
+            }
+        }
     }
 }
