@@ -62,6 +62,10 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
             break;
         }
         let m = materials[s.material];
+        // A one-sided surface seen from behind is black: the path ends, leaving no visible point.
+        if seen_from_behind(m, s, d) {
+            break;
+        }
         let diffuse = m.kind == MATERIAL_DIFFUSE;
         var albedo = m.albedo;
         if diffuse {
@@ -88,7 +92,7 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
             let wo = -d;
             let n_out = select(-s.ns, s.ns, dot(wo, s.ng) > 0.0);
             let wi = sample_cosine_hemisphere(n_out, rng_next2(rng));
-            if dot(wi, s.ng) * dot(wo, s.ng) <= 0.0 {
+            if dot(wi, s.ng) * dot(wo, s.ng) <= 0.0 || one_sided_culls(m, s, wi) {
                 break;
             }
             beta *= albedo;

@@ -53,6 +53,10 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
             break;
         }
         let m = materials[s.material];
+        // A one-sided surface seen from behind is black: the path ends.
+        if seen_from_behind(m, s, d) {
+            break;
+        }
         let wo = -d;
         let diffuse = m.kind == MATERIAL_DIFFUSE;
         var albedo = m.albedo;
@@ -74,7 +78,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
         if diffuse {
             let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
             let wi = sample_cosine_hemisphere(n_in, rng_next2(&rng));
-            if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 {
+            if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 || one_sided_culls(m, s, wi) {
                 break;
             }
             beta *= albedo;

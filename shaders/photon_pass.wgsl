@@ -161,10 +161,15 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
     // overflows adds nothing rather than everything.
     let beta = (*ph).beta;
     let finite = all(beta >= vec3f(0.0)) && all(beta < vec3f(1.0e9));
+    // A one-sided surface hit from behind scatters nothing: no deposit, and the photon ends.
+    let behind = seen_from_behind(m, s, d);
     // Nothing has been drawn or changed yet in this bounce, so when the hit finds no room the
     // photon's state is the one to resume from.
-    if !deposit(m.kind == MATERIAL_DIFFUSE && (frame.direct == 0u || (*ph).depth > 0u) && finite, s.p, d, beta) {
+    if !deposit(m.kind == MATERIAL_DIFFUSE && (frame.direct == 0u || (*ph).depth > 0u) && finite && !behind, s.p, d, beta) {
         return PHOTON_NO_ROOM;
+    }
+    if behind {
+        return PHOTON_ENDED;
     }
     var wi: vec3f;
     var f: vec3f;
@@ -173,8 +178,9 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
         let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
         wi = sample_cosine_hemisphere(n_in, rng_next2(rng));
         f = diffuse_albedo(m, s.uv);
-        // A shading normal can send the photon through the surface; end it there.
-        if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 {
+        // A shading normal can send the photon through the surface, or behind a one-sided
+        // one's ns; end it there.
+        if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 || one_sided_culls(m, s, wi) {
             return PHOTON_ENDED;
         }
     } else {

@@ -30,7 +30,7 @@ fn features_of_the_canonical_scenes() {
     assert!(f.glossy);
     let f = features("motion-blur.toml");
     assert!(f.motion);
-    assert_eq!(Features::ALL.constants().len(), 14);
+    assert_eq!(Features::ALL.constants().len(), 15);
     assert!(Features::ALL.constants().iter().all(|(_, v)| *v == 1.0));
 }
 

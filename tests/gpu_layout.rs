@@ -71,7 +71,7 @@ fn gpu_structs_match_wgsl() {
     check!(module, BvhParams, "BvhParams", [origin, _pad0, scale, _pad1]);
     check!(module, GpuTriangle, "Triangle", [p0, material, e1, shape, e2, attributes]);
     check!(module, GpuSphere, "Sphere", [center, radius, material, shape, _pad]);
-    check!(module, GpuMaterial, "Material", [albedo, kind, ior, roughness, texture, texture_size]);
+    check!(module, GpuMaterial, "Material", [albedo, kind, ior, roughness, texture, texture_size, one_sided, _pad]);
     check!(module, GpuShape, "Shape", [emission, emits, velocity, _pad]);
     check!(module, Emitter, "Emitter", [kind, prim_ref, cdf, pmf, position, area, radiance, radius, direction, _pad]);
     check!(module, VisiblePoint, "VisiblePoint", [p, radius, weight, normal]);

@@ -5,6 +5,22 @@ override USES_MIRROR: bool = true;
 override USES_GLOSSY: bool = true;
 override USES_SMOOTH_DIELECTRIC: bool = true;
 override USES_ROUGH_DIELECTRIC: bool = true;
+// Some non-dielectric material is one-sided.
+override USES_ONE_SIDED: bool = true;
+
+// Whether material m at s scatters nothing to or from direction w (pointing away from the
+// surface): Mitsuba 3's BSDFs return zero for cos_theta <= 0 in the shading frame unless
+// wrapped in `twosided`. Dielectrics are two-sided by nature and ignore the flag.
+fn one_sided_culls(m: Material, s: Surface, w: vec3f) -> bool {
+    return USES_ONE_SIDED && m.one_sided != 0u && m.kind != MATERIAL_DIELECTRIC && dot(w, s.ns) <= 0.0;
+}
+
+// Whether a ray along d meets m at s from behind a one-sided surface (wo = -d below ns): the
+// BSDF is zero there, so the camera path or photon ends, with no visible point, deposit or
+// next-event estimate.
+fn seen_from_behind(m: Material, s: Surface, d: vec3f) -> bool {
+    return one_sided_culls(m, s, -d);
+}
 
 // Fresnel reflectance of a dielectric for unpolarized light (pbrt-v4 eq. 9.6); eta is the
 // ratio of the transmitted side's index to the incident side's.
@@ -154,7 +170,9 @@ fn sample_nondiffuse(m: Material, d: vec3f, s: Surface, u: vec3f, radiance: bool
     // it; such paths end rather than leak.
     let reflected = dot(next.wi, s.ng) * dot(d, s.ng) < 0.0;
     let wants_reflection = m.kind != MATERIAL_DIELECTRIC;
-    if wants_reflection && !reflected {
+    // A one-sided conductor reflects nothing behind ns (its samplers reflect about ns turned
+    // towards wo, so only roundoff gets there).
+    if wants_reflection && (!reflected || one_sided_culls(m, s, next.wi)) {
         next.weight = vec3f(0.0);
     }
     return next;

@@ -127,6 +127,10 @@ struct Material {
     texture: u32,
     // Width in the low 16 bits, height in the high 16.
     texture_size: u32,
+    // 1 when black seen from behind ns and for directions behind it (Mitsuba 3's BSDFs
+    // unless wrapped in `twosided`); 0 when two-sided, and always for dielectrics.
+    one_sided: u32,
+    _pad: array<u32, 3>,
 }
 
 // Per-shape data the kernels look up through a primitive's shape index.

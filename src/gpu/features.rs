@@ -37,6 +37,9 @@ pub struct Features {
     pub smooth_dielectric: bool,
     /// Some material is a rough dielectric.
     pub rough_dielectric: bool,
+    /// Some non-dielectric material is one-sided (black seen from behind, as Mitsuba 3's
+    /// BSDFs are unless wrapped in `twosided`).
+    pub one_sided: bool,
     /// Some emitter is an emitting triangle.
     pub triangle_lights: bool,
     /// Some emitter is an emitting sphere.
@@ -60,6 +63,7 @@ impl Features {
         glossy: true,
         smooth_dielectric: true,
         rough_dielectric: true,
+        one_sided: true,
         triangle_lights: true,
         sphere_lights: true,
         point_lights: true,
@@ -83,6 +87,7 @@ impl Features {
             glossy: material(&|kind, _| kind == MATERIAL_GLOSSY),
             smooth_dielectric: material(&|kind, roughness| kind == MATERIAL_DIELECTRIC && roughness == 0.0),
             rough_dielectric: material(&|kind, roughness| kind == MATERIAL_DIELECTRIC && roughness > 0.0),
+            one_sided: data.materials.iter().any(|m| m.one_sided != 0 && m.kind != MATERIAL_DIELECTRIC),
             triangle_lights: emitter(EMITTER_AREA, false),
             sphere_lights: emitter(EMITTER_AREA, true),
             point_lights: emitter(EMITTER_POINT, false),
@@ -103,6 +108,7 @@ impl Features {
             ("USES_GLOSSY", self.glossy),
             ("USES_SMOOTH_DIELECTRIC", self.smooth_dielectric),
             ("USES_ROUGH_DIELECTRIC", self.rough_dielectric),
+            ("USES_ONE_SIDED", self.one_sided),
             ("USES_TRIANGLE_LIGHTS", self.triangle_lights),
             ("USES_SPHERE_LIGHTS", self.sphere_lights),
             ("USES_POINT_LIGHTS", self.point_lights),

@@ -163,6 +163,8 @@ impl SceneData {
                         g.roughness = roughness;
                     }
                 }
+                // Dielectrics are two-sided by nature: Mitsuba 3's ignore `twosided`.
+                g.one_sided = (m.one_sided && g.kind != MATERIAL_DIELECTRIC) as u32;
                 g
             })
             .collect();

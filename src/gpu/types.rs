@@ -173,6 +173,12 @@ pub struct GpuMaterial {
     pub texture: u32,
     /// Texture width in the low 16 bits, height in the high 16.
     pub texture_size: u32,
+    /// 1 when the BSDF is black seen from behind its shading normal and for directions
+    /// behind it (Mitsuba 3's BSDFs unless wrapped in `twosided`); 0 for a two-sided
+    /// material and always for a dielectric, which is two-sided by nature.
+    pub one_sided: u32,
+    /// Padding to 48 bytes; always 0.
+    pub _pad: [u32; 3],
 }
 
 /// Per-shape data, looked up through a primitive's `shape` index.
