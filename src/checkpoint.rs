@@ -60,7 +60,7 @@ impl Fingerprint {
         let r = &scene.render;
         let settings = format!(
             "width = {}\nheight = {}\nmethod = {:?}\nspp = {}\nphotons = {}\nradius = {:?}\nalpha = {}\nmax_depth = {}\n\
-             seed = {}\ndirect = {:?}\ndirect_samples = {:?}\nradius_schedule = {:?}\n",
+             seed = {}\ndirect = {:?}\ndirect_samples = {:?}\nradius_schedule = {:?}\nfilter = {:?}\n",
             r.width,
             r.height,
             r.method,
@@ -72,7 +72,8 @@ impl Fingerprint {
             r.seed,
             r.direct,
             r.direct_samples,
-            r.radius_schedule
+            r.radius_schedule,
+            r.filter
         );
         let mut geometry = Fnv::new();
         for t in &scene.triangles {

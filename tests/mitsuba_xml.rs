@@ -423,3 +423,16 @@ fn lights_match_mitsuba() {
     let c = against_mitsuba("lights", Method::Sppm, 16, 100_000);
     assert_close("lights sppm", &c, 0.003, 0.01);
 }
+
+/// Batches and checkpoints of renders with different pixel filters must not merge: the
+/// filter is part of the render's fingerprint.
+#[test]
+fn the_pixel_filter_is_part_of_the_fingerprint() {
+    use sppm_gpu::checkpoint::Fingerprint;
+    let tent = load("box.xml");
+    let mut gaussian = tent.clone();
+    gaussian.render.filter = PixelFilter::Gaussian { stddev: 0.5 };
+    let e = Fingerprint::of(&tent).check(&Fingerprint::of(&gaussian)).unwrap_err();
+    assert!(e.contains("filter"), "{e}");
+    Fingerprint::of(&tent).check(&Fingerprint::of(&tent.clone())).unwrap();
+}
