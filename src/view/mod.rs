@@ -446,8 +446,19 @@ impl App {
         let passes = renderer.passes();
         let mut render = self.options.scene.render.clone();
         render.method = view.method;
+        if sppm_gpu::scene::is_mitsuba_xml(&self.options.scene_path) {
+            let saved = save::save(&self.options.scene_path, &image, None)?;
+            say!(
+                "saved {} and {} ({} passes of {}; the camera of a Mitsuba XML scene is not written back)",
+                saved.exr.display(),
+                saved.png.display(),
+                passes,
+                method_name(view.method)
+            );
+            return Ok(());
+        }
         let text = save::scene_text(&self.original, &view.camera, &render, passes)?;
-        let saved = save::save(&self.options.scene_path, &image, &text)?;
+        let saved = save::save(&self.options.scene_path, &image, Some(&text))?;
         say!(
             "saved {}, {} and {} ({} passes of {})",
             saved.exr.display(),

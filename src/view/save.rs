@@ -87,7 +87,9 @@ fn float(x: f32) -> toml::Value {
 }
 
 /// Write `image` and the scene that renders it beside `scene_path`, under new names.
-pub fn save(scene_path: &Path, image: &Rgb32Image, text: &str) -> Result<Saved, Error> {
+/// The image as EXR and PNG and, when given, the scene `text` as TOML (a Mitsuba XML scene has
+/// none: its camera cannot be written back into the XML yet).
+pub fn save(scene_path: &Path, image: &Rgb32Image, text: Option<&str>) -> Result<Saved, Error> {
     let saved = free_names(scene_path);
     let write_new = |path: &Path, bytes: &[u8]| -> Result<(), Error> {
         use std::io::Write;
@@ -95,7 +97,9 @@ pub fn save(scene_path: &Path, image: &Rgb32Image, text: &str) -> Result<Saved, 
         let mut file = std::fs::File::create_new(path).map_err(|e| Error::Setting(format!("{}: {e}", path.display())))?;
         file.write_all(bytes).map_err(|e| Error::Setting(format!("{}: {e}", path.display())))
     };
-    write_new(&saved.toml, text.as_bytes())?;
+    if let Some(text) = text {
+        write_new(&saved.toml, text.as_bytes())?;
+    }
     for path in [&saved.exr, &saved.png] {
         // Claimed first, then written in place by the image writer.
         write_new(path, &[])?;
@@ -118,6 +122,17 @@ mod tests {
         assert_eq!(free_names(&scene).toml, dir.join("box-view-2.toml"));
         std::fs::write(dir.join("box-view-2.toml"), b"").unwrap();
         assert_eq!(free_names(&scene).png, dir.join("box-view-3.png"));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_mitsuba_scene_saves_the_image_alone() {
+        let dir = std::env::temp_dir().join(format!("sppm-gpu-view-xml-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let image = Rgb32Image { width: 2, height: 1, pixels: vec![[0.5; 3]; 2] };
+        let saved = save(&dir.join("cbox.xml"), &image, None).unwrap();
+        assert!(saved.exr.exists() && saved.png.exists());
+        assert!(!saved.toml.exists(), "no TOML for an XML scene");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
