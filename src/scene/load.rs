@@ -5,8 +5,8 @@
 use super::mesh::{self, Normals, Transform};
 use super::{ply, serialized};
 use super::{
-    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, RadiusSchedule, RenderSettings, Scene, SceneError,
-    Shape, ShapeKind, Sphere, Texture,
+    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, PixelFilter, RadiusSchedule, RenderSettings, Scene,
+    SceneError, Shape, ShapeKind, Sphere, Texture,
 };
 use glam::{Vec2, Vec3};
 use std::fmt;
@@ -176,6 +176,9 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         "direct",
         "direct_samples",
         "radius_schedule",
+        "filter",
+        "filter_radius",
+        "filter_stddev",
     ])?;
     let schedules = [("per-point", RadiusSchedule::PerPoint), ("global", RadiusSchedule::Global)];
     let directs = [("sampled", DirectLight::Sampled), ("photons", DirectLight::Photons)];
@@ -195,7 +198,25 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         direct: t.or("direct", DirectLight::Sampled, |v| v.choice("direct", &directs))?,
         direct_samples: t.opt("direct_samples", |v| v.u32_in(1, MAX_DIRECT_SAMPLES))?,
         radius_schedule: t.or("radius_schedule", RadiusSchedule::PerPoint, |v| v.choice("radius_schedule", &schedules))?,
-        filter: super::PixelFilter::Box,
+        filter: read_filter(t)?,
+    })
+}
+
+/// The pixel filter: `filter` = `"box"` (default), `"tent"` (`filter_radius` in pixels,
+/// default 1) or `"gaussian"` (`filter_stddev` in pixels, default 0.5), as Mitsuba's.
+fn read_filter(t: &Table) -> Result<PixelFilter> {
+    let kinds = [("box", 0), ("tent", 1), ("gaussian", 2)];
+    let kind = t.or("filter", 0, |v| v.choice("filter", &kinds))?;
+    let size = Bound::Open(0.0, 16.0);
+    for (key, wanted) in [("filter_radius", 1), ("filter_stddev", 2)] {
+        if t.get(key).is_some() && kind != wanted {
+            return Err(t.error_at(key, format!("`{key}` belongs to filter = \"{}\"", kinds[wanted].0)));
+        }
+    }
+    Ok(match kind {
+        1 => PixelFilter::Tent { radius: t.or("filter_radius", 1.0, |v| v.f32_in(size))? },
+        2 => PixelFilter::Gaussian { stddev: t.or("filter_stddev", 0.5, |v| v.f32_in(size))? },
+        _ => PixelFilter::Box,
     })
 }
 
@@ -246,8 +267,14 @@ const UNIT: Bound = Bound::Closed(0.0, 1.0);
 /// Reads the `[materials]` entry `name = { type = ..., ... }`.
 fn read_material(name: &str, entry: &Value, textures: &mut Vec<Texture>) -> Result<Material> {
     let t = entry.table()?;
-    let read = t.typed("material type", MATERIAL_TYPES, &["type"])?;
-    Ok(Material { name: name.to_owned(), kind: read(&t, textures)?, one_sided: false, line: entry.line })
+    let read = t.typed("material type", MATERIAL_TYPES, &["type", "one_sided"])?;
+    let kind = read(&t, textures)?;
+    // Black seen from behind, as Mitsuba's BSDFs unless wrapped in `twosided`.
+    let one_sided = t.or("one_sided", false, Value::bool)?;
+    if one_sided && matches!(kind, MaterialKind::Dielectric { .. }) {
+        return Err(t.error_at("one_sided", "a dielectric scatters from both sides: one_sided does not apply"));
+    }
+    Ok(Material { name: name.to_owned(), kind, one_sided, line: entry.line })
 }
 
 /// Lambertian: `albedo`, or `texture` in its place.
