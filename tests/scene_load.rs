@@ -688,7 +688,10 @@ fn no_input_panics() {
 #[test]
 fn one_sided_materials_and_pixel_filters() {
     use sppm_gpu::scene::PixelFilter;
-    let s = load_ok(&edit("white = { type = \"diffuse\", albedo = [0.5, 0.5, 0.5] }", "white = { type = \"diffuse\", albedo = [0.5, 0.5, 0.5], one_sided = true }"));
+    let s = load_ok(&edit(
+        "white = { type = \"diffuse\", albedo = [0.5, 0.5, 0.5] }",
+        "white = { type = \"diffuse\", albedo = [0.5, 0.5, 0.5], one_sided = true }",
+    ));
     assert!(s.materials[0].one_sided);
     assert!(!load_ok(BASE).materials[0].one_sided, "two-sided by default");
     assert_eq!(load_ok(BASE).render.filter, PixelFilter::Box);
@@ -696,12 +699,18 @@ fn one_sided_materials_and_pixel_filters() {
     assert_eq!(load_ok(&render("filter = \"tent\"")).render.filter, PixelFilter::Tent { radius: 1.0 });
     assert_eq!(load_ok(&render("filter = \"tent\"\nfilter_radius = 1.5")).render.filter, PixelFilter::Tent { radius: 1.5 });
     assert_eq!(load_ok(&render("filter = \"gaussian\"")).render.filter, PixelFilter::Gaussian { stddev: 0.5 });
-    assert_eq!(load_ok(&render("filter = \"gaussian\"\nfilter_stddev = 0.25")).render.filter, PixelFilter::Gaussian { stddev: 0.25 });
+    assert_eq!(
+        load_ok(&render("filter = \"gaussian\"\nfilter_stddev = 0.25")).render.filter,
+        PixelFilter::Gaussian { stddev: 0.25 }
+    );
     assert_error(&render("filter = \"mitchell\""), 5, "render.filter", &["mitchell"]);
     assert_error(&render("filter = \"box\"\nfilter_stddev = 0.5"), 6, "render.filter_stddev", &["gaussian"]);
     assert_error(&render("filter = \"gaussian\"\nfilter_stddev = 0"), 6, "render.filter_stddev", &[]);
     assert_error(
-        &edit("white = { type = \"diffuse\", albedo = [0.5, 0.5, 0.5] }", "white = { type = \"dielectric\", ior = 1.5, one_sided = true }"),
+        &edit(
+            "white = { type = \"diffuse\", albedo = [0.5, 0.5, 0.5] }",
+            "white = { type = \"dielectric\", ior = 1.5, one_sided = true }",
+        ),
         12,
         "materials.white.one_sided",
         &["both sides"],
