@@ -51,8 +51,14 @@ struct SamplerTestParams {
     breaks: vec4f,
     // Midpoint-rule points per dimension for bins where the density is 0 in part.
     fine: u32,
+    // MICROFACET_GGX or MICROFACET_BECKMANN.
+    distribution: u32,
+    // Glossy conductor: 1 for a Fresnel term of the complex index of refraction eta + i k.
+    fresnel: u32,
     _pad0: u32,
+    eta: vec3f,
     _pad1: u32,
+    k: vec3f,
     _pad2: u32,
     gauss: array<vec4f, MAX_POINTS>,
 }
@@ -79,6 +85,17 @@ fn traced_light(p: vec3f, w: vec3f) -> vec2f {
     return vec2f(light_pdf(p, hit.prim_ref, s.shape, hit.t, cos_l), shapes[s.shape].emission.x);
 }
 
+// The glossy conductor under test.
+fn test_glossy() -> Material {
+    let q = test_params;
+    return Material(vec3f(q.albedo), MATERIAL_GLOSSY, 0.0, q.alpha, NO_TEXTURE, 0u, 0u, q.distribution, array<u32, 2>(0u, 0u), q.eta, q.fresnel, q.k, 0u);
+}
+
+// Whether the rough dielectric under test has Beckmann microfacets.
+fn test_beckmann() -> bool {
+    return test_params.distribution == MICROFACET_BECKMANN;
+}
+
 // Solid-angle density of direction w under the chosen sampler.
 fn test_density(w: vec3f) -> f32 {
     let q = test_params;
@@ -87,10 +104,10 @@ fn test_density(w: vec3f) -> f32 {
             return max(0.0, dot(w, q.ns)) * INV_PI;
         }
         case SAMPLER_GLOSSY: {
-            return glossy_eval(vec3f(q.albedo), q.alpha, q.wo, w, q.ns).pdf;
+            return glossy_eval(test_glossy(), q.wo, w, q.ns).pdf;
         }
         case SAMPLER_ROUGH_DIELECTRIC: {
-            return rough_dielectric_eval(q.ior, q.alpha, q.wo, w, q.ng, q.ns, q.radiance != 0u).pdf;
+            return rough_dielectric_eval(q.ior, q.alpha, test_beckmann(), q.wo, w, q.ng, q.ns, q.radiance != 0u).pdf;
         }
         default: {
             return traced_light(q.p, w).x;
@@ -119,13 +136,13 @@ fn draw_sample(i: u32) {
             b = BsdfEval(vec3f(INV_PI), test_density(s.wi));
         }
         case SAMPLER_GLOSSY: {
-            s = sample_glossy(vec3f(q.albedo), q.alpha, -q.wo, q.ns, u.xy);
-            b = glossy_eval(vec3f(q.albedo), q.alpha, q.wo, s.wi, q.ns);
+            s = sample_glossy(test_glossy(), -q.wo, q.ns, u.xy);
+            b = glossy_eval(test_glossy(), q.wo, s.wi, q.ns);
         }
         default: {
             let radiance = q.radiance != 0u;
-            s = sample_rough_dielectric(-q.wo, q.ng, q.ns, q.ior, q.alpha, u, radiance);
-            b = rough_dielectric_eval(q.ior, q.alpha, q.wo, s.wi, q.ng, q.ns, radiance);
+            s = sample_rough_dielectric(-q.wo, q.ng, q.ns, q.ior, q.alpha, test_beckmann(), u, radiance);
+            b = rough_dielectric_eval(q.ior, q.alpha, test_beckmann(), q.wo, s.wi, q.ng, q.ns, radiance);
         }
     }
     test_out[2u * i] = vec4f(s.wi, s.weight.x);

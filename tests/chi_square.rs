@@ -14,7 +14,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
 use sppm_gpu::gpu::scene_buffers::{SceneBuffers, SceneData};
-use sppm_gpu::gpu::types::Frame;
+use sppm_gpu::gpu::types::{Frame, MICROFACET_BECKMANN, MICROFACET_GGX};
 use sppm_gpu::gpu::{shader_source, GpuContext, Kernel, Resource};
 use sppm_gpu::scene::SceneBuilder;
 use std::f64::consts::PI;
@@ -32,8 +32,9 @@ const MIN_EXPECTED: f64 = 5.0;
 /// Chance of a false alarm over the whole file; each test must reach p > SIGNIFICANCE / TESTS
 /// (Bonferroni's correction).
 const SIGNIFICANCE: f64 = 0.01;
-/// Chi-square tests in this file: cosine 1, glossy 10, rough dielectric 14, lights 3.
-const TESTS: f64 = 28.0;
+/// Chi-square tests in this file: cosine 1, glossy 10 of each distribution, rough dielectric
+/// 14 of each, lights 3.
+const TESTS: f64 = 52.0;
 /// Samples in a bin whose expected count is 0 that are put down to rounding (as pbrt-v4 does:
 /// 1e-5 of the samples).
 const STRAY: f64 = 1e-5 * SAMPLES as f64;
@@ -78,7 +79,13 @@ struct Params {
     points: u32,
     breaks: [f32; 4],
     fine: u32,
-    _pad: [u32; 3],
+    distribution: u32,
+    fresnel: u32,
+    _pad0: u32,
+    eta: [f32; 3],
+    _pad1: u32,
+    k: [f32; 3],
+    _pad2: u32,
     gauss: [[f32; 4]; POINTS],
 }
 
@@ -510,9 +517,13 @@ fn sampler_params_match_wgsl() {
         offset_of!(Params, points),
         offset_of!(Params, breaks),
         offset_of!(Params, fine),
-        offset_of!(Params, _pad),
-        offset_of!(Params, _pad) + 4,
-        offset_of!(Params, _pad) + 8,
+        offset_of!(Params, distribution),
+        offset_of!(Params, fresnel),
+        offset_of!(Params, _pad0),
+        offset_of!(Params, eta),
+        offset_of!(Params, _pad1),
+        offset_of!(Params, k),
+        offset_of!(Params, _pad2),
         offset_of!(Params, gauss),
     ];
     assert_eq!(offsets, rust);
@@ -536,55 +547,83 @@ fn cosine_hemisphere_sampling() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// sample_glossy against glossy_eval's pdf, for rough to nearly smooth GGX and incident
-/// directions from near the normal to grazing, and once from below the shading normal.
-#[test]
-fn glossy_sampling() {
+/// Gold's complex index of refraction as Mitsuba 3 gives it in RGB (`material = "Au"`).
+const GOLD: ([f32; 3], [f32; 3]) = ([0.143_036, 0.375_307, 1.442_05], [3.983, 2.385_56, 1.603_36]);
+
+/// sample_glossy against glossy_eval's pdf, for rough to nearly smooth microfacets of
+/// `distribution` and incident directions from near the normal to grazing, and once from
+/// below the shading normal; with `fresnel`, gold's Fresnel term in the weights and values.
+fn glossy_tests(distribution: u32, fresnel: Option<([f32; 3], [f32; 3])>, first_seed: u32) {
     let Some(gpu) = common::gpu() else { return };
     let bench = Bench::new(gpu);
     let scene = bsdf_scene(&bench);
     let ns = shading_normal();
     let (t, _) = tangents(ns);
+    let label = if distribution == MICROFACET_BECKMANN { "beckmann conductor" } else { "glossy" };
     let mut cases = Vec::new();
     for alpha in [0.05, 0.25, 0.7] {
         for degrees in [10.0, 45.0, 80.0] {
-            cases.push((format!("glossy alpha {alpha} at {degrees} deg"), alpha, at_angle(ns, t, degrees)));
+            cases.push((format!("{label} alpha {alpha} at {degrees} deg"), alpha, at_angle(ns, t, degrees)));
         }
     }
-    cases.push(("glossy alpha 0.25 at 60 deg from below".into(), 0.25, at_angle(-ns, t, 60.0)));
+    cases.push((format!("{label} alpha 0.25 at 60 deg from below"), 0.25, at_angle(-ns, t, 60.0)));
+    let (eta, k) = fresnel.unwrap_or_default();
     let mut failures = Vec::new();
     for (seed, (name, alpha, wo)) in cases.into_iter().enumerate() {
-        let q = Params { wo: f32x3(wo), ns: f32x3(ns), alpha, albedo: 0.8, ..params(SAMPLER_GLOSSY, 100 + seed as u32, ns) };
+        let q = Params {
+            wo: f32x3(wo),
+            ns: f32x3(ns),
+            alpha,
+            albedo: 0.8,
+            distribution,
+            fresnel: fresnel.is_some() as u32,
+            eta,
+            k,
+            ..params(SAMPLER_GLOSSY, first_seed + seed as u32, ns)
+        };
         judge(&name, &run_test(&bench, &scene, &q), &mut failures);
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// sample_rough_dielectric against rough_dielectric_eval's pdf: glass of index 1.5 entered and
-/// left, reflection and refraction, for radiance and for photons, and with a shading normal
-/// tilted off the geometric one.
+/// The GGX glossy conductor (Fresnel 1).
 #[test]
-fn rough_dielectric_sampling() {
+fn glossy_sampling() {
+    glossy_tests(MICROFACET_GGX, None, 100);
+}
+
+/// Beckmann's visible normals (sample_beckmann_visible_normal) in a conductor with gold's
+/// Fresnel term.
+#[test]
+fn beckmann_conductor_sampling() {
+    glossy_tests(MICROFACET_BECKMANN, Some(GOLD), 300);
+}
+
+/// sample_rough_dielectric against rough_dielectric_eval's pdf, microfacets of `distribution`:
+/// glass of index 1.5 entered and left, reflection and refraction, for radiance and for
+/// photons, and with a shading normal tilted off the geometric one.
+fn rough_dielectric_tests(distribution: u32, first_seed: u32) {
     let Some(gpu) = common::gpu() else { return };
     let bench = Bench::new(gpu);
     let scene = bsdf_scene(&bench);
     let ng = shading_normal();
     let (t, _) = tangents(ng);
+    let label = if distribution == MICROFACET_BECKMANN { "beckmann dielectric" } else { "dielectric" };
     // (name, alpha, wo, ns, radiance)
     let mut cases = Vec::new();
     for alpha in [0.05, 0.3, 0.7] {
         for (side, n) in [("entering", ng), ("leaving", -ng)] {
             for degrees in [30.0, 80.0] {
                 let radiance = cases.len() % 2 == 0;
-                let name = format!("dielectric alpha {alpha} {side} at {degrees} deg");
+                let name = format!("{label} alpha {alpha} {side} at {degrees} deg");
                 cases.push((name, alpha, at_angle(n, t, degrees), ng, radiance));
             }
         }
     }
     // ns 20 degrees off ng, wo 50 degrees off ng on either side.
     let ns = at_angle(ng, t, 20.0);
-    cases.push(("dielectric alpha 0.3 entering, ns tilted".into(), 0.3, at_angle(ng, t, 50.0), ns, true));
-    cases.push(("dielectric alpha 0.3 leaving, ns tilted".into(), 0.3, at_angle(-ng, t, 50.0), ns, false));
+    cases.push((format!("{label} alpha 0.3 entering, ns tilted"), 0.3, at_angle(ng, t, 50.0), ns, true));
+    cases.push((format!("{label} alpha 0.3 leaving, ns tilted"), 0.3, at_angle(-ng, t, 50.0), ns, false));
     let mut failures = Vec::new();
     for (seed, (name, alpha, wo, ns, radiance)) in cases.into_iter().enumerate() {
         let q = Params {
@@ -594,7 +633,8 @@ fn rough_dielectric_sampling() {
             alpha,
             ior: 1.5,
             radiance: radiance as u32,
-            ..params(SAMPLER_ROUGH_DIELECTRIC, 200 + seed as u32, ns)
+            distribution,
+            ..params(SAMPLER_ROUGH_DIELECTRIC, first_seed + seed as u32, ns)
         };
         // Refraction needs a microfacet normal h = +-normalize(wo + eta wi) above the surface:
         // the density drops to 0 where h.n = 0, at wi.n = -wo.n / eta with n = ns on wo's side.
@@ -607,6 +647,19 @@ fn rough_dielectric_sampling() {
         judge(&name, &run_test(&bench, &scene, &q), &mut failures);
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The GGX rough dielectric.
+#[test]
+fn rough_dielectric_sampling() {
+    rough_dielectric_tests(MICROFACET_GGX, 200);
+}
+
+/// The Beckmann rough dielectric: reflection and transmission through Beckmann's visible
+/// normals.
+#[test]
+fn beckmann_rough_dielectric_sampling() {
+    rough_dielectric_tests(MICROFACET_BECKMANN, 400);
 }
 
 /// A receiving point p that sees a sphere light and a quad light, neither in front of the

@@ -8,7 +8,7 @@ use common::Rng;
 use glam::Vec3;
 use sppm_gpu::gpu::scene_buffers::SceneData;
 use sppm_gpu::gpu::{Features, Kernel};
-use sppm_gpu::scene::{Sphere, Triangle};
+use sppm_gpu::scene::{self, Sphere, Triangle};
 
 fn features(name: &str) -> Features {
     Features::of(&SceneData::new(&common::load_scene(name)).unwrap())
@@ -30,7 +30,18 @@ fn features_of_the_canonical_scenes() {
     assert!(f.glossy);
     let f = features("motion-blur.toml");
     assert!(f.motion);
-    assert_eq!(Features::ALL.constants().len(), 15);
+    // Conductor Fresnel terms and Beckmann microfacets come from Mitsuba scenes only.
+    for name in ["cornell-spheres.toml", "cornell-glossy.toml", "cornell-box.toml"] {
+        let f = features(name);
+        assert!(!(f.conductor_fresnel || f.beckmann), "{name}");
+    }
+    let metals = scene::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/metals.xml")).unwrap();
+    let f = Features::of(&SceneData::new(&metals).unwrap());
+    assert!(f.conductor_fresnel && f.beckmann && f.mirror && f.glossy && f.rough_dielectric);
+    let box_xml = scene::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/box.xml")).unwrap();
+    let f = Features::of(&SceneData::new(&box_xml).unwrap());
+    assert!(f.mirror && f.glossy && !f.conductor_fresnel && !f.beckmann, "material none, ggx: {f:?}");
+    assert_eq!(Features::ALL.constants().len(), 17);
     assert!(Features::ALL.constants().iter().all(|(_, v)| *v == 1.0));
 }
 

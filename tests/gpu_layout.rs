@@ -71,7 +71,12 @@ fn gpu_structs_match_wgsl() {
     check!(module, BvhParams, "BvhParams", [origin, _pad0, scale, _pad1]);
     check!(module, GpuTriangle, "Triangle", [p0, material, e1, shape, e2, attributes]);
     check!(module, GpuSphere, "Sphere", [center, radius, material, shape, _pad]);
-    check!(module, GpuMaterial, "Material", [albedo, kind, ior, roughness, texture, texture_size, one_sided, _pad]);
+    check!(
+        module,
+        GpuMaterial,
+        "Material",
+        [albedo, kind, ior, roughness, texture, texture_size, one_sided, distribution, _pad, eta, fresnel, k, _pad1]
+    );
     check!(module, GpuShape, "Shape", [emission, emits, velocity, _pad]);
     check!(module, Emitter, "Emitter", [kind, prim_ref, cdf, pmf, position, area, radiance, radius, direction, _pad]);
     check!(module, VisiblePoint, "VisiblePoint", [p, radius, weight, normal]);
@@ -103,6 +108,8 @@ fn wgsl_constants_match_rust() {
     assert_eq!(constant("MATERIAL_DIFFUSE"), MATERIAL_DIFFUSE);
     assert_eq!(constant("MATERIAL_MIRROR"), MATERIAL_MIRROR);
     assert_eq!(constant("MATERIAL_DIELECTRIC"), MATERIAL_DIELECTRIC);
+    assert_eq!(constant("MICROFACET_GGX"), MICROFACET_GGX);
+    assert_eq!(constant("MICROFACET_BECKMANN"), MICROFACET_BECKMANN);
     assert_eq!(constant("ACCUM_STRIDE"), ACCUM_STRIDE);
     assert_eq!(constant("LEAF_BIT"), sppm_gpu::accel::bvh::LEAF_BIT);
     assert_eq!(constant("LEAF_COUNT_SHIFT"), sppm_gpu::accel::bvh::LEAF_COUNT_SHIFT);

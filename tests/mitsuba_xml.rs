@@ -8,7 +8,7 @@ mod common;
 use glam::Vec3;
 use sppm_gpu::integrators;
 use sppm_gpu::metrics::{compare, count_negative, count_non_finite};
-use sppm_gpu::scene::{self, LightKind, MaterialKind, Method, PixelFilter, Scene, SceneError, ShapeKind};
+use sppm_gpu::scene::{self, ComplexIor, LightKind, MaterialKind, Method, Microfacet, PixelFilter, Scene, SceneError, ShapeKind};
 use std::path::PathBuf;
 
 fn scene_path(name: &str) -> PathBuf {
@@ -98,8 +98,13 @@ fn box_scene_reads_as_mitsuba_defines_it() {
     assert!((small.center - Vec3::new(0.35, 0.2, -0.45)).length() < 1e-6);
     let kinds: Vec<_> =
         s.spheres.iter().map(|sp| s.materials[s.shapes[sp.shape as usize].material as usize].kind.clone()).collect();
-    assert!(kinds.contains(&MaterialKind::Mirror { albedo: Vec3::splat(0.9) }));
-    assert!(kinds.contains(&MaterialKind::Glossy { albedo: Vec3::new(0.95, 0.75, 0.4), roughness: 0.25 }));
+    assert!(kinds.contains(&MaterialKind::Mirror { albedo: Vec3::splat(0.9), fresnel: None }));
+    assert!(kinds.contains(&MaterialKind::Glossy {
+        albedo: Vec3::new(0.95, 0.75, 0.4),
+        roughness: 0.25,
+        distribution: Microfacet::Ggx,
+        fresnel: None
+    }));
 }
 
 #[test]
@@ -138,7 +143,7 @@ fn legacy_scene_reads_camel_case_includes_meshes_and_instances() {
     assert_eq!(s.shapes[1].emission, Some(Vec3::splat(6.0)), "$light");
     let water = &s.materials[s.shapes[4].material as usize];
     match water.kind {
-        MaterialKind::Dielectric { ior, roughness } => {
+        MaterialKind::Dielectric { ior, roughness, .. } => {
             assert!((ior - 1.3330 / 1.000277).abs() < 1e-6 && roughness == 0.0, "{ior}")
         }
         ref k => panic!("water is {k:?}"),
@@ -318,14 +323,29 @@ fn bad_input_names_file_line_and_element() {
         ("spot", r#"    <emitter type="spot"/>"#, "`spot` emitter is not modelled"),
         ("plastic", r#"    <shape type="sphere"><bsdf type="plastic"/></shape>"#, "`plastic` BSDF is not modelled"),
         (
-            "beckmann",
-            r#"    <shape type="sphere"><bsdf type="roughconductor"/></shape>"#,
-            "beckmann microfacet distribution (Mitsuba's default)",
+            "phong",
+            r#"    <shape type="sphere"><bsdf type="roughconductor"><string name="distribution" value="phong"/></bsdf></shape>"#,
+            "phong microfacet distribution is not modelled",
         ),
         (
             "metal",
-            r#"    <shape type="sphere"><bsdf type="conductor"><string name="material" value="Au"/></bsdf></shape>"#,
-            "named metal",
+            r#"    <shape type="sphere"><bsdf type="conductor"><string name="material" value="Unobtainium"/></bsdf></shape>"#,
+            "\"Unobtainium\" is not one of Mitsuba's named conductors",
+        ),
+        (
+            "metal and eta",
+            r#"    <shape type="sphere"><bsdf type="conductor"><string name="material" value="Au"/><float name="eta" value="1"/></bsdf></shape>"#,
+            "either eta and k or a named material",
+        ),
+        (
+            "negative k",
+            r#"    <shape type="sphere"><bsdf type="roughconductor"><rgb name="k" value="1, -1, 1"/></bsdf></shape>"#,
+            "each channel is a number >= 0",
+        ),
+        (
+            "ext_eta",
+            r#"    <shape type="sphere"><bsdf type="conductor"><float name="ext_eta" value="1.5"/></bsdf></shape>"#,
+            "no parameter `ext_eta`",
         ),
         (
             "texture",
@@ -401,6 +421,60 @@ fn box_matches_mitsuba() {
     assert_close("box sppm", &c, 0.003, 0.01);
     let c = against_mitsuba("box", Method::PtNee, 64, 0);
     assert_close("box pt-nee", &c, 0.003, 0.01);
+}
+
+/// metals.xml: Mitsuba's named metals, eta and k, and its default distribution, Beckmann.
+#[test]
+fn metals_scene_reads_conductors_and_beckmann() {
+    let s = load("metals.xml");
+    let sphere = |x: f32| {
+        let sp = s.spheres.iter().find(|sp| (sp.center.x - x).abs() < 1e-6).unwrap();
+        s.materials[s.shapes[sp.shape as usize].material as usize].kind.clone()
+    };
+    let gold = ComplexIor { eta: Vec3::new(0.143036, 0.375307, 1.44205), k: Vec3::new(3.983, 2.38556, 1.60336) };
+    assert_eq!(sphere(-0.5), MaterialKind::Mirror { albedo: Vec3::ONE, fresnel: Some(gold) });
+    let copper = ComplexIor { eta: Vec3::new(0.201005, 0.92375, 1.10222), k: Vec3::new(3.91326, 2.45305, 2.14209) };
+    assert_eq!(
+        sphere(-0.4),
+        MaterialKind::Glossy { albedo: Vec3::ONE, roughness: 0.2, distribution: Microfacet::Beckmann, fresnel: Some(copper) }
+    );
+    let given = ComplexIor { eta: Vec3::new(1.66, 0.88, 0.52), k: Vec3::new(9.22, 6.27, 4.84) };
+    assert_eq!(
+        sphere(0.45),
+        MaterialKind::Glossy {
+            albedo: Vec3::new(0.9, 0.8, 0.9),
+            roughness: 0.3,
+            distribution: Microfacet::Ggx,
+            fresnel: Some(given)
+        }
+    );
+    assert_eq!(
+        sphere(0.5),
+        MaterialKind::Dielectric { ior: 1.5 / 1.000277, roughness: 0.15, distribution: Microfacet::Beckmann }
+    );
+    // eta 0, k 1 (Mitsuba's `none`, given or by default) is Fresnel 1: no term to compute.
+    let text = scene_with(
+        r#"    <shape type="sphere"><bsdf type="roughconductor"><float name="eta" value="0"/><spectrum name="k" value="1"/></bsdf></shape>"#,
+    );
+    let s = load_files("none", &[("s.xml", &text)], &[]).unwrap();
+    let kind = &s.materials[s.shapes[1].material as usize].kind;
+    assert_eq!(
+        kind,
+        &MaterialKind::Glossy { albedo: Vec3::ONE, roughness: 0.1, distribution: Microfacet::Beckmann, fresnel: None }
+    );
+}
+
+/// Conductors with a Fresnel term and Beckmann microfacets against Mitsuba 3: smooth gold,
+/// Beckmann copper, a GGX conductor of given eta and k, Beckmann glass.
+#[test]
+fn metals_match_mitsuba() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let c = against_mitsuba("metals", Method::Sppm, 32, 100_000);
+    assert_close("metals sppm", &c, 0.003, 0.01);
+    let c = against_mitsuba("metals", Method::PtNee, 64, 0);
+    assert_close("metals pt-nee", &c, 0.003, 0.01);
 }
 
 #[test]

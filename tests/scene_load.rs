@@ -5,7 +5,7 @@ mod common;
 
 use common::scene_text::{edit, with_light, with_shape, BASE, QUAD};
 use glam::{Vec2, Vec3};
-use sppm_gpu::scene::{self, LightKind, MaterialKind, Method, Scene, SceneError, ShapeKind};
+use sppm_gpu::scene::{self, LightKind, MaterialKind, Method, Microfacet, Scene, SceneError, ShapeKind};
 use std::path::{Path, PathBuf};
 
 const SCENES: [&str; 7] =
@@ -167,10 +167,18 @@ chrome = { type = "mirror", albedo = [0.9, 0.9, 0.9] }
     );
     let scene = load_ok(&text);
     let kinds: Vec<&MaterialKind> = scene.materials.iter().map(|m| &m.kind).collect();
-    assert_eq!(kinds[1], &MaterialKind::Glossy { albedo: Vec3::new(1.0, 0.78, 0.34), roughness: 0.2 });
-    assert_eq!(kinds[2], &MaterialKind::Dielectric { ior: 1.5, roughness: 0.0 });
-    assert_eq!(kinds[3], &MaterialKind::Dielectric { ior: 1.31, roughness: 0.15 });
-    assert_eq!(kinds[4], &MaterialKind::Mirror { albedo: Vec3::splat(0.9) });
+    assert_eq!(
+        kinds[1],
+        &MaterialKind::Glossy {
+            albedo: Vec3::new(1.0, 0.78, 0.34),
+            roughness: 0.2,
+            distribution: Microfacet::Ggx,
+            fresnel: None
+        }
+    );
+    assert_eq!(kinds[2], &MaterialKind::Dielectric { ior: 1.5, roughness: 0.0, distribution: Microfacet::Ggx });
+    assert_eq!(kinds[3], &MaterialKind::Dielectric { ior: 1.31, roughness: 0.15, distribution: Microfacet::Ggx });
+    assert_eq!(kinds[4], &MaterialKind::Mirror { albedo: Vec3::splat(0.9), fresnel: None });
     assert_eq!(scene.materials[4].line, 16);
 }
 

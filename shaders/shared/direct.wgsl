@@ -39,10 +39,10 @@ fn samples_lights(m: Material) -> bool {
 // (albedo / pi, cosine density about ns), the glossy conductor or the rough dielectric.
 fn vertex_bsdf(s: Surface, m: Material, albedo: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
     if USES_GLOSSY && m.kind == MATERIAL_GLOSSY {
-        return glossy_eval(m.albedo, m.roughness, wo, wi, s.ns);
+        return glossy_eval(m, wo, wi, s.ns);
     }
     if USES_ROUGH_DIELECTRIC && m.kind == MATERIAL_DIELECTRIC {
-        return rough_dielectric_eval(m.ior, m.roughness, wo, wi, s.ng, s.ns, true);
+        return rough_dielectric_eval(m.ior, m.roughness, is_beckmann(m), wo, wi, s.ng, s.ns, true);
     }
     return BsdfEval(albedo * INV_PI, abs(dot(wi, s.ns)) * INV_PI);
 }

@@ -130,7 +130,15 @@ struct Material {
     // 1 when black seen from behind ns and for directions behind it (Mitsuba 3's BSDFs
     // unless wrapped in `twosided`); 0 when two-sided, and always for dielectrics.
     one_sided: u32,
-    _pad: array<u32, 3>,
+    // MICROFACET_GGX or MICROFACET_BECKMANN (glossy conductors, rough dielectrics).
+    distribution: u32,
+    _pad: array<u32, 2>,
+    // A mirror's or glossy conductor's complex index of refraction eta + i k, whose Fresnel
+    // term scales albedo when fresnel is 1; fresnel 0 is Fresnel 1.
+    eta: vec3f,
+    fresnel: u32,
+    k: vec3f,
+    _pad1: u32,
 }
 
 // Per-shape data the kernels look up through a primitive's shape index.
@@ -231,6 +239,8 @@ const MATERIAL_DIFFUSE: u32 = 0u;
 const MATERIAL_MIRROR: u32 = 1u;
 const MATERIAL_DIELECTRIC: u32 = 2u;
 const MATERIAL_GLOSSY: u32 = 3u;
+const MICROFACET_GGX: u32 = 0u;
+const MICROFACET_BECKMANN: u32 = 1u;
 
 // Words per visible point in the flux accumulator: (lo, hi) for r, g, b, then the photon count.
 const ACCUM_STRIDE: u32 = 8u;

@@ -10,7 +10,7 @@
 use super::scene_buffers::SceneData;
 use super::types::{
     EMITTER_AREA, EMITTER_DIRECTIONAL, EMITTER_POINT, HAS_NORMALS, HAS_UVS, MATERIAL_DIELECTRIC, MATERIAL_GLOSSY,
-    MATERIAL_MIRROR, NO_TEXTURE,
+    MATERIAL_MIRROR, MICROFACET_BECKMANN, NO_TEXTURE,
 };
 use crate::accel::SPHERE_BIT;
 
@@ -40,6 +40,10 @@ pub struct Features {
     /// Some non-dielectric material is one-sided (black seen from behind, as Mitsuba 3's
     /// BSDFs are unless wrapped in `twosided`).
     pub one_sided: bool,
+    /// Some mirror or glossy conductor has a Fresnel term (a complex index of refraction).
+    pub conductor_fresnel: bool,
+    /// Some glossy conductor or rough dielectric has Beckmann microfacets.
+    pub beckmann: bool,
     /// Some emitter is an emitting triangle.
     pub triangle_lights: bool,
     /// Some emitter is an emitting sphere.
@@ -64,6 +68,8 @@ impl Features {
         smooth_dielectric: true,
         rough_dielectric: true,
         one_sided: true,
+        conductor_fresnel: true,
+        beckmann: true,
         triangle_lights: true,
         sphere_lights: true,
         point_lights: true,
@@ -88,6 +94,14 @@ impl Features {
             smooth_dielectric: material(&|kind, roughness| kind == MATERIAL_DIELECTRIC && roughness == 0.0),
             rough_dielectric: material(&|kind, roughness| kind == MATERIAL_DIELECTRIC && roughness > 0.0),
             one_sided: data.materials.iter().any(|m| m.one_sided != 0 && m.kind != MATERIAL_DIELECTRIC),
+            conductor_fresnel: data
+                .materials
+                .iter()
+                .any(|m| m.fresnel != 0 && (m.kind == MATERIAL_MIRROR || m.kind == MATERIAL_GLOSSY)),
+            beckmann: data.materials.iter().any(|m| {
+                m.distribution == MICROFACET_BECKMANN
+                    && (m.kind == MATERIAL_GLOSSY || (m.kind == MATERIAL_DIELECTRIC && m.roughness > 0.0))
+            }),
             triangle_lights: emitter(EMITTER_AREA, false),
             sphere_lights: emitter(EMITTER_AREA, true),
             point_lights: emitter(EMITTER_POINT, false),
@@ -109,6 +123,8 @@ impl Features {
             ("USES_SMOOTH_DIELECTRIC", self.smooth_dielectric),
             ("USES_ROUGH_DIELECTRIC", self.rough_dielectric),
             ("USES_ONE_SIDED", self.one_sided),
+            ("USES_CONDUCTOR_FRESNEL", self.conductor_fresnel),
+            ("USES_BECKMANN", self.beckmann),
             ("USES_TRIANGLE_LIGHTS", self.triangle_lights),
             ("USES_SPHERE_LIGHTS", self.sphere_lights),
             ("USES_POINT_LIGHTS", self.point_lights),

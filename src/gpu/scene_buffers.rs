@@ -4,7 +4,7 @@
 use super::types::*;
 use crate::accel::bvh::PackedBvh;
 use crate::accel::{Bvh, SPHERE_BIT};
-use crate::scene::{LightKind, MaterialKind, Scene, SceneError};
+use crate::scene::{ComplexIor, LightKind, MaterialKind, Microfacet, Scene, SceneError};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
@@ -51,6 +51,26 @@ fn setting_error(scene: &Scene, line: usize, key: &str, message: String) -> Scen
 
 fn material_of(scene: &Scene, shape: u32) -> u32 {
     scene.shapes[shape as usize].material
+}
+
+/// [`GpuMaterial::distribution`] of a microfacet distribution.
+fn microfacet(distribution: Microfacet) -> u32 {
+    match distribution {
+        Microfacet::Ggx => MICROFACET_GGX,
+        Microfacet::Beckmann => MICROFACET_BECKMANN,
+    }
+}
+
+/// A conductor's Fresnel term on the GPU: none (Fresnel 1, nothing computed) for no complex
+/// IOR or for eta 0, k 1 exactly, Mitsuba's `none`, whose Fresnel term is 1.
+fn set_fresnel(g: &mut GpuMaterial, fresnel: Option<ComplexIor>) {
+    if let Some(ComplexIor { eta, k }) = fresnel {
+        if eta != Vec3::ZERO || k != Vec3::ONE {
+            g.fresnel = 1;
+            g.eta = eta.into();
+            g.k = k.into();
+        }
+    }
 }
 
 /// The average over RGB, in f64 for the power sums.
@@ -147,20 +167,24 @@ impl SceneData {
                             (g.texture, g.texture_size) = texture_at[t as usize];
                         }
                     }
-                    MaterialKind::Mirror { albedo } => {
+                    MaterialKind::Mirror { albedo, fresnel } => {
                         g.kind = MATERIAL_MIRROR;
                         g.albedo = albedo.into();
+                        set_fresnel(&mut g, fresnel);
                     }
-                    MaterialKind::Glossy { albedo, roughness } => {
+                    MaterialKind::Glossy { albedo, roughness, distribution, fresnel } => {
                         g.kind = MATERIAL_GLOSSY;
                         g.albedo = albedo.into();
                         g.roughness = roughness;
+                        g.distribution = microfacet(distribution);
+                        set_fresnel(&mut g, fresnel);
                     }
-                    MaterialKind::Dielectric { ior, roughness } => {
+                    MaterialKind::Dielectric { ior, roughness, distribution } => {
                         g.kind = MATERIAL_DIELECTRIC;
                         g.albedo = [1.0; 3];
                         g.ior = ior;
                         g.roughness = roughness;
+                        g.distribution = microfacet(distribution);
                     }
                 }
                 // Dielectrics are two-sided by nature: Mitsuba 3's ignore `twosided`.

@@ -167,7 +167,7 @@ pub struct GpuMaterial {
     pub kind: u32,
     /// Index of refraction of a dielectric, relative to the outside; 0 for other kinds.
     pub ior: f32,
-    /// GGX alpha of a glossy conductor or rough dielectric; 0 is smooth.
+    /// Microfacet alpha of a glossy conductor or rough dielectric; 0 is smooth.
     pub roughness: f32,
     /// First texel in the `texels` buffer, or [`NO_TEXTURE`].
     pub texture: u32,
@@ -177,8 +177,21 @@ pub struct GpuMaterial {
     /// behind it (Mitsuba 3's BSDFs unless wrapped in `twosided`); 0 for a two-sided
     /// material and always for a dielectric, which is two-sided by nature.
     pub one_sided: u32,
-    /// Padding to 48 bytes; always 0.
-    pub _pad: [u32; 3],
+    /// [`MICROFACET_GGX`] or [`MICROFACET_BECKMANN`]: the microfacet normals of a glossy
+    /// conductor or rough dielectric.
+    pub distribution: u32,
+    /// Padding; always 0.
+    pub _pad: [u32; 2],
+    /// Real part of a mirror's or glossy conductor's complex index of refraction (per RGB
+    /// channel), when `fresnel` is 1.
+    pub eta: [f32; 3],
+    /// 1 when a mirror's or glossy conductor's reflectance is scaled by the conductor Fresnel
+    /// term of `eta` + i `k`; 0 for Fresnel 1 (a perfect mirror), where none is computed.
+    pub fresnel: u32,
+    /// Imaginary part of the complex index of refraction, when `fresnel` is 1.
+    pub k: [f32; 3],
+    /// Padding to 80 bytes; always 0.
+    pub _pad1: u32,
 }
 
 /// Per-shape data, looked up through a primitive's `shape` index.
@@ -319,11 +332,14 @@ pub const MATERIAL_DIFFUSE: u32 = 0;
 /// [`GpuMaterial::kind`]: perfect specular reflection times albedo.
 pub const MATERIAL_MIRROR: u32 = 1;
 /// [`GpuMaterial::kind`]: smooth dielectric (Fresnel reflection and refraction) or, with
-/// roughness > 0, rough GGX dielectric (Walter et al. 2007).
+/// roughness > 0, rough dielectric (Walter et al. 2007).
 pub const MATERIAL_DIELECTRIC: u32 = 2;
-/// [`GpuMaterial::kind`]: GGX conductor with Fresnel 1, sampled by visible normals
-/// (Heitz 2018).
+/// [`GpuMaterial::kind`]: microfacet conductor, sampled by visible normals.
 pub const MATERIAL_GLOSSY: u32 = 3;
+/// [`GpuMaterial::distribution`]: GGX (Trowbridge-Reitz).
+pub const MICROFACET_GGX: u32 = 0;
+/// [`GpuMaterial::distribution`]: Beckmann.
+pub const MICROFACET_BECKMANN: u32 = 1;
 /// u32 words per visible point in the flux accumulator.
 pub const ACCUM_STRIDE: u32 = 8;
 /// Invocations per workgroup of every kernel.

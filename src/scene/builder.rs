@@ -26,8 +26,8 @@
 use super::load::{Bound, MAX_DIRECT_SAMPLES, MAX_RESOLUTION};
 use super::mesh::{self, Transform};
 use super::{
-    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, RenderSettings, Scene, SceneError, Shape, ShapeKind,
-    Sphere, Texture,
+    Camera, ComplexIor, DirectLight, Light, LightKind, Material, MaterialKind, Method, Microfacet, RenderSettings, Scene,
+    SceneError, Shape, ShapeKind, Sphere, Texture,
 };
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
@@ -264,17 +264,20 @@ impl SceneBuilder {
 
     /// A perfect mirror of reflectance `albedo`.
     pub fn mirror(self, name: impl Into<String>, albedo: impl Into<Vec3>) -> Self {
-        self.material(name, MaterialKind::Mirror { albedo: albedo.into() })
+        self.material(name, MaterialKind::Mirror { albedo: albedo.into(), fresnel: None })
     }
 
     /// A GGX conductor of reflectance `albedo` and GGX alpha `roughness` (in [0, 1]).
     pub fn glossy(self, name: impl Into<String>, albedo: impl Into<Vec3>, roughness: f32) -> Self {
-        self.material(name, MaterialKind::Glossy { albedo: albedo.into(), roughness })
+        self.material(
+            name,
+            MaterialKind::Glossy { albedo: albedo.into(), roughness, distribution: Microfacet::Ggx, fresnel: None },
+        )
     }
 
     /// A dielectric of index of refraction `ior`, smooth when `roughness` is 0.
     pub fn dielectric(self, name: impl Into<String>, ior: f32, roughness: f32) -> Self {
-        self.material(name, MaterialKind::Dielectric { ior, roughness })
+        self.material(name, MaterialKind::Dielectric { ior, roughness, distribution: Microfacet::Ggx })
     }
 
     fn shape(mut self, geometry: Geometry, material: impl Into<String>) -> Self {
@@ -550,19 +553,30 @@ impl Check<'_> {
                 }
                 self.vec3(&format!("{key}.albedo"), albedo, UNIT)?;
             }
-            MaterialKind::Mirror { albedo } => {
+            MaterialKind::Mirror { albedo, fresnel } => {
                 self.vec3(&format!("{key}.albedo"), albedo, UNIT)?;
+                self.fresnel(key, fresnel)?;
             }
-            MaterialKind::Glossy { albedo, roughness } => {
+            MaterialKind::Glossy { albedo, roughness, fresnel, .. } => {
                 self.vec3(&format!("{key}.albedo"), albedo, UNIT)?;
                 self.f32(&format!("{key}.roughness"), roughness, UNIT)?;
+                self.fresnel(key, fresnel)?;
             }
-            MaterialKind::Dielectric { ior, roughness } => {
+            MaterialKind::Dielectric { ior, roughness, .. } => {
                 self.f32(&format!("{key}.ior"), ior, Bound::Positive)?;
                 self.f32(&format!("{key}.roughness"), roughness, UNIT)?;
             }
         }
         Ok(kind.clone())
+    }
+
+    /// A conductor's complex index of refraction: both parts finite and >= 0.
+    fn fresnel(&self, key: &str, fresnel: Option<ComplexIor>) -> Result<()> {
+        if let Some(ComplexIor { eta, k }) = fresnel {
+            self.vec3(&format!("{key}.eta"), eta, Bound::NonNegative)?;
+            self.vec3(&format!("{key}.k"), k, Bound::NonNegative)?;
+        }
+        Ok(())
     }
 
     /// Index of the texture `file` names (relative to the scene's directory), read once per

@@ -5,8 +5,8 @@
 use super::mesh::{self, Normals, Transform};
 use super::{ply, serialized};
 use super::{
-    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, PixelFilter, RadiusSchedule, RenderSettings, Scene,
-    SceneError, Shape, ShapeKind, Sphere, Texture,
+    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, Microfacet, PixelFilter, RadiusSchedule,
+    RenderSettings, Scene, SceneError, Shape, ShapeKind, Sphere, Texture,
 };
 use glam::{Vec2, Vec3};
 use std::fmt;
@@ -291,17 +291,23 @@ fn read_diffuse(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> 
 }
 
 fn read_mirror(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
-    Ok(MaterialKind::Mirror { albedo: t.req("albedo", |v| v.vec3_in(UNIT))? })
+    Ok(MaterialKind::Mirror { albedo: t.req("albedo", |v| v.vec3_in(UNIT))?, fresnel: None })
 }
 
 fn read_glossy(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
-    Ok(MaterialKind::Glossy { albedo: t.req("albedo", |v| v.vec3_in(UNIT))?, roughness: t.req("roughness", |v| v.f32_in(UNIT))? })
+    Ok(MaterialKind::Glossy {
+        albedo: t.req("albedo", |v| v.vec3_in(UNIT))?,
+        roughness: t.req("roughness", |v| v.f32_in(UNIT))?,
+        distribution: Microfacet::Ggx,
+        fresnel: None,
+    })
 }
 
 fn read_dielectric(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
     Ok(MaterialKind::Dielectric {
         ior: t.req("ior", |v| v.f32_in(Bound::Positive))?,
         roughness: t.or("roughness", 0.0, |v| v.f32_in(UNIT))?,
+        distribution: Microfacet::Ggx,
     })
 }
 

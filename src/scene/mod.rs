@@ -172,23 +172,55 @@ pub enum MaterialKind {
     },
     /// Perfect specular reflector.
     Mirror {
-        /// Reflectance, linear RGB in [0, 1].
+        /// Reflectance, linear RGB in [0, 1], times the Fresnel term when there is one.
         albedo: Vec3,
+        /// The conductor's complex index of refraction, whose Fresnel reflectance scales
+        /// `albedo`; `None` is Fresnel 1 (a perfect mirror; every TOML material).
+        fresnel: Option<ComplexIor>,
     },
-    /// GGX microfacet conductor; roughness is GGX alpha.
+    /// Microfacet conductor; roughness is the distribution's alpha.
     Glossy {
-        /// Reflectance (Fresnel 1), linear RGB in [0, 1].
+        /// Reflectance, linear RGB in [0, 1], times the Fresnel term when there is one.
         albedo: Vec3,
-        /// GGX alpha in [0, 1].
+        /// Alpha in [0, 1].
         roughness: f32,
+        /// The distribution of microfacet normals.
+        distribution: Microfacet,
+        /// The conductor's complex index of refraction, whose Fresnel reflectance at the
+        /// microfacet normal scales `albedo`; `None` is Fresnel 1.
+        fresnel: Option<ComplexIor>,
     },
-    /// Dielectric interface; roughness 0 is smooth, otherwise GGX alpha (Walter et al. 2007).
+    /// Dielectric interface; roughness 0 is smooth, otherwise the microfacet alpha (Walter et
+    /// al. 2007).
     Dielectric {
         /// Index of refraction of the inside relative to the outside.
         ior: f32,
-        /// GGX alpha in [0, 1]; 0 is smooth.
+        /// Alpha in [0, 1]; 0 is smooth.
         roughness: f32,
+        /// The distribution of microfacet normals of a rough interface.
+        distribution: Microfacet,
     },
+}
+
+/// A distribution of microfacet normals, isotropic, with Smith's separable masking (as
+/// Mitsuba 3's `MicrofacetDistribution`, sampled by visible normals).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Microfacet {
+    /// GGX (Trowbridge-Reitz; Walter et al. 2007, eq. 33): every TOML material.
+    #[default]
+    Ggx,
+    /// Beckmann (Walter et al. 2007, eq. 25): Mitsuba's default for its rough BSDFs.
+    Beckmann,
+}
+
+/// A conductor's complex index of refraction eta + i k relative to the outside, per RGB
+/// channel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ComplexIor {
+    /// Real part, >= 0.
+    pub eta: Vec3,
+    /// Imaginary part (the absorption coefficient), >= 0.
+    pub k: Vec3,
 }
 
 /// One `[materials]` entry.

@@ -6,18 +6,19 @@
 //!   dielectrics is black seen from behind its shading normal ([`Material::one_sided`]).
 //! - `dielectric`: `int_ior` (`bk7`, 1.5046), `ext_ior` (`air`, 1.000277), each a number or a
 //!   named medium; our `ior` is their ratio. Smooth Fresnel reflection and refraction.
-//! - `roughdielectric`: as `dielectric`, with `distribution` (`beckmann`) and `alpha` (0.1);
-//!   Walter et al. 2007 sampled by visible normals. GGX only, for now.
-//! - `conductor`: `material` (`none`: eta 0, k 1, a perfect mirror) and
-//!   `specular_reflectance` (1). Only `none`, for now: named metals need the conductor
-//!   Fresnel term.
-//! - `roughconductor`: as `conductor`, with `distribution` (`beckmann`) and `alpha` (0.1): a
-//!   GGX conductor with Fresnel 1. GGX only, for now.
+//! - `roughdielectric`: as `dielectric`, with `distribution` (`beckmann` or `ggx`; Mitsuba's
+//!   default `beckmann`) and `alpha` (0.1); Walter et al. 2007 sampled by visible normals.
+//! - `conductor`: `material` (`none`: eta 0, k 1, a perfect mirror; or one of Mitsuba's named
+//!   metals, [`NAMED_CONDUCTORS`]) or `eta` (0) and `k` (1), not both, and
+//!   `specular_reflectance` (1): reflectance `specular_reflectance` times the conductor
+//!   Fresnel term of eta + i k. Mitsuba 3's conductors have no `ext_eta`.
+//! - `roughconductor`: as `conductor`, with `distribution` (`beckmann`) and `alpha` (0.1), the
+//!   Fresnel term taken at the microfacet normal.
 
 use super::props::{Props, Spectrum};
 use super::xml::Node;
 use super::{Result, SceneReader};
-use crate::scene::{Material, MaterialKind};
+use crate::scene::{ComplexIor, Material, MaterialKind, Microfacet};
 use glam::Vec3;
 
 /// Mitsuba's named indices of refraction (its plugin reference, "dielectric": "IOR values").
@@ -45,6 +46,85 @@ const NAMED_IOR: &[(&str, f32)] = &[
     ("amber", 1.55),
     ("pet", 1.5750),
     ("diamond", 2.419),
+];
+
+/// Mitsuba 3's named conductors (its plugin reference, "conductor": the table of materials,
+/// spectra from its `data/ior/*.spd`) as the RGB eta and k it uses in its RGB variants: printed
+/// by Mitsuba 3.9.1 itself (`mi.traverse(mi.load_dict({'type': 'conductor', 'material':
+/// name}))` under `scalar_rgb` and `llvm_ad_rgb`, which agree), rounded to 6 significant
+/// digits. Where Mitsuba clamps an out-of-gamut colour (it warns), its clamped values.
+pub const NAMED_CONDUCTORS: &[(&str, [f32; 3], [f32; 3])] = &[
+    ("a-C", [2.94405, 2.22714, 1.96816], [0.887465, 0.799299, 0.81529]),
+    ("Ag", [0.155276, 0.116728, 0.138388], [4.82835, 3.12222, 2.1469]),
+    ("Al", [1.6575, 0.880405, 0.521244], [9.22381, 6.2695, 4.837]),
+    ("AlAs", [3.6053, 3.23294, 2.21632], [0.000679437, 0.0, 0.00751271]),
+    ("AlAs_palik", [3.6053, 3.23294, 2.21632], [0.000679437, 0.0, 0.00751271]),
+    ("AlSb", [0.0, 4.13937, 4.66925], [0.0, 0.0940091, 1.30057]),
+    ("AlSb_palik", [0.0, 4.13937, 4.66925], [0.0, 0.0940091, 1.30057]),
+    ("Au", [0.143036, 0.375307, 1.44205], [3.983, 2.38556, 1.60336]),
+    ("Be", [4.18501, 3.18503, 2.78406], [3.83547, 3.01012, 2.86899]),
+    ("Be_palik", [4.18501, 3.18503, 2.78406], [3.83547, 3.01012, 2.86899]),
+    ("Cr", [4.36967, 2.91651, 1.6549], [5.20655, 4.23131, 3.7547]),
+    ("CsI", [2.1449, 1.70232, 1.66243], [0.0, 0.0, 0.0]),
+    ("CsI_palik", [2.1449, 1.70232, 1.66243], [0.0, 0.0, 0.0]),
+    ("Cu", [0.201005, 0.92375, 1.10222], [3.91326, 2.45305, 2.14209]),
+    ("Cu_palik", [0.213229, 0.919715, 1.10241], [3.92187, 2.45733, 2.13658]),
+    ("Cu2O", [3.55177, 2.94987, 2.75188], [0.114207, 0.193897, 0.606134]),
+    ("Cu2O_palik", [3.55177, 2.94987, 2.75188], [0.114207, 0.193897, 0.606134]),
+    ("CuO", [3.24754, 2.44781, 2.21022], [0.52109, 0.570031, 0.722179]),
+    ("CuO_palik", [3.24754, 2.44781, 2.21022], [0.52109, 0.570031, 0.722179]),
+    ("d-C", [2.70872, 2.31883, 2.2289], [0.0, 0.0, 0.0]),
+    ("d-C_palik", [2.70872, 2.31883, 2.2289], [0.0, 0.0, 0.0]),
+    ("Hg", [2.39894, 1.44003, 0.90957], [6.32759, 4.37192, 3.42176]),
+    ("Hg_palik", [2.39894, 1.44003, 0.90957], [6.32759, 4.37192, 3.42176]),
+    ("HgTe", [4.77904, 3.2312, 2.6599], [1.63161, 1.58081, 1.72929]),
+    ("HgTe_palik", [4.77904, 3.2312, 2.6599], [1.63161, 1.58081, 1.72929]),
+    ("Ir", [3.0863, 2.08219, 1.61791], [5.59215, 4.06709, 3.26731]),
+    ("Ir_palik", [3.0863, 2.08219, 1.61791], [5.59215, 4.06709, 3.26731]),
+    ("K", [0.0640432, 0.0464098, 0.0381849], [2.1042, 1.34894, 0.913126]),
+    ("K_palik", [0.0640432, 0.0464098, 0.0381849], [2.1042, 1.34894, 0.913126]),
+    ("Li", [0.265791, 0.195618, 0.220949], [3.54015, 2.31112, 1.66861]),
+    ("Li_palik", [0.265791, 0.195618, 0.220949], [3.54015, 2.31112, 1.66861]),
+    ("MgO", [2.08958, 1.65072, 1.59488], [4.3327e-12, 0.0, 2.49865e-11]),
+    ("MgO_palik", [2.08958, 1.65072, 1.59488], [4.3327e-12, 0.0, 2.49865e-11]),
+    ("Mo", [4.48397, 3.52513, 2.77631], [4.11144, 3.42083, 3.15061]),
+    ("Mo_palik", [4.48397, 3.52513, 2.77631], [4.11144, 3.42083, 3.15061]),
+    ("Na_palik", [0.0602694, 0.0561409, 0.0619884], [3.17927, 2.11249, 1.57904]),
+    ("Nb", [3.42007, 2.79009, 2.39563], [3.44139, 2.73767, 2.57975]),
+    ("Nb_palik", [3.42007, 2.79009, 2.39563], [3.44139, 2.73767, 2.57975]),
+    ("Ni_palik", [2.3673, 1.66337, 1.46708], [4.49881, 3.05015, 2.34544]),
+    ("Rh", [2.58579, 1.86022, 1.55426], [6.78226, 4.70299, 3.97607]),
+    ("Rh_palik", [2.58579, 1.86022, 1.55426], [6.78226, 4.70299, 3.97607]),
+    ("Se", [4.05831, 2.84294, 2.82085], [0.75405, 0.638444, 0.521808]),
+    ("Se_palik", [4.05831, 2.84294, 2.82085], [0.75405, 0.638444, 0.521808]),
+    ("Se-e", [5.72285, 4.16574, 4.08134], [0.871136, 1.10516, 1.56532]),
+    ("Se-e_palik", [5.72285, 4.16574, 4.08134], [0.871136, 1.10516, 1.56532]),
+    ("SiC", [3.17234, 2.52597, 2.47937], [7.53766e-7, 0.0, 1.01925e-5]),
+    ("SiC_palik", [3.17234, 2.52597, 2.47937], [7.53766e-7, 0.0, 1.01925e-5]),
+    ("SnTe", [4.52425, 1.98164, 1.28159], [0.0, 0.0, 0.0]),
+    ("SnTe_palik", [4.52425, 1.98164, 1.28159], [0.0, 0.0, 0.0]),
+    ("Ta", [2.06272, 2.39294, 2.62793], [2.40836, 1.74149, 1.94703]),
+    ("Ta_palik", [2.06272, 2.39294, 2.62793], [2.40836, 1.74149, 1.94703]),
+    ("Te", [7.39023, 4.4821, 2.63711], [3.25602, 3.52706, 3.29205]),
+    ("Te_palik", [7.39023, 4.4821, 2.63711], [3.25602, 3.52706, 3.29205]),
+    ("Te-e", [7.50891, 4.29643, 2.36999], [5.58393, 4.94721, 3.99759]),
+    ("Te-e_palik", [7.50891, 4.29643, 2.36999], [5.58393, 4.94721, 3.99759]),
+    ("ThF4", [1.83071, 1.44223, 1.38765], [0.0, 0.0, 0.0]),
+    ("ThF4_palik", [1.83071, 1.44223, 1.38765], [0.0, 0.0, 0.0]),
+    ("TiC", [3.70053, 2.83742, 2.58229], [3.26564, 2.35159, 2.17279]),
+    ("TiC_palik", [3.70053, 2.83742, 2.58229], [3.26564, 2.35159, 2.17279]),
+    ("TiN", [1.64845, 1.15052, 1.37982], [3.36833, 1.9435, 1.10207]),
+    ("TiN_palik", [1.64845, 1.15052, 1.37982], [3.36833, 1.9435, 1.10207]),
+    ("TiO2", [3.45661, 2.80174, 2.90517], [0.000105265, 0.0, 0.000652887]),
+    ("TiO2_palik", [3.45661, 2.80174, 2.90517], [0.000105265, 0.0, 0.000652887]),
+    ("TiO2-e", [3.10656, 2.51317, 2.58244], [2.97516e-5, 0.0, 0.000182698]),
+    ("TiO2-e_palik", [3.10656, 2.51317, 2.58244], [2.97516e-5, 0.0, 0.000182698]),
+    ("V_palik", [4.27758, 3.51295, 2.76107], [3.4913, 2.88945, 3.11152]),
+    ("VC", [3.65757, 2.75274, 2.53267], [3.0683, 2.19869, 1.96319]),
+    ("VC_palik", [3.65757, 2.75274, 2.53267], [3.0683, 2.19869, 1.96319]),
+    ("VN", [2.8656, 2.11919, 1.94009], [3.03224, 2.05612, 1.61631]),
+    ("VN_palik", [2.8656, 2.11919, 1.94009], [3.03224, 2.05612, 1.61631]),
+    ("W", [4.37082, 3.30025, 2.99841], [3.50064, 2.60487, 2.27323]),
 ];
 
 /// BSDF plugins that Mitsuba has and sppm-gpu does not model yet.
@@ -143,30 +223,17 @@ impl<'a> SceneReader<'a> {
                             .error(Some(name), format!("a dielectric's {name} other than 1 is not modelled by sppm-gpu yet")));
                     }
                 }
-                let roughness = if kind == "roughdielectric" { alpha(&p)? } else { 0.0 };
-                MaterialKind::Dielectric { ior, roughness }
+                let (roughness, distribution) = if kind == "roughdielectric" { alpha(&p)? } else { (0.0, Microfacet::Ggx) };
+                MaterialKind::Dielectric { ior, roughness, distribution }
             }
             "conductor" | "roughconductor" => {
-                let material = p.string("material")?.unwrap_or("none");
-                if material != "none" || p.has("eta") || p.has("k") {
-                    let key = if p.has("eta") {
-                        "eta"
-                    } else if p.has("k") {
-                        "k"
-                    } else {
-                        "material"
-                    };
-                    return Err(p.get(key).unwrap().error(
-                        Some(key),
-                        "a conductor with a Fresnel term (a named metal, eta or k) is not modelled by sppm-gpu yet; \
-                         only material = \"none\" (a perfect reflector times specular_reflectance)",
-                    ));
-                }
+                let fresnel = conductor_ior(&p)?;
                 let albedo = self.reflectance(&p, "specular_reflectance", 1.0)?;
                 if kind == "conductor" {
-                    MaterialKind::Mirror { albedo }
+                    MaterialKind::Mirror { albedo, fresnel }
                 } else {
-                    MaterialKind::Glossy { albedo, roughness: alpha(&p)? }
+                    let (roughness, distribution) = alpha(&p)?;
+                    MaterialKind::Glossy { albedo, roughness, distribution, fresnel }
                 }
             }
             other if NOT_YET.contains(&other) => {
@@ -223,20 +290,19 @@ fn ior(p: &Props, name: &str, default: f32) -> Result<f32> {
     Ok(value)
 }
 
-/// A microfacet BSDF's roughness: `distribution` must be `ggx` (Mitsuba's default is
-/// `beckmann`), `alpha` (0.1) isotropic; `sample_visible` changes only the noise.
-fn alpha(p: &Props) -> Result<f32> {
-    let distribution = p.string("distribution")?.unwrap_or("beckmann");
-    if distribution != "ggx" {
-        let at = p.get("distribution").unwrap_or(p.node);
-        return Err(at.error(
-            Some("distribution"),
-            format!(
-                "the {distribution} microfacet distribution{} is not modelled by sppm-gpu yet: only ggx",
-                if p.has("distribution") { "" } else { " (Mitsuba's default)" }
-            ),
-        ));
-    }
+/// A microfacet BSDF's roughness and distribution: `distribution` `beckmann` (Mitsuba's
+/// default) or `ggx`, `alpha` (0.1) isotropic; `sample_visible` changes only the noise.
+fn alpha(p: &Props) -> Result<(f32, Microfacet)> {
+    let distribution = match p.string("distribution")?.unwrap_or("beckmann") {
+        "beckmann" => Microfacet::Beckmann,
+        "ggx" => Microfacet::Ggx,
+        other => {
+            return Err(p.get("distribution").unwrap().error(
+                Some("distribution"),
+                format!("the {other} microfacet distribution is not modelled by sppm-gpu: beckmann or ggx"),
+            ))
+        }
+    };
     p.boolean_or("sample_visible", true)?;
     if p.has("alpha_u") || p.has("alpha_v") {
         let key = if p.has("alpha_u") { "alpha_u" } else { "alpha_v" };
@@ -245,7 +311,7 @@ fn alpha(p: &Props) -> Result<f32> {
         if u != v || p.has("alpha") {
             return Err(p.node.error(Some(key), "anisotropic roughness (alpha_u != alpha_v) is not modelled by sppm-gpu"));
         }
-        return check_alpha(p, u.unwrap_or(0.1));
+        return Ok((check_alpha(p, u.unwrap_or(0.1))?, distribution));
     }
     let alpha = match p.spectrum("alpha")? {
         None => 0.1,
@@ -254,7 +320,54 @@ fn alpha(p: &Props) -> Result<f32> {
             return Err(p.get("alpha").unwrap().error(Some("alpha"), "alpha is one number (textured roughness is not read)"))
         }
     };
-    check_alpha(p, alpha)
+    Ok((check_alpha(p, alpha)?, distribution))
+}
+
+/// A conductor's complex index of refraction, as Mitsuba 3's `conductor` and `roughconductor`
+/// read it: `eta` (0) and `k` (1) when either `eta` is given or `material` is `none` (its
+/// default), else the named metal's; naming one and giving `eta` is an error, and so (unread
+/// by Mitsuba) is giving `k` with a named metal. `None` for eta 0, k 1: Fresnel 1.
+fn conductor_ior(p: &Props) -> Result<Option<ComplexIor>> {
+    let material = p.string("material")?.map(str::trim).unwrap_or("none");
+    let (eta, k) = if p.has("eta") || material == "none" {
+        if material != "none" {
+            let at = p.get("material").unwrap();
+            return Err(at.error(Some("material"), "a conductor takes either eta and k or a named material, not both"));
+        }
+        (ior_rgb(p, "eta", 0.0)?, ior_rgb(p, "k", 1.0)?)
+    } else {
+        if p.has("k") {
+            let at = p.get("k").unwrap();
+            return Err(at.error(Some("k"), "a conductor takes either eta and k or a named material, not both"));
+        }
+        let Some(&(_, eta, k)) = NAMED_CONDUCTORS.iter().find(|(name, _, _)| *name == material) else {
+            let names: Vec<&str> = NAMED_CONDUCTORS.iter().map(|(n, _, _)| *n).collect();
+            let at = p.get("material").unwrap();
+            return Err(at.error(
+                Some("material"),
+                format!("\"{material}\" is not one of Mitsuba's named conductors (none, {})", names.join(", ")),
+            ));
+        };
+        (Vec3::from(eta), Vec3::from(k))
+    };
+    Ok((eta != Vec3::ZERO || k != Vec3::ONE).then_some(ComplexIor { eta, k }))
+}
+
+/// A part of a conductor's index of refraction: a colour (`<rgb>`, a `<spectrum>` of one value,
+/// a `<float>`) of finite numbers >= 0.
+fn ior_rgb(p: &Props, name: &str, default: f32) -> Result<Vec3> {
+    match p.spectrum(name)? {
+        None => Ok(Vec3::splat(default)),
+        Some(Spectrum::Rgb(rgb)) => {
+            if !(rgb.is_finite() && rgb.min_element() >= 0.0) {
+                return Err(p.get(name).unwrap().error(Some(name), format!("{name} {rgb}: each channel is a number >= 0")));
+            }
+            Ok(rgb)
+        }
+        Some(Spectrum::Texture(node)) => {
+            Err(node.error(Some(name), format!("{name} as a texture: a conductor's index of refraction is a colour")))
+        }
+    }
 }
 
 fn check_alpha(p: &Props, alpha: f32) -> Result<f32> {
