@@ -115,7 +115,8 @@ struct Photon {
 
 // Choose a light in proportion to power and a photon leaving it: from an area light, a point
 // on it and a cosine-distributed direction from its front; from a point light, a uniform
-// direction; from a directional light, a point on a disk facing it that covers the scene.
+// direction; from a spot light, a direction in its cone (sample_spot_emission); from a
+// directional light, a point on a disk facing it that covers the scene.
 // beta = Le cos / (pmf * pdf(position) * pdf(direction)), relative to the total power.
 fn emit_photon(rng: ptr<function, Rng>) -> Photon {
     let e = emitters[find_emitter(rng_next(rng))];
@@ -125,6 +126,10 @@ fn emit_photon(rng: ptr<function, Rng>) -> Photon {
     if USES_POINT_LIGHTS && e.kind == EMITTER_POINT {
         // I / (1 / 4 pi)
         return Photon(e.position, sample_uniform_sphere(u_dir), e.radiance * (4.0 * PI * scale), 0u);
+    }
+    if USES_SPOT_LIGHTS && e.kind == EMITTER_SPOT {
+        let s = sample_spot_emission(e, u_pos.x, u_dir);
+        return Photon(e.position, s.d, e.radiance * (s.weight * scale), 0u);
     }
     if USES_DIRECTIONAL_LIGHTS && e.kind == EMITTER_DIRECTIONAL {
         // E / (1 / disk area)

@@ -2,7 +2,8 @@
 //! facing +z) lit by one light whose own material is black gets no indirect light at all, so
 //! its radiance is exactly albedo / pi * E, with E in closed form: Lambert's formula for quad
 //! and triangle lights, pi L (r / D)^2 cos(theta) for a sphere, I cos(theta) / d^2 for a point
-//! light, E0 cos(theta) for a directional one. Blocks of pixels are compared with the formula
+//! light, E0 cos(theta) for a directional one, I f(theta_s) cos(theta) / d^2 for a spot light
+//! (f its falloff at angle theta_s from its axis). Blocks of pixels are compared with the formula
 //! averaged over the same pixels' squares (the camera's box filter), from normal incidence to
 //! grazing (cos(theta) 0.1 to 0.2), next to an area light's plane, and in the ring just outside
 //! a sphere light's silhouette, where shadow rays aimed from the un-offset point once made the
@@ -14,7 +15,7 @@ mod common;
 use glam::{DVec3, Vec3};
 use sppm_gpu::gpu::GpuContext;
 use sppm_gpu::integrators::{self, camera_frame_for};
-use sppm_gpu::scene::{Method, Scene, SceneBuilder};
+use sppm_gpu::scene::{DirectLight, Method, RadiusSchedule, Scene, SceneBuilder};
 use std::f64::consts::PI;
 use std::time::Instant;
 
@@ -36,6 +37,26 @@ enum Light {
     Point { position: DVec3, intensity: f64 },
     /// Parallel light travelling along `direction` (unit), `irradiance` on a surface facing it.
     Directional { direction: DVec3, irradiance: f64 },
+    /// Radiant intensity from a point, times Mitsuba 3's spot falloff about `axis` (unit):
+    /// 1 within `beam` radians, linear in the angle down to 0 at `cutoff`, 0 beyond.
+    Spot { position: DVec3, axis: DVec3, intensity: f64, cutoff: f64, beam: f64 },
+}
+
+/// Mitsuba 3's spot falloff at angle theta from the axis (as its `spot` plugin evaluates it,
+/// measured with Mitsuba 3.9.1): written out here apart from the renderer's.
+fn falloff(theta: f64, cutoff: f64, beam: f64) -> f64 {
+    if theta >= cutoff {
+        0.0
+    } else if theta <= beam {
+        1.0
+    } else {
+        (cutoff - theta) / (cutoff - beam)
+    }
+}
+
+/// The angle between unit vectors a and b, accurate at every angle.
+fn angle(a: DVec3, b: DVec3) -> f64 {
+    a.cross(b).length().atan2(a.dot(b))
 }
 
 impl Light {
@@ -51,6 +72,12 @@ impl Light {
             }
             // E = E0 cos(theta).
             Light::Directional { direction, irradiance } => irradiance * n.dot(-*direction).max(0.0),
+            // E = I f(theta_s) cos(theta) / d^2.
+            Light::Spot { position, axis, intensity, cutoff, beam } => {
+                let to = *position - p;
+                let f = falloff(angle(-to.normalize(), *axis), *cutoff, *beam);
+                intensity * f * n.dot(to.normalize()).max(0.0) / to.length_squared()
+            }
         }
     }
 
@@ -66,7 +93,7 @@ impl Light {
                 let disc = b * b - (oc.length_squared() - radius * radius);
                 (disc >= 0.0).then(|| -b - disc.sqrt()).filter(|t| *t > 0.0)
             }
-            Light::Point { .. } | Light::Directional { .. } => None,
+            Light::Point { .. } | Light::Directional { .. } | Light::Spot { .. } => None,
         }
     }
 
@@ -79,7 +106,7 @@ impl Light {
                 (centroid - p).normalize()
             }
             Light::Sphere { center, .. } => (*center - p).normalize(),
-            Light::Point { position, .. } => (*position - p).normalize(),
+            Light::Point { position, .. } | Light::Spot { position, .. } => (*position - p).normalize(),
             Light::Directional { direction, .. } => -*direction,
         }
     }
@@ -218,7 +245,8 @@ fn analytic_image(scene: &Scene, lights: &[Light]) -> Vec<Option<f64>> {
 /// Per-pixel values (mean over RGB) of `batches` independent batches of `passes` passes each,
 /// recovered from the running mean: the image after k batches averages k equal batches, so
 /// batch k is k M_k - (k - 1) M_{k-1}. For SPPM this holds where no photon lands, as on a
-/// receiver whose only other surface is a black light.
+/// receiver whose only other surface is a black light, and under the global radius schedule,
+/// whose image is the mean of its passes' estimates.
 fn render_batches(gpu: &GpuContext, scene: &Scene, batches: u32, passes: u32) -> Vec<Vec<f64>> {
     let mut integrator = integrators::create(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
     let mut previous = vec![0.0; (scene.render.width * scene.render.height) as usize];
@@ -257,14 +285,56 @@ const SPPM_SPP: u32 = 16;
 const TOLERANCE: f64 = 0.01;
 const MAX_SE: f64 = 0.003;
 
+/// Photons per pass and their initial radius where SPPM takes direct light from photons.
+const PHOTONS: u32 = 1_000_000;
+const PHOTON_RADIUS: f32 = 0.002;
+
+/// How a render estimates the light at the receiver: a method as the scene would run it (SPPM
+/// and pt-nee sample direct light at each visible point or path vertex), or SPPM with direct
+/// light from photons alone.
+#[derive(Clone, Copy, PartialEq)]
+enum Estimator {
+    Method(Method),
+    SppmPhotons,
+}
+
+impl From<Method> for Estimator {
+    fn from(method: Method) -> Self {
+        Estimator::Method(method)
+    }
+}
+
+impl std::fmt::Debug for Estimator {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Estimator::Method(m) => write!(f, "{m:?}"),
+            Estimator::SppmPhotons => write!(f, "Sppm (photons)"),
+        }
+    }
+}
+
 /// `scene` set up for `method` with `samples` camera samples per pixel in all, and the passes
 /// of one of the BATCHES batches.
-fn for_method(scene: &Scene, method: Method, samples: u32) -> (Scene, u32) {
+fn for_method(scene: &Scene, estimator: Estimator, samples: u32) -> (Scene, u32) {
     let mut scene = scene.clone();
+    let method = match estimator {
+        Estimator::Method(m) => m,
+        Estimator::SppmPhotons => Method::Sppm,
+    };
     scene.render.method = method;
     let per_pass = if method == Method::Sppm { SPPM_SPP } else { 1 };
     assert_eq!(samples % (BATCHES * per_pass), 0, "{samples} samples do not split into batches");
-    if method == Method::Sppm {
+    if estimator == Estimator::SppmPhotons {
+        // Photons straight from the light are the estimate: each pass one of its own under the
+        // global radius schedule, so that batches of passes are independent. The radius is
+        // small against the probe and against the light's variation, and every probe lies at
+        // least 2 radii from where that variation has a kink.
+        scene.render.spp = SPPM_SPP;
+        scene.render.direct = DirectLight::Photons;
+        scene.render.radius_schedule = RadiusSchedule::Global;
+        scene.render.photons = PHOTONS;
+        scene.render.radius = Some(PHOTON_RADIUS);
+    } else if method == Method::Sppm {
         // The receiver gets no photons (they leave it, or stop on the black light), so their
         // number and radius only cost time.
         scene.render.spp = SPPM_SPP;
@@ -291,7 +361,7 @@ fn measure(
     scene: &Scene,
     lights: &[Light],
     regions: &[Region],
-    method: Method,
+    method: Estimator,
     samples: u32,
     (tolerance, max_se): (f64, f64),
 ) -> Vec<Outcome> {
@@ -404,6 +474,9 @@ const HARD_SAMPLES: u32 = 1024;
 /// Samples per pixel where every sample gives the same value but for where it falls in the
 /// pixel (point and directional lights) or nothing (behind a light).
 const FEW_SAMPLES: u32 = 256;
+/// Samples per pixel (and SPPM passes: four per batch) at the probes of the wide spot light,
+/// for its photons' standard error.
+const WIDE_SPOT_SAMPLES: u32 = 1024;
 
 /// The light kinds: each scene is the receiver and one light; what the analytic side knows of
 /// the light; and where to look.
@@ -421,6 +494,12 @@ enum Kind {
     Point,
     /// Directional light at normal incidence, and at cos(theta) = 0.15.
     Directional,
+    /// Spot lights (cutoff 30 degrees, beam width 10) 0.2 above the origin looking straight
+    /// down and 0.25 above it tilted 20 degrees towards +x, and one 0.1 above the origin
+    /// looking along +x (cutoff 110, beam width 60), whose cone holds more than a hemisphere:
+    /// in the beam, in the falloff (90 degrees from the axis, for the wide one) and outside
+    /// the cutoff of each.
+    Spot,
 }
 
 /// Area lights' radiance.
@@ -480,6 +559,53 @@ fn kind(kind: Kind) -> Vec<(SceneBuilder, Vec<Light>, Vec<Probe>)> {
             ];
             vec![(b, vec![Light::Point { position, intensity: 1.0 }], probes)]
         }
+        Kind::Spot => {
+            // (position, axis, cutoff, beam width, probes in the beam, falloff and outside,
+            // samples in the first two): the wide spot's probes get a smaller share of its
+            // photons, which cover 5.7 sr, and more passes.
+            let tilt = 20f64.to_radians();
+            let spots = [
+                ([0.0, 0.0, 0.2], DVec3::NEG_Z, 30.0, 10.0, [[0.0, 0.0], [0.075, 0.0], [0.16, 0.0]], FEW_SAMPLES),
+                (
+                    [0.0, 0.0, 0.25],
+                    DVec3::new(tilt.sin(), 0.0, -tilt.cos()),
+                    30.0,
+                    10.0,
+                    [[0.091, 0.0], [0.091, 0.09], [0.091, -0.25]],
+                    FEW_SAMPLES,
+                ),
+                ([0.0, 0.0, 0.1], DVec3::X, 110.0, 60.0, [[0.12, 0.0], [0.0, 0.03], [-0.1, 0.0]], WIDE_SPOT_SAMPLES),
+            ];
+            spots
+                .into_iter()
+                .map(|(position, axis, cutoff, beam, at, samples)| {
+                    let position = DVec3::from(position);
+                    let b = receiver(RECEIVER_HALF).spot_light(
+                        position.as_vec3(),
+                        axis.as_vec3(),
+                        [1.0; 3],
+                        cutoff as f32,
+                        beam as f32,
+                    );
+                    let light = Light::Spot {
+                        position,
+                        axis,
+                        intensity: 1.0,
+                        cutoff: f64::to_radians(cutoff),
+                        beam: f64::to_radians(beam),
+                    };
+                    let probes = ["in the beam", "in the falloff", "outside the cutoff"]
+                        .into_iter()
+                        .zip(at)
+                        .map(|(name, [x, y])| {
+                            assert_eq!(spot_zone(&light, [x, y]), name, "the probe at ({x}, {y})");
+                            probe(name, x, y, if name == "outside the cutoff" { FEW_SAMPLES } else { samples })
+                        })
+                        .collect();
+                    (b, vec![light], probes)
+                })
+                .collect()
+        }
         Kind::Directional => [1.0, 0.15]
             .into_iter()
             .map(|cos: f64| {
@@ -492,6 +618,31 @@ fn kind(kind: Kind) -> Vec<(SceneBuilder, Vec<Light>, Vec<Probe>)> {
     }
 }
 
+/// Where on a spot light's falloff the probe square at `at` lies, with a margin of twice
+/// the photons' radius: wholly "in the beam", "in the falloff" or "outside the cutoff" (else
+/// "across a kink", where a density estimate would blur it).
+fn spot_zone(light: &Light, at: [f64; 2]) -> &'static str {
+    let Light::Spot { position, axis, cutoff, beam, .. } = light else { panic!("not a spot light") };
+    let half = 0.5 * PROBE_SIDE + 2.0 * PHOTON_RADIUS as f64;
+    let n = 16;
+    let thetas: Vec<f64> = (0..(n + 1) * (n + 1))
+        .map(|i| {
+            let (u, v) = ((i % (n + 1)) as f64 / n as f64, (i / (n + 1)) as f64 / n as f64);
+            let p = DVec3::new(at[0] + half * (2.0 * u - 1.0), at[1] + half * (2.0 * v - 1.0), 0.0);
+            angle((p - *position).normalize(), *axis)
+        })
+        .collect();
+    if thetas.iter().all(|t| t < beam) {
+        "in the beam"
+    } else if thetas.iter().all(|t| t > beam && t < cutoff) {
+        "in the falloff"
+    } else if thetas.iter().all(|t| t > cutoff) {
+        "outside the cutoff"
+    } else {
+        "across a kink"
+    }
+}
+
 /// `b` seen by a camera straight above `at`, framing the PROBE_SIDE square.
 fn probe_scene(b: &SceneBuilder, at: [f64; 2]) -> Scene {
     let fov = (2.0 * (0.5 * PROBE_SIDE / CAMERA_HEIGHT).atan()).to_degrees() as f32;
@@ -499,7 +650,8 @@ fn probe_scene(b: &SceneBuilder, at: [f64; 2]) -> Scene {
     b.clone().camera([x, y, CAMERA_HEIGHT as f32], [x, y, 0.0], [0.0, 1.0, 0.0], fov).build().unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn check_kind(k: Kind, method: Method) {
+fn check_kind(k: Kind, method: impl Into<Estimator>) {
+    let method = method.into();
     let Some(gpu) = common::gpu() else { return };
     let start = Instant::now();
     let mut outcomes = Vec::new();
@@ -537,6 +689,23 @@ fn point_light_pt_nee() {
 #[test]
 fn directional_light_pt_nee() {
     check_kind(Kind::Directional, Method::PtNee);
+}
+
+#[test]
+fn spot_light_pt_nee() {
+    check_kind(Kind::Spot, Method::PtNee);
+}
+
+#[test]
+fn spot_light_sppm() {
+    check_kind(Kind::Spot, Method::Sppm);
+}
+
+/// SPPM's photons straight from each spot light, alone, against the same irradiance: the
+/// directions photons leave in, and their flux.
+#[test]
+fn spot_light_sppm_photons() {
+    check_kind(Kind::Spot, Estimator::SppmPhotons);
 }
 
 #[test]
@@ -617,7 +786,7 @@ fn check_repro(method: Method, samples: [u32; 2], bounds: (f64, f64)) {
         let regions = ring_regions(&scene, &lights, silhouette);
         // Of the ring's 1270 pixels, those the silhouette touches are left out.
         assert!(regions[0].pixels.len() > 900, "radius {radius}: {}", regions[0].name);
-        outcomes.extend(measure(&gpu, &format!("sphere r {radius}"), &scene, &lights, &regions, method, samples, bounds));
+        outcomes.extend(measure(&gpu, &format!("sphere r {radius}"), &scene, &lights, &regions, method.into(), samples, bounds));
     }
     report(&format!("sphere ring {method:?}"), &outcomes, bounds);
 }
@@ -710,4 +879,41 @@ fn formulas_match_monte_carlo() {
             assert!(se <= 0.005 * mean.max(1e-300) || mean == 0.0, "{c:?} at {p}: Monte Carlo too noisy to tell");
         }
     }
+}
+
+/// A spot light's power over its intensity, `spot_solid_angle` in closed form (with its
+/// series for narrow falloffs), against the integral of the falloff over the sphere, 2 pi
+/// integral_0^pi f(theta) sin(theta) d theta, by the midpoint rule on each smooth piece.
+#[test]
+fn spot_solid_angle_matches_quadrature() {
+    let cases = [
+        (20.0, 15.0),
+        (30.0, 10.0),
+        (30.0, 0.0),
+        (20.0, 20.0),
+        (20.0, 40.0),
+        (100.0, 60.0),
+        (180.0, 180.0),
+        (180.0, 0.0),
+        (5.0, 4.9999),
+        (1.0, 0.5),
+        (45.0, 44.99),
+    ];
+    for (cutoff, beam) in cases {
+        let (c, b) = (f64::to_radians(cutoff), f64::to_radians(beam).min(f64::to_radians(cutoff)));
+        let pieces = [(0.0, b), (b, c)];
+        let n = 200_000;
+        let quadrature: f64 = pieces
+            .iter()
+            .map(|&(lo, hi)| {
+                let h = (hi - lo) / n as f64;
+                (0..n).map(|i| lo + (i as f64 + 0.5) * h).map(|t| falloff(t, c, b) * t.sin() * h).sum::<f64>() * 2.0 * PI
+            })
+            .sum();
+        let formula = sppm_gpu::scene::spot_solid_angle(c, b);
+        eprintln!("cutoff {cutoff} beam {beam}: formula {formula:.12e} quadrature {quadrature:.12e}");
+        assert!((formula / quadrature - 1.0).abs() < 1e-9, "cutoff {cutoff} beam {beam}: {formula} against {quadrature}");
+    }
+    // A spot of cutoff 180 and no falloff is a point light.
+    assert!((sppm_gpu::scene::spot_solid_angle(PI, PI) / (4.0 * PI) - 1.0).abs() < 1e-15);
 }

@@ -41,8 +41,23 @@ fn features_of_the_canonical_scenes() {
     let box_xml = scene::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/box.xml")).unwrap();
     let f = Features::of(&SceneData::new(&box_xml).unwrap());
     assert!(f.mirror && f.glossy && !f.conductor_fresnel && !f.beckmann, "material none, ggx: {f:?}");
-    assert_eq!(Features::ALL.constants().len(), 17);
+    assert_eq!(Features::ALL.constants().len(), 18);
     assert!(Features::ALL.constants().iter().all(|(_, v)| *v == 1.0));
+}
+
+/// Spot lights switch USES_SPOT_LIGHTS on, and nothing else does: scenes without them
+/// compile their kernels without the spot light's code.
+#[test]
+fn spot_lights_are_a_feature_of_their_own() {
+    for name in ["cornell-box.toml", "cornell-spheres.toml", "point-light.toml", "textured.toml", "motion-blur.toml"] {
+        let f = features(name);
+        assert!(!f.spot_lights, "{name}");
+        assert!(f.constants().contains(&("USES_SPOT_LIGHTS", 0.0)), "{name}");
+    }
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/spot.xml");
+    let f = Features::of(&SceneData::new(&sppm_gpu::scene::load(&path).unwrap()).unwrap());
+    assert!(f.spot_lights && !(f.point_lights || f.directional_lights || f.triangle_lights || f.sphere_lights), "{f:?}");
+    assert!(f.constants().contains(&("USES_SPOT_LIGHTS", 1.0)));
 }
 
 /// Each tracing kernel with each feature off in turn, and with all off: the driver compiles

@@ -78,7 +78,7 @@ fn gpu_structs_match_wgsl() {
         [albedo, kind, ior, roughness, texture, texture_size, one_sided, distribution, _pad, eta, fresnel, k, _pad1]
     );
     check!(module, GpuShape, "Shape", [emission, emits, velocity, _pad]);
-    check!(module, Emitter, "Emitter", [kind, prim_ref, cdf, pmf, position, area, radiance, radius, direction, _pad]);
+    check!(module, Emitter, "Emitter", [kind, prim_ref, cdf, pmf, position, area, radiance, radius, direction, width]);
     check!(module, VisiblePoint, "VisiblePoint", [p, radius, weight, normal]);
     check!(module, PhotonHit, "PhotonHit", [p, next, d, _pad0, beta, _pad1]);
     check!(module, VpStats, "VpStats", [tau, n, ld, radius]);
@@ -102,6 +102,7 @@ fn wgsl_constants_match_rust() {
     assert_eq!(constant("EMITTER_AREA"), EMITTER_AREA);
     assert_eq!(constant("EMITTER_POINT"), EMITTER_POINT);
     assert_eq!(constant("EMITTER_DIRECTIONAL"), EMITTER_DIRECTIONAL);
+    assert_eq!(constant("EMITTER_SPOT"), EMITTER_SPOT);
     assert_eq!(constant("MATERIAL_GLOSSY"), MATERIAL_GLOSSY);
     assert_eq!(constant("NO_TEXTURE"), NO_TEXTURE);
     assert_eq!(constant("SPHERE_BIT"), sppm_gpu::accel::SPHERE_BIT);

@@ -320,7 +320,7 @@ fn bad_input_names_file_line_and_element() {
             "`envmap` environment emitter",
         ),
         ("constant", r#"    <emitter type="constant"/>"#, "`constant` environment emitter"),
-        ("spot", r#"    <emitter type="spot"/>"#, "`spot` emitter is not modelled"),
+        ("projector", r#"    <emitter type="projector"/>"#, "`projector` emitter is not modelled"),
         ("plastic", r#"    <shape type="sphere"><bsdf type="plastic"/></shape>"#, "`plastic` BSDF is not modelled"),
         (
             "phong",
@@ -496,6 +496,58 @@ fn lights_match_mitsuba() {
     }
     let c = against_mitsuba("lights", Method::Sppm, 16, 100_000);
     assert_close("lights sppm", &c, 0.003, 0.01);
+}
+
+/// spot.xml: a spot light's position and axis from its to_world (a uniform scale leaves the
+/// cone as it is), its angles in degrees with Mitsuba 3's defaults (cutoff 20, beam width 3/4
+/// of it); a texture, an uneven scale and angles out of range are errors at their lines.
+#[test]
+fn spot_scene_reads_spot_lights() {
+    let s = load("spot.xml");
+    assert_eq!(s.lights.len(), 2);
+    let expect = [
+        (Vec3::new(-1.6, 3.0, 1.8), Vec3::new(-0.3, 0.0, -0.2), Vec3::new(14.0, 11.0, 8.0), 35.0, 20.0),
+        (Vec3::new(2.6, 2.2, 1.2), Vec3::new(0.6, 0.3, -0.6), Vec3::new(5.0, 8.0, 16.0), 20.0, 15.0),
+    ];
+    for (light, (origin, target, i, cutoff, beam)) in s.lights.iter().zip(expect) {
+        let LightKind::Spot { position, direction, intensity, cutoff_angle, beam_width } = light.kind else {
+            panic!("{:?}", light.kind)
+        };
+        assert!((position - origin).length() < 1e-5, "{position}");
+        assert!((direction - (target - origin).normalize()).length() < 1e-5, "{direction}");
+        assert_eq!((intensity, cutoff_angle, beam_width), (i, cutoff, beam));
+    }
+    let line_of = |text: &str, needle: &str| text.lines().position(|l| l.contains(needle)).unwrap() + 1;
+    for (test, body, needle) in [
+        (
+            "spot-texture",
+            r#"    <emitter type="spot"><texture type="bitmap" name="texture"/></emitter>"#,
+            "`texture` (a projected image) is not modelled",
+        ),
+        (
+            "spot-scale",
+            r#"    <emitter type="spot"><transform name="to_world"><scale x="2"/></transform></emitter>"#,
+            "scales unevenly or shears",
+        ),
+        ("spot-cutoff", r#"    <emitter type="spot"><float name="cutoff_angle" value="0"/></emitter>"#, "more than 0"),
+        ("spot-beam", r#"    <emitter type="spot"><float name="beam_width" value="-1"/></emitter>"#, "at least 0 degrees"),
+    ] {
+        let text = scene_with(body);
+        expect_error(test, &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, body.trim())), needle);
+    }
+}
+
+/// spot.xml against Mitsuba 3: two spot lights' beams, falloffs and cutoffs on diffuse
+/// surfaces, with SPPM (photons from the spots) and pt-nee.
+#[test]
+fn spot_matches_mitsuba() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let c = against_mitsuba("spot", Method::Sppm, 16, 100_000);
+    assert_close("spot sppm", &c, 0.003, 0.01);
+    let c = against_mitsuba("spot", Method::PtNee, 64, 0);
+    assert_close("spot pt-nee", &c, 0.003, 0.01);
 }
 
 /// Batches and checkpoints of renders with different pixel filters must not merge: the

@@ -114,7 +114,7 @@ fn tens_of_thousands_of_photons_per_visible_point() {
 
 /// `scene` with every length multiplied by `s`: geometry, camera, lights, velocities and the
 /// radius. Radiance is unchanged; a point light's intensity grows by s^2 so that the
-/// irradiance it gives at the scaled distances is unchanged.
+/// irradiance it gives at the scaled distances is unchanged (a spot light's too).
 fn scaled(scene: &Scene, s: f32) -> Scene {
     let mut out = scene.clone();
     for t in &mut out.triangles {
@@ -129,7 +129,7 @@ fn scaled(scene: &Scene, s: f32) -> Scene {
     }
     for light in &mut out.lights {
         match &mut light.kind {
-            LightKind::Point { position, intensity } => {
+            LightKind::Point { position, intensity } | LightKind::Spot { position, intensity, .. } => {
                 *position *= s;
                 *intensity *= s * s;
             }

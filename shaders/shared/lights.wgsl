@@ -9,6 +9,7 @@ override USES_TRIANGLE_LIGHTS: bool = true;
 override USES_SPHERE_LIGHTS: bool = true;
 override USES_POINT_LIGHTS: bool = true;
 override USES_DIRECTIONAL_LIGHTS: bool = true;
+override USES_SPOT_LIGHTS: bool = true;
 
 // Index of the emitter whose cdf interval holds u (binary search).
 fn find_emitter(u: f32) -> u32 {
@@ -60,7 +61,8 @@ struct LightSample {
     wi: vec3f,
     dist: f32,
     // Incident radiance over the sample's density: Le / pdf for an area light, I / (d^2 pmf)
-    // for a point light, E / pmf for a directional one; zero when the sample is unusable.
+    // for a point light (times the falloff for a spot light), E / pmf for a directional one;
+    // zero when the sample is unusable.
     li: vec3f,
     // Solid-angle density of wi, the choice of light included; 0 for a delta light.
     pdf: f32,
@@ -117,6 +119,13 @@ fn sample_light(p: vec3f, u: vec3f) -> LightSample {
         let dist = length(to);
         return LightSample(to / dist, dist, e.radiance / (dist * dist * e.pmf), 0.0, e.position, 0.0);
     }
+    if USES_SPOT_LIGHTS && e.kind == EMITTER_SPOT {
+        // A point light whose intensity in direction -wi is I times the falloff.
+        let to = e.position - p;
+        let dist = length(to);
+        let wi = to / dist;
+        return LightSample(wi, dist, e.radiance * (spot_falloff(e, -wi) / (dist * dist * e.pmf)), 0.0, e.position, 0.0);
+    }
     if USES_DIRECTIONAL_LIGHTS && e.kind == EMITTER_DIRECTIONAL {
         let wi = -e.direction;
         // Past the directional light's disk, which encloses the scene.
@@ -161,4 +170,57 @@ fn light_pdf(p: vec3f, prim_ref: u32, shape: u32, t: f32, cos_l: f32) -> f32 {
         }
     }
     return area_emitter_density(shape) * t * t / cos_l;
+}
+
+// Mitsuba 3's spot falloff (src/scene/mod.rs, spot_falloff) in unit direction d leaving spot
+// light e: 1 within the beam width of its axis, then linear in the angle theta from the axis
+// down to 0 at the cutoff angle (e.radius), over the width e.width; 0 beyond. theta by atan2
+// of |d x axis| and d . axis, accurate at every angle, where acos(d . axis) loses half the
+// digits near the axis.
+fn spot_falloff(e: Emitter, d: vec3f) -> f32 {
+    let theta = atan2(length(cross(d, e.direction)), dot(d, e.direction));
+    let ramp = (e.radius - theta) / max(e.width, 1e-30);
+    return select(select(ramp, 1.0, theta <= e.radius - e.width), 0.0, theta >= e.radius);
+}
+
+// A direction leaving spot light e and its weight: intensity times falloff over the
+// direction's density, divided by the intensity I on the axis (so the photon's flux is
+// I weight / (pmf power_total)). Two parts, chosen by u_part: the cone of full intensity
+// (half-angle b = cutoff - width) with probability P_beam = A / Omega, A = 2 pi (1 - cos b) =
+// 4 pi sin^2(b / 2) its solid angle and Omega (e.area) the falloff's integral, and the ring of
+// falloff otherwise. In the cone directions are uniform (density 1 / A), weight A / P_beam. In
+// the ring phi = cutoff - theta is drawn with density 2 phi / w^2 on [0, w] (phi = w sqrt(u),
+// w = e.width), proportional to the falloff phi / w; over solid angle that is 2 phi / (w^2 2 pi
+// sin(theta)), so the weight, falloff over density over (1 - P_beam), is pi w sin(theta) /
+// (1 - P_beam), nearly constant across the ring (sin(theta) from sin(b) to sin(cutoff)). Both
+// parts divide by the probability actually used, so rounding in P_beam biases nothing.
+struct SpotEmission {
+    d: vec3f,
+    weight: f32,
+}
+
+fn sample_spot_emission(e: Emitter, u_part: f32, u: vec2f) -> SpotEmission {
+    let half_beam = 0.5 * max(e.radius - e.width, 0.0);
+    let sin_half = sin(half_beam);
+    // 1 - cos b, without the cancellation of 1 - cos near b = 0.
+    let one_minus_cos_b = 2.0 * sin_half * sin_half;
+    let beam_solid_angle = 2.0 * PI * one_minus_cos_b;
+    let p_beam = min(beam_solid_angle / e.area, 1.0);
+    var cos_theta: f32;
+    var sin_theta: f32;
+    var weight: f32;
+    if u_part < p_beam {
+        let one_minus_cos = u.x * one_minus_cos_b;
+        cos_theta = 1.0 - one_minus_cos;
+        sin_theta = sqrt(max(0.0, one_minus_cos * (2.0 - one_minus_cos)));
+        weight = beam_solid_angle / p_beam;
+    } else {
+        let theta = e.radius - e.width * sqrt(u.x);
+        cos_theta = cos(theta);
+        sin_theta = max(sin(theta), 0.0);
+        weight = PI * e.width * sin_theta / (1.0 - p_beam);
+    }
+    let phi = 2.0 * PI * u.y;
+    let d = basis(e.direction) * vec3f(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);
+    return SpotEmission(d, weight);
 }

@@ -158,17 +158,19 @@ struct Emitter {
     // Inclusive running sum of pmf over the emitters up to this one.
     cdf: f32,
     pmf: f32,
-    // Point: position. Directional: centre of the disk photons leave from.
+    // Point and spot: position. Directional: centre of the disk photons leave from.
     position: vec3f,
-    // Area of the primitive, or of the directional light's disk.
+    // Area of the primitive, or of the directional light's disk; a spot's Omega, the
+    // integral of its falloff over directions (power I Omega).
     area: f32,
-    // Point: intensity. Directional: irradiance.
+    // Point and spot: intensity (a spot's on its axis). Directional: irradiance.
     radiance: vec3f,
-    // Radius of the directional light's disk.
+    // Radius of the directional light's disk; a spot's cutoff angle (radians).
     radius: f32,
-    // Directional: direction of travel.
+    // Directional: direction of travel. Spot: the axis of its cone.
     direction: vec3f,
-    _pad: u32,
+    // Spot: cutoff angle minus beam width (radians, >= 0); 0 for the other kinds.
+    width: f32,
 }
 
 // Where a camera path of the current pass ended on a non-specular surface, in 32 bytes: what
@@ -232,6 +234,7 @@ const ATTRIBUTE_INDEX_MASK: u32 = 0x3fffffffu;
 const EMITTER_AREA: u32 = 0u;
 const EMITTER_POINT: u32 = 1u;
 const EMITTER_DIRECTIONAL: u32 = 2u;
+const EMITTER_SPOT: u32 = 3u;
 const NO_TEXTURE: u32 = 0xffffffffu;
 const SPHERE_BIT: u32 = 0x80000000u;
 

@@ -86,6 +86,7 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
         let kind = match l.kind {
             LightKind::Point { .. } => "point",
             LightKind::Directional { .. } => "directional",
+            LightKind::Spot { .. } => "spot",
         };
         *lights.entry(kind).or_insert(0) += 1;
     }

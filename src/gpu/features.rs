@@ -9,7 +9,7 @@
 
 use super::scene_buffers::SceneData;
 use super::types::{
-    EMITTER_AREA, EMITTER_DIRECTIONAL, EMITTER_POINT, HAS_NORMALS, HAS_UVS, MATERIAL_DIELECTRIC, MATERIAL_GLOSSY,
+    EMITTER_AREA, EMITTER_DIRECTIONAL, EMITTER_POINT, EMITTER_SPOT, HAS_NORMALS, HAS_UVS, MATERIAL_DIELECTRIC, MATERIAL_GLOSSY,
     MATERIAL_MIRROR, MICROFACET_BECKMANN, NO_TEXTURE,
 };
 use crate::accel::SPHERE_BIT;
@@ -52,6 +52,8 @@ pub struct Features {
     pub point_lights: bool,
     /// Some emitter is a directional light.
     pub directional_lights: bool,
+    /// Some emitter is a spot light.
+    pub spot_lights: bool,
 }
 
 impl Features {
@@ -74,6 +76,7 @@ impl Features {
         sphere_lights: true,
         point_lights: true,
         directional_lights: true,
+        spot_lights: true,
     };
 
     /// The features `data` uses.
@@ -106,6 +109,7 @@ impl Features {
             sphere_lights: emitter(EMITTER_AREA, true),
             point_lights: emitter(EMITTER_POINT, false),
             directional_lights: emitter(EMITTER_DIRECTIONAL, false),
+            spot_lights: emitter(EMITTER_SPOT, false),
         }
     }
 
@@ -129,6 +133,7 @@ impl Features {
             ("USES_SPHERE_LIGHTS", self.sphere_lights),
             ("USES_POINT_LIGHTS", self.point_lights),
             ("USES_DIRECTIONAL_LIGHTS", self.directional_lights),
+            ("USES_SPOT_LIGHTS", self.spot_lights),
         ]
         .into_iter()
         .map(|(name, on)| (name, if on { 1.0 } else { 0.0 }))

@@ -4,7 +4,7 @@
 use super::types::*;
 use crate::accel::bvh::PackedBvh;
 use crate::accel::{Bvh, SPHERE_BIT};
-use crate::scene::{ComplexIor, LightKind, MaterialKind, Microfacet, Scene, SceneError};
+use crate::scene::{spot_solid_angle, ComplexIor, LightKind, MaterialKind, Microfacet, Scene, SceneError};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
@@ -205,8 +205,9 @@ impl SceneData {
         let (bounds_min, bounds_max) = scene.bounds();
 
         // Lights, chosen in proportion to power: the average over RGB of Le * area * pi for an
-        // area light (a Lambertian emitter), I * 4 pi for a point light and E * pi R^2 for a
-        // directional light through a disk of radius R.
+        // area light (a Lambertian emitter), I * 4 pi for a point light, E * pi R^2 for a
+        // directional light through a disk of radius R and I * Omega for a spot light, Omega
+        // the integral of its falloff over directions (spot_solid_angle, in closed form).
         let mut emitters = Vec::new();
         let mut powers = Vec::new();
         let emission = |shape: u32| scene.shapes[shape as usize].emission.unwrap_or(Vec3::ZERO);
@@ -256,6 +257,22 @@ impl SceneData {
                         ..Emitter::default()
                     });
                     powers.push(average(irradiance) * area as f64);
+                }
+                LightKind::Spot { position, direction, intensity, cutoff_angle, beam_width } => {
+                    let cutoff = (cutoff_angle as f64).to_radians();
+                    let beam = (beam_width as f64).to_radians().min(cutoff);
+                    let omega = spot_solid_angle(cutoff, beam);
+                    emitters.push(Emitter {
+                        kind: EMITTER_SPOT,
+                        position: position.into(),
+                        area: omega as f32,
+                        radiance: intensity.into(),
+                        radius: cutoff as f32,
+                        direction: direction.normalize().into(),
+                        width: (cutoff - beam) as f32,
+                        ..Emitter::default()
+                    });
+                    powers.push(average(intensity) * omega);
                 }
             }
         }

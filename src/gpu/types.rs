@@ -208,13 +208,14 @@ pub struct GpuShape {
     pub _pad: u32,
 }
 
-/// One light photons can leave from: an emitting triangle or sphere, a point light or a
-/// directional light, chosen with probability `pmf` in proportion to its power (average over
-/// RGB of Le * area * pi, I * 4 pi or E * pi R^2).
+/// One light photons can leave from: an emitting triangle or sphere, a point light, a
+/// directional light or a spot light, chosen with probability `pmf` in proportion to its
+/// power (average over RGB of Le * area * pi, I * 4 pi, E * pi R^2 or I * Omega, Omega the
+/// spot's [`crate::scene::spot_solid_angle`]).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct Emitter {
-    /// [`EMITTER_AREA`], [`EMITTER_POINT`] or [`EMITTER_DIRECTIONAL`].
+    /// [`EMITTER_AREA`], [`EMITTER_POINT`], [`EMITTER_DIRECTIONAL`] or [`EMITTER_SPOT`].
     pub kind: u32,
     /// The emitting primitive of an area emitter.
     pub prim_ref: u32,
@@ -222,18 +223,21 @@ pub struct Emitter {
     pub cdf: f32,
     /// Probability of choosing this emitter, proportional to its power.
     pub pmf: f32,
-    /// Point light: its position. Directional: the centre of the disk photons leave from.
+    /// Point and spot light: its position. Directional: the centre of the disk photons leave
+    /// from.
     pub position: [f32; 3],
-    /// Area of the primitive, or of the directional light's disk.
+    /// Area of the primitive, or of the directional light's disk; a spot light's Omega, the
+    /// integral of its falloff over directions (steradians; power I * Omega).
     pub area: f32,
-    /// Point light: intensity (W/sr). Directional: irradiance.
+    /// Point and spot light: intensity (W/sr; a spot's on its axis). Directional: irradiance.
     pub radiance: [f32; 3],
-    /// Radius of the directional light's disk.
+    /// Radius of the directional light's disk; a spot light's cutoff angle (radians).
     pub radius: f32,
-    /// Direction of travel of a directional light.
+    /// Direction of travel of a directional light; the axis of a spot light's cone.
     pub direction: [f32; 3],
-    /// Padding to 64 bytes; always 0.
-    pub _pad: u32,
+    /// A spot light's falloff width, cutoff angle minus beam width (radians, >= 0; 0: a hard
+    /// edge); 0 for the other kinds.
+    pub width: f32,
 }
 
 /// What `grid_setup` needs from the host: the box holding every visible point and the hash
@@ -324,6 +328,8 @@ pub const EMITTER_AREA: u32 = 0;
 pub const EMITTER_POINT: u32 = 1;
 /// [`Emitter::kind`] of a directional light.
 pub const EMITTER_DIRECTIONAL: u32 = 2;
+/// [`Emitter::kind`] of a spot light.
+pub const EMITTER_SPOT: u32 = 3;
 /// [`GpuMaterial::texture`] of a material without a texture.
 pub const NO_TEXTURE: u32 = u32::MAX;
 /// [`GpuMaterial::kind`]: Lambertian, f = albedo / pi; the only kind SPPM leaves visible

@@ -325,9 +325,61 @@ pub enum LightKind {
         /// Irradiance E on a surface facing the light, linear RGB.
         irradiance: Vec3,
     },
+    /// A spot light as Mitsuba 3's `spot`: a point that emits `intensity` (W/sr) within
+    /// `beam_width` of its axis, falls off linearly in the angle from there to zero at
+    /// `cutoff_angle`, and is dark beyond ([`spot_falloff`]). Angles in degrees, as Mitsuba's
+    /// and pbrt's scene files give them.
+    Spot {
+        /// World-space position.
+        position: Vec3,
+        /// Unit direction of the cone's axis.
+        direction: Vec3,
+        /// Radiant intensity I on the axis, linear RGB (W/sr); power I [`spot_solid_angle`].
+        intensity: Vec3,
+        /// Half-angle of the lit cone, degrees, in (0, 180].
+        cutoff_angle: f32,
+        /// Half-angle of the cone of full intensity, degrees, >= 0; at or past
+        /// `cutoff_angle` the cone's edge is hard.
+        beam_width: f32,
+    },
 }
 
-/// One `[[lights]]` entry (a point or directional light; area lights are shapes with
+/// Mitsuba 3's spot falloff (its `spot` plugin's `falloff_curve`, checked against Mitsuba
+/// 3.9.1): 1 for `theta` <= `beam`, (`cutoff` - `theta`) / (`cutoff` - `beam`) between,
+/// 0 from `cutoff` on. Angles in radians; `theta` from the axis.
+pub fn spot_falloff(theta: f64, cutoff: f64, beam: f64) -> f64 {
+    if theta >= cutoff {
+        0.0
+    } else if theta <= beam {
+        1.0
+    } else {
+        (cutoff - theta) / (cutoff - beam)
+    }
+}
+
+/// The integral of [`spot_falloff`] over the sphere of directions (steradians): a spot
+/// light's power is its intensity times this. With c the cutoff, b the beam width (at most
+/// c) and w = c - b, the cone of full intensity gives 2 pi (1 - cos b) and the ring of
+/// falloff 2 pi / w integral_b^c (c - theta) sin(theta) d theta = 2 pi (cos b - (sin c -
+/// sin b) / w), since (c - theta) sin(theta) has the antiderivative -(c - theta) cos(theta) -
+/// sin(theta). Angles in radians; the ring's term is summed by its series where w is small,
+/// where the closed form cancels.
+pub fn spot_solid_angle(cutoff: f64, beam: f64) -> f64 {
+    let b = beam.clamp(0.0, cutoff);
+    let w = cutoff - b;
+    let inner = 4.0 * std::f64::consts::PI * (0.5 * b).sin().powi(2);
+    // cos b - (sin c - sin b) / w = cos b - (sin(b + w) - sin b) / w
+    //   = cos b (1 - sin(w) / w) + sin b (1 - cos w) / w.
+    let (s, t) = if w < 1e-3 {
+        // 1 - sin(w) / w and (1 - cos w) / w by their Taylor series.
+        (w * w / 6.0 - w.powi(4) / 120.0, w / 2.0 - w.powi(3) / 24.0)
+    } else {
+        (1.0 - w.sin() / w, (1.0 - w.cos()) / w)
+    };
+    inner + 2.0 * std::f64::consts::PI * (b.cos() * s + b.sin() * t)
+}
+
+/// One `[[lights]]` entry (a point, directional or spot light; area lights are shapes with
 /// `emission`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Light {

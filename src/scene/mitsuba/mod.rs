@@ -175,16 +175,16 @@ impl<'a> SceneReader<'a> {
         c.look_at = c.position + forward * depth;
         let lit = scene.shapes.iter().any(|s| s.emission.is_some_and(|e| e.max_element() > 0.0))
             || scene.lights.iter().any(|l| match l.kind {
-                super::LightKind::Point { intensity: e, .. } | super::LightKind::Directional { irradiance: e, .. } => {
-                    e.max_element() > 0.0
-                }
+                super::LightKind::Point { intensity: e, .. }
+                | super::LightKind::Directional { irradiance: e, .. }
+                | super::LightKind::Spot { intensity: e, .. } => e.max_element() > 0.0,
             });
         if !lit {
             return Err(SceneError::new(
                 path,
                 None,
                 Some("emitter"),
-                "the scene has no light: no area emitter with positive radiance, no point or directional emitter",
+                "the scene has no light: no area emitter with positive radiance, no point, directional or spot emitter",
             ));
         }
         Ok(scene)

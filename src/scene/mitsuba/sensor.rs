@@ -13,7 +13,9 @@
 //!   (Mitsuba 0.6): `photon_count`, `initial_radius` (0: automatic), `alpha`, `max_depth`,
 //!   `max_passes`. Any other integrator is a warning, and our default method renders.
 //! - `point`: `intensity` (1) at `position` or `to_world`'s origin. `directional`:
-//!   `irradiance` (1) along `direction` or `to_world`'s +z.
+//!   `irradiance` (1) along `direction` or `to_world`'s +z. `spot`: `intensity` (1),
+//!   `cutoff_angle` (20 degrees), `beam_width` (3/4 of the cutoff), at `to_world`'s origin
+//!   looking along its +z.
 
 use super::props::{Props, Spectrum};
 use super::xml::Node;
@@ -359,7 +361,7 @@ fn max_depth(p: &Props) -> Result<u32> {
     }
 }
 
-/// A top-level `<emitter>`: point or directional.
+/// A top-level `<emitter>`: point, directional or spot.
 pub(super) fn light(node: &Node, lights: &mut Vec<Light>) -> Result<()> {
     node.allow_attrs(&["type", "id", "name"])?;
     let kind = node.req_attr("type")?;
@@ -396,13 +398,50 @@ pub(super) fn light(node: &Node, lights: &mut Vec<Light>) -> Result<()> {
                 direction.try_normalize().ok_or_else(|| node.error(Some("direction"), "the light's direction is zero"))?;
             LightKind::Directional { direction, irradiance }
         }
+        "spot" => {
+            if let Some(t) = p.get("texture") {
+                return Err(t.error(Some("texture"), "a spot light's `texture` (a projected image) is not modelled by sppm-gpu"));
+            }
+            let intensity = rgb("intensity")?;
+            let cutoff_angle = p.float_or("cutoff_angle", 20.0)?;
+            if cutoff_angle <= 0.0 || cutoff_angle > 180.0 {
+                return Err(p.get("cutoff_angle").unwrap().error(
+                    Some("cutoff_angle"),
+                    format!("cutoff_angle {cutoff_angle}: a spot's cutoff is more than 0 and at most 180 degrees"),
+                ));
+            }
+            // Mitsuba 3's default beam width.
+            let beam_width = p.float_or("beam_width", cutoff_angle * 3.0 / 4.0)?;
+            if beam_width < 0.0 {
+                return Err(p
+                    .get("beam_width")
+                    .unwrap()
+                    .error(Some("beam_width"), format!("beam_width {beam_width}: a spot's beam width is at least 0 degrees")));
+            }
+            // Mitsuba 3 takes the falloff of the direction carried back into the light's
+            // frame, normalized: the same cone under a rotation and a uniform scale, an
+            // elliptical one under any other linear map, which is not modelled.
+            let m = to_world.unwrap_or(Mat4::IDENTITY);
+            let linear = glam::Mat3::from_mat4(m);
+            let gram = linear.transpose() * linear;
+            let scale2 = (gram.x_axis.x + gram.y_axis.y + gram.z_axis.z) / 3.0;
+            let conformal =
+                (0..3).all(|i| (0..3).all(|j| (gram.col(i)[j] - if i == j { scale2 } else { 0.0 }).abs() <= 1e-4 * scale2));
+            if !(scale2 > 0.0 && conformal) {
+                return Err(p.get("to_world").unwrap().error(
+                    Some("to_world"),
+                    "a spot light's to_world that scales unevenly or shears (an elliptical cone) is not modelled by sppm-gpu",
+                ));
+            }
+            let position = m.transform_point3(Vec3::ZERO);
+            let direction = linear.mul_vec3(Vec3::Z).normalize();
+            LightKind::Spot { position, direction, intensity, cutoff_angle, beam_width }
+        }
         "area" => return Err(node.error(Some("type"), "an area emitter belongs inside the <shape> that emits")),
         "constant" | "envmap" | "sunsky" | "skysun" | "sky" | "sun" => {
             return Err(node.error(Some("type"), format!("the `{kind}` environment emitter is not modelled by sppm-gpu yet")))
         }
-        "spot" | "projector" => {
-            return Err(node.error(Some("type"), format!("the `{kind}` emitter is not modelled by sppm-gpu yet")))
-        }
+        "projector" => return Err(node.error(Some("type"), format!("the `{kind}` emitter is not modelled by sppm-gpu yet"))),
         other => return Err(node.error(Some("type"), format!("`{other}` is not a Mitsuba 3 emitter plugin"))),
     };
     p.finish()?;
