@@ -246,6 +246,16 @@ enum Command {
         #[command(flatten)]
         overrides: Overrides,
     },
+    /// Write a scene as read (Mitsuba XML, say) in our TOML format, which renders the same:
+    /// OUT.toml and its meshes as PLY files in OUT.meshes/ (new files only).
+    Convert {
+        scene: PathBuf,
+        /// The TOML file to write.
+        #[arg(short, long)]
+        output: PathBuf,
+        #[command(flatten)]
+        overrides: Overrides,
+    },
     /// Time each stage of an SPPM pass (waiting for the GPU after each) and report
     /// throughput.
     Bench {
@@ -333,7 +343,12 @@ fn experiment(command: &Command) -> Result<(), Error> {
             };
             experiments::passes(&scene, &name, &opts).map(drop)
         }
-        Command::Diff { .. } | Command::Bench { .. } | Command::View { .. } | Command::Merge { .. } | Command::Info { .. } => {
+        Command::Diff { .. }
+        | Command::Bench { .. }
+        | Command::View { .. }
+        | Command::Merge { .. }
+        | Command::Info { .. }
+        | Command::Convert { .. } => {
             unreachable!("not an experiment")
         }
     }
@@ -445,6 +460,12 @@ fn run(cli: &Cli) -> Result<ExitCode, Error> {
     }
     if let Some(Command::Bench { scene, overrides }) = &cli.command {
         return bench(scene, overrides).map(|()| ExitCode::SUCCESS);
+    }
+    if let Some(Command::Convert { scene, output, overrides }) = &cli.command {
+        let (loaded, _) = load_scene(scene, overrides)?;
+        cli::convert::convert(&loaded, output)?;
+        say!("wrote {}", output.display());
+        return Ok(ExitCode::SUCCESS);
     }
     if let Some(Command::Info { scene, overrides }) = &cli.command {
         let (loaded, _) = load_scene(scene, overrides)?;

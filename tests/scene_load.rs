@@ -691,6 +691,7 @@ fn no_input_panics() {
         assert!(load(odd).is_err(), "{odd:?}");
     }
 }
+
 /// Beyond v1, what a Mitsuba scene needs and `sppm-gpu convert` will write: `one_sided`
 /// materials and the pixel filter.
 #[test]

@@ -1,0 +1,240 @@
+//! `sppm-gpu convert SCENE -o OUT.toml`: a scene as read (Mitsuba XML, usually) written in our
+//! TOML format, so that it renders the same: the settings, camera, materials (`one_sided`),
+//! lights and pixel filter as keys, spheres as spheres, and every other shape's world-space
+//! triangles as a binary PLY file of its own in `OUT.meshes/` (with the shading normals the
+//! reader gave them, which a TOML `smooth` mesh takes from the file). What TOML cannot express
+//! yet (a conductor's Fresnel term, the Beckmann distribution, a spot light, a texture) is an
+//! error naming it, never a different scene. Nothing that exists is overwritten.
+
+use sppm_gpu::scene::{DirectLight, LightKind, MaterialKind, Method, Microfacet, PixelFilter, RadiusSchedule, Scene, Triangle};
+use sppm_gpu::Error;
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+use toml::{Table, Value};
+
+/// Writes `scene` as `output` (a `.toml` that does not exist yet) and its meshes beside it.
+pub fn convert(scene: &Scene, output: &Path) -> Result<(), Error> {
+    let fail = |message: String| Error::Setting(format!("{}: {message}", output.display()));
+    if !output.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) {
+        return Err(fail("the output of convert is a .toml file".into()));
+    }
+    let meshes = mesh_dir(output);
+    if output.exists() || meshes.exists() {
+        return Err(fail(format!("{} or {} exists already: convert writes new files only", output.display(), meshes.display())));
+    }
+    let (doc, ply_files) = document(scene, &meshes).map_err(fail)?;
+    let text = toml::to_string(&doc).map_err(|e| fail(e.to_string()))?;
+    if !ply_files.is_empty() {
+        std::fs::create_dir(&meshes).map_err(|e| fail(format!("{}: {e}", meshes.display())))?;
+    }
+    for (path, bytes) in &ply_files {
+        write_new(path, bytes)?;
+    }
+    write_new(output, text.as_bytes())
+}
+
+/// `OUT.meshes/` beside `OUT.toml`.
+fn mesh_dir(output: &Path) -> PathBuf {
+    let stem = output.file_stem().map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    output.with_file_name(format!("{stem}.meshes"))
+}
+
+fn write_new(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    use std::io::Write;
+    let mut file = std::fs::File::create_new(path).map_err(|e| Error::Setting(format!("{}: {e}", path.display())))?;
+    file.write_all(bytes).map_err(|e| Error::Setting(format!("{}: {e}", path.display())))
+}
+
+/// An f32 as a TOML float that reads back to the same f32.
+fn float(x: f32) -> Value {
+    Value::Float(x as f64)
+}
+
+fn vec3(v: glam::Vec3) -> Value {
+    Value::Array(v.to_array().iter().map(|&x| float(x)).collect())
+}
+
+/// The TOML document and the PLY files (path, bytes) of `scene`'s meshes.
+fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<(PathBuf, Vec<u8>)>), String> {
+    let mut doc = Table::new();
+    let r = &scene.render;
+    let mut render = Table::new();
+    let int = |v: u32| Value::Integer(v as i64);
+    render.insert("width".into(), int(r.width));
+    render.insert("height".into(), int(r.height));
+    let method = match r.method {
+        Method::Sppm => "sppm",
+        Method::Pt => "pt",
+        Method::PtNee => "pt-nee",
+    };
+    render.insert("method".into(), Value::String(method.into()));
+    render.insert("iterations".into(), int(r.iterations));
+    render.insert("spp".into(), int(r.spp));
+    render.insert("photons".into(), int(r.photons));
+    if let Some(radius) = r.radius {
+        render.insert("radius".into(), float(radius));
+    }
+    render.insert("alpha".into(), float(r.alpha));
+    render.insert("max_depth".into(), int(r.max_depth));
+    render.insert("seed".into(), int(r.seed));
+    if let Some(t) = r.time_limit {
+        render.insert("time_limit".into(), Value::Float(t));
+    }
+    let direct = if r.direct == DirectLight::Photons { "photons" } else { "sampled" };
+    render.insert("direct".into(), Value::String(direct.into()));
+    if let Some(n) = r.direct_samples {
+        render.insert("direct_samples".into(), int(n));
+    }
+    let schedule = if r.radius_schedule == RadiusSchedule::Global { "global" } else { "per-point" };
+    render.insert("radius_schedule".into(), Value::String(schedule.into()));
+    match r.filter {
+        PixelFilter::Box => {
+            render.insert("filter".into(), Value::String("box".into()));
+        }
+        PixelFilter::Tent { radius } => {
+            render.insert("filter".into(), Value::String("tent".into()));
+            render.insert("filter_radius".into(), float(radius));
+        }
+        PixelFilter::Gaussian { stddev } => {
+            render.insert("filter".into(), Value::String("gaussian".into()));
+            render.insert("filter_stddev".into(), float(stddev));
+        }
+    }
+    doc.insert("render".into(), Value::Table(render));
+
+    let c = &scene.camera;
+    let mut camera = Table::new();
+    camera.insert("position".into(), vec3(c.position));
+    camera.insert("look_at".into(), vec3(c.look_at));
+    camera.insert("up".into(), vec3(c.up));
+    camera.insert("fov".into(), float(c.fov));
+    camera.insert("aperture_radius".into(), float(c.aperture_radius));
+    camera.insert("focus_distance".into(), float(c.focus_distance));
+    doc.insert("camera".into(), Value::Table(camera));
+
+    // Material names: the reader's, made unique where two coincide.
+    let mut taken = HashSet::new();
+    let mut names = Vec::new();
+    let mut materials = Table::new();
+    for (i, m) in scene.materials.iter().enumerate() {
+        let mut name = m.name.clone();
+        if !taken.insert(name.clone()) {
+            name = format!("{name}#{i}");
+            taken.insert(name.clone());
+        }
+        let mut t = Table::new();
+        let unsupported = |what: &str| Err(format!("material `{}`: {what} cannot be written in TOML yet", m.name));
+        match m.kind {
+            MaterialKind::Diffuse { albedo, texture: None } => {
+                t.insert("type".into(), Value::String("diffuse".into()));
+                t.insert("albedo".into(), vec3(albedo));
+            }
+            MaterialKind::Diffuse { texture: Some(_), .. } => return unsupported("a texture"),
+            MaterialKind::Mirror { albedo, fresnel: None } => {
+                t.insert("type".into(), Value::String("mirror".into()));
+                t.insert("albedo".into(), vec3(albedo));
+            }
+            MaterialKind::Glossy { albedo, roughness, distribution: Microfacet::Ggx, fresnel: None } => {
+                t.insert("type".into(), Value::String("glossy".into()));
+                t.insert("albedo".into(), vec3(albedo));
+                t.insert("roughness".into(), float(roughness));
+            }
+            MaterialKind::Dielectric { ior, roughness, distribution } if roughness == 0.0 || distribution == Microfacet::Ggx => {
+                t.insert("type".into(), Value::String("dielectric".into()));
+                t.insert("ior".into(), float(ior));
+                t.insert("roughness".into(), float(roughness));
+            }
+            MaterialKind::Mirror { .. } | MaterialKind::Glossy { fresnel: Some(_), .. } => {
+                return unsupported("a conductor's Fresnel term")
+            }
+            MaterialKind::Glossy { .. } | MaterialKind::Dielectric { .. } => return unsupported("the Beckmann distribution"),
+        }
+        if m.one_sided && !matches!(m.kind, MaterialKind::Dielectric { .. }) {
+            t.insert("one_sided".into(), Value::Boolean(true));
+        }
+        materials.insert(name.clone(), Value::Table(t));
+        names.push(name);
+    }
+    doc.insert("materials".into(), Value::Table(materials));
+
+    let mut shapes = Vec::new();
+    let mut files = Vec::new();
+    for (i, shape) in scene.shapes.iter().enumerate() {
+        let mut t = Table::new();
+        if shape.velocity.is_some() {
+            return Err(format!("shape {i} moves: velocity is written by hand, not converted"));
+        }
+        if let Some(sphere) = scene.spheres.iter().find(|s| s.shape as usize == i) {
+            t.insert("type".into(), Value::String("sphere".into()));
+            t.insert("center".into(), vec3(sphere.center));
+            t.insert("radius".into(), float(sphere.radius));
+        } else {
+            let triangles: Vec<&Triangle> = scene.triangles.iter().filter(|t| t.shape as usize == i).collect();
+            let dir = meshes.file_name().map_or_else(|| "meshes".into(), |n| n.to_string_lossy().into_owned());
+            let file = format!("shape-{i}.ply");
+            let smooth = triangles.iter().all(|t| t.n.is_some());
+            files.push((meshes.join(&file), ply(&triangles, smooth)));
+            t.insert("type".into(), Value::String("mesh".into()));
+            t.insert("file".into(), Value::String(format!("{dir}/{file}")));
+            t.insert("smooth".into(), Value::Boolean(smooth));
+        }
+        t.insert("material".into(), Value::String(names[shape.material as usize].clone()));
+        if let Some(e) = shape.emission {
+            t.insert("emission".into(), vec3(e));
+        }
+        shapes.push(Value::Table(t));
+    }
+    doc.insert("shapes".into(), Value::Array(shapes));
+
+    let mut lights = Vec::new();
+    for l in &scene.lights {
+        let mut t = Table::new();
+        match l.kind {
+            LightKind::Point { position, intensity } => {
+                t.insert("type".into(), Value::String("point".into()));
+                t.insert("position".into(), vec3(position));
+                t.insert("intensity".into(), vec3(intensity));
+            }
+            LightKind::Directional { direction, irradiance } => {
+                t.insert("type".into(), Value::String("directional".into()));
+                t.insert("direction".into(), vec3(direction));
+                t.insert("irradiance".into(), vec3(irradiance));
+            }
+            LightKind::Spot { .. } => return Err("a spot light cannot be written in TOML yet".into()),
+        }
+        lights.push(Value::Table(t));
+    }
+    if !lights.is_empty() {
+        doc.insert("lights".into(), Value::Array(lights));
+    }
+    Ok((doc, files))
+}
+
+/// A binary little-endian PLY of `triangles`, three vertices each in order (so that the
+/// winding, the front, is kept), with their shading normals when `normals`.
+fn ply(triangles: &[&Triangle], normals: bool) -> Vec<u8> {
+    let mut out = format!(
+        "ply\nformat binary_little_endian 1.0\ncomment written by sppm-gpu convert\nelement vertex {}\n\
+         property float x\nproperty float y\nproperty float z\n{}element face {}\n\
+         property list uchar uint vertex_indices\nend_header\n",
+        3 * triangles.len(),
+        if normals { "property float nx\nproperty float ny\nproperty float nz\n" } else { "" },
+        triangles.len()
+    )
+    .into_bytes();
+    for t in triangles {
+        for k in 0..3 {
+            out.extend(t.p[k].to_array().iter().flat_map(|x| x.to_le_bytes()));
+            if let (true, Some(n)) = (normals, t.n) {
+                out.extend(n[k].to_array().iter().flat_map(|x| x.to_le_bytes()));
+            }
+        }
+    }
+    for i in 0..triangles.len() as u32 {
+        out.push(3);
+        for k in 0..3 {
+            out.extend((3 * i + k).to_le_bytes());
+        }
+    }
+    out
+}
