@@ -68,7 +68,7 @@ fn pt_nee_misses_point_light_caustics_sppm_does_not() {
 fn naive_pt_with_point_lights_warns() {
     let warnings = limitations(&mirror_scene(Method::Pt));
     assert_eq!(warnings.len(), 1, "{warnings:?}");
-    assert!(warnings[0].contains("point or directional light"), "{warnings:?}");
+    assert!(warnings[0].contains("spot or directional light"), "{warnings:?}");
     // Without lights outside the surfaces there is nothing to warn about.
     let scene = common::load_scene("cornell-box.toml");
     for method in [Method::Pt, Method::PtNee, Method::Sppm] {

@@ -54,8 +54,11 @@ fn vec3(v: glam::Vec3) -> Value {
     Value::Array(v.to_array().iter().map(|&x| float(x)).collect())
 }
 
-/// The TOML document and the PLY files (path, bytes) of `scene`'s meshes.
-fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<(PathBuf, Vec<u8>)>), String> {
+/// A file to write: its path and bytes.
+type File = (PathBuf, Vec<u8>);
+
+/// The TOML document and the PLY files of `scene`'s meshes.
+fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> {
     let mut doc = Table::new();
     let r = &scene.render;
     let mut render = Table::new();

@@ -268,11 +268,11 @@ pub fn limitations(scene: &Scene) -> Vec<String> {
     let mut out = Vec::new();
     match scene.render.method {
         Method::Pt if delta_lights > 0 => out.push(format!(
-            "method pt finds light only by hitting an emitting surface, so the scene's {delta_lights} point or \
+            "method pt finds light only by hitting an emitting surface, so the scene's {delta_lights} point, spot or \
              directional light(s) add nothing to the image; use sppm or pt-nee"
         )),
         Method::PtNee if delta_lights > 0 && specular => out.push(format!(
-            "method pt-nee cannot carry light from the scene's {delta_lights} point or directional light(s) through mirror or \
+            "method pt-nee cannot carry light from the scene's {delta_lights} point, spot or directional light(s) through mirror or \
              glass surfaces: their caustics are missing from the image; use sppm"
         )),
         Method::Sppm => {
