@@ -22,6 +22,20 @@ pub(super) struct IndexedMesh {
     pub indices: Vec<[u32; 3]>,
 }
 
+#[cfg(test)]
+impl IndexedMesh {
+    /// What every mesh reader promises (the readers' tests check it): indices in range,
+    /// normals and texture coordinates one per position and finite, finite positions, some
+    /// triangles.
+    pub(super) fn assert_valid(&self) {
+        let n = self.positions.len();
+        assert!(self.indices.iter().flatten().all(|&i| (i as usize) < n));
+        assert!(self.normals.as_ref().is_none_or(|v| v.len() == n && v.iter().all(|x| x.is_finite())));
+        assert!(self.uvs.as_ref().is_none_or(|v| v.len() == n && v.iter().all(|x| x.is_finite())));
+        assert!(self.positions.iter().all(|p| p.is_finite()) && !self.indices.is_empty());
+    }
+}
+
 /// An affine object-to-world transform `M p = A p + t`, with the normal matrix
 /// `(A^-1)^T` for normals. [`Transform::new`] builds it from scale, then rotation about x, y
 /// and z (in that order), then translation (`M = T * Rz * Ry * Rx * S`);

@@ -295,18 +295,10 @@ mod tests {
         out
     }
 
-    fn check(mesh: &IndexedMesh) {
-        let n = mesh.positions.len();
-        assert!(mesh.indices.iter().flatten().all(|&i| (i as usize) < n));
-        assert!(mesh.normals.as_ref().is_none_or(|v| v.len() == n && v.iter().all(|x| x.is_finite())));
-        assert!(mesh.uvs.as_ref().is_none_or(|v| v.len() == n && v.iter().all(|x| x.is_finite())));
-        assert!(mesh.positions.iter().all(|p| p.is_finite()) && !mesh.indices.is_empty());
-    }
-
     #[test]
     fn ascii_and_binary_read_alike() {
         let mesh = parse_ply(ASCII.as_bytes()).unwrap();
-        check(&mesh);
+        mesh.assert_valid();
         assert_eq!(mesh.indices, [[0, 1, 2], [0, 2, 3], [0, 2, 3]]);
         assert_eq!(mesh.positions[2], Vec3::new(1.0, 1.0, 0.0));
         assert_eq!(mesh.normals.as_ref().unwrap()[3], Vec3::Z);
@@ -333,7 +325,7 @@ mod tests {
             }
             for variant in variants {
                 match parse_ply(&variant) {
-                    Ok(mesh) => check(&mesh),
+                    Ok(mesh) => mesh.assert_valid(),
                     Err(message) => assert!(!message.is_empty() && !message.contains('\n'), "{message:?}"),
                 }
             }

@@ -307,26 +307,18 @@ mod tests {
         out
     }
 
-    fn check(mesh: &IndexedMesh) {
-        let n = mesh.positions.len();
-        assert!(mesh.indices.iter().flatten().all(|&i| (i as usize) < n));
-        assert!(mesh.normals.as_ref().is_none_or(|v| v.len() == n && v.iter().all(|x| x.is_finite())));
-        assert!(mesh.uvs.as_ref().is_none_or(|v| v.len() == n && v.iter().all(|x| x.is_finite())));
-        assert!(mesh.positions.iter().all(|p| p.is_finite()) && !mesh.indices.is_empty());
-    }
-
     #[test]
     fn reads_each_shape_of_both_versions() {
         for version in [3, 4] {
             let bytes = file(version);
             let quad = parse_serialized(&bytes, 0).unwrap();
-            check(&quad);
+            quad.assert_valid();
             assert_eq!(quad.indices, [[0, 1, 2], [0, 2, 3]]);
             assert_eq!(quad.positions[2], Vec3::new(1.0, 1.0, 0.0));
             assert_eq!(quad.normals.as_ref().unwrap(), &[Vec3::Z; 4]);
             assert_eq!(quad.uvs.as_ref().unwrap()[3], Vec2::Y);
             let triangle = parse_serialized(&bytes, 1).unwrap();
-            check(&triangle);
+            triangle.assert_valid();
             assert!(triangle.normals.is_none() && triangle.uvs.is_none());
             assert_eq!(triangle.positions, [Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0)]);
             let error = parse_serialized(&bytes, 2).unwrap_err();
@@ -350,7 +342,7 @@ mod tests {
             for variant in variants {
                 for shape_index in [0, 1, 2, u32::MAX] {
                     match parse_serialized(&variant, shape_index) {
-                        Ok(read) => check(&read),
+                        Ok(read) => read.assert_valid(),
                         Err(message) => assert!(!message.is_empty()),
                     }
                 }
