@@ -8,9 +8,12 @@
 //! that CI runs the same cases every time; `PROPTEST_CASES=N` and `PROPTEST_RNG_SEED=S` fuzz
 //! longer or elsewhere.
 
+#[path = "common/serialized_writer.rs"]
+mod serialized_writer;
 use proptest::prelude::*;
 use proptest::sample::Index;
 use proptest::test_runner::{Config, RngSeed};
+use serialized_writer::serialized_file;
 use sppm_gpu::gpu::scene_buffers::SceneData;
 use sppm_gpu::scene::{self, Scene, SceneError};
 use std::path::{Path, PathBuf};
@@ -668,30 +671,6 @@ fn serialized_body(version: u16, flags: u32) -> Vec<u8> {
     }
     body.extend([0u32, 1, 2, 0, 2, 3, 0, 4, 1].iter().flat_map(|i| i.to_le_bytes()));
     body
-}
-
-/// A `.serialized` file of shapes given by their decompressed data.
-fn serialized_file(bodies: &[Vec<u8>], version: u16) -> Vec<u8> {
-    use std::io::Write;
-    let mut out = Vec::new();
-    let mut offsets = Vec::new();
-    for body in bodies {
-        offsets.push(out.len() as u64);
-        out.extend(0x041Cu16.to_le_bytes());
-        out.extend(version.to_le_bytes());
-        let mut encoder = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::fast());
-        encoder.write_all(body).unwrap();
-        out.extend(encoder.finish().unwrap());
-    }
-    for offset in offsets {
-        if version == 4 {
-            out.extend(offset.to_le_bytes());
-        } else {
-            out.extend((offset as u32).to_le_bytes());
-        }
-    }
-    out.extend((bodies.len() as u32).to_le_bytes());
-    out
 }
 
 /// A `.serialized` file of two shapes: edits of the decompressed data of each (so that

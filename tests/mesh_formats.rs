@@ -7,10 +7,10 @@
 //! Also: the canonical and gallery scenes (OBJ meshes, flat and smooth) load to the very
 //! triangles they did before PLY and `.serialized` support (hashes of every bit).
 
-use flate2::write::ZlibEncoder;
-use flate2::Compression;
+#[path = "common/serialized_writer.rs"]
+mod serialized_writer;
+use serialized_writer::serialized_file;
 use sppm_gpu::scene::{self, Scene, SceneError};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 // --- Meshes and writers ---
@@ -285,34 +285,6 @@ fn serialized_body(mesh: &TestMesh, style: SerialStyle, version: u16) -> Vec<u8>
     }
     body.extend(triangles.iter().flatten().flat_map(|i| i.to_le_bytes()));
     body
-}
-
-fn zlib(data: &[u8]) -> Vec<u8> {
-    let mut encoder = ZlibEncoder::new(Vec::new(), Compression::default());
-    encoder.write_all(data).unwrap();
-    encoder.finish().unwrap()
-}
-
-/// A `.serialized` file of shapes given by their decompressed data, with its end-of-file
-/// dictionary.
-fn serialized_file(bodies: &[Vec<u8>], version: u16) -> Vec<u8> {
-    let mut out = Vec::new();
-    let mut offsets = Vec::new();
-    for body in bodies {
-        offsets.push(out.len() as u64);
-        out.extend(0x041Cu16.to_le_bytes());
-        out.extend(version.to_le_bytes());
-        out.extend(zlib(body));
-    }
-    for offset in offsets {
-        if version == 4 {
-            out.extend(offset.to_le_bytes());
-        } else {
-            out.extend((offset as u32).to_le_bytes());
-        }
-    }
-    out.extend((bodies.len() as u32).to_le_bytes());
-    out
 }
 
 fn serialized(meshes: &[(&TestMesh, SerialStyle)], version: u16) -> Vec<u8> {
