@@ -478,13 +478,7 @@ impl SceneBuilder {
             let shape = check.shape(index as u32, entry, &mut scene)?;
             scene.shapes.push(shape);
         }
-        let lit = scene.shapes.iter().any(|s| s.emission.is_some_and(|e| e.max_element() > 0.0))
-            || scene.lights.iter().any(|l| match l.kind {
-                LightKind::Point { intensity: e, .. }
-                | LightKind::Directional { irradiance: e, .. }
-                | LightKind::Spot { intensity: e, .. } => e.max_element() > 0.0,
-            });
-        if !lit {
+        if !scene.is_lit() {
             return Err(check.error(
                 "shapes.emission",
                 "the scene has no light: give a shape an emission greater than zero, or add a point, \

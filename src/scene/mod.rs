@@ -434,6 +434,17 @@ impl Scene {
         (lo, hi)
     }
 
+    /// Whether anything gives light: an emitting shape, or a point, spot or directional light,
+    /// with some channel above zero.
+    pub fn is_lit(&self) -> bool {
+        self.shapes.iter().any(|s| s.emission.is_some_and(|e| e.max_element() > 0.0))
+            || self.lights.iter().any(|l| match l.kind {
+                LightKind::Point { intensity: e, .. }
+                | LightKind::Directional { irradiance: e, .. }
+                | LightKind::Spot { intensity: e, .. } => e.max_element() > 0.0,
+            })
+    }
+
     /// Material of a shape.
     pub fn shape_material(&self, shape: u32) -> &Material {
         &self.materials[self.shapes[shape as usize].material as usize]

@@ -173,13 +173,7 @@ impl<'a> SceneReader<'a> {
         let depth = forward.dot((lo + hi) * 0.5 - c.position);
         let depth = if depth > 0.0 { depth } else { (hi - lo).length().max(1.0) };
         c.look_at = c.position + forward * depth;
-        let lit = scene.shapes.iter().any(|s| s.emission.is_some_and(|e| e.max_element() > 0.0))
-            || scene.lights.iter().any(|l| match l.kind {
-                super::LightKind::Point { intensity: e, .. }
-                | super::LightKind::Directional { irradiance: e, .. }
-                | super::LightKind::Spot { intensity: e, .. } => e.max_element() > 0.0,
-            });
-        if !lit {
+        if !scene.is_lit() {
             return Err(SceneError::new(
                 path,
                 None,
