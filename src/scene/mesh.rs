@@ -414,7 +414,7 @@ pub(super) fn read_texture(path: &Path) -> Result<Texture, String> {
 }
 
 /// The sRGB electro-optical transfer function (IEC 61966-2-1), for values in [0, 1].
-fn srgb_to_linear(c: f32) -> f32 {
+pub(super) fn srgb_to_linear(c: f32) -> f32 {
     if c <= 0.04045 {
         c / 12.92
     } else {

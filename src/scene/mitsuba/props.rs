@@ -199,7 +199,7 @@ pub fn spectrum_of<'a>(node: &'a Node, name: &str) -> Result<Spectrum<'a>> {
                 }
             };
             // <srgb> is sRGB-encoded (Mitsuba 0.x); Mitsuba 3's <rgb> is linear.
-            Ok(Spectrum::Rgb(if node.tag == "srgb" { rgb.map(srgb_to_linear) } else { rgb }))
+            Ok(Spectrum::Rgb(if node.tag == "srgb" { rgb.map(crate::scene::mesh::srgb_to_linear) } else { rgb }))
         }
         "spectrum" => {
             node.allow_attrs(&["name", "value"])?;
@@ -223,15 +223,6 @@ pub fn spectrum_of<'a>(node: &'a Node, name: &str) -> Result<Spectrum<'a>> {
         "texture" | "ref" => Ok(Spectrum::Texture(node)),
         "blackbody" => Err(node.error(Some(name), "<blackbody> spectra are not read by sppm-gpu: give <rgb> values")),
         _ => Err(node.error(Some(name), format!("`{name}` is a colour (<rgb>, <spectrum>, <float>) or a <texture>"))),
-    }
-}
-
-/// The sRGB electro-optical transfer function (IEC 61966-2-1).
-fn srgb_to_linear(c: f32) -> f32 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
     }
 }
 
