@@ -81,7 +81,7 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         if diffuse {
             // The visible point: the photon pass adds flux * weight for photons near it.
             let n = select(-s.ng, s.ng, dot(d, s.ng) < 0.0);
-            path.vp = VisiblePoint(s.p, 0.0, beta * albedo * INV_PI, encode_normal(n));
+            path.vp = VisiblePoint(s.p, 0.0, beta * albedo * INV_PI, encode_normal(n, depth));
             path.found = true;
             if !sample_direct {
                 break;

@@ -36,6 +36,7 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
     let q = visible_points[index];
     let b = point_buckets(grid, q.p, q.radius);
     let n = decode_normal(q.normal);
+    let depth = vp_depth(q.normal);
     var flux = array<vec2u, 3>(vec2u(0u), vec2u(0u), vec2u(0u));
     var count = 0u;
     for (var k = 0u; k < 8u; k++) {
@@ -50,7 +51,8 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
             if !within_radius(q.p, q.radius, bitcast<vec3f>(head.xyz)) {
                 continue;
             }
-            if !lights_side(n, bitcast<vec3f>(photon_hits[i + 1u].xyz)) {
+            let arrival = photon_hits[i + 1u];
+            if !lights_side(n, bitcast<vec3f>(arrival.xyz)) || !within_depth(depth, arrival.w, frame.max_depth) {
                 continue;
             }
             let beta = bitcast<vec3f>(photon_hits[i + 2u].xyz);

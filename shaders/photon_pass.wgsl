@@ -37,16 +37,18 @@
 
 const STREAM_PHOTON: u32 = 1u;
 
-// Add the photon's flux to visible point v if it lies within v's radius of p.
-fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f) {
+// Add the photon's flux to visible point v if it lies within v's radius of p, on its side,
+// and the joined path is not too long.
+fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f, depth: u32) {
     let q = visible_points[v];
-    if within_radius(q.p, q.radius, p) && lights_side(decode_normal(q.normal), d) {
+    if within_radius(q.p, q.radius, p) && lights_side(decode_normal(q.normal), d)
+        && within_depth(vp_depth(q.normal), depth, frame.max_depth) {
         accumulate_flux(v, beta);
     }
 }
 
 // Put a hit in bucket h's list for photon_gather; false when the pass's hits are full.
-fn store_hit(h: u32, p: vec3f, d: vec3f, beta: vec3f) -> bool {
+fn store_hit(h: u32, p: vec3f, d: vec3f, beta: vec3f, depth: u32) -> bool {
     // Looked at first, so that the count stops near the capacity and cannot wrap.
     if atomicLoad(&photon_hit_lists[0]) >= frame.hit_capacity {
         return false;
@@ -57,7 +59,7 @@ fn store_hit(h: u32, p: vec3f, d: vec3f, beta: vec3f) -> bool {
     }
     let next = atomicExchange(&photon_hit_lists[2u + h], i + 1u);
     photon_hits[3u * i] = vec4u(bitcast<vec3u>(p), next);
-    photon_hits[3u * i + 1u] = vec4u(bitcast<vec3u>(d), 0u);
+    photon_hits[3u * i + 1u] = vec4u(bitcast<vec3u>(d), depth);
     photon_hits[3u * i + 2u] = vec4u(bitcast<vec3u>(beta), 0u);
     return true;
 }
@@ -68,7 +70,7 @@ fn store_hit(h: u32, p: vec3f, d: vec3f, beta: vec3f) -> bool {
 // (shared/lanes.wgsl): one photon's bucket at a time, each lane taking every n-th entry, so
 // that no lane idles while another walks a long bucket. Flux is added in fixed point, so who
 // adds what does not change the sums.
-fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f) -> bool {
+fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f, depth: u32) -> bool {
     var range = vec2u(0u);
     var stored = true;
     if deposits {
@@ -77,7 +79,7 @@ fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f) -> bool {
         let h = bucket_of(grid, p);
         if h != NO_BUCKET {
             if frame.at_once == 0u {
-                stored = store_hit(h, p, d, beta);
+                stored = store_hit(h, p, d, beta, depth);
             } else {
                 range = vec2u(grid_cell_start[h], grid_cell_start[h + 1u]);
             }
@@ -95,8 +97,9 @@ fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f) -> bool {
             let p_lane = lane_shuffle_f3(p, lane);
             let d_lane = lane_shuffle_f3(d, lane);
             let beta_lane = lane_shuffle_f3(beta, lane);
+            let depth_lane = lane_shuffle_u(depth, lane);
             for (var i = r.x + rank; i < r.y; i += lanes) {
-                deposit_at(grid_entries[i], p_lane, d_lane, beta_lane);
+                deposit_at(grid_entries[i], p_lane, d_lane, beta_lane, depth_lane);
             }
         }
     }
@@ -170,7 +173,7 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
     let behind = seen_from_behind(m, s, d);
     // Nothing has been drawn or changed yet in this bounce, so when the hit finds no room the
     // photon's state is the one to resume from.
-    if !deposit(m.kind == MATERIAL_DIFFUSE && (frame.direct == 0u || (*ph).depth > 0u) && finite && !behind, s.p, d, beta) {
+    if !deposit(m.kind == MATERIAL_DIFFUSE && (frame.direct == 0u || (*ph).depth > 0u) && finite && !behind, s.p, d, beta, (*ph).depth) {
         return PHOTON_NO_ROOM;
     }
     if behind {

@@ -80,7 +80,7 @@ fn gpu_structs_match_wgsl() {
     check!(module, GpuShape, "Shape", [emission, emits, velocity, _pad]);
     check!(module, Emitter, "Emitter", [kind, prim_ref, cdf, pmf, position, area, radiance, radius, direction, width]);
     check!(module, VisiblePoint, "VisiblePoint", [p, radius, weight, normal]);
-    check!(module, PhotonHit, "PhotonHit", [p, next, d, _pad0, beta, _pad1]);
+    check!(module, PhotonHit, "PhotonHit", [p, next, d, depth, beta, _pad1]);
     check!(module, VpStats, "VpStats", [tau, n, ld, radius]);
     check!(module, GridParams, "GridParams", [origin, cell_size, res, table_mask]);
     check!(module, GridScene, "GridScene", [lo, table_size, hi, _pad]);

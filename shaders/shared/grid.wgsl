@@ -31,6 +31,14 @@ fn lights_side(n: vec3f, d: vec3f) -> bool {
     return !(dot(n, d) >= 0.0);
 }
 
+// Whether a photon that scattered `photon_depth` times lights a visible point that its camera
+// path reached after `vp_depth` scattering events: the joined path scatters vp_depth + 1 +
+// photon_depth times, and max_depth bounds the whole path, as it does a path tracer's (and
+// Mitsuba's `path`), so that every method renders the same image.
+fn within_depth(vp_depth: u32, photon_depth: u32, max_depth: u32) -> bool {
+    return vp_depth + photon_depth < max_depth;
+}
+
 // The buckets of the cells the box [p - r, p + r] of a point overlaps, at most two cells per
 // axis: h[k] for corner k = x + 2 y + 4 z of the 2x2x2 block from the box's lowest cell, and
 // bit k of `keep` set where that cell lies in the box and no earlier corner has its bucket (a

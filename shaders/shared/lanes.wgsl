@@ -18,6 +18,10 @@ fn lane_ballot(b: bool) -> vec4u {
     return subgroupBallot(b);
 }
 
+fn lane_shuffle_u(x: u32, lane: u32) -> u32 {
+    return subgroupShuffle(x, lane);
+}
+
 fn lane_shuffle_u2(x: vec2u, lane: u32) -> vec2u {
     return subgroupShuffle(x, lane);
 }

@@ -10,22 +10,31 @@ fn basis(n: vec3f) -> mat3x3f {
     return mat3x3f(t, bt, n);
 }
 
-// Unit vector n in 32 bits: the octahedral map, two 16-bit signed normalized coordinates
+// A visible point's normal and camera depth in 32 bits: unit vector n by the octahedral map
 // (Cigolle et al. 2014, "A Survey of Efficient Representations for Independent Unit
-// Vectors"); about 1e-4 radians of error.
-fn encode_normal(n: vec3f) -> u32 {
+// Vectors") in two 12-bit coordinates, about 1e-3 radians of error (the normal only decides
+// which side a photon arrives from), and in the top 8 bits the scattering events before the
+// point, saturated at 255 (vp_depth).
+fn encode_normal(n: vec3f, depth: u32) -> u32 {
     let p = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
     let sign_p = select(vec2f(-1.0), vec2f(1.0), p >= vec2f(0.0));
     let folded = select(p, (1.0 - abs(p.yx)) * sign_p, n.z < 0.0);
-    return pack2x16snorm(folded);
+    // [-1, 1] to 1..4095, 2048 at 0.
+    let q = vec2u(round(clamp(folded, vec2f(-1.0), vec2f(1.0)) * 2047.0) + 2048.0);
+    return q.x | (q.y << 12u) | (min(depth, 255u) << 24u);
 }
 
 // The direction encode_normal stored, not normalized (its length is between 1/sqrt(3) and 1).
 fn decode_normal(e: u32) -> vec3f {
-    let f = unpack2x16snorm(e);
+    let f = (vec2f(f32(e & 0xfffu), f32((e >> 12u) & 0xfffu)) - 2048.0) / 2047.0;
     let z = 1.0 - abs(f.x) - abs(f.y);
     let t = max(-z, 0.0);
     return vec3f(f.x - select(-t, t, f.x >= 0.0), f.y - select(-t, t, f.y >= 0.0), z);
+}
+
+// The depth encode_normal stored: exact below 255.
+fn vp_depth(e: u32) -> u32 {
+    return e >> 24u;
 }
 
 // Concentric mapping of the unit square to the unit disk (Shirley & Chiu 1997).

@@ -181,8 +181,9 @@ struct VisiblePoint {
     radius: f32,
     // Path throughput times the BSDF (albedo / pi).
     weight: vec3f,
-    // Geometric normal, flipped to the side the camera path arrived from, in 32 bits
-    // (encode_normal in shared/sampling.wgsl): a deposit loads one word for it.
+    // Geometric normal, flipped to the side the camera path arrived from, and the camera
+    // path's scattering events before the point, in 32 bits (encode_normal in
+    // shared/sampling.wgsl): a deposit loads one word for both.
     normal: u32,
 }
 
@@ -207,13 +208,13 @@ struct GridScene {
 
 // A photon's diffuse hit that deposits, stored by photon_pass and gathered by the visible
 // points around it (photon_gather): where it hit, the next hit of its bucket's list (index
-// plus one; 0 ends the list), the direction it arrived along and its flux. The kernels read
-// it as three vec4u, one load each.
+// plus one; 0 ends the list), the direction it arrived along, its scattering events before
+// the hit and its flux. The kernels read it as three vec4u, one load each.
 struct PhotonHit {
     p: vec3f,
     next: u32,
     d: vec3f,
-    _pad0: u32,
+    depth: u32,
     beta: vec3f,
     _pad1: u32,
 }

@@ -269,8 +269,9 @@ pub struct PhotonHit {
     pub next: u32,
     /// The photon's direction of travel.
     pub d: [f32; 3],
-    /// Padding; always 0.
-    pub _pad0: u32,
+    /// Scattering events before the hit (0 straight from a light); the hit lights a visible
+    /// point only where the joined path stays within `max_depth`.
+    pub depth: u32,
     /// The photon's flux, relative to [`Frame::power_total`].
     pub beta: [f32; 3],
     /// Padding; always 0.
@@ -292,8 +293,10 @@ pub struct VisiblePoint {
     /// land within the radius is multiplied by. Zero where there is no visible point.
     pub weight: [f32; 3],
     /// Geometric normal, flipped to the side the camera path arrived from, octahedral in two
-    /// 16-bit signed normalized halves (`encode_normal` in `shaders/shared/sampling.wgsl`);
-    /// photons arriving from the other side are not counted.
+    /// 12-bit coordinates (bits 0-11 and 12-23, `encode_normal` in
+    /// `shaders/shared/sampling.wgsl`): photons arriving from the other side are not counted.
+    /// Bits 24-31: the scattering events on the camera path before the point (saturated at
+    /// 255), which with the photon's bound the joined path by `max_depth`.
     pub normal: u32,
 }
 
