@@ -35,8 +35,8 @@ type Result<T> = std::result::Result<T, SceneError>;
 
 /// Reads Mitsuba scene XML `path`; `defines` are the command line's `-D name=value`.
 pub fn load(path: &Path, defines: &[(String, String)]) -> Result<Scene> {
-    let (root, _version) = xml::read_scene(path, defines)?;
-    let mut reader = SceneReader::new(&root, path.parent().unwrap_or(Path::new("")))?;
+    let (root, _version, dirs) = xml::read_scene(path, defines)?;
+    let mut reader = SceneReader::new(&root, dirs)?;
     reader.read(&root)?;
     reader.finish(path)
 }
@@ -56,14 +56,14 @@ struct SceneReader<'a> {
     lights: Vec<Light>,
     sensor: Option<sensor::SensorSettings>,
     integrator: Option<&'a Node>,
-    /// The scene file's directory, where files named in included fragments are also looked
-    /// for.
-    root: std::path::PathBuf,
+    /// The directories `<path>` added and the scene file's, where files named in included
+    /// fragments are also looked for ([`xml::resolve`]).
+    root: Vec<std::path::PathBuf>,
 }
 
 impl<'a> SceneReader<'a> {
     /// Collects the ids of every element under `root`.
-    fn new(root: &'a Node, dir: &Path) -> Result<Self> {
+    fn new(root: &'a Node, dirs: Vec<std::path::PathBuf>) -> Result<Self> {
         let mut ids = HashMap::new();
         fn walk<'a>(node: &'a Node, ids: &mut HashMap<&'a str, &'a Node>) -> Result<()> {
             // A <ref>'s id names another element.
@@ -89,7 +89,7 @@ impl<'a> SceneReader<'a> {
             lights: Vec::new(),
             sensor: None,
             integrator: None,
-            root: dir.to_path_buf(),
+            root: dirs,
         })
     }
 

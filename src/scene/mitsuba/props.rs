@@ -47,7 +47,12 @@ impl<'a> Props<'a> {
             if !is_object && !PROPERTY_TAGS.contains(&child.tag.as_str()) {
                 return Err(child.error(None, format!("<{}> is not an element of Mitsuba's scene format", child.tag)));
             }
-            match child.attr("name") {
+            // A nested object's name only labels it (Mitsuba's plugins take nested BSDFs,
+            // emitters, films, filters and samplers by type), but for a texture, whose name is
+            // the parameter it sets. A named <ref> may be either: it stays named, and
+            // all_objects takes it too.
+            let label_only = is_object && child.tag != "ref" && child.tag != "texture";
+            match child.attr("name").filter(|_| !label_only) {
                 Some(name) => {
                     if named.iter().any(|(n, _, _)| *n == name) {
                         return Err(child.error(Some(name), format!("{} sets `{name}` twice", node.describe())));
@@ -74,13 +79,17 @@ impl<'a> Props<'a> {
         self.named.iter().any(|(n, _, _)| *n == name)
     }
 
-    /// Unnamed nested objects and `<ref>`s, every one, marked read (the caller sorts them).
+    /// Unnamed nested objects and `<ref>`s, and named `<ref>`s not read as parameters, every
+    /// one, marked read (the caller sorts them).
     pub fn all_objects(&self) -> Vec<&'a Node> {
+        let named_refs = self.named.iter().filter(|(_, node, read)| node.tag == "ref" && !read.get());
         self.unnamed
             .iter()
+            .map(|(node, read)| (*node, read))
+            .chain(named_refs.map(|(_, node, read)| (*node, read)))
             .map(|(node, read)| {
                 read.set(true);
-                *node
+                node
             })
             .collect()
     }
@@ -110,6 +119,19 @@ impl<'a> Props<'a> {
         }
         node.allow_attrs(&["name", "value"])?;
         parse_f32(node, node.req_attr("value")?, name).map(Some)
+    }
+
+    /// An emitter's `sampling_weight` (1), read and checked: how often Mitsuba 3 picks the
+    /// emitter for next-event estimation, which changes the noise and not the image. Ours
+    /// picks lights by power.
+    pub fn emitter_sampling_weight(&self) -> Result<()> {
+        match self.float("sampling_weight")? {
+            Some(w) if !(w >= 0.0 && w.is_finite()) => Err(self.get("sampling_weight").unwrap().error(
+                Some("sampling_weight"),
+                format!("sampling_weight {w}: a light's sampling weight is a number at least 0"),
+            )),
+            _ => Ok(()),
+        }
     }
 
     /// A `<float>` with a default.

@@ -15,7 +15,8 @@
 //! - `point`: `intensity` (1) at `position` or `to_world`'s origin. `directional`:
 //!   `irradiance` (1) along `direction` or `to_world`'s +z. `spot`: `intensity` (1),
 //!   `cutoff_angle` (20 degrees), `beam_width` (3/4 of the cutoff), at `to_world`'s origin
-//!   looking along its +z.
+//!   looking along its +z. Every emitter (and `area` in shape.rs) takes `sampling_weight`,
+//!   which changes only Mitsuba's noise ([`Props::emitter_sampling_weight`]).
 
 use super::props::{Props, Spectrum};
 use super::xml::Node;
@@ -194,9 +195,18 @@ fn film(node: &Node) -> Result<(u32, u32, PixelFilter)> {
             }
         }
     }
-    // What only the output file's encoding depends on: read and passed over.
-    for name in ["file_format", "pixel_format", "component_format", "banner", "high_quality_edges", "sample_border", "compensate"]
-    {
+    // What only the output file's encoding depends on: read and passed over (`attach_log`:
+    // Mitsuba 0.6 wrote its log into the EXR).
+    for name in [
+        "file_format",
+        "pixel_format",
+        "component_format",
+        "banner",
+        "high_quality_edges",
+        "sample_border",
+        "compensate",
+        "attach_log",
+    ] {
         p.get(name);
     }
     // An LDR film's tone mapping: our PNG output applies its own (sRGB, clamped).
@@ -444,6 +454,7 @@ pub(super) fn light(node: &Node, lights: &mut Vec<Light>) -> Result<()> {
         "projector" => return Err(node.error(Some("type"), format!("the `{kind}` emitter is not modelled by sppm-gpu yet"))),
         other => return Err(node.error(Some("type"), format!("`{other}` is not a Mitsuba 3 emitter plugin"))),
     };
+    p.emitter_sampling_weight()?;
     p.finish()?;
     lights.push(Light { kind: light, line: node.line });
     Ok(())

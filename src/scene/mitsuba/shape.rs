@@ -226,9 +226,9 @@ impl<'a> SceneReader<'a> {
     }
 }
 
-/// The `filename` of a mesh shape, relative to the file that names it or the scene's
-/// directory `root`.
-fn file_name(p: &Props, node: &Node, root: &Path) -> Result<PathBuf> {
+/// The `filename` of a mesh shape, relative to the file that names it or one of the scene's
+/// directories `root` ([`super::xml::resolve`]).
+fn file_name(p: &Props, node: &Node, root: &[PathBuf]) -> Result<PathBuf> {
     let name =
         p.string("filename")?.ok_or_else(|| node.error(Some("filename"), format!("{} needs a `filename`", node.describe())))?;
     Ok(super::xml::resolve(name, &node.file, root))
@@ -258,6 +258,7 @@ fn area_emitter(node: &Node) -> Result<Vec3> {
     if radiance.min_element() < 0.0 {
         return Err(p.get("radiance").unwrap().error(Some("radiance"), "radiance is negative"));
     }
+    p.emitter_sampling_weight()?;
     p.finish()?;
     Ok(radiance)
 }

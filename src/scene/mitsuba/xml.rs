@@ -5,8 +5,12 @@
 //!   (or an earlier default) did; `$n` in any later attribute is replaced by its value.
 //! - `<include filename="f"/>` splices in the children of `f`'s `<scene>` (relative to the
 //!   including file), refusing a file that includes itself, directly or not.
+//! - `<path value="d"/>` puts directory `d` (relative to the file that names it, else found
+//!   as files are) first among the places files are looked for, as Mitsuba's file resolver
+//!   does ([`resolve`]).
 //! - Version 0.x files name their parameters in camelCase (`toWorld`, `intIOR`); Mitsuba 3
-//!   reads them as snake_case (`to_world`, `int_ior`), and so do we.
+//!   reads them as snake_case (`to_world`, `int_ior`), and so do we. The names of `<default>`s
+//!   stay as written, as the `$name`s that use them.
 
 use super::super::SceneError;
 use std::collections::HashMap;
@@ -64,10 +68,11 @@ impl Node {
     }
 }
 
-/// The root `<scene>` of `path` with includes spliced in, and its version's major number.
-pub fn read_scene(path: &Path, defines: &[(String, String)]) -> Result<(Node, u32)> {
-    let root = path.parent().map(Path::to_path_buf);
-    let mut reader = Reader { params: HashMap::new(), stack: Vec::new(), version: None, root };
+/// The root `<scene>` of `path` with includes spliced in, its version's major number, and the
+/// directories files are looked for in ([`resolve`]).
+pub fn read_scene(path: &Path, defines: &[(String, String)]) -> Result<(Node, u32, Vec<PathBuf>)> {
+    let root = path.parent().unwrap_or(Path::new("")).to_path_buf();
+    let mut reader = Reader { params: HashMap::new(), stack: Vec::new(), version: None, dirs: vec![root] };
     for (name, value) in defines {
         if !is_param_name(name) {
             return Err(SceneError::new(path, None, Some(name), format!("-D {name}={value}: not a parameter name")));
@@ -76,7 +81,7 @@ pub fn read_scene(path: &Path, defines: &[(String, String)]) -> Result<(Node, u3
     }
     let root = reader.file(path, None)?;
     let version = reader.version.unwrap_or(3);
-    Ok((root, version))
+    Ok((root, version, reader.dirs))
 }
 
 /// What reading the files keeps: parameters, the chain of includes, the version.
@@ -86,21 +91,21 @@ struct Reader {
     stack: Vec<PathBuf>,
     /// Major version of the outermost file.
     version: Option<u32>,
-    /// The outermost file's directory.
-    root: Option<PathBuf>,
+    /// The directories `<path>` added, newest first, then the outermost file's.
+    dirs: Vec<PathBuf>,
 }
 
 /// A file named in `file`: relative to `file`'s directory where it is there, else to the
-/// scene's (`root`), as Mitsuba's file resolver, which holds the scene's directory, finds
-/// files named in included fragments.
-pub fn resolve(name: &str, file: &Path, root: &Path) -> PathBuf {
+/// first of `dirs` (those `<path>` added, newest first, then the scene's directory) that has
+/// it, as Mitsuba's file resolver, which holds the scene's directory and the `<path>`s, finds
+/// files named in included fragments. Where none has it, the name relative to `file`, for
+/// the error.
+pub fn resolve(name: &str, file: &Path, dirs: &[PathBuf]) -> PathBuf {
     let local = file.parent().unwrap_or(Path::new("")).join(name);
-    let from_root = root.join(name);
-    if !local.exists() && from_root.exists() {
-        from_root
-    } else {
-        local
+    if local.exists() {
+        return local;
     }
+    dirs.iter().map(|d| d.join(name)).find(|p| p.exists()).unwrap_or(local)
 }
 
 impl Reader {
@@ -169,7 +174,8 @@ impl Reader {
         for a in element.attributes() {
             let value = self.substitute(a.value(), &node, a.name())?;
             // Mitsuba 3 upgrades 0.x files' parameter names from camelCase to snake_case.
-            let value = if major == 0 && a.name() == "name" { snake_case(&value) } else { value };
+            let upgrade = major == 0 && a.name() == "name" && node.tag != "default";
+            let value = if upgrade { snake_case(&value) } else { value };
             node.attrs.push((a.name().to_owned(), value));
         }
         for child in element.children() {
@@ -199,9 +205,21 @@ impl Reader {
                 "include" => {
                     child.allow_attrs(&["filename"])?;
                     let name = child.req_attr("filename")?;
-                    let root = self.root.clone().unwrap_or_default();
-                    let included = self.file(&resolve(name, file, &root), Some(&child))?;
+                    let included = self.file(&resolve(name, file, &self.dirs), Some(&child))?;
                     node.children.extend(included.children);
+                }
+                "path" => {
+                    child.allow_attrs(&["value"])?;
+                    if node.tag != "scene" {
+                        return Err(child.error(None, "<path> belongs directly in <scene>"));
+                    }
+                    let value = child.req_attr("value")?;
+                    let dir = resolve(value, file, &self.dirs);
+                    if !dir.is_dir() {
+                        return Err(child.error(Some("value"), format!("{} is not a directory", dir.display())));
+                    }
+                    // Ahead of every directory so far, as Mitsuba's FileResolver::prepend.
+                    self.dirs.insert(0, dir);
                 }
                 _ => node.children.push(child),
             }
