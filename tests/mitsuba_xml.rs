@@ -120,6 +120,24 @@ fn defines_override_defaults() {
 /// naming it); names on nested objects (`<rfilter name="rfilter">`, `<bsdf name="bsdf">`) and
 /// on `<ref>`s; an emitter's `sampling_weight`.
 #[test]
+fn flat_emitter_spectra_are_mitsubas_srgb() {
+    let text = scene_with(
+        r#"<shape type="sphere"><emitter type="area"><spectrum name="radiance" value="2"/></emitter></shape>
+    <shape type="sphere"><emitter type="area"><float name="radiance" value="2"/></emitter></shape>
+    <shape type="sphere"><bsdf type="diffuse"><spectrum name="reflectance" value="0.5"/></bsdf></shape>
+    <emitter type="point"><spectrum name="intensity" value="3"/></emitter>"#,
+    );
+    let s = load_files("flat-spectra", &[("s.xml", &text)], &[]).unwrap_or_else(|e| panic!("{e}"));
+    let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() < 2e-5 * b.max_element();
+    let emission: Vec<Vec3> = s.shapes.iter().filter_map(|shape| shape.emission).collect();
+    assert!(close(emission[1], Vec3::new(2.40959, 1.89658, 1.81783)), "{:?}", emission[1]);
+    assert_eq!(emission[2], Vec3::splat(2.0));
+    let MaterialKind::Diffuse { albedo, .. } = s.materials[s.shapes[3].material as usize].kind else { panic!() };
+    assert_eq!(albedo, Vec3::splat(0.5));
+    let LightKind::Point { intensity, .. } = s.lights[0].kind else { panic!("{:?}", s.lights[0].kind) };
+    assert!(close(intensity, Vec3::new(3.61438, 2.84487, 2.72675)), "{intensity:?}");
+}
+
 fn structure_as_public_scenes_write_it() {
     let legacy = r#"<scene version="0.6.0">
     <default name="sampleCount" value="7"/>

@@ -190,6 +190,20 @@ impl<'a> Props<'a> {
         spectrum_of(node, name).map(Some)
     }
 
+    /// An emitter's spectrum parameter (`radiance`, `intensity`, `irradiance`), as Mitsuba 3's
+    /// RGB variants read it (`Properties::get_emissive_texture`): as [`Props::spectrum`], but
+    /// a constant `<spectrum>` is the colour of that flat spectrum in linear sRGB, its
+    /// CIE XYZ (1, 1, 1) times the value: XYZ_TO_SRGB's rows summed, a purple-ish
+    /// (1.205, 0.948, 0.909), so that RGB renders match spectral ones.
+    pub fn emitter_spectrum(&self, name: &str) -> Result<Option<Spectrum<'a>>> {
+        let Some(node) = self.get(name) else { return Ok(None) };
+        let colour = spectrum_of(node, name)?;
+        Ok(Some(match colour {
+            Spectrum::Rgb(flat) if node.tag == "spectrum" => Spectrum::Rgb(flat * (XYZ_TO_SRGB * Vec3::ONE)),
+            other => other,
+        }))
+    }
+
     /// A `<transform>` parameter as a 4x4 matrix.
     pub fn transform(&self, name: &str) -> Result<Option<Mat4>> {
         let Some(node) = self.get(name) else { return Ok(None) };
@@ -199,6 +213,13 @@ impl<'a> Props<'a> {
         transform(node).map(Some)
     }
 }
+
+/// CIE XYZ to linear sRGB (ITU-R BT.709 primaries, D65 white), as Mitsuba 3's `xyz_to_srgb`.
+const XYZ_TO_SRGB: Mat3 = Mat3::from_cols_array(&[
+    3.240479, -0.969256, 0.055648, // column X
+    -1.537150, 1.875991, -0.204043, // column Y
+    -0.498535, 0.041556, 1.057311, // column Z
+]);
 
 /// The colour or texture of a spectrum element.
 pub fn spectrum_of<'a>(node: &'a Node, name: &str) -> Result<Spectrum<'a>> {

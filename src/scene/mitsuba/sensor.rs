@@ -377,7 +377,7 @@ pub(super) fn light(node: &Node, lights: &mut Vec<Light>) -> Result<()> {
     let kind = node.req_attr("type")?;
     let p = Props::new(node)?;
     let rgb = |name: &str| -> Result<Vec3> {
-        match p.spectrum(name)? {
+        match p.emitter_spectrum(name)? {
             None => Ok(Vec3::ONE),
             Some(Spectrum::Rgb(v)) if v.min_element() >= 0.0 => Ok(v),
             Some(Spectrum::Rgb(_)) => Err(p.get(name).unwrap().error(Some(name), format!("{name} is negative"))),

@@ -248,7 +248,7 @@ fn area_emitter(node: &Node) -> Result<Vec3> {
         return Err(node.error(Some("type"), format!("a `{kind}` emitter inside a shape: only `area` emitters belong there")));
     }
     let p = Props::new(node)?;
-    let radiance = match p.spectrum("radiance")? {
+    let radiance = match p.emitter_spectrum("radiance")? {
         Some(Spectrum::Rgb(rgb)) => rgb,
         Some(Spectrum::Texture(_)) => {
             return Err(p.get("radiance").unwrap().error(Some("radiance"), "textured emission is not modelled by sppm-gpu"))
