@@ -84,6 +84,15 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
             beta *= albedo;
             pdf_prev = select(0.0, abs(dot(wi, s.ns)) * INV_PI, frame.nee != 0u);
             d = wi;
+        } else if is_plastic(m) {
+            // One of its two lobes (shared/coating.wgsl); the mixture density for MIS.
+            let c = sample_plastic(m, albedo, d, s, vec3f(rng_next2(&rng), rng_next(&rng)));
+            if all(c.weight == vec3f(0.0)) {
+                break;
+            }
+            beta *= c.weight;
+            pdf_prev = select(0.0, c.pdf, nee);
+            d = c.wi;
         } else {
             let next = sample_nondiffuse(m, d, s, vec3f(rng_next2(&rng), rng_next(&rng)), true);
             if all(next.weight == vec3f(0.0)) {

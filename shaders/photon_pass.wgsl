@@ -17,6 +17,7 @@
 #import sampling
 #import scene
 #import bsdf
+#import coating
 #import lights
 #import lanes
 #import grid
@@ -173,7 +174,13 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
     let behind = seen_from_behind(m, s, d);
     // Nothing has been drawn or changed yet in this bounce, so when the hit finds no room the
     // photon's state is the one to resume from.
-    if !deposit(m.kind == MATERIAL_DIFFUSE && (frame.direct == 0u || (*ph).depth > 0u) && finite && !behind, s.p, d, beta, (*ph).depth) {
+    // On a plastic's base, with the part of its term that depends on the photon's direction.
+    var deposited = beta;
+    if is_plastic(m) {
+        deposited *= plastic_deposit(m, s, d);
+    }
+    let receives = m.kind == MATERIAL_DIFFUSE || is_plastic(m);
+    if !deposit(receives && (frame.direct == 0u || (*ph).depth > 0u) && finite && !behind, s.p, d, deposited, (*ph).depth) {
         return PHOTON_NO_ROOM;
     }
     if behind {
@@ -189,6 +196,13 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
         // A shading normal can send the photon through the surface, or behind a one-sided
         // one's ns; end it there.
         if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 || one_sided_culls(m, s, wi) {
+            return PHOTON_ENDED;
+        }
+    } else if is_plastic(m) {
+        let c = sample_plastic(m, m.albedo, d, s, vec3f(rng_next2(rng), rng_next(rng)));
+        wi = c.wi;
+        f = c.weight;
+        if all(f == vec3f(0.0)) {
             return PHOTON_ENDED;
         }
     } else {

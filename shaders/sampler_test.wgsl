@@ -7,12 +7,18 @@
 #import sampling
 #import scene
 #import bsdf
+#import coating
 #import lights
 
 const SAMPLER_COSINE: u32 = 0u;
 const SAMPLER_GLOSSY: u32 = 1u;
 const SAMPLER_ROUGH_DIELECTRIC: u32 = 2u;
 const SAMPLER_LIGHT: u32 = 3u;
+// sample_plastic against plastic_eval's mixture density; a smooth coating's mirror samples go
+// to the unusable samples, whose share must be its probability.
+const SAMPLER_PLASTIC: u32 = 4u;
+// sample_thin_dielectric: each sample's direction and weight, the densities left at 0.
+const SAMPLER_THIN_DIELECTRIC: u32 = 5u;
 
 // Draw `count` samples.
 const PASS_SAMPLE: u32 = 0u;
@@ -60,6 +66,12 @@ struct SamplerTestParams {
     _pad1: u32,
     k: vec3f,
     _pad2: u32,
+    // The plastic: Material's coat_weight, coat_fdr, coat_table (its table appended to the
+    // scene's attributes by the test) and nonlinear; albedo is its base's.
+    coat_weight: f32,
+    coat_fdr: f32,
+    coat_table: u32,
+    nonlinear: u32,
     gauss: array<vec4f, MAX_POINTS>,
 }
 
@@ -88,7 +100,44 @@ fn traced_light(p: vec3f, w: vec3f) -> vec2f {
 // The glossy conductor under test.
 fn test_glossy() -> Material {
     let q = test_params;
-    return Material(vec3f(q.albedo), MATERIAL_GLOSSY, 0.0, q.alpha, NO_TEXTURE, 0u, 0u, q.distribution, array<u32, 2>(0u, 0u), q.eta, q.fresnel, q.k, 0u);
+    var m: Material;
+    m.albedo = vec3f(q.albedo);
+    m.kind = MATERIAL_GLOSSY;
+    m.roughness = q.alpha;
+    m.texture = NO_TEXTURE;
+    m.distribution = q.distribution;
+    m.eta = q.eta;
+    m.fresnel = q.fresnel;
+    m.k = q.k;
+    return m;
+}
+
+// The plastic under test (roughness alpha, 0 for a smooth coating), or the thin dielectric
+// (specular_reflectance 0.9, specular_transmittance 0.7): two-sided, white specular.
+fn test_coated(kind: u32) -> Material {
+    let q = test_params;
+    var m: Material;
+    m.albedo = vec3f(q.albedo);
+    m.kind = kind;
+    m.ior = q.ior;
+    m.roughness = q.alpha;
+    m.texture = NO_TEXTURE;
+    m.distribution = q.distribution;
+    m.specular = vec3f(select(1.0, 0.9, kind == MATERIAL_THIN_DIELECTRIC));
+    m.transmittance = vec3f(0.7);
+    m.coat_weight = q.coat_weight;
+    m.coat_fdr = q.coat_fdr;
+    m.coat_table = q.coat_table;
+    m.nonlinear = q.nonlinear;
+    return m;
+}
+
+// A surface at the origin with the test's normals.
+fn test_surface() -> Surface {
+    var s: Surface;
+    s.ng = test_params.ng;
+    s.ns = test_params.ns;
+    return s;
 }
 
 // Whether the rough dielectric under test has Beckmann microfacets.
@@ -108,6 +157,12 @@ fn test_density(w: vec3f) -> f32 {
         }
         case SAMPLER_ROUGH_DIELECTRIC: {
             return rough_dielectric_eval(q.ior, q.alpha, test_beckmann(), q.wo, w, q.ng, q.ns, q.radiance != 0u).pdf;
+        }
+        case SAMPLER_PLASTIC: {
+            return plastic_eval(test_coated(MATERIAL_PLASTIC), vec3f(q.albedo), q.wo, w, q.ns).pdf;
+        }
+        case SAMPLER_THIN_DIELECTRIC: {
+            return 0.0;
         }
         default: {
             return traced_light(q.p, w).x;
@@ -138,6 +193,23 @@ fn draw_sample(i: u32) {
         case SAMPLER_GLOSSY: {
             s = sample_glossy(test_glossy(), -q.wo, q.ns, u.xy);
             b = glossy_eval(test_glossy(), q.wo, s.wi, q.ns);
+        }
+        case SAMPLER_PLASTIC: {
+            // The sampled lobe's f and probability times density against the weight; the
+            // mirror of a smooth coating (a delta) among the unusable samples.
+            let m = test_coated(MATERIAL_PLASTIC);
+            let c = sample_plastic(m, m.albedo, -q.wo, test_surface(), u);
+            let n = select(-q.ns, q.ns, dot(q.wo, q.ns) > 0.0);
+            let l = plastic_lobes(m, m.albedo, q.wo, c.wi, n);
+            let delta = !c.base && q.alpha == 0.0;
+            s = SpecularSample(c.wi, select(c.weight, vec3f(0.0), delta));
+            b = l.coat;
+            if c.base {
+                b = l.base;
+            }
+        }
+        case SAMPLER_THIN_DIELECTRIC: {
+            s = sample_thin_dielectric(test_coated(MATERIAL_THIN_DIELECTRIC), -q.wo, test_surface(), u.x);
         }
         default: {
             let radiance = q.radiance != 0u;

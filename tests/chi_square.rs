@@ -33,8 +33,8 @@ const MIN_EXPECTED: f64 = 5.0;
 /// (Bonferroni's correction).
 const SIGNIFICANCE: f64 = 0.01;
 /// Chi-square tests in this file: cosine 1, glossy 10 of each distribution, rough dielectric
-/// 14 of each, lights 3.
-const TESTS: f64 = 52.0;
+/// 14 of each, lights 3, plastics 11, thin dielectric 2.
+const TESTS: f64 = 65.0;
 /// Samples in a bin whose expected count is 0 that are put down to rounding (as pbrt-v4 does:
 /// 1e-5 of the samples).
 const STRAY: f64 = 1e-5 * SAMPLES as f64;
@@ -52,6 +52,8 @@ const SAMPLER_COSINE: u32 = 0;
 const SAMPLER_GLOSSY: u32 = 1;
 const SAMPLER_ROUGH_DIELECTRIC: u32 = 2;
 const SAMPLER_LIGHT: u32 = 3;
+const SAMPLER_PLASTIC: u32 = 4;
+const SAMPLER_THIN_DIELECTRIC: u32 = 5;
 const PASS_SAMPLE: u32 = 0;
 const PASS_INTEGRATE: u32 = 1;
 
@@ -86,6 +88,10 @@ struct Params {
     _pad1: u32,
     k: [f32; 3],
     _pad2: u32,
+    coat_weight: f32,
+    coat_fdr: f32,
+    coat_table: u32,
+    nonlinear: u32,
     gauss: [[f32; 4]; POINTS],
 }
 
@@ -261,7 +267,10 @@ impl Bench {
     }
 
     fn upload(&self, scene: &sppm_gpu::scene::Scene) -> GpuScene {
-        let data = SceneData::new(scene).unwrap_or_else(|e| panic!("{e}"));
+        self.upload_data(SceneData::new(scene).unwrap_or_else(|e| panic!("{e}")))
+    }
+
+    fn upload_data(&self, data: SceneData) -> GpuScene {
         let frame = Frame {
             emitter_count: data.emitters.len() as u32,
             ray_epsilon: data.ray_epsilon(),
@@ -444,14 +453,17 @@ fn judge(name: &str, o: &Outcome, failures: &mut Vec<String>) {
 
 /// A scene for the BSDF tests, which trace nothing but bind the scene.
 fn bsdf_scene(bench: &Bench) -> GpuScene {
-    let scene = SceneBuilder::new(8, 8)
+    bench.upload(&bsdf_scene_description())
+}
+
+fn bsdf_scene_description() -> sppm_gpu::scene::Scene {
+    SceneBuilder::new(8, 8)
         .camera([0.0, 0.0, 5.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0)
         .diffuse("light", [0.0; 3])
         .quad([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], "light")
         .emission([1.0; 3])
         .build()
-        .unwrap_or_else(|e| panic!("{e}"));
-    bench.upload(&scene)
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// A shading normal off every axis, so the samplers' frames are general.
@@ -524,6 +536,10 @@ fn sampler_params_match_wgsl() {
         offset_of!(Params, _pad1),
         offset_of!(Params, k),
         offset_of!(Params, _pad2),
+        offset_of!(Params, coat_weight),
+        offset_of!(Params, coat_fdr),
+        offset_of!(Params, coat_table),
+        offset_of!(Params, nonlinear),
         offset_of!(Params, gauss),
     ];
     assert_eq!(offsets, rust);
@@ -660,6 +676,129 @@ fn rough_dielectric_sampling() {
 #[test]
 fn beckmann_rough_dielectric_sampling() {
     rough_dielectric_tests(MICROFACET_BECKMANN, 400);
+}
+
+/// sample_plastic against plastic_eval's mixture density, coatings of index 1.5 over a base
+/// of albedo 0.6: smooth (the mirror's samples, a delta, must make up its probability q of the
+/// whole), and rough of `distribution`, with the lobe each sample came from weighed against
+/// its f and probability times density; `nonlinear` in every other case. A rough coating's
+/// transmittance table is appended to the scene's attributes, where coat_table points.
+fn plastic_tests(distribution: u32, first_seed: u32) {
+    use sppm_gpu::scene::coating::{fresnel_diffuse_reflectance, rough_coating};
+    use sppm_gpu::scene::Microfacet;
+    let Some(gpu) = common::gpu() else { return };
+    let bench = Bench::new(gpu);
+    let ns = shading_normal();
+    let (t, _) = tangents(ns);
+    let beckmann = distribution == MICROFACET_BECKMANN;
+    let label = if beckmann { "beckmann plastic" } else { "plastic" };
+    let mut cases = Vec::new();
+    if !beckmann {
+        for degrees in [10.0, 60.0, 85.0] {
+            cases.push((format!("smooth plastic at {degrees} deg"), 0.0, degrees));
+        }
+    }
+    for alpha in [0.1, 0.5] {
+        for degrees in [20.0, 70.0] {
+            cases.push((format!("{label} alpha {alpha} at {degrees} deg"), alpha, degrees));
+        }
+    }
+    let albedo = 0.6f32;
+    let mut failures = Vec::new();
+    for (seed, (name, alpha, degrees)) in cases.into_iter().enumerate() {
+        let microfacet = if beckmann { Microfacet::Beckmann } else { Microfacet::Ggx };
+        let mut data = SceneData::new(&bsdf_scene_description()).unwrap_or_else(|e| panic!("{e}"));
+        let coat_table = data.attributes.len() as u32;
+        let coat_fdr = if alpha == 0.0 {
+            fresnel_diffuse_reflectance(1.0 / 1.5)
+        } else {
+            let c = rough_coating(1.5, alpha, microfacet);
+            data.attributes.extend(c.transmittance.chunks_exact(4).map(|v| [v[0], v[1], v[2], v[3]]));
+            c.internal_reflectance
+        };
+        let scene = bench.upload_data(data);
+        let q = Params {
+            wo: f32x3(at_angle(ns, t, degrees)),
+            ns: f32x3(ns),
+            ng: f32x3(ns),
+            alpha,
+            ior: 1.5,
+            albedo,
+            distribution,
+            coat_weight: 1.0 / (albedo + 1.0),
+            coat_fdr,
+            coat_table,
+            nonlinear: seed as u32 % 2,
+            ..params(SAMPLER_PLASTIC, first_seed + seed as u32, ns)
+        };
+        judge(&name, &run_test(&bench, &scene, &q), &mut failures);
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Smooth plastics and GGX rough plastics.
+#[test]
+fn plastic_sampling() {
+    plastic_tests(MICROFACET_GGX, 500);
+}
+
+/// Beckmann rough plastics.
+#[test]
+fn beckmann_plastic_sampling() {
+    plastic_tests(MICROFACET_BECKMANN, 600);
+}
+
+/// sample_thin_dielectric, a choice between two deltas: every sample is the mirror direction
+/// about ns or the incident direction unbent, weighted by the tints (0.9 reflected, 0.7
+/// transmitted), and the reflected share is the slab's R' = 2R / (1 + R), R = F(|cos|) at
+/// index 1.5, by Pearson's statistic on the two counts; from either side.
+#[test]
+fn thin_dielectric_sampling() {
+    let Some(gpu) = common::gpu() else { return };
+    let bench = Bench::new(gpu);
+    let scene = bsdf_scene(&bench);
+    let ns = shading_normal();
+    let (t, _) = tangents(ns);
+    let mut failures = Vec::new();
+    for (seed, (name, wo)) in
+        [("thin dielectric at 30 deg", at_angle(ns, t, 30.0)), ("thin dielectric at 75 deg from behind", at_angle(-ns, t, 75.0))]
+            .into_iter()
+            .enumerate()
+    {
+        let q = Params {
+            wo: f32x3(wo),
+            ns: f32x3(ns),
+            ng: f32x3(ns),
+            ior: 1.5,
+            ..params(SAMPLER_THIN_DIELECTRIC, 700 + seed as u32, ns)
+        };
+        let samples = bench.run(&scene, &Params { pass_kind: PASS_SAMPLE, count: SAMPLES, ..q });
+        let mirror = 2.0 * wo.dot(ns) * ns - wo;
+        let (mut reflected, mut strays) = (0.0, 0);
+        for s in samples.chunks_exact(2) {
+            let (wi, w) = (DVec3::new(s[0][0] as f64, s[0][1] as f64, s[0][2] as f64), s[0][3] as f64);
+            if (wi - mirror).length() < 1e-5 && (w - 0.9).abs() < 1e-6 {
+                reflected += 1.0;
+            } else if !((wi + wo).length() < 1e-5 && (w - 0.7).abs() < 1e-6) {
+                strays += 1;
+            }
+        }
+        // pbrt-v4 eq. 9.6 at cos = |wo.ns|.
+        let (c, eta) = (wo.dot(ns).abs(), 1.5f64);
+        let ct = (1.0 - (1.0 - c * c) / (eta * eta)).sqrt();
+        let (r_par, r_perp) = ((eta * c - ct) / (eta * c + ct), (c - eta * ct) / (c + eta * ct));
+        let r = 0.5 * (r_par * r_par + r_perp * r_perp);
+        let expected = 2.0 * r / (1.0 + r) * SAMPLES as f64;
+        let n = SAMPLES as f64;
+        let test = chi_square(&[(reflected, expected), (n - reflected, n - expected)]);
+        let outcome = Outcome { test, integral: 1.0, usable: 1.0, worst: (0.0, String::new()), zero_pdf: 0 };
+        judge(name, &outcome, &mut failures);
+        eprintln!("{name}: reflected {reflected} of {n}, expected {expected:.0}");
+        if strays > 0 {
+            failures.push(format!("{name}: {strays} samples neither reflected nor passed straight through with their tint"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 /// A receiving point p that sees a sphere light and a quad light, neither in front of the

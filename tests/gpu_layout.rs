@@ -75,7 +75,28 @@ fn gpu_structs_match_wgsl() {
         module,
         GpuMaterial,
         "Material",
-        [albedo, kind, ior, roughness, texture, texture_size, one_sided, distribution, _pad, eta, fresnel, k, _pad1]
+        [
+            albedo,
+            kind,
+            ior,
+            roughness,
+            texture,
+            texture_size,
+            one_sided,
+            distribution,
+            _pad,
+            eta,
+            fresnel,
+            k,
+            _pad1,
+            specular,
+            coat_weight,
+            transmittance,
+            coat_fdr,
+            coat_table,
+            nonlinear,
+            _pad2
+        ]
     );
     check!(module, GpuShape, "Shape", [emission, emits, velocity, _pad]);
     check!(module, Emitter, "Emitter", [kind, prim_ref, cdf, pmf, position, area, radiance, radius, direction, width]);
@@ -104,6 +125,9 @@ fn wgsl_constants_match_rust() {
     assert_eq!(constant("EMITTER_DIRECTIONAL"), EMITTER_DIRECTIONAL);
     assert_eq!(constant("EMITTER_SPOT"), EMITTER_SPOT);
     assert_eq!(constant("MATERIAL_GLOSSY"), MATERIAL_GLOSSY);
+    assert_eq!(constant("MATERIAL_PLASTIC"), MATERIAL_PLASTIC);
+    assert_eq!(constant("MATERIAL_THIN_DIELECTRIC"), MATERIAL_THIN_DIELECTRIC);
+    assert_eq!(constant("COAT_TABLE_SIZE"), COAT_TABLE_SIZE);
     assert_eq!(constant("NO_TEXTURE"), NO_TEXTURE);
     assert_eq!(constant("SPHERE_BIT"), sppm_gpu::accel::SPHERE_BIT);
     assert_eq!(constant("MATERIAL_DIFFUSE"), MATERIAL_DIFFUSE);

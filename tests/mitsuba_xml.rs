@@ -115,11 +115,11 @@ fn defines_override_defaults() {
 }
 
 #[test]
-/// What public scenes write and Mitsuba 3 reads: a 0.x `<default>` whose camelCase name its
-/// `$name` uses as written; `<path>` (a folder where files are found, relative to the file
-/// naming it); names on nested objects (`<rfilter name="rfilter">`, `<bsdf name="bsdf">`) and
-/// on `<ref>`s; an emitter's `sampling_weight`.
-#[test]
+fn legacy_scene_reads_camel_case_includes_meshes_and_instances() {
+    let s = load("legacy.xml");
+    assert_eq!((s.render.width, s.render.height), (160, 120));
+    assert_eq!(s.render.max_depth, 5);
+    assert_eq!(s.render.filter, PixelFilter::Gaussian { stddev: 0.5 }, "Mitsuba's default filter");
 fn flat_emitter_spectra_are_mitsubas_srgb() {
     let text = scene_with(
         r#"<shape type="sphere"><emitter type="area"><spectrum name="radiance" value="2"/></emitter></shape>
@@ -138,63 +138,6 @@ fn flat_emitter_spectra_are_mitsubas_srgb() {
     assert!(close(intensity, Vec3::new(3.61438, 2.84487, 2.72675)), "{intensity:?}");
 }
 
-fn structure_as_public_scenes_write_it() {
-    let legacy = r#"<scene version="0.6.0">
-    <default name="sampleCount" value="7"/>
-    <path value="common"/>
-    <sensor type="perspective">
-        <float name="fov" value="40"/>
-        <transform name="toWorld"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
-        <sampler type="independent"><integer name="sampleCount" value="$sampleCount"/></sampler>
-        <film type="hdrfilm">
-            <integer name="width" value="8"/><integer name="height" value="8"/>
-            <rfilter name="rfilter" type="tent"/>
-        </film>
-    </sensor>
-    <bsdf type="diffuse" id="grey"><rgb name="reflectance" value="0.25"/></bsdf>
-    <shape type="obj">
-        <string name="filename" value="tri.obj"/>
-        <ref name="bsdf" id="grey"/>
-    </shape>
-    <shape type="rectangle">
-        <bsdf name="bsdf" type="diffuse"><rgb name="reflectance" value="0.75"/></bsdf>
-        <emitter type="area"><rgb name="radiance" value="1"/><float name="samplingWeight" value="2"/></emitter>
-    </shape>
-</scene>
-"#;
-    let dir = temp_dir("public-structure");
-    std::fs::create_dir_all(dir.join("common")).unwrap();
-    std::fs::write(dir.join("common/tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
-    std::fs::write(dir.join("s.xml"), legacy).unwrap();
-    let s = scene::load(&dir.join("s.xml")).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(s.render.iterations, 7);
-    assert_eq!(s.render.filter, PixelFilter::Tent { radius: 1.0 });
-    let albedo = |shape: usize| match s.materials[s.shapes[shape].material as usize].kind {
-        MaterialKind::Diffuse { albedo, .. } => albedo,
-        ref other => panic!("{other:?}"),
-    };
-    assert_eq!((albedo(0), albedo(1)), (Vec3::splat(0.25), Vec3::splat(0.75)));
-    assert_eq!(s.triangles.iter().filter(|t| t.shape == 0).count(), 1);
-    // A <path> that is not a folder, and one below <scene>.
-    let missing = scene_with(r#"<path value="nowhere"/>"#);
-    let e = load_files("path-missing", &[("s.xml", &missing)], &[]).unwrap_err().to_string();
-    assert!(e.contains("nowhere") && e.contains("not a directory"), "{e}");
-    let nested = scene_with(r#"<shape type="sphere"><path value="."/></shape>"#);
-    let e = load_files("path-nested", &[("s.xml", &nested)], &[]).unwrap_err().to_string();
-    assert!(e.contains("<path> belongs directly in <scene>"), "{e}");
-    let negative = scene_with("").replace(
-        r#"<rgb name="radiance" value="1"/>"#,
-        r#"<rgb name="radiance" value="1"/><float name="sampling_weight" value="-1"/>"#,
-    );
-    let e = load_files("sampling-weight", &[("s.xml", &negative)], &[]).unwrap_err().to_string();
-    assert!(e.contains("sampling_weight -1"), "{e}");
-}
-
-fn legacy_scene_reads_camel_case_includes_meshes_and_instances() {
-    let s = load("legacy.xml");
-    assert_eq!((s.render.width, s.render.height), (160, 120));
-    assert_eq!(s.render.max_depth, 5);
-    assert_eq!(s.render.filter, PixelFilter::Gaussian { stddev: 0.5 }, "Mitsuba's default filter");
     assert!((s.camera.fov - 50.0).abs() < 1e-4, "fovAxis y: {}", s.camera.fov);
     // The included room (a cube), the light, the bunny, the serialized sphere, the water
     // sphere and two instances of the pyramid.
@@ -396,7 +339,7 @@ fn bad_input_names_file_line_and_element() {
         ),
         ("constant", r#"    <emitter type="constant"/>"#, "`constant` environment emitter"),
         ("projector", r#"    <emitter type="projector"/>"#, "`projector` emitter is not modelled"),
-        ("plastic", r#"    <shape type="sphere"><bsdf type="plastic"/></shape>"#, "`plastic` BSDF is not modelled"),
+        ("principled", r#"    <shape type="sphere"><bsdf type="principled"/></shape>"#, "`principled` BSDF is not modelled"),
         (
             "phong",
             r#"    <shape type="sphere"><bsdf type="roughconductor"><string name="distribution" value="phong"/></bsdf></shape>"#,
@@ -550,6 +493,114 @@ fn metals_match_mitsuba() {
     assert_close("metals sppm", &c, 0.003, 0.01);
     let c = against_mitsuba("metals", Method::PtNee, 64, 0);
     assert_close("metals pt-nee", &c, 0.003, 0.01);
+}
+
+/// plastic.xml: Mitsuba's plastic, roughplastic and thindielectric with their defaults and
+/// given parameters; bad parameters are errors at their element.
+#[test]
+fn plastic_scene_reads_plastics_and_thin_dielectrics() {
+    let s = load("plastic.xml");
+    let kind_at = |x: f32| {
+        let sp = s.spheres.iter().find(|sp| (sp.center.x - x).abs() < 1e-6).unwrap();
+        (s.materials[s.shapes[sp.shape as usize].material as usize].kind.clone(), sp.shape)
+    };
+    let air = 1.000277;
+    let (smooth, _) = kind_at(-0.55);
+    assert_eq!(
+        smooth,
+        MaterialKind::Plastic {
+            albedo: Vec3::new(0.7, 0.15, 0.1),
+            specular: Vec3::ONE,
+            ior: 1.49 / air,
+            roughness: 0.0,
+            distribution: Microfacet::Ggx,
+            nonlinear: false
+        }
+    );
+    let (nonlinear, _) = kind_at(0.55);
+    assert_eq!(
+        nonlinear,
+        MaterialKind::Plastic {
+            albedo: Vec3::new(0.9, 0.8, 0.3),
+            specular: Vec3::splat(0.8),
+            ior: 1.9 / air,
+            roughness: 0.0,
+            distribution: Microfacet::Ggx,
+            nonlinear: true
+        }
+    );
+    let (rough, shape) = kind_at(-0.4);
+    assert_eq!(
+        rough,
+        MaterialKind::Plastic {
+            albedo: Vec3::new(0.1, 0.3, 0.6),
+            specular: Vec3::ONE,
+            ior: 1.49 / air,
+            roughness: 0.1,
+            distribution: Microfacet::Beckmann,
+            nonlinear: false
+        }
+    );
+    let m = &s.materials[s.shapes[shape as usize].material as usize];
+    assert!(m.one_sided, "a plastic not wrapped in twosided is one-sided");
+    let (thin, shape) = kind_at(0.0);
+    assert_eq!(
+        thin,
+        MaterialKind::ThinDielectric { ior: 1.5 / air, reflectance: Vec3::ONE, transmittance: Vec3::new(0.95, 0.9, 0.8) }
+    );
+    assert!(!s.materials[s.shapes[shape as usize].material as usize].one_sided, "a thin dielectric is two-sided");
+    let cube = s
+        .materials
+        .iter()
+        .find(|m| matches!(m.kind, MaterialKind::Plastic { distribution: Microfacet::Ggx, roughness, .. } if roughness > 0.0));
+    assert_eq!(
+        cube.unwrap().kind,
+        MaterialKind::Plastic {
+            albedo: Vec3::new(0.2, 0.7, 0.4),
+            specular: Vec3::ONE,
+            ior: 1.49 / air,
+            roughness: 0.3,
+            distribution: Microfacet::Ggx,
+            nonlinear: true
+        }
+    );
+    // Defaults: Mitsuba's thindielectric is bk7 in air.
+    let text = scene_with(r#"    <shape type="sphere"><bsdf type="thindielectric"/></shape>"#);
+    let s = load_files("thin", &[("s.xml", &text)], &[]).unwrap();
+    let kind = &s.materials[s.shapes[1].material as usize].kind;
+    assert_eq!(kind, &MaterialKind::ThinDielectric { ior: 1.5046 / air, reflectance: Vec3::ONE, transmittance: Vec3::ONE });
+    // Bad input: at the element, naming it.
+    let line_of = |text: &str, needle: &str| text.lines().position(|l| l.contains(needle)).unwrap() + 1;
+    let text = scene_with(
+        "    <shape type=\"sphere\"><bsdf type=\"roughplastic\">\n        <float name=\"int_ior\" value=\"1.000277\"/>\n    </bsdf></shape>",
+    );
+    expect_error("matched", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "roughplastic")), "two different indices");
+    let text = scene_with(
+        "    <shape type=\"sphere\"><bsdf type=\"plastic\">\n        <rgb name=\"diffuse_reflectance\" value=\"1.2, 0.5, 0.5\"/>\n    </bsdf></shape>",
+    );
+    expect_error("albedo", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "1.2, 0.5")), "outside [0, 1]");
+    let text = scene_with(
+        "    <shape type=\"sphere\"><bsdf type=\"thindielectric\">\n        <float name=\"alpha\" value=\"0.2\"/>\n    </bsdf></shape>",
+    );
+    expect_error("thin alpha", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "alpha")), "no parameter `alpha`");
+    let text = scene_with(
+        "    <shape type=\"sphere\"><bsdf type=\"roughplastic\">\n        <string name=\"distribution\" value=\"phong\"/>\n    </bsdf></shape>",
+    );
+    expect_error("distribution", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "phong")), "phong");
+}
+
+/// Smooth plastics (nonlinear false and true), Beckmann and GGX rough plastics and a thin
+/// dielectric against Mitsuba 3: SPPM (a plastic's base leaves visible points, its coating is
+/// passed through) and pt-nee.
+#[test]
+fn plastic_matches_mitsuba() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let c = against_mitsuba("plastic", Method::Sppm, 32, 100_000);
+    assert_close("plastic sppm", &c, 0.003, 0.01);
+    let c = against_mitsuba("plastic", Method::PtNee, 64, 0);
+    assert_close("plastic pt-nee", &c, 0.003, 0.01);
 }
 
 #[test]

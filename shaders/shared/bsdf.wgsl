@@ -9,8 +9,10 @@ override USES_ROUGH_DIELECTRIC: bool = true;
 override USES_ONE_SIDED: bool = true;
 // Some mirror or glossy conductor has a Fresnel term (a complex index of refraction).
 override USES_CONDUCTOR_FRESNEL: bool = true;
-// Some glossy conductor or rough dielectric has Beckmann microfacets.
+// Some glossy conductor, rough dielectric or rough plastic has Beckmann microfacets.
 override USES_BECKMANN: bool = true;
+// Some material is a thin dielectric.
+override USES_THIN_DIELECTRIC: bool = true;
 
 // Whether material m at s scatters nothing to or from direction w (pointing away from the
 // surface): Mitsuba 3's BSDFs return zero for cos_theta <= 0 in the shading frame unless
@@ -367,7 +369,24 @@ fn sample_rough_dielectric(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, alpha_in: f
     return SpecularSample(frame * wt, vec3f(g * scale));
 }
 
-// Scatter at a non-diffuse surface: mirror, glossy conductor, smooth or rough dielectric.
+// Sample thin dielectric m (Mitsuba 3's thindielectric) from direction of travel d at s:
+// reflect about ns with the slab's summed reflectance R' = R + T^2 R / (1 - R^2) = 2R / (1 + R),
+// R = F(|cos|) at its index (thindielectric.cpp), else pass straight through, unbent. The
+// branch is chosen with its probability, so the weights are the tints; flux and radiance alike,
+// since nothing refracts. A reflection about ns that crosses ng ends the path.
+fn sample_thin_dielectric(m: Material, d: vec3f, s: Surface, u: f32) -> SpecularSample {
+    let r = fresnel_dielectric(abs(dot(d, s.ns)), m.ior);
+    if u < 2.0 * r / (1.0 + r) {
+        let n = select(-s.ns, s.ns, dot(d, s.ns) < 0.0);
+        let wi = reflect(d, n);
+        let weight = select(vec3f(0.0), m.specular, dot(wi, s.ng) * dot(d, s.ng) < 0.0);
+        return SpecularSample(wi, weight);
+    }
+    return SpecularSample(d, m.transmittance);
+}
+
+// Scatter at a non-diffuse surface: mirror, glossy conductor, smooth or rough dielectric,
+// thin dielectric.
 // A zero weight ends the path. `radiance` is true for camera paths, false for photons.
 // Only the materials the scene has are compiled in (USES_*, set by the host).
 fn sample_nondiffuse(m: Material, d: vec3f, s: Surface, u: vec3f, radiance: bool) -> SpecularSample {
@@ -389,10 +408,13 @@ fn sample_nondiffuse(m: Material, d: vec3f, s: Surface, u: vec3f, radiance: bool
     if USES_SMOOTH_DIELECTRIC && m.kind == MATERIAL_DIELECTRIC && m.roughness == 0.0 {
         next = sample_dielectric(d, s.ng, m.ior, u.z, radiance);
     }
+    if USES_THIN_DIELECTRIC && m.kind == MATERIAL_THIN_DIELECTRIC {
+        next = sample_thin_dielectric(m, d, s, u.z);
+    }
     // A shading normal can send a reflection below the surface or a refraction back out of
     // it; such paths end rather than leak.
     let reflected = dot(next.wi, s.ng) * dot(d, s.ng) < 0.0;
-    let wants_reflection = m.kind != MATERIAL_DIELECTRIC;
+    let wants_reflection = m.kind != MATERIAL_DIELECTRIC && (!USES_THIN_DIELECTRIC || m.kind != MATERIAL_THIN_DIELECTRIC);
     // A one-sided conductor reflects nothing behind ns (its samplers reflect about ns turned
     // towards wo, so only roundoff gets there).
     if wants_reflection && (!reflected || one_sided_culls(m, s, next.wi)) {

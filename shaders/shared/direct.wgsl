@@ -8,6 +8,7 @@
 #import sampling
 #import scene
 #import bsdf
+#import coating
 #import lights
 
 // Power heuristic with beta = 2 (Veach 1997, eq. 9.13).
@@ -29,10 +30,11 @@ fn unoccluded(p0: vec3f, p1: vec3f) -> bool {
 }
 
 // Whether next-event estimation is done at a vertex of material m: every material whose
-// BSDF can be evaluated, that is all but the mirror and smooth glass.
+// BSDF can be evaluated, that is all but the mirror and smooth glass, thin or not (a smooth
+// plastic's base is evaluated, its mirror not).
 fn samples_lights(m: Material) -> bool {
     return m.kind == MATERIAL_DIFFUSE || (USES_GLOSSY && m.kind == MATERIAL_GLOSSY)
-        || (USES_ROUGH_DIELECTRIC && m.kind == MATERIAL_DIELECTRIC && m.roughness > 0.0);
+        || (USES_ROUGH_DIELECTRIC && m.kind == MATERIAL_DIELECTRIC && m.roughness > 0.0) || is_plastic(m);
 }
 
 // BSDF value (radiance) and sampling density at a vertex where samples_lights(m): diffuse
@@ -43,6 +45,9 @@ fn vertex_bsdf(s: Surface, m: Material, albedo: vec3f, wo: vec3f, wi: vec3f) -> 
     }
     if USES_ROUGH_DIELECTRIC && m.kind == MATERIAL_DIELECTRIC {
         return rough_dielectric_eval(m.ior, m.roughness, is_beckmann(m), wo, wi, s.ng, s.ns, true);
+    }
+    if is_plastic(m) {
+        return plastic_eval(m, albedo, wo, wi, s.ns);
     }
     return BsdfEval(albedo * INV_PI, abs(dot(wi, s.ns)) * INV_PI);
 }

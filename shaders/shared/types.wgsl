@@ -139,6 +139,21 @@ struct Material {
     fresnel: u32,
     k: vec3f,
     _pad1: u32,
+    // MATERIAL_PLASTIC: the coating's specular_reflectance; MATERIAL_THIN_DIELECTRIC: the
+    // slab's specular_reflectance.
+    specular: vec3f,
+    // MATERIAL_PLASTIC: Mitsuba's specular_sampling_weight (shared/coating.wgsl).
+    coat_weight: f32,
+    // MATERIAL_THIN_DIELECTRIC: the slab's specular_transmittance.
+    transmittance: vec3f,
+    // MATERIAL_PLASTIC: Fdr, the coating's diffuse reflectance seen from inside.
+    coat_fdr: f32,
+    // A rough MATERIAL_PLASTIC: the first entry in `attributes` of the table of its
+    // coating's transmittance, COAT_TABLE_SIZE values four an entry.
+    coat_table: u32,
+    // MATERIAL_PLASTIC: 1 for Mitsuba's nonlinear (1 / (1 - albedo Fdr)), 0 for 1 / (1 - Fdr).
+    nonlinear: u32,
+    _pad2: vec2u,
 }
 
 // Per-shape data the kernels look up through a primitive's shape index.
@@ -243,6 +258,9 @@ const MATERIAL_DIFFUSE: u32 = 0u;
 const MATERIAL_MIRROR: u32 = 1u;
 const MATERIAL_DIELECTRIC: u32 = 2u;
 const MATERIAL_GLOSSY: u32 = 3u;
+const MATERIAL_PLASTIC: u32 = 4u;
+const MATERIAL_THIN_DIELECTRIC: u32 = 5u;
+const COAT_TABLE_SIZE: u32 = 64u;
 const MICROFACET_GGX: u32 = 0u;
 const MICROFACET_BECKMANN: u32 = 1u;
 

@@ -151,6 +151,8 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> 
                 return unsupported("a conductor's Fresnel term")
             }
             MaterialKind::Glossy { .. } | MaterialKind::Dielectric { .. } => return unsupported("the Beckmann distribution"),
+            MaterialKind::Plastic { .. } => return unsupported("a plastic"),
+            MaterialKind::ThinDielectric { .. } => return unsupported("a thin dielectric"),
         }
         if m.one_sided && !matches!(m.kind, MaterialKind::Dielectric { .. }) {
             t.insert("one_sided".into(), Value::Boolean(true));

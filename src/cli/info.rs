@@ -66,6 +66,9 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
             MaterialKind::Glossy { .. } => "glossy conductor",
             MaterialKind::Dielectric { roughness, .. } if roughness > 0.0 => "rough dielectric",
             MaterialKind::Dielectric { .. } => "dielectric",
+            MaterialKind::Plastic { roughness, .. } if roughness > 0.0 => "rough plastic",
+            MaterialKind::Plastic { .. } => "plastic",
+            MaterialKind::ThinDielectric { .. } => "thin dielectric",
         };
         *materials.entry(kind).or_insert(0) += 1;
     }

@@ -10,7 +10,7 @@
 use super::scene_buffers::SceneData;
 use super::types::{
     EMITTER_AREA, EMITTER_DIRECTIONAL, EMITTER_POINT, EMITTER_SPOT, HAS_NORMALS, HAS_UVS, MATERIAL_DIELECTRIC, MATERIAL_GLOSSY,
-    MATERIAL_MIRROR, MICROFACET_BECKMANN, NO_TEXTURE,
+    MATERIAL_MIRROR, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, MICROFACET_BECKMANN, NO_TEXTURE,
 };
 use crate::accel::SPHERE_BIT;
 
@@ -37,12 +37,18 @@ pub struct Features {
     pub smooth_dielectric: bool,
     /// Some material is a rough dielectric.
     pub rough_dielectric: bool,
+    /// Some material is a plastic with a smooth coating.
+    pub plastic: bool,
+    /// Some material is a plastic with a rough coating.
+    pub rough_plastic: bool,
+    /// Some material is a thin dielectric.
+    pub thin_dielectric: bool,
     /// Some non-dielectric material is one-sided (black seen from behind, as Mitsuba 3's
     /// BSDFs are unless wrapped in `twosided`).
     pub one_sided: bool,
     /// Some mirror or glossy conductor has a Fresnel term (a complex index of refraction).
     pub conductor_fresnel: bool,
-    /// Some glossy conductor or rough dielectric has Beckmann microfacets.
+    /// Some glossy conductor, rough dielectric or rough plastic has Beckmann microfacets.
     pub beckmann: bool,
     /// Some emitter is an emitting triangle.
     pub triangle_lights: bool,
@@ -69,6 +75,9 @@ impl Features {
         glossy: true,
         smooth_dielectric: true,
         rough_dielectric: true,
+        plastic: true,
+        rough_plastic: true,
+        thin_dielectric: true,
         one_sided: true,
         conductor_fresnel: true,
         beckmann: true,
@@ -96,6 +105,9 @@ impl Features {
             glossy: material(&|kind, _| kind == MATERIAL_GLOSSY),
             smooth_dielectric: material(&|kind, roughness| kind == MATERIAL_DIELECTRIC && roughness == 0.0),
             rough_dielectric: material(&|kind, roughness| kind == MATERIAL_DIELECTRIC && roughness > 0.0),
+            plastic: material(&|kind, roughness| kind == MATERIAL_PLASTIC && roughness == 0.0),
+            rough_plastic: material(&|kind, roughness| kind == MATERIAL_PLASTIC && roughness > 0.0),
+            thin_dielectric: material(&|kind, _| kind == MATERIAL_THIN_DIELECTRIC),
             one_sided: data.materials.iter().any(|m| m.one_sided != 0 && m.kind != MATERIAL_DIELECTRIC),
             conductor_fresnel: data
                 .materials
@@ -103,7 +115,8 @@ impl Features {
                 .any(|m| m.fresnel != 0 && (m.kind == MATERIAL_MIRROR || m.kind == MATERIAL_GLOSSY)),
             beckmann: data.materials.iter().any(|m| {
                 m.distribution == MICROFACET_BECKMANN
-                    && (m.kind == MATERIAL_GLOSSY || (m.kind == MATERIAL_DIELECTRIC && m.roughness > 0.0))
+                    && (m.kind == MATERIAL_GLOSSY
+                        || ((m.kind == MATERIAL_DIELECTRIC || m.kind == MATERIAL_PLASTIC) && m.roughness > 0.0))
             }),
             triangle_lights: emitter(EMITTER_AREA, false),
             sphere_lights: emitter(EMITTER_AREA, true),
@@ -126,6 +139,9 @@ impl Features {
             ("USES_GLOSSY", self.glossy),
             ("USES_SMOOTH_DIELECTRIC", self.smooth_dielectric),
             ("USES_ROUGH_DIELECTRIC", self.rough_dielectric),
+            ("USES_PLASTIC", self.plastic),
+            ("USES_ROUGH_PLASTIC", self.rough_plastic),
+            ("USES_THIN_DIELECTRIC", self.thin_dielectric),
             ("USES_ONE_SIDED", self.one_sided),
             ("USES_CONDUCTOR_FRESNEL", self.conductor_fresnel),
             ("USES_BECKMANN", self.beckmann),

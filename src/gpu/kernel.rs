@@ -47,6 +47,7 @@ const FILES: &[(&str, &str)] = &[
     ("sampling", include_str!("../../shaders/shared/sampling.wgsl")),
     ("scene", include_str!("../../shaders/shared/scene.wgsl")),
     ("bsdf", include_str!("../../shaders/shared/bsdf.wgsl")),
+    ("coating", include_str!("../../shaders/shared/coating.wgsl")),
     ("camera", include_str!("../../shaders/shared/camera.wgsl")),
     ("grid", include_str!("../../shaders/shared/grid.wgsl")),
     ("lights", include_str!("../../shaders/shared/lights.wgsl")),

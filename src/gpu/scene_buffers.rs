@@ -73,6 +73,48 @@ fn set_fresnel(g: &mut GpuMaterial, fresnel: Option<ComplexIor>) {
     }
 }
 
+/// A plastic on the GPU (Mitsuba 3's `plastic` and `roughplastic`, `parameters_changed`):
+/// the probability weight of its coating's lobe, mean(specular) / (mean(albedo) +
+/// mean(specular)); Fdr, the coating's diffuse reflectance from inside, by the fit for a
+/// smooth coating and by quadrature for a rough one, whose transmittance table goes at the end
+/// of `attributes` ([`crate::scene::coating`]).
+fn set_plastic(g: &mut GpuMaterial, kind: &MaterialKind, attributes: &mut Vec<[f32; 4]>) {
+    let MaterialKind::Plastic { albedo, specular, ior, roughness, distribution, nonlinear } = *kind else { return };
+    g.kind = MATERIAL_PLASTIC;
+    g.albedo = albedo.into();
+    g.specular = specular.into();
+    g.ior = ior;
+    g.roughness = roughness;
+    g.distribution = microfacet(distribution);
+    g.nonlinear = nonlinear as u32;
+    let (d_mean, s_mean) = (albedo.element_sum() / 3.0, specular.element_sum() / 3.0);
+    g.coat_weight = s_mean / (d_mean + s_mean);
+    if roughness == 0.0 {
+        g.coat_fdr = crate::scene::coating::fresnel_diffuse_reflectance(1.0 / ior);
+        return;
+    }
+    let coat = rough_coating_cached(ior, roughness, distribution);
+    g.coat_fdr = coat.internal_reflectance;
+    g.coat_table = attributes.len() as u32;
+    attributes.extend(coat.transmittance.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]));
+}
+
+/// [`crate::scene::coating::rough_coating`], computed once per process for each coating (a
+/// quadrature of a million points for the internal reflectance).
+fn rough_coating_cached(ior: f32, alpha: f32, distribution: Microfacet) -> crate::scene::coating::RoughCoating {
+    use crate::scene::coating::{rough_coating, RoughCoating};
+    use std::sync::Mutex;
+    type Key = (u32, u32, bool);
+    static CACHE: Mutex<Vec<(Key, RoughCoating)>> = Mutex::new(Vec::new());
+    let key = (ior.to_bits(), alpha.to_bits(), distribution == Microfacet::Beckmann);
+    if let Some((_, c)) = CACHE.lock().unwrap().iter().find(|(k, _)| *k == key) {
+        return c.clone();
+    }
+    let c = rough_coating(ior, alpha, distribution);
+    CACHE.lock().unwrap().push((key, c.clone()));
+    c
+}
+
 /// The average over RGB, in f64 for the power sums.
 fn average(v: Vec3) -> f64 {
     v.element_sum() as f64 / 3.0
@@ -186,9 +228,17 @@ impl SceneData {
                         g.roughness = roughness;
                         g.distribution = microfacet(distribution);
                     }
+                    MaterialKind::Plastic { .. } => set_plastic(&mut g, &m.kind, &mut attributes),
+                    MaterialKind::ThinDielectric { ior, reflectance, transmittance } => {
+                        g.kind = MATERIAL_THIN_DIELECTRIC;
+                        g.albedo = [1.0; 3];
+                        g.ior = ior;
+                        g.specular = reflectance.into();
+                        g.transmittance = transmittance.into();
+                    }
                 }
-                // Dielectrics are two-sided by nature: Mitsuba 3's ignore `twosided`.
-                g.one_sided = (m.one_sided && g.kind != MATERIAL_DIELECTRIC) as u32;
+                // Dielectrics, thin ones too, are two-sided by nature: Mitsuba 3's ignore `twosided`.
+                g.one_sided = (m.one_sided && g.kind != MATERIAL_DIELECTRIC && g.kind != MATERIAL_THIN_DIELECTRIC) as u32;
                 g
             })
             .collect();

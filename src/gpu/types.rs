@@ -190,8 +190,29 @@ pub struct GpuMaterial {
     pub fresnel: u32,
     /// Imaginary part of the complex index of refraction, when `fresnel` is 1.
     pub k: [f32; 3],
-    /// Padding to 80 bytes; always 0.
+    /// Padding; always 0.
     pub _pad1: u32,
+    /// [`MATERIAL_PLASTIC`]: the coating's `specular_reflectance`; [`MATERIAL_THIN_DIELECTRIC`]:
+    /// the slab's `specular_reflectance`.
+    pub specular: [f32; 3],
+    /// [`MATERIAL_PLASTIC`]: Mitsuba's `specular_sampling_weight`, mean(specular) /
+    /// (mean(albedo) + mean(specular)), which with the coating's transmittance sets the
+    /// probability of sampling the coating's lobe rather than the base's.
+    pub coat_weight: f32,
+    /// [`MATERIAL_THIN_DIELECTRIC`]: the slab's `specular_transmittance`.
+    pub transmittance: [f32; 3],
+    /// [`MATERIAL_PLASTIC`]: Fdr, the coating's diffuse reflectance seen from inside
+    /// ([`crate::scene::coating`]).
+    pub coat_fdr: f32,
+    /// A rough [`MATERIAL_PLASTIC`]: the first of the [`COAT_TABLE_SIZE`] / 4 entries of the
+    /// `attributes` buffer that hold its coating's transmittance T(cos) at cos = k / 63, four
+    /// values an entry.
+    pub coat_table: u32,
+    /// [`MATERIAL_PLASTIC`]: 1 for Mitsuba's `nonlinear` (the base's trapped light scaled by
+    /// 1 / (1 - albedo Fdr)), 0 for 1 / (1 - Fdr).
+    pub nonlinear: u32,
+    /// Padding to 128 bytes; always 0.
+    pub _pad2: [u32; 2],
 }
 
 /// Per-shape data, looked up through a primitive's `shape` index.
@@ -345,6 +366,13 @@ pub const MATERIAL_MIRROR: u32 = 1;
 pub const MATERIAL_DIELECTRIC: u32 = 2;
 /// [`GpuMaterial::kind`]: microfacet conductor, sampled by visible normals.
 pub const MATERIAL_GLOSSY: u32 = 3;
+/// [`GpuMaterial::kind`]: Mitsuba 3's plastic, a dielectric coating (smooth, or with roughness >
+/// 0 of microfacets) over a Lambertian base.
+pub const MATERIAL_PLASTIC: u32 = 4;
+/// [`GpuMaterial::kind`]: Mitsuba 3's thin dielectric: reflection or straight transmission.
+pub const MATERIAL_THIN_DIELECTRIC: u32 = 5;
+/// Values in a rough plastic's table of its coating's transmittance ([`GpuMaterial::coat_table`]).
+pub const COAT_TABLE_SIZE: u32 = crate::scene::coating::COAT_TABLE_SIZE as u32;
 /// [`GpuMaterial::distribution`]: GGX (Trowbridge-Reitz).
 pub const MICROFACET_GGX: u32 = 0;
 /// [`GpuMaterial::distribution`]: Beckmann.

@@ -262,9 +262,13 @@ pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
 pub fn limitations(scene: &Scene) -> Vec<String> {
     use crate::scene::MaterialKind;
     let delta_lights = scene.lights.len();
-    // Surfaces where pt-nee samples no light: mirrors and glass, smooth or rough.
-    let specular =
-        scene.materials.iter().any(|m| matches!(m.kind, MaterialKind::Mirror { .. } | MaterialKind::Dielectric { .. }));
+    // Surfaces where pt-nee samples no light: mirrors and glass, smooth or rough, thin glass
+    // and smooth plastics' coatings.
+    let specular = scene.materials.iter().any(|m| match m.kind {
+        MaterialKind::Mirror { .. } | MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. } => true,
+        MaterialKind::Plastic { roughness, .. } => roughness == 0.0,
+        _ => false,
+    });
     let mut out = Vec::new();
     match scene.render.method {
         Method::Pt if delta_lights > 0 => out.push(format!(

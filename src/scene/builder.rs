@@ -585,6 +585,17 @@ impl Check<'_> {
                 self.f32(&format!("{key}.ior"), ior, Bound::Positive)?;
                 self.f32(&format!("{key}.roughness"), roughness, UNIT)?;
             }
+            MaterialKind::Plastic { albedo, specular, ior, roughness, .. } => {
+                self.vec3(&format!("{key}.albedo"), albedo, UNIT)?;
+                self.vec3(&format!("{key}.specular"), specular, UNIT)?;
+                self.f32(&format!("{key}.ior"), ior, Bound::Positive)?;
+                self.f32(&format!("{key}.roughness"), roughness, UNIT)?;
+            }
+            MaterialKind::ThinDielectric { ior, reflectance, transmittance } => {
+                self.f32(&format!("{key}.ior"), ior, Bound::Positive)?;
+                self.vec3(&format!("{key}.reflectance"), reflectance, UNIT)?;
+                self.vec3(&format!("{key}.transmittance"), transmittance, UNIT)?;
+            }
         }
         Ok(kind.clone())
     }

@@ -6,6 +6,7 @@
 //! coordinates can be looked up per shape.
 
 mod builder;
+pub mod coating;
 mod error;
 mod load;
 mod mesh;
@@ -199,6 +200,35 @@ pub enum MaterialKind {
         roughness: f32,
         /// The distribution of microfacet normals of a rough interface.
         distribution: Microfacet,
+    },
+    /// Mitsuba 3's `plastic` (roughness 0) and `roughplastic`: a dielectric coating, smooth or
+    /// of microfacets, over a Lambertian base, with the light trapped between them summed
+    /// ([`coating`]).
+    Plastic {
+        /// The base's reflectance, linear RGB in [0, 1] (`diffuse_reflectance`).
+        albedo: Vec3,
+        /// The coating's reflection is scaled by it (`specular_reflectance`, [0, 1]).
+        specular: Vec3,
+        /// Index of refraction of the coating relative to the outside.
+        ior: f32,
+        /// Alpha in (0, 1] of a rough coating; 0 is smooth.
+        roughness: f32,
+        /// The distribution of microfacet normals of a rough coating.
+        distribution: Microfacet,
+        /// Mitsuba's `nonlinear`: the base's light trapped in the coating darkens and
+        /// saturates its colour, 1 / (1 - albedo Fdr), rather than 1 / (1 - Fdr).
+        nonlinear: bool,
+    },
+    /// Mitsuba 3's `thindielectric`: a slab too thin to see, reflecting with the slab's summed
+    /// reflectance R' = R + T^2 R / (1 - R^2) = 2R / (1 + R) and transmitting the rest
+    /// straight through, unbent.
+    ThinDielectric {
+        /// Index of refraction of the slab relative to the outside.
+        ior: f32,
+        /// Scales the reflection (`specular_reflectance`, [0, 1]).
+        reflectance: Vec3,
+        /// Scales the transmission (`specular_transmittance`, [0, 1]).
+        transmittance: Vec3,
     },
 }
 

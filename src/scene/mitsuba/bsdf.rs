@@ -14,6 +14,18 @@
 //!   Fresnel term of eta + i k. Mitsuba 3's conductors have no `ext_eta`.
 //! - `roughconductor`: as `conductor`, with `distribution` (`beckmann`) and `alpha` (0.1), the
 //!   Fresnel term taken at the microfacet normal.
+//! - `plastic`: `diffuse_reflectance` (0.5), `specular_reflectance` (1), `nonlinear`
+//!   (false), `int_ior` (`polypropylene`, 1.49), `ext_ior` (`air`): a smooth dielectric
+//!   coating over a Lambertian base, the light trapped inside summed (Fdr by Mitsuba's fit;
+//!   `nonlinear` darkens and saturates the base by 1 / (1 - reflectance Fdr) rather than
+//!   1 / (1 - Fdr)), the coating's lobe sampled with Mitsuba's `specular_sampling_weight`
+//!   ([`crate::scene::coating`], `shaders/shared/coating.wgsl`).
+//! - `roughplastic`: as `plastic`, with `distribution` (`beckmann`) and `alpha` (0.1) for the
+//!   coating's microfacets; the base sees the rough coating's transmittance, tabulated at load
+//!   as Mitsuba 3 does. Refused for int_ior = ext_ior, as Mitsuba does.
+//! - `thindielectric`: `int_ior` (`bk7`), `ext_ior` (`air`), `specular_reflectance` (1) and
+//!   `specular_transmittance` (1): a slab reflecting with its summed reflectance 2R / (1 + R)
+//!   and transmitting the rest straight through; two-sided.
 
 use super::props::{Props, Spectrum};
 use super::xml::Node;
@@ -129,9 +141,6 @@ pub const NAMED_CONDUCTORS: &[(&str, [f32; 3], [f32; 3])] = &[
 
 /// BSDF plugins that Mitsuba has and sppm-gpu does not model yet.
 const NOT_YET: &[&str] = &[
-    "thindielectric",
-    "plastic",
-    "roughplastic",
     "null",
     "principled",
     "principledthin",
@@ -236,6 +245,29 @@ impl<'a> SceneReader<'a> {
                     MaterialKind::Glossy { albedo, roughness, distribution, fresnel }
                 }
             }
+            "plastic" | "roughplastic" => {
+                let ior = ior(&p, "int_ior", 1.49)? / ior(&p, "ext_ior", 1.000277)?;
+                // Mitsuba refuses a rough coating of matched indices; a smooth one is then
+                // invisible, and allowed.
+                if !(ior.is_finite() && ior > 0.0) || (ior == 1.0 && kind == "roughplastic") {
+                    return Err(node
+                        .error(Some("int_ior"), format!("int_ior / ext_ior = {ior}: an interface needs two different indices")));
+                }
+                let albedo = self.reflectance(&p, "diffuse_reflectance", 0.5)?;
+                let specular = self.reflectance(&p, "specular_reflectance", 1.0)?;
+                let nonlinear = p.boolean_or("nonlinear", false)?;
+                let (roughness, distribution) = if kind == "roughplastic" { alpha(&p)? } else { (0.0, Microfacet::Ggx) };
+                MaterialKind::Plastic { albedo, specular, ior, roughness, distribution, nonlinear }
+            }
+            "thindielectric" => {
+                let ior = ior(&p, "int_ior", 1.5046)? / ior(&p, "ext_ior", 1.000277)?;
+                if !(ior.is_finite() && ior > 0.0) {
+                    return Err(node.error(Some("int_ior"), format!("int_ior / ext_ior = {ior} is not a ratio of indices")));
+                }
+                let reflectance = self.reflectance(&p, "specular_reflectance", 1.0)?;
+                let transmittance = self.reflectance(&p, "specular_transmittance", 1.0)?;
+                MaterialKind::ThinDielectric { ior, reflectance, transmittance }
+            }
             other if NOT_YET.contains(&other) => {
                 return Err(node.error(Some("type"), format!("the `{other}` BSDF is not modelled by sppm-gpu yet")))
             }
@@ -243,7 +275,7 @@ impl<'a> SceneReader<'a> {
         };
         p.finish()?;
         // Dielectrics scatter from both sides; the flag means nothing to them.
-        let one_sided = !matches!(model, MaterialKind::Dielectric { .. });
+        let one_sided = !matches!(model, MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. });
         Ok((model, one_sided))
     }
 
