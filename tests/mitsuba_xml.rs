@@ -115,11 +115,11 @@ fn defines_override_defaults() {
 }
 
 #[test]
-fn legacy_scene_reads_camel_case_includes_meshes_and_instances() {
-    let s = load("legacy.xml");
-    assert_eq!((s.render.width, s.render.height), (160, 120));
-    assert_eq!(s.render.max_depth, 5);
-    assert_eq!(s.render.filter, PixelFilter::Gaussian { stddev: 0.5 }, "Mitsuba's default filter");
+/// What public scenes write and Mitsuba 3 reads: a 0.x `<default>` whose camelCase name its
+/// `$name` uses as written; `<path>` (a folder where files are found, relative to the file
+/// naming it); names on nested objects (`<rfilter name="rfilter">`, `<bsdf name="bsdf">`) and
+/// on `<ref>`s; an emitter's `sampling_weight`.
+#[test]
 fn flat_emitter_spectra_are_mitsubas_srgb() {
     let text = scene_with(
         r#"<shape type="sphere"><emitter type="area"><spectrum name="radiance" value="2"/></emitter></shape>
@@ -138,6 +138,63 @@ fn flat_emitter_spectra_are_mitsubas_srgb() {
     assert!(close(intensity, Vec3::new(3.61438, 2.84487, 2.72675)), "{intensity:?}");
 }
 
+fn structure_as_public_scenes_write_it() {
+    let legacy = r#"<scene version="0.6.0">
+    <default name="sampleCount" value="7"/>
+    <path value="common"/>
+    <sensor type="perspective">
+        <float name="fov" value="40"/>
+        <transform name="toWorld"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <sampler type="independent"><integer name="sampleCount" value="$sampleCount"/></sampler>
+        <film type="hdrfilm">
+            <integer name="width" value="8"/><integer name="height" value="8"/>
+            <rfilter name="rfilter" type="tent"/>
+        </film>
+    </sensor>
+    <bsdf type="diffuse" id="grey"><rgb name="reflectance" value="0.25"/></bsdf>
+    <shape type="obj">
+        <string name="filename" value="tri.obj"/>
+        <ref name="bsdf" id="grey"/>
+    </shape>
+    <shape type="rectangle">
+        <bsdf name="bsdf" type="diffuse"><rgb name="reflectance" value="0.75"/></bsdf>
+        <emitter type="area"><rgb name="radiance" value="1"/><float name="samplingWeight" value="2"/></emitter>
+    </shape>
+</scene>
+"#;
+    let dir = temp_dir("public-structure");
+    std::fs::create_dir_all(dir.join("common")).unwrap();
+    std::fs::write(dir.join("common/tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(dir.join("s.xml"), legacy).unwrap();
+    let s = scene::load(&dir.join("s.xml")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(s.render.iterations, 7);
+    assert_eq!(s.render.filter, PixelFilter::Tent { radius: 1.0 });
+    let albedo = |shape: usize| match s.materials[s.shapes[shape].material as usize].kind {
+        MaterialKind::Diffuse { albedo, .. } => albedo,
+        ref other => panic!("{other:?}"),
+    };
+    assert_eq!((albedo(0), albedo(1)), (Vec3::splat(0.25), Vec3::splat(0.75)));
+    assert_eq!(s.triangles.iter().filter(|t| t.shape == 0).count(), 1);
+    // A <path> that is not a folder, and one below <scene>.
+    let missing = scene_with(r#"<path value="nowhere"/>"#);
+    let e = load_files("path-missing", &[("s.xml", &missing)], &[]).unwrap_err().to_string();
+    assert!(e.contains("nowhere") && e.contains("not a directory"), "{e}");
+    let nested = scene_with(r#"<shape type="sphere"><path value="."/></shape>"#);
+    let e = load_files("path-nested", &[("s.xml", &nested)], &[]).unwrap_err().to_string();
+    assert!(e.contains("<path> belongs directly in <scene>"), "{e}");
+    let negative = scene_with("").replace(
+        r#"<rgb name="radiance" value="1"/>"#,
+        r#"<rgb name="radiance" value="1"/><float name="sampling_weight" value="-1"/>"#,
+    );
+    let e = load_files("sampling-weight", &[("s.xml", &negative)], &[]).unwrap_err().to_string();
+    assert!(e.contains("sampling_weight -1"), "{e}");
+}
+
+fn legacy_scene_reads_camel_case_includes_meshes_and_instances() {
+    let s = load("legacy.xml");
+    assert_eq!((s.render.width, s.render.height), (160, 120));
+    assert_eq!(s.render.max_depth, 5);
+    assert_eq!(s.render.filter, PixelFilter::Gaussian { stddev: 0.5 }, "Mitsuba's default filter");
     assert!((s.camera.fov - 50.0).abs() < 1e-4, "fovAxis y: {}", s.camera.fov);
     // The included room (a cube), the light, the bunny, the serialized sphere, the water
     // sphere and two instances of the pyramid.
