@@ -138,6 +138,35 @@ fn flat_emitter_spectra_are_mitsubas_srgb() {
     assert!(close(intensity, Vec3::new(3.61438, 2.84487, 2.72675)), "{intensity:?}");
 }
 
+/// A spectrum given by wavelengths is Mitsuba 3's sRGB colour of it (values printed by
+/// Mitsuba 3.9.1's `mi.spectrum_list_to_srgb`): under D65 on a reflectance, without it on an
+/// emitter; wavelengths that do not increase are an error at the element's line.
+#[test]
+fn wavelength_spectra_are_mitsubas_srgb() {
+    let spectrum = "400:0.2, 500:0.5, 600:0.8, 700:0.3";
+    let text = scene_with(&format!(
+        r#"<shape type="sphere"><emitter type="area"><spectrum name="radiance" value="{spectrum}"/></emitter></shape>
+    <shape type="sphere"><bsdf type="diffuse"><spectrum name="reflectance" value="{spectrum}"/></bsdf></shape>"#
+    ));
+    let s = load_files("wavelengths", &[("s.xml", &text)], &[]).unwrap_or_else(|e| panic!("{e}"));
+    let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() < 2e-5;
+    let emission = s.shapes[1].emission.unwrap();
+    assert!(close(emission, Vec3::new(0.886932, 0.614419, 0.285147)), "{emission:?}");
+    let MaterialKind::Diffuse { albedo, .. } = s.materials[s.shapes[2].material as usize].kind else { panic!() };
+    assert!(close(albedo, Vec3::new(0.755029, 0.641416, 0.323239)), "{albedo:?}");
+    let backwards = scene_with(
+        r#"<shape type="sphere">
+        <bsdf type="diffuse"><spectrum name="reflectance" value="500:0.5, 400:0.2"/></bsdf></shape>"#,
+    );
+    let line = backwards.lines().position(|l| l.contains("500:0.5")).unwrap() + 1;
+    expect_error("wavelengths-backwards", &[("s.xml", &backwards)], &[], "s.xml", Some(line), "wavelengths increase");
+}
+
+/// What public scenes write and Mitsuba 3 reads: a 0.x `<default>` whose camelCase name its
+/// `$name` uses as written; `<path>` (a folder where files are found, relative to the file
+/// naming it); names on nested objects (`<rfilter name="rfilter">`, `<bsdf name="bsdf">`) and
+/// on `<ref>`s; an emitter's `sampling_weight`.
+#[test]
 fn structure_as_public_scenes_write_it() {
     let legacy = r#"<scene version="0.6.0">
     <default name="sampleCount" value="7"/>

@@ -388,7 +388,7 @@ fn conductor_ior(p: &Props) -> Result<Option<ComplexIor>> {
 /// A part of a conductor's index of refraction: a colour (`<rgb>`, a `<spectrum>` of one value,
 /// a `<float>`) of finite numbers >= 0.
 fn ior_rgb(p: &Props, name: &str, default: f32) -> Result<Vec3> {
-    match p.spectrum(name)? {
+    match p.unbounded_spectrum(name)? {
         None => Ok(Vec3::splat(default)),
         Some(Spectrum::Rgb(rgb)) => {
             if !(rgb.is_finite() && rgb.min_element() >= 0.0) {

@@ -22,6 +22,7 @@ mod bsdf;
 mod props;
 mod sensor;
 mod shape;
+mod spectra;
 mod xml;
 
 use super::{Light, Material, Scene, SceneError, Shape, Sphere, Texture, Triangle};

@@ -5,6 +5,7 @@
 //! than a silently different scene.
 
 use super::super::SceneError;
+use super::spectra::{spectrum_to_srgb, SpectrumUse, XYZ_TO_SRGB};
 use super::xml::Node;
 use glam::{Mat3, Mat4, Vec3, Vec4};
 use std::cell::Cell;
@@ -187,21 +188,25 @@ impl<'a> Props<'a> {
     /// or `<float>`, or a nested `<texture>` / `<ref>` (returned as the element).
     pub fn spectrum(&self, name: &str) -> Result<Option<Spectrum<'a>>> {
         let Some(node) = self.get(name) else { return Ok(None) };
-        spectrum_of(node, name).map(Some)
+        spectrum_of(node, name, SpectrumUse::Reflectance).map(Some)
+    }
+
+    /// An unbounded non-emissive spectrum parameter (a conductor's `eta` and `k`): as
+    /// [`Props::spectrum`], but a spectrum given by wavelengths is not clamped to 1.
+    pub fn unbounded_spectrum(&self, name: &str) -> Result<Option<Spectrum<'a>>> {
+        let Some(node) = self.get(name) else { return Ok(None) };
+        spectrum_of(node, name, SpectrumUse::Unbounded).map(Some)
     }
 
     /// An emitter's spectrum parameter (`radiance`, `intensity`, `irradiance`), as Mitsuba 3's
     /// RGB variants read it (`Properties::get_emissive_texture`): as [`Props::spectrum`], but
     /// a constant `<spectrum>` is the colour of that flat spectrum in linear sRGB, its
     /// CIE XYZ (1, 1, 1) times the value: XYZ_TO_SRGB's rows summed, a purple-ish
-    /// (1.205, 0.948, 0.909), so that RGB renders match spectral ones.
+    /// (1.205, 0.948, 0.909), so that RGB renders match spectral ones; one given by
+    /// wavelengths is integrated without an illuminant.
     pub fn emitter_spectrum(&self, name: &str) -> Result<Option<Spectrum<'a>>> {
         let Some(node) = self.get(name) else { return Ok(None) };
-        let colour = spectrum_of(node, name)?;
-        Ok(Some(match colour {
-            Spectrum::Rgb(flat) if node.tag == "spectrum" => Spectrum::Rgb(flat * (XYZ_TO_SRGB * Vec3::ONE)),
-            other => other,
-        }))
+        spectrum_of(node, name, SpectrumUse::Emitter).map(Some)
     }
 
     /// A `<transform>` parameter as a 4x4 matrix.
@@ -214,15 +219,8 @@ impl<'a> Props<'a> {
     }
 }
 
-/// CIE XYZ to linear sRGB (ITU-R BT.709 primaries, D65 white), as Mitsuba 3's `xyz_to_srgb`.
-const XYZ_TO_SRGB: Mat3 = Mat3::from_cols_array(&[
-    3.240479, -0.969256, 0.055648, // column X
-    -1.537150, 1.875991, -0.204043, // column Y
-    -0.498535, 0.041556, 1.057311, // column Z
-]);
-
-/// The colour or texture of a spectrum element.
-pub fn spectrum_of<'a>(node: &'a Node, name: &str) -> Result<Spectrum<'a>> {
+/// The colour or texture of a spectrum element, read as a parameter of kind `used`.
+pub fn spectrum_of<'a>(node: &'a Node, name: &str, used: SpectrumUse) -> Result<Spectrum<'a>> {
     match node.tag.as_str() {
         "rgb" | "srgb" => {
             node.allow_attrs(&["name", "value"])?;
@@ -248,16 +246,16 @@ pub fn spectrum_of<'a>(node: &'a Node, name: &str) -> Result<Spectrum<'a>> {
             node.allow_attrs(&["name", "value"])?;
             let text = node.req_attr("value")?;
             if text.contains(':') {
-                return Err(node.error(
-                    Some(name),
-                    "a spectrum given by wavelengths is not read by sppm-gpu (an RGB renderer): give <rgb> values",
-                ));
+                return wavelengths(node, text, name, used).map(Spectrum::Rgb);
             }
             let v = numbers(node, text, name)?;
             if v.len() != 1 {
                 return Err(node.error(Some(name), "a <spectrum> without wavelengths is one number"));
             }
-            Ok(Spectrum::Rgb(Vec3::splat(v[0])))
+            // On an emitter, the colour of a flat spectrum: its CIE XYZ (1, 1, 1) in sRGB, a
+            // purple-ish (1.205, 0.948, 0.909), so that RGB renders match spectral ones.
+            let flat = if used == SpectrumUse::Emitter { XYZ_TO_SRGB * Vec3::ONE } else { Vec3::ONE };
+            Ok(Spectrum::Rgb(flat * v[0]))
         }
         "float" => {
             node.allow_attrs(&["name", "value"])?;
@@ -267,6 +265,33 @@ pub fn spectrum_of<'a>(node: &'a Node, name: &str) -> Result<Spectrum<'a>> {
         "blackbody" => Err(node.error(Some(name), "<blackbody> spectra are not read by sppm-gpu: give <rgb> values")),
         _ => Err(node.error(Some(name), format!("`{name}` is a colour (<rgb>, <spectrum>, <float>) or a <texture>"))),
     }
+}
+
+/// A `<spectrum>` of `wavelength:value` pairs (nm, increasing) as linear sRGB
+/// ([`spectrum_to_srgb`]).
+fn wavelengths(node: &Node, text: &str, name: &str, used: SpectrumUse) -> Result<Vec3> {
+    let bad = |why: String| node.error(Some(name), why);
+    let mut points: Vec<(f32, f32)> = Vec::new();
+    for pair in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+        let (w, v) = pair.split_once(':').ok_or_else(|| bad(format!("\"{pair}\" is not a wavelength:value pair")))?;
+        let (w, v) = (parse_f32(node, w.trim(), name)?, parse_f32(node, v.trim(), name)?);
+        if points.last().is_some_and(|&(last, _)| w <= last) {
+            return Err(bad(format!("wavelength {w} after {}: wavelengths increase", points.last().unwrap().0)));
+        }
+        points.push((w, v));
+    }
+    if points.len() < 2 {
+        return Err(bad("a spectrum given by wavelengths needs two wavelength:value pairs or more".into()));
+    }
+    let (rgb, clamped) = spectrum_to_srgb(&points, used);
+    if clamped {
+        eprintln!(
+            "warning: {}:{}: the spectrum of `{name}` lies outside the sRGB gamut: clamped to {rgb}, as Mitsuba does",
+            node.file.display(),
+            node.line
+        );
+    }
+    Ok(rgb)
 }
 
 /// One finite number.
