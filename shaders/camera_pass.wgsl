@@ -61,16 +61,13 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         if to_emission {
             break;
         }
-        let m = materials[s.material];
+        let m = material_at(s);
         // A one-sided surface seen from behind is black: the path ends, leaving no visible point.
         if seen_from_behind(m, s, d) {
             break;
         }
         var diffuse = m.kind == MATERIAL_DIFFUSE;
-        var albedo = m.albedo;
-        if diffuse {
-            albedo = diffuse_albedo(m, s.uv);
-        }
+        let albedo = m.albedo;
         // Next-event estimation at diffuse, glossy, rough dielectric and plastic vertices
         // (mirrors and smooth glass cannot sample lights), from one call site: the shadow
         // ray's traversal is inlined once.

@@ -52,17 +52,14 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
         if depth == frame.max_depth {
             break;
         }
-        let m = materials[s.material];
+        let m = material_at(s);
         // A one-sided surface seen from behind is black: the path ends.
         if seen_from_behind(m, s, d) {
             break;
         }
         let wo = -d;
         let diffuse = m.kind == MATERIAL_DIFFUSE;
-        var albedo = m.albedo;
-        if diffuse {
-            albedo = diffuse_albedo(m, s.uv);
-        }
+        let albedo = m.albedo;
         // Next-event estimation at diffuse, glossy and rough dielectric vertices (mirrors and
         // smooth glass cannot sample lights), from one call site: the shadow ray's traversal
         // is inlined once. At a diffuse vertex the numbers are drawn either way, so that the

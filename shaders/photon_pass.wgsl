@@ -163,7 +163,7 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
     }
     let d = (*ph).d;
     let s = surface_at(hit, (*ph).o, d);
-    let m = materials[s.material];
+    let m = material_at(s);
     // At a diffuse hit; where the camera pass samples direct light, photons straight from a
     // light would count it twice: they deposit only after their first bounce. Called by
     // every lane that hit something, so that they all help. A photon whose flux is NaN or
@@ -192,7 +192,7 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
         // Scatter to the side the photon came from.
         let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
         wi = sample_cosine_hemisphere(n_in, rng_next2(rng));
-        f = diffuse_albedo(m, s.uv);
+        f = m.albedo;
         // A shading normal can send the photon through the surface, or behind a one-sided
         // one's ns; end it there.
         if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 || one_sided_culls(m, s, wi) {

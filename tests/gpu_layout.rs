@@ -70,7 +70,7 @@ fn gpu_structs_match_wgsl() {
     check!(module, GpuBvhNode, "BvhNode", [box_a, child_a, box_b, child_b]);
     check!(module, BvhParams, "BvhParams", [origin, _pad0, scale, _pad1]);
     check!(module, GpuTriangle, "Triangle", [p0, material, e1, shape, e2, attributes]);
-    check!(module, GpuSphere, "Sphere", [center, radius, material, shape, _pad]);
+    check!(module, GpuSphere, "Sphere", [center, radius, material, shape, attributes, _pad]);
     check!(
         module,
         GpuMaterial,
@@ -129,6 +129,9 @@ fn wgsl_constants_match_rust() {
     assert_eq!(constant("MATERIAL_THIN_DIELECTRIC"), MATERIAL_THIN_DIELECTRIC);
     assert_eq!(constant("COAT_TABLE_SIZE"), COAT_TABLE_SIZE);
     assert_eq!(constant("NO_TEXTURE"), NO_TEXTURE);
+    assert_eq!(constant("TEXTURE_NEAREST"), TEXTURE_NEAREST);
+    assert_eq!(constant("TEXTURE_MIRROR"), TEXTURE_MIRROR);
+    assert_eq!(constant("TEXTURE_CLAMP"), TEXTURE_CLAMP);
     assert_eq!(constant("SPHERE_BIT"), sppm_gpu::accel::SPHERE_BIT);
     assert_eq!(constant("MATERIAL_DIFFUSE"), MATERIAL_DIFFUSE);
     assert_eq!(constant("MATERIAL_MIRROR"), MATERIAL_MIRROR);

@@ -5,7 +5,7 @@
 
 mod common;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use sppm_gpu::integrators;
 use sppm_gpu::metrics::{compare, count_negative, count_non_finite};
 use sppm_gpu::scene::{self, ComplexIor, LightKind, MaterialKind, Method, Microfacet, PixelFilter, Scene, SceneError, ShapeKind};
@@ -98,9 +98,10 @@ fn box_scene_reads_as_mitsuba_defines_it() {
     assert!((small.center - Vec3::new(0.35, 0.2, -0.45)).length() < 1e-6);
     let kinds: Vec<_> =
         s.spheres.iter().map(|sp| s.materials[s.shapes[sp.shape as usize].material as usize].kind.clone()).collect();
-    assert!(kinds.contains(&MaterialKind::Mirror { albedo: Vec3::splat(0.9), fresnel: None }));
+    assert!(kinds.contains(&MaterialKind::Mirror { albedo: Vec3::splat(0.9), texture: None, fresnel: None }));
     assert!(kinds.contains(&MaterialKind::Glossy {
         albedo: Vec3::new(0.95, 0.75, 0.4),
+        texture: None,
         roughness: 0.25,
         distribution: Microfacet::Ggx,
         fresnel: None
@@ -400,6 +401,43 @@ fn bad_input_names_file_line_and_element() {
         Some(line_of(&text, "bad.serialized")),
         "bad.serialized",
     );
+    // Missing and corrupt texture files, at the `filename` element; a referenced texture
+    // that is not one.
+    let texture = |file: &str| {
+        scene_with(&format!(
+            "    <texture type=\"bitmap\" id=\"t\">\n        <string name=\"filename\" value=\"{file}\"/>\n    </texture>\n    <shape type=\"sphere\"><bsdf type=\"diffuse\"><ref name=\"reflectance\" id=\"t\"/></bsdf></shape>"
+        ))
+    };
+    let text = texture("nothing.png");
+    expect_error(
+        "missing texture",
+        &[("s.xml", &text)],
+        &[],
+        "s.xml",
+        Some(line_of(&text, "nothing.png")),
+        "nothing.png: No such file",
+    );
+    let text = texture("bad.png");
+    expect_error(
+        "corrupt texture",
+        &[("s.xml", &text), ("bad.png", "\u{89}PNG garbage")],
+        &[],
+        "s.xml",
+        Some(line_of(&text, "bad.png")),
+        "bad.png: ",
+    );
+    let text = scene_with(
+        r#"    <bsdf type="diffuse" id="b"/>
+    <shape type="sphere"><bsdf type="diffuse"><ref name="reflectance" id="b"/></bsdf></shape>"#,
+    );
+    expect_error(
+        "ref to a bsdf",
+        &[("s.xml", &text)],
+        &[],
+        "s.xml",
+        Some(line_of(&text, "name=\"reflectance\"")),
+        "not a <texture>",
+    );
     // Unresolved $name and ref; an include cycle.
     let text = scene_with(r#"    <shape type="sphere"><float name="radius" value="$size"/></shape>"#);
     expect_error("dollar", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "$size")), "$size is not defined");
@@ -452,9 +490,49 @@ fn bad_input_names_file_line_and_element() {
             "no parameter `ext_eta`",
         ),
         (
-            "texture",
-            r#"    <shape type="sphere"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf></shape>"#,
-            "textures from Mitsuba scenes",
+            "texture on alpha",
+            r#"    <shape type="sphere"><bsdf type="roughconductor"><texture type="checkerboard" name="alpha"/></bsdf></shape>"#,
+            "a texture as alpha of <bsdf type=\"roughconductor\">: sppm-gpu textures only",
+        ),
+        (
+            "texture on eta",
+            r#"    <shape type="sphere"><bsdf type="conductor"><texture type="checkerboard" name="eta"/></bsdf></shape>"#,
+            "a texture as eta of <bsdf type=\"conductor\">",
+        ),
+        (
+            "texture on a dielectric",
+            r#"    <shape type="sphere"><bsdf type="dielectric"><texture type="checkerboard" name="specular_reflectance"/></bsdf></shape>"#,
+            "a texture as specular_reflectance of <bsdf type=\"dielectric\">",
+        ),
+        (
+            "texture on radiance",
+            r#"    <shape type="sphere"><emitter type="area"><texture type="checkerboard" name="radiance"/></emitter></shape>"#,
+            "textured emission is not modelled",
+        ),
+        (
+            "wrap_mode",
+            r#"    <shape type="sphere"><bsdf type="diffuse"><texture type="bitmap" name="reflectance"><string name="filename" value="t.png"/><string name="wrap_mode" value="wrap"/></texture></bsdf></shape>"#,
+            "wrap_mode \"wrap\" is not one of repeat, mirror, clamp",
+        ),
+        (
+            "filter_type",
+            r#"    <shape type="sphere"><bsdf type="diffuse"><texture type="bitmap" name="reflectance"><string name="filename" value="t.png"/><string name="filter_type" value="cubic"/></texture></bsdf></shape>"#,
+            "filter_type \"cubic\" is not one of bilinear, nearest",
+        ),
+        (
+            "texture plugin",
+            r#"    <shape type="sphere"><bsdf type="diffuse"><texture type="noise" name="reflectance"/></bsdf></shape>"#,
+            "`noise` is not a Mitsuba 3 texture plugin",
+        ),
+        (
+            "checker of a texture",
+            r#"    <shape type="sphere"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"><texture type="checkerboard" name="color0"/></texture></bsdf></shape>"#,
+            "a checkerboard's color0 as a texture",
+        ),
+        (
+            "texture parameter",
+            r#"    <shape type="sphere"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"><float name="scale" value="2"/></texture></bsdf></shape>"#,
+            "no parameter `scale`",
         ),
         ("ellipsoid", r#"    <shape type="sphere"><transform name="to_world"><scale x="2"/></transform></shape>"#, "ellipsoid"),
         ("medium", r#"    <medium type="homogeneous"/>"#, "participating media"),
@@ -536,17 +614,24 @@ fn metals_scene_reads_conductors_and_beckmann() {
         s.materials[s.shapes[sp.shape as usize].material as usize].kind.clone()
     };
     let gold = ComplexIor { eta: Vec3::new(0.143036, 0.375307, 1.44205), k: Vec3::new(3.983, 2.38556, 1.60336) };
-    assert_eq!(sphere(-0.5), MaterialKind::Mirror { albedo: Vec3::ONE, fresnel: Some(gold) });
+    assert_eq!(sphere(-0.5), MaterialKind::Mirror { albedo: Vec3::ONE, texture: None, fresnel: Some(gold) });
     let copper = ComplexIor { eta: Vec3::new(0.201005, 0.92375, 1.10222), k: Vec3::new(3.91326, 2.45305, 2.14209) };
     assert_eq!(
         sphere(-0.4),
-        MaterialKind::Glossy { albedo: Vec3::ONE, roughness: 0.2, distribution: Microfacet::Beckmann, fresnel: Some(copper) }
+        MaterialKind::Glossy {
+            albedo: Vec3::ONE,
+            texture: None,
+            roughness: 0.2,
+            distribution: Microfacet::Beckmann,
+            fresnel: Some(copper)
+        }
     );
     let given = ComplexIor { eta: Vec3::new(1.66, 0.88, 0.52), k: Vec3::new(9.22, 6.27, 4.84) };
     assert_eq!(
         sphere(0.45),
         MaterialKind::Glossy {
             albedo: Vec3::new(0.9, 0.8, 0.9),
+            texture: None,
             roughness: 0.3,
             distribution: Microfacet::Ggx,
             fresnel: Some(given)
@@ -564,7 +649,13 @@ fn metals_scene_reads_conductors_and_beckmann() {
     let kind = &s.materials[s.shapes[1].material as usize].kind;
     assert_eq!(
         kind,
-        &MaterialKind::Glossy { albedo: Vec3::ONE, roughness: 0.1, distribution: Microfacet::Beckmann, fresnel: None }
+        &MaterialKind::Glossy {
+            albedo: Vec3::ONE,
+            texture: None,
+            roughness: 0.1,
+            distribution: Microfacet::Beckmann,
+            fresnel: None
+        }
     );
 }
 
@@ -687,6 +778,91 @@ fn plastic_matches_mitsuba() {
     assert_close("plastic sppm", &c, 0.003, 0.01);
     let c = against_mitsuba("plastic", Method::PtNee, 64, 0);
     assert_close("plastic pt-nee", &c, 0.003, 0.01);
+}
+
+/// textures.xml as read: each texture's texels, sampling and to_uv, and the texture
+/// coordinates of each kind of shape, in Mitsuba's convention (v down the image).
+#[test]
+fn textures_scene_reads_bitmaps_checkerboards_and_uvs() {
+    use sppm_gpu::scene::{TextureFilter, TextureWrap};
+    let s = load("textures.xml");
+    let texture_of = |shape: usize| {
+        let m = &s.materials[s.shapes[shape].material as usize];
+        &s.textures[m.kind.texture().unwrap_or_else(|| panic!("shape {shape}: {:?}", m.kind)) as usize]
+    };
+    // Floor: the checkerboard as 2x2 texels, nearest, repeat, to_uv scaled by 4.
+    let floor = texture_of(0);
+    let (c0, c1) = (Vec3::new(0.8, 0.78, 0.75), Vec3::new(0.15, 0.2, 0.45));
+    assert_eq!(floor.texels, vec![c0, c1, c1, c0]);
+    assert_eq!((floor.filter, floor.wrap), (TextureFilter::Nearest, TextureWrap::Repeat));
+    assert_eq!(floor.to_uv, glam::Affine2::from_scale(Vec2::splat(4.0)));
+    // Ceiling and back wall share one texture element: one texture.
+    let back = texture_of(2);
+    assert_eq!(
+        s.materials[s.shapes[1].material as usize].kind.texture(),
+        s.materials[s.shapes[2].material as usize].kind.texture()
+    );
+    assert_eq!((back.width, back.height), (6, 4));
+    assert_eq!(back.texels[0], Vec3::ONE, "top-left texel white");
+    let srgb = |c: f32| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+    // Texel (1, 0): (80, 30, 200) in sRGB.
+    assert!((back.texels[1] - Vec3::new(80.0, 30.0, 200.0).map(|c| srgb(c / 255.0))).abs().max_element() < 1e-6);
+    assert_eq!((back.filter, back.wrap), (TextureFilter::Bilinear, TextureWrap::Repeat));
+    let left = texture_of(3);
+    assert_eq!((left.filter, left.wrap), (TextureFilter::Nearest, TextureWrap::Mirror));
+    assert!((left.to_uv.transform_point2(Vec2::ZERO) - Vec2::new(-0.75, -0.25)).length() < 1e-6);
+    assert!((left.to_uv.transform_point2(Vec2::ONE) - Vec2::new(1.75, 1.25)).length() < 1e-6);
+    // Right wall: raw, so texels as stored; clamp; to_uv turns about (0.5, 0.5).
+    let right = texture_of(4);
+    assert!((right.texels[1] - Vec3::new(80.0, 30.0, 200.0) / 255.0).abs().max_element() < 1e-6);
+    assert_eq!(right.wrap, TextureWrap::Clamp);
+    assert!((right.to_uv.transform_point2(Vec2::splat(0.5)) - Vec2::splat(0.5)).length() < 1e-6);
+    let (sin, cos) = 30f32.to_radians().sin_cos();
+    assert!((right.to_uv.matrix2.x_axis - 1.4 * Vec2::new(cos, sin)).length() < 1e-5, "{:?}", right.to_uv);
+    // The sphere's HDR is linear, values as stored; its frame is to_world's rotation.
+    let sphere = s.spheres[0].shape as usize;
+    let stripes = texture_of(sphere);
+    assert_eq!(
+        &stripes.texels[..4],
+        &[Vec3::new(0.875, 0.5, 0.25), Vec3::new(0.25, 0.5, 0.875), Vec3::splat(0.75), Vec3::new(0.5, 0.25, 0.125)]
+    );
+    let frame = s.shapes[sphere].sphere_frame.expect("a Mitsuba sphere has a frame");
+    let rotation = glam::Mat3::from_rotation_y(40f32.to_radians()) * glam::Mat3::from_rotation_x(70f32.to_radians());
+    assert!((frame.z_axis - rotation.z_axis).length() < 1e-5 && (frame.x_axis - rotation.x_axis).length() < 1e-5, "{frame:?}");
+    // OBJ vt are read as (u, 1 - v): the vertex at (-1, 1, -1) has vt (0, 2).
+    let uv_at = |shape: usize, p: Vec3| {
+        let t = s.triangles.iter().find(|t| t.shape as usize == shape && t.p.contains(&p)).unwrap();
+        t.uv.unwrap()[t.p.iter().position(|&q| q == p).unwrap()]
+    };
+    assert_eq!(uv_at(1, Vec3::new(-1.0, 1.0, -1.0)), Vec2::new(0.0, -1.0));
+    assert_eq!(uv_at(1, Vec3::new(1.0, 1.0, 1.0)), Vec2::new(2.0, 1.0));
+    // Rectangle: ((x + 1) / 2, (y + 1) / 2) of the object-space point.
+    assert_eq!(uv_at(2, Vec3::new(-1.0, 1.0, -1.0)), Vec2::new(0.0, 1.0));
+    assert_eq!(uv_at(2, Vec3::new(1.0, -1.0, -1.0)), Vec2::new(1.0, 0.0));
+    // Cube: every corner of every face at a corner of [0, 1]^2, each face all four.
+    let cube: Vec<_> = s.triangles.iter().filter(|t| t.shape == 7).collect();
+    assert_eq!(cube.len(), 12);
+    for t in &cube {
+        assert!(t.uv.unwrap().iter().all(|uv| (uv.x == 0.0 || uv.x == 1.0) && (uv.y == 0.0 || uv.y == 1.0)), "{t:?}");
+    }
+    // A PLY without texture coordinates: each face's barycentrics, in the file's order.
+    for t in s.triangles.iter().filter(|t| t.shape == 8) {
+        assert_eq!(t.uv, Some([Vec2::ZERO, Vec2::X, Vec2::Y]));
+    }
+}
+
+/// Textures against Mitsuba 3: bitmaps bilinear and nearest, repeat, mirror and clamp, raw,
+/// to_uv, a checkerboard, an HDR on a rough conductor, and the uv of OBJ, PLY, rectangle,
+/// cube and sphere.
+#[test]
+fn textures_match_mitsuba() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let c = against_mitsuba("textures", Method::Sppm, 32, 100_000);
+    assert_close("textures sppm", &c, 0.003, 0.01);
+    let c = against_mitsuba("textures", Method::PtNee, 64, 0);
+    assert_close("textures pt-nee", &c, 0.003, 0.01);
 }
 
 #[test]

@@ -171,6 +171,7 @@ chrome = { type = "mirror", albedo = [0.9, 0.9, 0.9] }
         kinds[1],
         &MaterialKind::Glossy {
             albedo: Vec3::new(1.0, 0.78, 0.34),
+            texture: None,
             roughness: 0.2,
             distribution: Microfacet::Ggx,
             fresnel: None
@@ -178,7 +179,7 @@ chrome = { type = "mirror", albedo = [0.9, 0.9, 0.9] }
     );
     assert_eq!(kinds[2], &MaterialKind::Dielectric { ior: 1.5, roughness: 0.0, distribution: Microfacet::Ggx });
     assert_eq!(kinds[3], &MaterialKind::Dielectric { ior: 1.31, roughness: 0.15, distribution: Microfacet::Ggx });
-    assert_eq!(kinds[4], &MaterialKind::Mirror { albedo: Vec3::splat(0.9), fresnel: None });
+    assert_eq!(kinds[4], &MaterialKind::Mirror { albedo: Vec3::splat(0.9), texture: None, fresnel: None });
     assert_eq!(scene.materials[4].line, 16);
 }
 

@@ -147,7 +147,7 @@ fn hit_triangle(p0: vec3f, e1: vec3f, e2: vec3f, prim_ref: u32, shape: u32, o: v
 
 // Keep the sphere as the hit if it is nearer.
 fn hit_sphere(center: vec3f, radius: f32, prim_ref: u32, shape: u32, o: vec3f, d: vec3f, hit: ptr<function, Hit>) {
-    let t = intersect_sphere(Sphere(center, radius, 0u, shape, vec2u(0u)), origin_at_rest(o, shape), d, (*hit).t);
+    let t = intersect_sphere(Sphere(center, radius, 0u, shape, 0u, 0u), origin_at_rest(o, shape), d, (*hit).t);
     if t > 0.0 {
         *hit = Hit(t, prim_ref, vec2f(0.0));
     }
@@ -246,11 +246,15 @@ fn surface_at(hit: Hit, o: vec3f, d: vec3f) -> Surface {
         let s = spheres[hit.prim_ref & ~SPHERE_BIT];
         let center = s.center + displacement(s.shape);
         let n = normalize(o + hit.t * d - center);
-        // s = longitude / 360 degrees about +y, from +z towards +x; t = latitude from the
-        // bottom (-y) pole, as in the README.
+        // uv = (phi / 2 pi, theta / pi) of the normal in the sphere's frame (Mitsuba's
+        // sphere; TOML's frame makes s the longitude about +y from +z towards +x and t the
+        // latitude from the bottom pole, as in the README).
         var uv = vec2f(0.0);
-        if USES_TEXTURES {
-            uv = vec2f(fract(atan2(n.x, n.z) * (0.5 * INV_PI) + 1.0), acos(clamp(-n.y, -1.0, 1.0)) * INV_PI);
+        if USES_TEXTURES && (s.attributes & HAS_UVS) != 0u {
+            let a = s.attributes & ATTRIBUTE_INDEX_MASK;
+            let l = vec3f(dot(attributes[a].xyz, n), dot(attributes[a + 1u].xyz, n), dot(attributes[a + 2u].xyz, n));
+            let phi = atan2(l.y, l.x);
+            uv = vec2f(select(phi, phi + 2.0 * PI, phi < 0.0) * (0.5 * INV_PI), acos(clamp(l.z, -1.0, 1.0)) * INV_PI);
         }
         // Reproject onto the surface to remove the error of o + t d.
         return Surface(center + s.radius * n, n, n, s.material, s.shape, uv);
@@ -278,29 +282,56 @@ fn surface_at(hit: Hit, o: vec3f, d: vec3f) -> Surface {
     return Surface(p, ng, ns, tri.material, tri.shape, uv);
 }
 
-// The albedo of a diffuse material at texture coordinates uv: its texture filtered
-// bilinearly with repeat (texel centres at half-integers, row 0 at t = 1), or its constant.
-fn diffuse_albedo(m: Material, uv: vec2f) -> vec3f {
-    if !USES_TEXTURES || m.texture == NO_TEXTURE {
-        return m.albedo;
+// The material of surface s, its albedo looked up in its texture when it has one: whatever
+// the kind, a texture replaces albedo (a diffuse reflectance, a conductor's specular one).
+fn material_at(s: Surface) -> Material {
+    var m = materials[s.material];
+    if USES_TEXTURES && m.texture != NO_TEXTURE {
+        m.albedo = texture_value(m.texture, m.texture_size, s.uv);
     }
-    let size = vec2i(i32(m.texture_size & 0xffffu), i32(m.texture_size >> 16u));
-    let x = uv.x * f32(size.x) - 0.5;
-    let y = (1.0 - uv.y) * f32(size.y) - 0.5;
-    let x0 = floor(x);
-    let y0 = floor(y);
-    let fx = x - x0;
-    let fy = y - y0;
-    // Wrap into [0, size); the modulo of a negative integer is negative in WGSL.
-    let ix0 = ((i32(x0) % size.x) + size.x) % size.x;
-    let iy0 = ((i32(y0) % size.y) + size.y) % size.y;
-    let ix1 = (ix0 + 1) % size.x;
-    let iy1 = (iy0 + 1) % size.y;
-    let row0 = m.texture + u32(iy0 * size.x);
-    let row1 = m.texture + u32(iy1 * size.x);
-    let top = mix(texels[row0 + u32(ix0)].xyz, texels[row0 + u32(ix1)].xyz, fx);
-    let bottom = mix(texels[row1 + u32(ix0)].xyz, texels[row1 + u32(ix1)].xyz, fx);
-    return mix(top, bottom, fy);
+    return m;
+}
+
+// Texel index i wrapped into [0, n) by flags' wrap mode, as Mitsuba 3 (Dr.Jit's textures)
+// does: repeat, mirror (period 2n, the edge texel repeated at each seam), clamp.
+fn wrap_texel(i: i32, n: i32, flags: u32) -> i32 {
+    if (flags & TEXTURE_CLAMP) != 0u {
+        return clamp(i, 0, n - 1);
+    }
+    // The modulo of a negative integer is negative in WGSL.
+    if (flags & TEXTURE_MIRROR) != 0u {
+        let m = ((i % (2 * n)) + 2 * n) % (2 * n);
+        return select(m, 2 * n - 1 - m, m >= n);
+    }
+    return ((i % n) + n) % n;
+}
+
+// The texture with header `header` (see Material.texture; size: width | height << 16) at
+// texture coordinates uv: (x, y) = to_uv * uv, x right and y down the image in [0, 1]^2, then
+// bilinear between texel centres, which lie at half-integers of (x w, y h), or the texel
+// (x w, y h) falls in (as Mitsuba 3's bitmap; a nearest lookup is the bilinear one at that
+// texel's centre, with weights 0 and 1).
+fn texture_value(header: u32, size_bits: u32, uv: vec2f) -> vec3f {
+    let h0 = texels[header];
+    let h1 = texels[header + 1u];
+    let first = bitcast<u32>(h0.w);
+    let flags = bitcast<u32>(h1.w);
+    let size = vec2i(i32(size_bits & 0xffffu), i32(size_bits >> 16u));
+    var p = vec2f(dot(h0.xy, uv) + h0.z, dot(h1.xy, uv) + h1.z) * vec2f(size);
+    if (flags & TEXTURE_NEAREST) != 0u {
+        p = floor(p) + 0.5;
+    }
+    p -= 0.5;
+    let p0 = floor(p);
+    let f = p - p0;
+    let i0 = vec2i(p0);
+    let x0 = u32(wrap_texel(i0.x, size.x, flags));
+    let x1 = u32(wrap_texel(i0.x + 1, size.x, flags));
+    let row0 = first + u32(wrap_texel(i0.y, size.y, flags) * size.x);
+    let row1 = first + u32(wrap_texel(i0.y + 1, size.y, flags) * size.x);
+    let top = mix(texels[row0 + x0].xyz, texels[row0 + x1].xyz, f.x);
+    let bottom = mix(texels[row1 + x0].xyz, texels[row1 + x1].xyz, f.x);
+    return mix(top, bottom, f.y);
 }
 
 // Offset a ray origin off the surface, to the side of `side` (pbrt-v4 sec. 6.8.6 in spirit:

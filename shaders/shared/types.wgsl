@@ -115,7 +115,10 @@ struct Sphere {
     radius: f32,
     material: u32,
     shape: u32,
-    _pad: vec2u,
+    // HAS_UVS and the first of three entries in `attributes` (the rows of the world-to-object
+    // rotation of the sphere's texture frame) when it is textured; 0 otherwise.
+    attributes: u32,
+    _pad: u32,
 }
 
 struct Material {
@@ -123,7 +126,8 @@ struct Material {
     kind: u32,
     ior: f32,
     roughness: f32,
-    // First texel in `texels`, or NO_TEXTURE.
+    // The texture that replaces albedo, or NO_TEXTURE: the first of its two header entries
+    // in `texels` (texture_value in shared/scene.wgsl).
     texture: u32,
     // Width in the low 16 bits, height in the high 16.
     texture_size: u32,
@@ -252,6 +256,9 @@ const EMITTER_POINT: u32 = 1u;
 const EMITTER_DIRECTIONAL: u32 = 2u;
 const EMITTER_SPOT: u32 = 3u;
 const NO_TEXTURE: u32 = 0xffffffffu;
+const TEXTURE_NEAREST: u32 = 1u;
+const TEXTURE_MIRROR: u32 = 2u;
+const TEXTURE_CLAMP: u32 = 4u;
 const SPHERE_BIT: u32 = 0x80000000u;
 
 const MATERIAL_DIFFUSE: u32 = 0u;

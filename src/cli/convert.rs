@@ -128,16 +128,16 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> 
         let mut t = Table::new();
         let unsupported = |what: &str| Err(format!("material `{}`: {what} cannot be written in TOML yet", m.name));
         match m.kind {
-            MaterialKind::Diffuse { albedo, texture: None } => {
+            _ if m.kind.texture().is_some() => return unsupported("a texture"),
+            MaterialKind::Diffuse { albedo, .. } => {
                 t.insert("type".into(), Value::String("diffuse".into()));
                 t.insert("albedo".into(), vec3(albedo));
             }
-            MaterialKind::Diffuse { texture: Some(_), .. } => return unsupported("a texture"),
-            MaterialKind::Mirror { albedo, fresnel: None } => {
+            MaterialKind::Mirror { albedo, fresnel: None, .. } => {
                 t.insert("type".into(), Value::String("mirror".into()));
                 t.insert("albedo".into(), vec3(albedo));
             }
-            MaterialKind::Glossy { albedo, roughness, distribution: Microfacet::Ggx, fresnel: None } => {
+            MaterialKind::Glossy { albedo, roughness, distribution: Microfacet::Ggx, fresnel: None, .. } => {
                 t.insert("type".into(), Value::String("glossy".into()));
                 t.insert("albedo".into(), vec3(albedo));
                 t.insert("roughness".into(), float(roughness));

@@ -62,7 +62,9 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
         let kind = match m.kind {
             MaterialKind::Diffuse { texture: Some(_), .. } => "textured diffuse",
             MaterialKind::Diffuse { .. } => "diffuse",
+            MaterialKind::Mirror { texture: Some(_), .. } => "textured mirror",
             MaterialKind::Mirror { .. } => "mirror",
+            MaterialKind::Glossy { texture: Some(_), .. } => "textured glossy conductor",
             MaterialKind::Glossy { .. } => "glossy conductor",
             MaterialKind::Dielectric { roughness, .. } if roughness > 0.0 => "rough dielectric",
             MaterialKind::Dielectric { .. } => "dielectric",

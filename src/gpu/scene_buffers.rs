@@ -4,7 +4,10 @@
 use super::types::*;
 use crate::accel::bvh::PackedBvh;
 use crate::accel::{Bvh, SPHERE_BIT};
-use crate::scene::{spot_solid_angle, ComplexIor, LightKind, MaterialKind, Microfacet, Scene, SceneError};
+use crate::scene::{
+    spot_solid_angle, ComplexIor, LightKind, MaterialKind, Microfacet, Scene, SceneError, TextureFilter, TextureWrap,
+    TOML_SPHERE_FRAME,
+};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
@@ -23,9 +26,11 @@ pub struct SceneData {
     /// One per `[[shapes]]` entry: emission and velocity.
     pub shapes: Vec<GpuShape>,
     /// Shading normals and texture coordinates of the triangles that have them (see
-    /// [`GpuTriangle::attributes`]).
+    /// [`GpuTriangle::attributes`]), and the frames of textured spheres
+    /// ([`GpuSphere::attributes`]).
     pub attributes: Vec<[f32; 4]>,
-    /// Linear RGB texels of every texture, one after another, row 0 at the top.
+    /// Every texture: its two-entry header (see [`GpuMaterial::texture`]), and its linear RGB
+    /// texels, row 0 at the top, once for each distinct image.
     pub texels: Vec<[f32; 4]>,
     /// Emitting triangles, then emitting spheres, then `[[lights]]`, with their discrete
     /// distribution by power (`pmf`, `cdf`).
@@ -131,10 +136,12 @@ impl SceneData {
         let motion = scene.shapes.iter().any(|s| s.velocity.is_some_and(|v| v != Vec3::ZERO));
         let bvh = crate::accel::build_bvh_moving(&scene.triangles, &scene.spheres, velocity);
 
-        // Textures, one after another; a material refers to its first texel.
-        let mut texels = Vec::new();
+        // Textures: a header each, then the texels of each distinct image; a material refers
+        // to its texture's header.
+        let mut texels: Vec<[f32; 4]> = Vec::new();
         let mut texture_at = Vec::new();
-        for t in &scene.textures {
+        let mut image_at: Vec<(usize, u32)> = Vec::new();
+        for (i, t) in scene.textures.iter().enumerate() {
             if t.width > 0xffff || t.height > 0xffff {
                 return Err(SceneError {
                     file: t.path.clone(),
@@ -143,13 +150,39 @@ impl SceneData {
                     message: format!("a texture of {}x{} is larger than the 65535x65535 supported", t.width, t.height),
                 });
             }
-            texture_at.push((texels.len() as u32, t.width | (t.height << 16)));
-            texels.extend(t.texels.iter().map(|c| [c.x, c.y, c.z, 0.0]));
+            let header = texels.len() as u32;
+            texture_at.push((header, t.width | (t.height << 16)));
+            let same_image = |&&(j, _): &&(usize, u32)| {
+                let u = &scene.textures[j];
+                (&u.path, u.width, &u.texels) == (&t.path, t.width, &t.texels)
+            };
+            let first = match image_at.iter().find(same_image) {
+                Some(&(_, first)) => first,
+                None => {
+                    let first = header + 2;
+                    image_at.push((i, first));
+                    first
+                }
+            };
+            let flags = match t.filter {
+                TextureFilter::Bilinear => 0,
+                TextureFilter::Nearest => TEXTURE_NEAREST,
+            } | match t.wrap {
+                TextureWrap::Repeat => 0,
+                TextureWrap::Mirror => TEXTURE_MIRROR,
+                TextureWrap::Clamp => TEXTURE_CLAMP,
+            };
+            let (m, o) = (t.to_uv.matrix2, t.to_uv.translation);
+            texels.push([m.x_axis.x, m.y_axis.x, o.x, f32::from_bits(first)]);
+            texels.push([m.x_axis.y, m.y_axis.y, o.y, f32::from_bits(flags)]);
+            if first == header + 2 {
+                texels.extend(t.texels.iter().map(|c| [c.x, c.y, c.z, 0.0]));
+            }
         }
         if texels.len() > ATTRIBUTE_INDEX_MASK as usize {
             return Err(setting_error(scene, 1, "materials", "the textures hold more texels than the renderer addresses".into()));
         }
-        let textured = |shape: u32| matches!(scene.shape_material(shape).kind, MaterialKind::Diffuse { texture: Some(_), .. });
+        let textured = |shape: u32| scene.shape_material(shape).kind.texture().is_some();
 
         // Per-vertex attributes only where they are used: shading normals of smooth shapes,
         // texture coordinates of textured ones.
@@ -188,33 +221,51 @@ impl SceneData {
         let spheres: Vec<GpuSphere> = scene
             .spheres
             .iter()
-            .map(|s| GpuSphere {
-                center: s.center.into(),
-                radius: s.radius,
-                material: material_of(scene, s.shape),
-                shape: s.shape,
-                _pad: [0; 2],
+            .map(|s| {
+                let mut attributes_at = 0;
+                if textured(s.shape) {
+                    // Rows of the frame's transpose: dot products with its axes.
+                    attributes_at = attributes.len() as u32 | HAS_UVS;
+                    let frame = scene.shapes[s.shape as usize].sphere_frame.unwrap_or(TOML_SPHERE_FRAME);
+                    attributes.extend([frame.x_axis, frame.y_axis, frame.z_axis].map(|a| [a.x, a.y, a.z, 0.0]));
+                }
+                GpuSphere {
+                    center: s.center.into(),
+                    radius: s.radius,
+                    material: material_of(scene, s.shape),
+                    shape: s.shape,
+                    attributes: attributes_at,
+                    _pad: 0,
+                }
             })
             .collect();
+        if attributes.len() > ATTRIBUTE_INDEX_MASK as usize {
+            return Err(setting_error(
+                scene,
+                1,
+                "shapes",
+                "the spheres' texture frames exceed what the renderer addresses".into(),
+            ));
+        }
         let materials = scene
             .materials
             .iter()
             .map(|m| {
                 let mut g = GpuMaterial { texture: NO_TEXTURE, ..GpuMaterial::default() };
+                if let Some(t) = m.kind.texture() {
+                    (g.texture, g.texture_size) = texture_at[t as usize];
+                }
                 match m.kind {
-                    MaterialKind::Diffuse { albedo, texture } => {
+                    MaterialKind::Diffuse { albedo, .. } => {
                         g.kind = MATERIAL_DIFFUSE;
                         g.albedo = albedo.into();
-                        if let Some(t) = texture {
-                            (g.texture, g.texture_size) = texture_at[t as usize];
-                        }
                     }
-                    MaterialKind::Mirror { albedo, fresnel } => {
+                    MaterialKind::Mirror { albedo, fresnel, .. } => {
                         g.kind = MATERIAL_MIRROR;
                         g.albedo = albedo.into();
                         set_fresnel(&mut g, fresnel);
                     }
-                    MaterialKind::Glossy { albedo, roughness, distribution, fresnel } => {
+                    MaterialKind::Glossy { albedo, roughness, distribution, fresnel, .. } => {
                         g.kind = MATERIAL_GLOSSY;
                         g.albedo = albedo.into();
                         g.roughness = roughness;

@@ -151,8 +151,12 @@ pub struct GpuSphere {
     pub material: u32,
     /// Index into the `shapes` buffer (emission, velocity).
     pub shape: u32,
+    /// [`HAS_UVS`] and the first of three entries in `attributes` when the sphere is
+    /// textured: the rows of the world-to-object rotation of its texture coordinates'
+    /// frame (`crate::scene::Shape::sphere_frame`); 0 otherwise.
+    pub attributes: u32,
     /// Padding to 32 bytes; always 0.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 
 /// A material's scattering model (see [`crate::scene::MaterialKind`]).
@@ -169,7 +173,12 @@ pub struct GpuMaterial {
     pub ior: f32,
     /// Microfacet alpha of a glossy conductor or rough dielectric; 0 is smooth.
     pub roughness: f32,
-    /// First texel in the `texels` buffer, or [`NO_TEXTURE`].
+    /// The texture that replaces `albedo`, whatever the kind, or [`NO_TEXTURE`]: the first of
+    /// its two header entries in the `texels` buffer, (m00, m01, t0, first texel) and (m10,
+    /// m11, t1, flags), the last word of each as bits, where m and t are its `to_uv`: image
+    /// coordinates x = m00 u + m01 v + t0 and y = m10 u + m11 v + t1, y down. Flags:
+    /// [`TEXTURE_NEAREST`] and a wrap mode ([`TEXTURE_MIRROR`], [`TEXTURE_CLAMP`]; neither is
+    /// repeat).
     pub texture: u32,
     /// Texture width in the low 16 bits, height in the high 16.
     pub texture_size: u32,
@@ -356,6 +365,12 @@ pub const EMITTER_DIRECTIONAL: u32 = 2;
 pub const EMITTER_SPOT: u32 = 3;
 /// [`GpuMaterial::texture`] of a material without a texture.
 pub const NO_TEXTURE: u32 = u32::MAX;
+/// Texture header flag: nearest-texel lookups (else bilinear).
+pub const TEXTURE_NEAREST: u32 = 1;
+/// Texture header flag: mirrored repeat.
+pub const TEXTURE_MIRROR: u32 = 2;
+/// Texture header flag: edge texels extended.
+pub const TEXTURE_CLAMP: u32 = 4;
 /// [`GpuMaterial::kind`]: Lambertian, f = albedo / pi; the only kind SPPM leaves visible
 /// points on.
 pub const MATERIAL_DIFFUSE: u32 = 0;

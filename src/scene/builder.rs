@@ -264,14 +264,20 @@ impl SceneBuilder {
 
     /// A perfect mirror of reflectance `albedo`.
     pub fn mirror(self, name: impl Into<String>, albedo: impl Into<Vec3>) -> Self {
-        self.material(name, MaterialKind::Mirror { albedo: albedo.into(), fresnel: None })
+        self.material(name, MaterialKind::Mirror { albedo: albedo.into(), texture: None, fresnel: None })
     }
 
     /// A GGX conductor of reflectance `albedo` and GGX alpha `roughness` (in [0, 1]).
     pub fn glossy(self, name: impl Into<String>, albedo: impl Into<Vec3>, roughness: f32) -> Self {
         self.material(
             name,
-            MaterialKind::Glossy { albedo: albedo.into(), roughness, distribution: Microfacet::Ggx, fresnel: None },
+            MaterialKind::Glossy {
+                albedo: albedo.into(),
+                texture: None,
+                roughness,
+                distribution: Microfacet::Ggx,
+                fresnel: None,
+            },
         )
     }
 
@@ -562,17 +568,16 @@ impl Check<'_> {
 
     fn material(&self, key: &str, kind: &MaterialKind) -> Result<MaterialKind> {
         const UNIT: Bound = Bound::Closed(0.0, 1.0);
+        if kind.texture().is_some() {
+            return Err(
+                self.error(&format!("{key}.texture"), "a texture index cannot be given here; use SceneBuilder::textured".into())
+            );
+        }
         match *kind {
-            MaterialKind::Diffuse { albedo, texture } => {
-                if texture.is_some() {
-                    return Err(self.error(
-                        &format!("{key}.texture"),
-                        "a texture index cannot be given here; use SceneBuilder::textured".into(),
-                    ));
-                }
+            MaterialKind::Diffuse { albedo, .. } => {
                 self.vec3(&format!("{key}.albedo"), albedo, UNIT)?;
             }
-            MaterialKind::Mirror { albedo, fresnel } => {
+            MaterialKind::Mirror { albedo, fresnel, .. } => {
                 self.vec3(&format!("{key}.albedo"), albedo, UNIT)?;
                 self.fresnel(key, fresnel)?;
             }
@@ -699,6 +704,7 @@ impl Check<'_> {
             velocity: entry.velocity.map(|v| self.vec3(&format!("{key}.velocity"), v, Bound::Any)).transpose()?,
             line: 0,
             velocity_line: None,
+            sphere_frame: None,
         };
         let first_triangle = scene.triangles.len();
         let first_sphere = scene.spheres.len();

@@ -291,12 +291,13 @@ fn read_diffuse(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> 
 }
 
 fn read_mirror(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
-    Ok(MaterialKind::Mirror { albedo: t.req("albedo", |v| v.vec3_in(UNIT))?, fresnel: None })
+    Ok(MaterialKind::Mirror { albedo: t.req("albedo", |v| v.vec3_in(UNIT))?, texture: None, fresnel: None })
 }
 
 fn read_glossy(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
     Ok(MaterialKind::Glossy {
         albedo: t.req("albedo", |v| v.vec3_in(UNIT))?,
+        texture: None,
         roughness: t.req("roughness", |v| v.f32_in(UNIT))?,
         distribution: Microfacet::Ggx,
         fresnel: None,
@@ -343,6 +344,7 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
         velocity: t.opt("velocity", Value::vec3)?,
         line: entry.line,
         velocity_line: t.get("velocity").map(|v| v.line),
+        sphere_frame: None,
     };
     let first_triangle = scene.triangles.len();
     let first_sphere = scene.spheres.len();

@@ -405,12 +405,38 @@ fn unit_angle(a: Vec3, b: Vec3) -> f32 {
     }
 }
 
-/// Reads an sRGB image (PNG) and decodes it to linear RGB, row 0 at the top.
+/// Reads a TOML scene's `texture`: [`read_image`], filtered bilinearly with repeat, its t
+/// running up the image (row 0 at t = 1).
 pub(super) fn read_texture(path: &Path) -> Result<Texture, String> {
+    let mut texture = read_image(path, false)?;
+    texture.to_uv = glam::Affine2::from_cols(glam::Vec2::X, glam::Vec2::NEG_Y, glam::Vec2::Y);
+    Ok(texture)
+}
+
+/// Reads an image (PNG, JPEG, OpenEXR, Radiance HDR) into a texture of linear RGB, row 0 at
+/// the top, sampled bilinearly with repeat and an identity `to_uv`. As Mitsuba 3's `bitmap`
+/// decides it: integer images (8 or 16 bits) are sRGB-encoded and decoded here, floating-point
+/// images (EXR, HDR) are linear; `raw` keeps every value as stored. Alpha is dropped, a grey
+/// image gives grey texels.
+pub(super) fn read_image(path: &Path, raw: bool) -> Result<Texture, String> {
     let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
-    let image = image::load_from_memory(&bytes).map_err(|e| e.to_string())?.into_rgb32f();
-    let texels = image.pixels().map(|p| Vec3::from_array(p.0.map(srgb_to_linear))).collect();
-    Ok(Texture { path: path.to_path_buf(), width: image.width(), height: image.height(), texels })
+    let image = image::load_from_memory(&bytes).map_err(|e| e.to_string())?;
+    let linear = raw || matches!(image, image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_));
+    let image = image.into_rgb32f();
+    let decode = |c: f32| if linear { c } else { srgb_to_linear(c) };
+    let texels: Vec<Vec3> = image.pixels().map(|p| Vec3::from_array(p.0.map(decode))).collect();
+    if !texels.iter().all(|t| t.is_finite()) {
+        return Err("a texel is not a finite number".into());
+    }
+    Ok(Texture {
+        path: path.to_path_buf(),
+        width: image.width(),
+        height: image.height(),
+        texels,
+        filter: super::TextureFilter::Bilinear,
+        wrap: super::TextureWrap::Repeat,
+        to_uv: glam::Affine2::IDENTITY,
+    })
 }
 
 /// The sRGB electro-optical transfer function (IEC 61966-2-1), for values in [0, 1].

@@ -175,6 +175,9 @@ pub enum MaterialKind {
     Mirror {
         /// Reflectance, linear RGB in [0, 1], times the Fresnel term when there is one.
         albedo: Vec3,
+        /// Index into [`Scene::textures`] of a texture that replaces `albedo` (Mitsuba's
+        /// textured `specular_reflectance`).
+        texture: Option<u32>,
         /// The conductor's complex index of refraction, whose Fresnel reflectance scales
         /// `albedo`; `None` is Fresnel 1 (a perfect mirror; every TOML material).
         fresnel: Option<ComplexIor>,
@@ -183,6 +186,8 @@ pub enum MaterialKind {
     Glossy {
         /// Reflectance, linear RGB in [0, 1], times the Fresnel term when there is one.
         albedo: Vec3,
+        /// Index into [`Scene::textures`] of a texture that replaces `albedo`.
+        texture: Option<u32>,
         /// Alpha in [0, 1].
         roughness: f32,
         /// The distribution of microfacet normals.
@@ -232,6 +237,19 @@ pub enum MaterialKind {
     },
 }
 
+impl MaterialKind {
+    /// The texture that replaces the kind's albedo (a diffuse reflectance, a conductor's
+    /// specular reflectance), if any: on the GPU, any material's albedo may come from one.
+    pub fn texture(&self) -> Option<u32> {
+        match *self {
+            MaterialKind::Diffuse { texture, .. }
+            | MaterialKind::Mirror { texture, .. }
+            | MaterialKind::Glossy { texture, .. } => texture,
+            MaterialKind::Dielectric { .. } | MaterialKind::Plastic { .. } | MaterialKind::ThinDielectric { .. } => None,
+        }
+    }
+}
+
 /// A distribution of microfacet normals, isotropic, with Smith's separable masking (as
 /// Mitsuba 3's `MicrofacetDistribution`, sampled by visible normals).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -267,10 +285,16 @@ pub struct Material {
     pub line: usize,
 }
 
-/// A texture decoded to linear RGB (sRGB decoded), row 0 at the top (t = 1).
+/// A texture: an image decoded to linear RGB, row 0 at the top, and how it is sampled.
+///
+/// A lookup at a surface's texture coordinates uv takes (x, y) = `to_uv` * uv, x across the
+/// image from its left edge (0) to its right (1), y down from its top row (0) to its bottom
+/// (1), as Mitsuba 3's `bitmap` does; a TOML scene's t runs up, so its textures map uv by
+/// (s, 1 - t).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Texture {
-    /// The image file, resolved against the scene file's directory.
+    /// The image file, resolved against the scene file's directory (for a procedural texture,
+    /// the scene file).
     pub path: PathBuf,
     /// Width in texels.
     pub width: u32,
@@ -278,6 +302,35 @@ pub struct Texture {
     pub height: u32,
     /// Linear RGB, row-major, `width * height` texels.
     pub texels: Vec<Vec3>,
+    /// How texels are interpolated.
+    pub filter: TextureFilter,
+    /// How coordinates outside [0, 1] are brought back in.
+    pub wrap: TextureWrap,
+    /// Texture coordinates to image coordinates (x, y) in [0, 1]^2.
+    pub to_uv: glam::Affine2,
+}
+
+/// How a texture interpolates its texels (Mitsuba's `filter_type`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TextureFilter {
+    /// Bilinear between the four nearest texel centres, which lie at half-integers in texel
+    /// units (Mitsuba's default).
+    #[default]
+    Bilinear,
+    /// The texel the point lies in.
+    Nearest,
+}
+
+/// How a texture extends beyond [0, 1]^2 (Mitsuba's `wrap_mode`), texel by texel.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TextureWrap {
+    /// Tiled (Mitsuba's default).
+    #[default]
+    Repeat,
+    /// Tiled with every other tile mirrored, so that the edge texels repeat at the seams.
+    Mirror,
+    /// The edge texels extended.
+    Clamp,
 }
 
 /// The kind of a `[[shapes]]` entry.
@@ -310,7 +363,18 @@ pub struct Shape {
     pub line: usize,
     /// Line of `velocity`, when given.
     pub velocity_line: Option<usize>,
+    /// A sphere's frame for its texture coordinates (Mitsuba's `sphere`): columns are its
+    /// object-space x, y and z axes in world space, unit length, and uv = (phi / 2 pi,
+    /// theta / pi) of the normal in that frame, phi from x towards y in [0, 2 pi), theta from
+    /// z. `None` for every other shape, and for TOML's spheres, whose frame is fixed
+    /// ([`TOML_SPHERE_FRAME`]).
+    pub sphere_frame: Option<glam::Mat3>,
 }
+
+/// The frame of a TOML sphere's texture coordinates (see [`Shape::sphere_frame`]): s is the
+/// longitude about +y from +z towards +x, t the latitude from the bottom (-y) pole.
+pub const TOML_SPHERE_FRAME: glam::Mat3 = glam::Mat3::from_cols(Vec3::Z, Vec3::X, Vec3::NEG_Y);
+
 
 /// A world-space triangle. The geometric normal is `normalize(cross(p[1]-p[0], p[2]-p[0]))`,
 /// which is the front side for emission.

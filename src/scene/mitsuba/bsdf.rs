@@ -1,7 +1,7 @@
 //! Mitsuba 3's BSDF plugins, as our materials. Each plugin's parameters and defaults are
 //! Mitsuba 3's (its plugin reference, "BSDFs"):
 //!
-//! - `diffuse`: `reflectance` (0.5). Lambertian, albedo / pi.
+//! - `diffuse`: `reflectance` (0.5; a colour or a texture, texture.rs). Lambertian, albedo / pi.
 //! - `twosided`: one nested BSDF, seen the same from both sides. Every other BSDF here but the
 //!   dielectrics is black seen from behind its shading normal ([`Material::one_sided`]).
 //! - `dielectric`: `int_ior` (`bk7`, 1.5046), `ext_ior` (`air`, 1.000277), each a number or a
@@ -10,7 +10,7 @@
 //!   default `beckmann`) and `alpha` (0.1); Walter et al. 2007 sampled by visible normals.
 //! - `conductor`: `material` (`none`: eta 0, k 1, a perfect mirror; or one of Mitsuba's named
 //!   metals, [`NAMED_CONDUCTORS`]) or `eta` (0) and `k` (1), not both, and
-//!   `specular_reflectance` (1): reflectance `specular_reflectance` times the conductor
+//!   `specular_reflectance` (1; a colour or a texture): reflectance times the conductor
 //!   Fresnel term of eta + i k. Mitsuba 3's conductors have no `ext_eta`.
 //! - `roughconductor`: as `conductor`, with `distribution` (`beckmann`) and `alpha` (0.1), the
 //!   Fresnel term taken at the microfacet normal.
@@ -215,8 +215,8 @@ impl<'a> SceneReader<'a> {
                 return Ok((model, false));
             }
             "diffuse" => {
-                let albedo = self.reflectance(&p, "reflectance", 0.5)?;
-                MaterialKind::Diffuse { albedo, texture: None }
+                let (albedo, texture) = self.reflectance(&p, "reflectance", 0.5)?;
+                MaterialKind::Diffuse { albedo, texture }
             }
             "dielectric" | "roughdielectric" => {
                 let ior = ior(&p, "int_ior", 1.5046)? / ior(&p, "ext_ior", 1.000277)?;
@@ -225,7 +225,7 @@ impl<'a> SceneReader<'a> {
                         .error(Some("int_ior"), format!("int_ior / ext_ior = {ior}: an interface needs two different indices")));
                 }
                 for name in ["specular_reflectance", "specular_transmittance"] {
-                    if self.reflectance(&p, name, 1.0)? != Vec3::ONE {
+                    if constant_reflectance(&p, name, 1.0)? != Vec3::ONE {
                         return Err(p
                             .get(name)
                             .unwrap()
@@ -237,12 +237,12 @@ impl<'a> SceneReader<'a> {
             }
             "conductor" | "roughconductor" => {
                 let fresnel = conductor_ior(&p)?;
-                let albedo = self.reflectance(&p, "specular_reflectance", 1.0)?;
+                let (albedo, texture) = self.reflectance(&p, "specular_reflectance", 1.0)?;
                 if kind == "conductor" {
-                    MaterialKind::Mirror { albedo, fresnel }
+                    MaterialKind::Mirror { albedo, texture, fresnel }
                 } else {
                     let (roughness, distribution) = alpha(&p)?;
-                    MaterialKind::Glossy { albedo, roughness, distribution, fresnel }
+                    MaterialKind::Glossy { albedo, texture, roughness, distribution, fresnel }
                 }
             }
             "plastic" | "roughplastic" => {
@@ -253,8 +253,8 @@ impl<'a> SceneReader<'a> {
                     return Err(node
                         .error(Some("int_ior"), format!("int_ior / ext_ior = {ior}: an interface needs two different indices")));
                 }
-                let albedo = self.reflectance(&p, "diffuse_reflectance", 0.5)?;
-                let specular = self.reflectance(&p, "specular_reflectance", 1.0)?;
+                let albedo = constant_reflectance(&p, "diffuse_reflectance", 0.5)?;
+                let specular = constant_reflectance(&p, "specular_reflectance", 1.0)?;
                 let nonlinear = p.boolean_or("nonlinear", false)?;
                 let (roughness, distribution) = if kind == "roughplastic" { alpha(&p)? } else { (0.0, Microfacet::Ggx) };
                 MaterialKind::Plastic { albedo, specular, ior, roughness, distribution, nonlinear }
@@ -264,8 +264,8 @@ impl<'a> SceneReader<'a> {
                 if !(ior.is_finite() && ior > 0.0) {
                     return Err(node.error(Some("int_ior"), format!("int_ior / ext_ior = {ior} is not a ratio of indices")));
                 }
-                let reflectance = self.reflectance(&p, "specular_reflectance", 1.0)?;
-                let transmittance = self.reflectance(&p, "specular_transmittance", 1.0)?;
+                let reflectance = constant_reflectance(&p, "specular_reflectance", 1.0)?;
+                let transmittance = constant_reflectance(&p, "specular_transmittance", 1.0)?;
                 MaterialKind::ThinDielectric { ior, reflectance, transmittance }
             }
             other if NOT_YET.contains(&other) => {
@@ -279,25 +279,41 @@ impl<'a> SceneReader<'a> {
         Ok((model, one_sided))
     }
 
-    /// A reflectance parameter: a colour in [0, 1] (textures come later).
-    fn reflectance(&mut self, p: &Props<'a>, name: &str, default: f32) -> Result<Vec3> {
-        match p.spectrum(name)? {
-            None => Ok(Vec3::splat(default)),
-            Some(Spectrum::Rgb(rgb)) => {
-                if rgb.min_element() < 0.0 || rgb.max_element() > 1.0 {
-                    return Err(p.get(name).unwrap().error(Some(name), format!("{name} {rgb} is outside [0, 1]")));
-                }
-                Ok(rgb)
-            }
-            Some(Spectrum::Texture(node)) => {
-                let node = self.deref(node, "texture")?;
-                Err(node.error(
-                    Some(name),
-                    format!("{} as {name}: textures from Mitsuba scenes are not read by sppm-gpu yet", node.describe()),
-                ))
-            }
+    /// A reflectance parameter that may be textured: a colour in [0, 1] and no texture, or
+    /// white and the index of the texture that replaces it (texture.rs).
+    fn reflectance(&mut self, p: &Props<'a>, name: &str, default: f32) -> Result<(Vec3, Option<u32>)> {
+        if let Some(Spectrum::Texture(node)) = p.spectrum(name)? {
+            return Ok((Vec3::ONE, Some(self.texture(node)?)));
         }
+        Ok((constant_reflectance(p, name, default)?, None))
     }
+}
+
+/// A reflectance parameter that cannot be textured here: a colour in [0, 1].
+fn constant_reflectance(p: &Props, name: &str, default: f32) -> Result<Vec3> {
+    match p.spectrum(name)? {
+        None => Ok(Vec3::splat(default)),
+        Some(Spectrum::Rgb(rgb)) => {
+            if rgb.min_element() < 0.0 || rgb.max_element() > 1.0 {
+                return Err(p.get(name).unwrap().error(Some(name), format!("{name} {rgb} is outside [0, 1]")));
+            }
+            Ok(rgb)
+        }
+        Some(Spectrum::Texture(node)) => Err(untexturable(p, node, name)),
+    }
+}
+
+/// The error for a texture on a parameter that sppm-gpu does not texture: where the texture
+/// (or its `<ref>`) is, what it is on, and what can be textured.
+pub(super) fn untexturable(p: &Props, node: &Node, name: &str) -> super::SceneError {
+    node.error(
+        Some(name),
+        format!(
+            "a texture as {name} of {}: sppm-gpu textures only a diffuse `reflectance` and a conductor's \
+             `specular_reflectance`",
+            p.node.describe()
+        ),
+    )
 }
 
 /// An index of refraction: a number or one of Mitsuba's named media.
@@ -348,9 +364,8 @@ fn alpha(p: &Props) -> Result<(f32, Microfacet)> {
     let alpha = match p.spectrum("alpha")? {
         None => 0.1,
         Some(Spectrum::Rgb(v)) if v.x == v.y && v.y == v.z => v.x,
-        Some(_) => {
-            return Err(p.get("alpha").unwrap().error(Some("alpha"), "alpha is one number (textured roughness is not read)"))
-        }
+        Some(Spectrum::Texture(node)) => return Err(untexturable(p, node, "alpha")),
+        Some(_) => return Err(p.get("alpha").unwrap().error(Some("alpha"), "alpha is one number (one value for r, g and b)")),
     };
     Ok((check_alpha(p, alpha)?, distribution))
 }
@@ -396,9 +411,7 @@ fn ior_rgb(p: &Props, name: &str, default: f32) -> Result<Vec3> {
             }
             Ok(rgb)
         }
-        Some(Spectrum::Texture(node)) => {
-            Err(node.error(Some(name), format!("{name} as a texture: a conductor's index of refraction is a colour")))
-        }
+        Some(Spectrum::Texture(node)) => Err(untexturable(p, node, name)),
     }
 }
 

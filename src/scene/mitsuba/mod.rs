@@ -10,6 +10,8 @@
 //!   `roughconductor`.
 //! - `shape.rs`: `obj`, `ply`, `serialized`, `rectangle`, `cube`, `disk`, `sphere`,
 //!   `shapegroup` / `instance`, area emitters.
+//! - `texture.rs`: `bitmap` and `checkerboard`, on a diffuse `reflectance` or a conductor's
+//!   `specular_reflectance`.
 //! - `sensor.rs`: `perspective`, `thinlens`, the film, its pixel filter, the sampler and the
 //!   integrator; `point` and `directional` emitters.
 //!
@@ -23,6 +25,7 @@ mod props;
 mod sensor;
 mod shape;
 mod spectra;
+mod texture;
 mod xml;
 
 use super::{Light, Material, Scene, SceneError, Shape, Sphere, Texture, Triangle};
@@ -50,7 +53,9 @@ struct SceneReader<'a> {
     /// BSDF shared by reference is one material.
     materials: Vec<Material>,
     material_of: HashMap<*const Node, u32>,
+    /// Textures so far, and the texture of each texture element read (by address).
     textures: Vec<Texture>,
+    texture_of: HashMap<*const Node, u32>,
     shapes: Vec<Shape>,
     triangles: Vec<Triangle>,
     spheres: Vec<Sphere>,
@@ -84,6 +89,7 @@ impl<'a> SceneReader<'a> {
             materials: Vec::new(),
             material_of: HashMap::new(),
             textures: Vec::new(),
+            texture_of: HashMap::new(),
             shapes: Vec::new(),
             triangles: Vec::new(),
             spheres: Vec::new(),

@@ -11,6 +11,16 @@
 //!   0.01% short of the disk's).
 //! - `sphere`: `center` (0), `radius` (1), analytic; `to_world` must scale it uniformly.
 //! - `shapegroup` and `instance`: a group's shapes, copied under each instance's `to_world`.
+//!
+//! Texture coordinates are Mitsuba 3's, v running down the image (texture.rs): a mesh's from
+//! its file, OBJ's `vt` read as (u, 1 - v) unless `flip_tex_coords` is false (its default is
+//! true), PLY's as stored unless `flip_tex_coords` (default false), `.serialized` ones as
+//! stored; a mesh without them has, on each face, the barycentric coordinates (b1, b2) of its
+//! second and third vertex, as Mitsuba gives it. `rectangle`: ((x + 1) / 2, (y + 1) / 2) of
+//! the object-space point; `cube`: each face mapped onto [0, 1]^2 ([`CUBE_FACES`]); `disk`:
+//! (r, phi / 2 pi), phi from +x towards +y in [0, 2 pi) (linear across each of the 256
+//! triangles: v is off by at most 1/512 near the centre, where a turn is short); `sphere`:
+//! (phi / 2 pi, theta / pi) of the object-space normal, theta from +z ([`Shape::sphere_frame`]).
 
 use super::props::{Props, Spectrum};
 use super::xml::Node;
@@ -22,6 +32,18 @@ use std::path::{Path, PathBuf};
 
 /// Segments of a tessellated `disk`.
 const DISK_SEGMENTS: u32 = 256;
+
+/// The faces of Mitsuba 3's `cube` and their texture coordinates: (n, a, b) is the face
+/// through n facing along n, whose point n + s a + t b (s, t in [-1, 1]) has uv ((s + 1) / 2,
+/// (t + 1) / 2), the layout of Mitsuba's cube (checked on its vertex table).
+const CUBE_FACES: [(Vec3, Vec3, Vec3); 6] = [
+    (Vec3::NEG_Y, Vec3::Z, Vec3::X),
+    (Vec3::Y, Vec3::NEG_X, Vec3::NEG_Z),
+    (Vec3::X, Vec3::Y, Vec3::NEG_Z),
+    (Vec3::Z, Vec3::Y, Vec3::X),
+    (Vec3::NEG_X, Vec3::Y, Vec3::Z),
+    (Vec3::NEG_Z, Vec3::NEG_Y, Vec3::X),
+];
 
 impl<'a> SceneReader<'a> {
     /// Reads shape element `node` under the parent transform `parent` (an instance's).
@@ -72,6 +94,7 @@ impl<'a> SceneReader<'a> {
         let flip = p.boolean_or("flip_normals", false)?;
         let index = self.shapes.len() as u32;
         let first = self.triangles.len();
+        let mut sphere_frame = None;
         let linear = Mat3::from_mat4(to_world);
         let translation = to_world.w_axis.truncate();
         let transform = Transform::from_affine(linear, translation);
@@ -100,10 +123,9 @@ impl<'a> SceneReader<'a> {
                         read_mesh(&p, &path, |path| serialized::read_serialized(path, shape_index))?
                     }
                 };
-                // Mitsuba reads OBJ's `vt` flipped unless told not to; the coordinates are kept
-                // for textures.
-                let flip_tex = p.boolean_or("flip_tex_coords", true)?;
-                if flip_tex && kind == "obj" {
+                // Mitsuba flips v of OBJ's `vt` unless told not to, of PLY's only when told.
+                let flip_tex = kind != "serialized" && p.boolean_or("flip_tex_coords", kind == "obj")?;
+                if flip_tex {
                     if let Some(uvs) = &mut indexed.uvs {
                         uvs.iter_mut().for_each(|uv| uv.y = 1.0 - uv.y);
                     }
@@ -130,17 +152,11 @@ impl<'a> SceneReader<'a> {
                 ShapeKind::Quad
             }
             "cube" => {
-                self.add_mesh(node, mesh::unit_cube(), &transform, Normals::Flat, index, Path::new("cube"))?;
+                self.add_mesh(node, cube(), &transform, Normals::Flat, index, Path::new("cube"))?;
                 ShapeKind::Cube
             }
             "disk" => {
-                let mut disk = IndexedMesh { positions: vec![Vec3::ZERO], ..IndexedMesh::default() };
-                for i in 0..DISK_SEGMENTS {
-                    let phi = 2.0 * std::f32::consts::PI * i as f32 / DISK_SEGMENTS as f32;
-                    disk.positions.push(Vec3::new(phi.cos(), phi.sin(), 0.0));
-                    disk.indices.push([0, 1 + i, 1 + (i + 1) % DISK_SEGMENTS]);
-                }
-                self.add_flat(node, &disk, &transform, index)?;
+                self.add_flat(node, &disk(), &transform, index)?;
                 ShapeKind::Mesh
             }
             "sphere" => {
@@ -162,6 +178,7 @@ impl<'a> SceneReader<'a> {
                     return Err(node.error(Some("flip_normals"), "a sphere facing inwards is not modelled by sppm-gpu"));
                 }
                 self.spheres.push(Sphere { center: to_world.transform_point3(center), radius: radius * scale, shape: index });
+                sphere_frame = Some(linear / scale);
                 ShapeKind::Sphere
             }
             "cylinder" | "bsplinecurve" | "linearcurve" | "sdfgrid" | "ellipsoids" | "ellipsoidsmesh" => {
@@ -173,11 +190,25 @@ impl<'a> SceneReader<'a> {
             self.triangles[first..].iter_mut().for_each(flip_triangle);
         }
         let material = self.material(bsdf, node, emission.is_some())?;
+        if self.materials[material as usize].kind.texture().is_some() {
+            // A textured mesh without texture coordinates: each face's barycentrics, in the
+            // file's vertex order (flip_normals swapped its last two vertices).
+            let barycentric = if flip { [Vec2::ZERO, Vec2::Y, Vec2::X] } else { [Vec2::ZERO, Vec2::X, Vec2::Y] };
+            self.triangles[first..].iter_mut().filter(|t| t.uv.is_none()).for_each(|t| t.uv = Some(barycentric));
+        }
         p.finish()?;
         let triangles = &self.triangles[first..];
         let spheres = if shape_kind == ShapeKind::Sphere { &self.spheres[self.spheres.len() - 1..] } else { &[] };
         mesh::check_extent(triangles, spheres, Vec3::ZERO).map_err(|e| node.error(Some("to_world"), e))?;
-        self.shapes.push(Shape { kind: shape_kind, material, emission, velocity: None, line: node.line, velocity_line: None });
+        self.shapes.push(Shape {
+            kind: shape_kind,
+            material,
+            emission,
+            velocity: None,
+            line: node.line,
+            velocity_line: None,
+            sphere_frame,
+        });
         Ok(())
     }
 
@@ -224,6 +255,47 @@ impl<'a> SceneReader<'a> {
         self.triangles.extend(triangles);
         Ok(())
     }
+}
+
+/// Mitsuba 3's `cube`, `[-1, 1]^3` facing out, four vertices a face with its uv
+/// ([`CUBE_FACES`]).
+fn cube() -> IndexedMesh {
+    let mut cube = IndexedMesh { uvs: Some(Vec::new()), ..IndexedMesh::default() };
+    for (n, a, b) in CUBE_FACES {
+        let first = cube.positions.len() as u32;
+        for (s, t) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+            cube.positions.push(n + s * a + t * b);
+            cube.uvs.as_mut().unwrap().push(Vec2::new(s + 1.0, t + 1.0) * 0.5);
+        }
+        // Corners in this order turn about a x b; wind them about n.
+        let [i0, i1, i2, i3] = [0, 1, 2, 3].map(|i| first + i);
+        if a.cross(b).dot(n) > 0.0 {
+            cube.indices.extend([[i0, i1, i2], [i0, i2, i3]]);
+        } else {
+            cube.indices.extend([[i0, i2, i1], [i0, i3, i2]]);
+        }
+    }
+    cube
+}
+
+/// Mitsuba 3's `disk` as [`DISK_SEGMENTS`] triangles about its centre, with uv (r, phi /
+/// 2 pi): three vertices a triangle, so that the centre takes the middle of its triangle's
+/// phi and the last rim vertex v = 1 rather than 0.
+fn disk() -> IndexedMesh {
+    let mut disk = IndexedMesh { uvs: Some(Vec::new()), ..IndexedMesh::default() };
+    let n = DISK_SEGMENTS as f32;
+    let rim = |i: u32| {
+        let phi = 2.0 * std::f32::consts::PI * (i % DISK_SEGMENTS) as f32 / n;
+        Vec3::new(phi.cos(), phi.sin(), 0.0)
+    };
+    for i in 0..DISK_SEGMENTS {
+        let first = disk.positions.len() as u32;
+        disk.positions.extend([Vec3::ZERO, rim(i), rim(i + 1)]);
+        let v = i as f32 / n;
+        disk.uvs.as_mut().unwrap().extend([Vec2::new(0.0, v + 0.5 / n), Vec2::new(1.0, v), Vec2::new(1.0, v + 1.0 / n)]);
+        disk.indices.push([first, first + 1, first + 2]);
+    }
+    disk
 }
 
 /// The `filename` of a mesh shape, relative to the file that names it or one of the scene's
