@@ -162,6 +162,20 @@ fn wavelength_spectra_are_mitsubas_srgb() {
     let line = backwards.lines().position(|l| l.contains("500:0.5")).unwrap() + 1;
     expect_error("wavelengths-backwards", &[("s.xml", &backwards)], &[], "s.xml", Some(line), "wavelengths increase");
 }
+/// `direct` renders paths of two vertices (our max_depth 1); another project's integrator
+/// (Bitterli's scenes name a path guider) keeps its `max_depth` as Mitsuba's `path` means it.
+#[test]
+fn other_integrators_keep_their_depth() {
+    let depth_of = |integrator: &str| {
+        let text = scene_with(integrator);
+        load_files("integrators", &[("s.xml", &text)], &[]).unwrap_or_else(|e| panic!("{e}")).render.max_depth
+    };
+    assert_eq!(depth_of(r#"<integrator type="direct"><integer name="emitter_samples" value="4"/></integrator>"#), 1);
+    assert_eq!(depth_of(r#"<integrator type="path_guiding_integrator"><integer name="max_depth" value="5"/></integrator>"#), 4);
+    let default = load_files("integrators", &[("s.xml", &scene_with(""))], &[]).unwrap().render.max_depth;
+    assert_eq!(depth_of(r#"<integrator type="bdpt"/>"#), default);
+}
+
 
 /// What public scenes write and Mitsuba 3 reads: a 0.x `<default>` whose camelCase name its
 /// `$name` uses as written; `<path>` (a folder where files are found, relative to the file

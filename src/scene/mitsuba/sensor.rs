@@ -11,11 +11,13 @@
 //! - `path`/`volpath`: `max_depth` (-1, unbounded) counts path vertices after the camera's,
 //!   so 2 is direct light alone: our `max_depth` (scattering events) is one less. `sppm`
 //!   (Mitsuba 0.6): `photon_count`, `initial_radius` (0: automatic), `alpha`, `max_depth`,
-//!   `max_passes`. Any other integrator is a warning, and our default method renders.
+//!   `max_passes`. `direct`: max_depth 1 (ours). Any other integrator is a warning, and our
+//!   default method renders, at the integrator's `max_depth` if it has one (as `path`'s).
 //! - `point`: `intensity` (1) at `position` or `to_world`'s origin. `directional`:
 //!   `irradiance` (1) along `direction` or `to_world`'s +z. `spot`: `intensity` (1),
 //!   `cutoff_angle` (20 degrees), `beam_width` (3/4 of the cutoff), at `to_world`'s origin
-//!   looking along its +z. Every emitter (and `area` in shape.rs) takes `sampling_weight`,
+//!   looking along its +z. `constant`: `radiance` (1) from every direction, one per scene.
+//!   Every emitter (and `area` in shape.rs) takes `sampling_weight`,
 //!   which changes only Mitsuba's noise ([`Props::emitter_sampling_weight`]).
 
 use super::props::{Props, Spectrum};
@@ -344,9 +346,35 @@ pub(super) fn render_settings(sensor: &SensorSettings, integrator: Option<&Node>
             }
             p.finish()?;
         }
+        // Emission seen and direct light at the first hit, by light and BSDF samples with
+        // MIS: the paths `path` draws with max_depth 2, so ours with max_depth 1.
+        "direct" => {
+            render.max_depth = 1;
+            // How many samples of each strategy: the noise, not the image.
+            for name in ["emitter_samples", "bsdf_samples", "shading_samples"] {
+                p.integer(name)?;
+            }
+            if p.boolean_or("hide_emitters", false)? {
+                return Err(p
+                    .get("hide_emitters")
+                    .unwrap()
+                    .error(Some("hide_emitters"), "hide_emitters is not modelled by sppm-gpu"));
+            }
+            p.finish()?;
+        }
         other => {
+            // A plugin of another project (a path guider, a bidirectional tracer) that says
+            // how long its paths are means light transport as Mitsuba's path counts it.
+            let depth = match p.get("max_depth").filter(|n| n.tag == "integer") {
+                Some(_) => {
+                    render.max_depth = max_depth(&p)?;
+                    format!(" its max_depth ({} scattering events),", render.max_depth)
+                }
+                None => String::new(),
+            };
             eprintln!(
-                "warning: {}:{}: the `{other}` integrator is not one sppm-gpu has: rendering with SPPM (--method picks another)",
+                "warning: {}:{}: the `{other}` integrator is not one sppm-gpu has: rendering with SPPM at{depth} as Mitsuba's \
+                 path would (--method picks another)",
                 node.file.display(),
                 node.line
             );
@@ -371,7 +399,7 @@ fn max_depth(p: &Props) -> Result<u32> {
     }
 }
 
-/// A top-level `<emitter>`: point, directional or spot.
+/// A top-level `<emitter>`: point, directional, spot or constant.
 pub(super) fn light(node: &Node, lights: &mut Vec<Light>) -> Result<()> {
     node.allow_attrs(&["type", "id", "name"])?;
     let kind = node.req_attr("type")?;
@@ -448,7 +476,17 @@ pub(super) fn light(node: &Node, lights: &mut Vec<Light>) -> Result<()> {
             LightKind::Spot { position, direction, intensity, cutoff_angle, beam_width }
         }
         "area" => return Err(node.error(Some("type"), "an area emitter belongs inside the <shape> that emits")),
-        "constant" | "envmap" | "sunsky" | "skysun" | "sky" | "sun" => {
+        "constant" => {
+            // At most one environment surrounds the scene, as in Mitsuba 3.
+            if let Some(first) = lights.iter().find(|l| l.kind.is_environment()) {
+                return Err(node.error(
+                    Some("type"),
+                    format!("a scene has at most one environment emitter; another is at line {}", first.line),
+                ));
+            }
+            LightKind::Constant { radiance: rgb("radiance")? }
+        }
+        "envmap" | "sunsky" | "skysun" | "sky" | "sun" => {
             return Err(node.error(Some("type"), format!("the `{kind}` environment emitter is not modelled by sppm-gpu yet")))
         }
         "projector" => return Err(node.error(Some("type"), format!("the `{kind}` emitter is not modelled by sppm-gpu yet"))),
