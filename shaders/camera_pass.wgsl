@@ -50,6 +50,10 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
     for (var depth = 0u; depth < frame.max_depth || to_emission; depth++) {
         let hit = trace_closest(o, d, 3.4e38);
         if hit.prim_ref == 0xffffffffu {
+            // The ray escapes: the environment, weighted as emission is.
+            if USES_ENVIRONMENT {
+                path.ld += beta * escaped_light(pdf_prev);
+            }
             break;
         }
         let s = surface_at(hit, o, d);

@@ -41,6 +41,10 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     for (var depth = 0u; depth <= frame.max_depth; depth++) {
         let hit = trace_closest(o, d, 3.4e38);
         if hit.prim_ref == 0xffffffffu {
+            // The ray escapes: the environment, weighted as emission is.
+            if USES_ENVIRONMENT {
+                l += beta * escaped_light(pdf_prev);
+            }
             break;
         }
         let s = surface_at(hit, o, d);

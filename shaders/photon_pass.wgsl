@@ -120,7 +120,8 @@ struct Photon {
 // Choose a light in proportion to power and a photon leaving it: from an area light, a point
 // on it and a cosine-distributed direction from its front; from a point light, a uniform
 // direction; from a spot light, a direction in its cone (sample_spot_emission); from a
-// directional light, a point on a disk facing it that covers the scene.
+// directional light, a point on a disk facing it that covers the scene; from the environment,
+// a uniform direction and a point on such a disk.
 // beta = Le cos / (pmf * pdf(position) * pdf(direction)), relative to the total power.
 fn emit_photon(rng: ptr<function, Rng>) -> Photon {
     let e = emitters[find_emitter(rng_next(rng))];
@@ -141,6 +142,16 @@ fn emit_photon(rng: ptr<function, Rng>) -> Photon {
         let q = e.radius * sample_disk(u_pos);
         let p = e.position + b[0] * q.x + b[1] * q.y;
         return Photon(p, e.direction, e.radiance * (e.area * scale), 0u);
+    }
+    if USES_ENVIRONMENT && e.kind == EMITTER_ENVIRONMENT {
+        // Arriving from w, uniform on the sphere, through a point uniform on the disk of the
+        // bounding sphere's radius R facing w, placed outside the sphere (pbrt-v4 sec.
+        // 12.5.3, UniformInfiniteLight::SampleLe): L / ((1 / 4 pi) (1 / pi R^2)).
+        let w = sample_uniform_sphere(u_dir);
+        let b = basis(w);
+        let q = e.radius * sample_disk(u_pos);
+        let p = e.position + 1.01 * e.radius * w + b[0] * q.x + b[1] * q.y;
+        return Photon(p, -w, e.radiance * (4.0 * PI * e.area * scale), 0u);
     }
     let l = sample_area_emitter(e, u_pos);
     let d = sample_cosine_hemisphere(l.n, u_dir);

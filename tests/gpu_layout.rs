@@ -124,6 +124,7 @@ fn wgsl_constants_match_rust() {
     assert_eq!(constant("EMITTER_POINT"), EMITTER_POINT);
     assert_eq!(constant("EMITTER_DIRECTIONAL"), EMITTER_DIRECTIONAL);
     assert_eq!(constant("EMITTER_SPOT"), EMITTER_SPOT);
+    assert_eq!(constant("EMITTER_ENVIRONMENT"), EMITTER_ENVIRONMENT);
     assert_eq!(constant("MATERIAL_GLOSSY"), MATERIAL_GLOSSY);
     assert_eq!(constant("MATERIAL_PLASTIC"), MATERIAL_PLASTIC);
     assert_eq!(constant("MATERIAL_THIN_DIELECTRIC"), MATERIAL_THIN_DIELECTRIC);

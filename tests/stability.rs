@@ -133,7 +133,7 @@ fn scaled(scene: &Scene, s: f32) -> Scene {
                 *position *= s;
                 *intensity *= s * s;
             }
-            LightKind::Directional { .. } => {}
+            LightKind::Directional { .. } | LightKind::Constant { .. } => {}
         }
     }
     out.camera.position *= s;

@@ -10,6 +10,12 @@ override USES_SPHERE_LIGHTS: bool = true;
 override USES_POINT_LIGHTS: bool = true;
 override USES_DIRECTIONAL_LIGHTS: bool = true;
 override USES_SPOT_LIGHTS: bool = true;
+override USES_ENVIRONMENT: bool = true;
+
+// The environment, always the last emitter; only where USES_ENVIRONMENT.
+fn environment() -> Emitter {
+    return emitters[frame.emitter_count - 1u];
+}
 
 // Index of the emitter whose cdf interval holds u (binary search).
 fn find_emitter(u: f32) -> u32 {
@@ -57,17 +63,18 @@ fn area_emitter_density(shape: u32) -> f32 {
 // A light sample seen from a receiving point (pbrt-v4 sec. 12.2, LightLiSample).
 struct LightSample {
     // Unit direction from the receiver towards the light, and the distance to it (3.4e38
-    // for a directional light).
+    // for a directional light or the environment).
     wi: vec3f,
     dist: f32,
     // Incident radiance over the sample's density: Le / pdf for an area light, I / (d^2 pmf)
-    // for a point light (times the falloff for a spot light), E / pmf for a directional one;
-    // zero when the sample is unusable.
+    // for a point light (times the falloff for a spot light), E / pmf for a directional one,
+    // L / pdf for the environment; zero when the sample is unusable.
     li: vec3f,
     // Solid-angle density of wi, the choice of light included; 0 for a delta light.
     pdf: f32,
     // Where the shadow ray ends: the light point, offset off an area light towards the
-    // receiver (pbrt-v4 sec. 6.8.6, SpawnRayTo), or far along wi for a directional light.
+    // receiver (pbrt-v4 sec. 6.8.6, SpawnRayTo), or far along wi for a directional light
+    // and the environment.
     p_light: vec3f,
     // Cosine between -wi and an area light's normal at the point; 0 for other lights.
     cos_l: f32,
@@ -132,6 +139,14 @@ fn sample_light(p: vec3f, u: vec3f) -> LightSample {
         let far = 2.0 * e.radius + length(p - e.position);
         return LightSample(wi, 3.4e38, e.radiance / e.pmf, 0.0, p + far * wi, 0.0);
     }
+    if USES_ENVIRONMENT && e.kind == EMITTER_ENVIRONMENT {
+        // Uniform on the sphere, as Mitsuba 3's `constant` samples: pdf pmf / (4 pi).
+        let wi = sample_uniform_sphere(u.yz);
+        let pdf = environment_pdf();
+        // Past the bounding sphere (centre e.position, radius e.radius).
+        let far = 2.0 * e.radius + length(p - e.position);
+        return LightSample(wi, 3.4e38, e.radiance / pdf, pdf, p + far * wi, 0.0);
+    }
     var l: LightPoint;
     if is_sphere_light(e.prim_ref) && outside_sphere(spheres[e.prim_ref & ~SPHERE_BIT], p) {
         l = sample_sphere_cone(spheres[e.prim_ref & ~SPHERE_BIT], p, u.yz);
@@ -170,6 +185,12 @@ fn light_pdf(p: vec3f, prim_ref: u32, shape: u32, t: f32, cos_l: f32) -> f32 {
         }
     }
     return area_emitter_density(shape) * t * t / cos_l;
+}
+
+// Solid-angle density with which sample_light picks any one direction of the environment:
+// its pmf times the uniform sphere's 1 / (4 pi).
+fn environment_pdf() -> f32 {
+    return environment().pmf * (0.25 * INV_PI);
 }
 
 // Mitsuba 3's spot falloff (src/scene/mod.rs, spot_falloff) in unit direction d leaving spot

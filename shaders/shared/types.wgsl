@@ -255,6 +255,7 @@ const EMITTER_AREA: u32 = 0u;
 const EMITTER_POINT: u32 = 1u;
 const EMITTER_DIRECTIONAL: u32 = 2u;
 const EMITTER_SPOT: u32 = 3u;
+const EMITTER_ENVIRONMENT: u32 = 4u;
 const NO_TEXTURE: u32 = 0xffffffffu;
 const TEXTURE_NEAREST: u32 = 1u;
 const TEXTURE_MIRROR: u32 = 2u;

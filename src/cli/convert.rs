@@ -206,6 +206,10 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> 
                 t.insert("irradiance".into(), vec3(irradiance));
             }
             LightKind::Spot { .. } => return Err("a spot light cannot be written in TOML yet".into()),
+            LightKind::Constant { radiance } => {
+                t.insert("type".into(), Value::String("constant".into()));
+                t.insert("radiance".into(), vec3(radiance));
+            }
         }
         lights.push(Value::Table(t));
     }

@@ -92,6 +92,7 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
             LightKind::Point { .. } => "point",
             LightKind::Directional { .. } => "directional",
             LightKind::Spot { .. } => "spot",
+            LightKind::Constant { .. } => "constant",
         };
         *lights.entry(kind).or_insert(0) += 1;
     }

@@ -9,8 +9,9 @@
 
 use super::scene_buffers::SceneData;
 use super::types::{
-    EMITTER_AREA, EMITTER_DIRECTIONAL, EMITTER_POINT, EMITTER_SPOT, HAS_NORMALS, HAS_UVS, MATERIAL_DIELECTRIC, MATERIAL_GLOSSY,
-    MATERIAL_MIRROR, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, MICROFACET_BECKMANN, NO_TEXTURE,
+    EMITTER_AREA, EMITTER_DIRECTIONAL, EMITTER_ENVIRONMENT, EMITTER_POINT, EMITTER_SPOT, HAS_NORMALS, HAS_UVS,
+    MATERIAL_DIELECTRIC, MATERIAL_GLOSSY, MATERIAL_MIRROR, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, MICROFACET_BECKMANN,
+    NO_TEXTURE,
 };
 use crate::accel::SPHERE_BIT;
 
@@ -60,6 +61,8 @@ pub struct Features {
     pub directional_lights: bool,
     /// Some emitter is a spot light.
     pub spot_lights: bool,
+    /// The scene has an environment (the last emitter).
+    pub environment: bool,
 }
 
 impl Features {
@@ -86,6 +89,7 @@ impl Features {
         point_lights: true,
         directional_lights: true,
         spot_lights: true,
+        environment: true,
     };
 
     /// The features `data` uses.
@@ -123,6 +127,7 @@ impl Features {
             point_lights: emitter(EMITTER_POINT, false),
             directional_lights: emitter(EMITTER_DIRECTIONAL, false),
             spot_lights: emitter(EMITTER_SPOT, false),
+            environment: emitter(EMITTER_ENVIRONMENT, false),
         }
     }
 
@@ -150,6 +155,7 @@ impl Features {
             ("USES_POINT_LIGHTS", self.point_lights),
             ("USES_DIRECTIONAL_LIGHTS", self.directional_lights),
             ("USES_SPOT_LIGHTS", self.spot_lights),
+            ("USES_ENVIRONMENT", self.environment),
         ]
         .into_iter()
         .map(|(name, on)| (name, if on { 1.0 } else { 0.0 }))

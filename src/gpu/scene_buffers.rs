@@ -307,8 +307,9 @@ impl SceneData {
 
         // Lights, chosen in proportion to power: the average over RGB of Le * area * pi for an
         // area light (a Lambertian emitter), I * 4 pi for a point light, E * pi R^2 for a
-        // directional light through a disk of radius R and I * Omega for a spot light, Omega
-        // the integral of its falloff over directions (spot_solid_angle, in closed form).
+        // directional light through a disk of radius R, I * Omega for a spot light, Omega
+        // the integral of its falloff over directions (spot_solid_angle, in closed form), and
+        // L * pi R^2 * 4 pi for a constant environment.
         let mut emitters = Vec::new();
         let mut powers = Vec::new();
         let emission = |shape: u32| scene.shapes[shape as usize].emission.unwrap_or(Vec3::ZERO);
@@ -375,7 +376,24 @@ impl SceneData {
                     });
                     powers.push(average(intensity) * omega);
                 }
+                // Last, after the loop.
+                LightKind::Constant { .. } => {}
             }
+        }
+        // The environment is the last emitter, where the kernels find it. Its photons cross
+        // the disk of radius R that covers the bounding sphere, from every direction: power
+        // average(L) pi R^2 4 pi.
+        if let Some(LightKind::Constant { radiance }) = scene.lights.iter().map(|l| &l.kind).find(|k| k.is_environment()) {
+            let area = pi * radius * radius;
+            emitters.push(Emitter {
+                kind: EMITTER_ENVIRONMENT,
+                position: center.into(),
+                area,
+                radiance: (*radiance).into(),
+                radius,
+                ..Emitter::default()
+            });
+            powers.push(average(*radiance) * area as f64 * 4.0 * std::f64::consts::PI);
         }
         let power_total: f64 = powers.iter().sum();
         if !power_total.is_finite() || power_total <= 0.0 {

@@ -245,7 +245,8 @@ pub struct GpuShape {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct Emitter {
-    /// [`EMITTER_AREA`], [`EMITTER_POINT`], [`EMITTER_DIRECTIONAL`] or [`EMITTER_SPOT`].
+    /// [`EMITTER_AREA`], [`EMITTER_POINT`], [`EMITTER_DIRECTIONAL`], [`EMITTER_SPOT`] or
+    /// [`EMITTER_ENVIRONMENT`].
     pub kind: u32,
     /// The emitting primitive of an area emitter.
     pub prim_ref: u32,
@@ -254,14 +255,17 @@ pub struct Emitter {
     /// Probability of choosing this emitter, proportional to its power.
     pub pmf: f32,
     /// Point and spot light: its position. Directional: the centre of the disk photons leave
-    /// from.
+    /// from. Environment: the centre of the scene's bounding sphere.
     pub position: [f32; 3],
-    /// Area of the primitive, or of the directional light's disk; a spot light's Omega, the
+    /// Area of the primitive, or of the directional light's or environment's disk (pi R^2);
+    /// a spot light's Omega, the
     /// integral of its falloff over directions (steradians; power I * Omega).
     pub area: f32,
     /// Point and spot light: intensity (W/sr; a spot's on its axis). Directional: irradiance.
+    /// Environment: radiance.
     pub radiance: [f32; 3],
-    /// Radius of the directional light's disk; a spot light's cutoff angle (radians).
+    /// Radius R of the directional light's or environment's disk, the scene's bounding
+    /// sphere's; a spot light's cutoff angle (radians).
     pub radius: f32,
     /// Direction of travel of a directional light; the axis of a spot light's cone.
     pub direction: [f32; 3],
@@ -363,6 +367,8 @@ pub const EMITTER_POINT: u32 = 1;
 pub const EMITTER_DIRECTIONAL: u32 = 2;
 /// [`Emitter::kind`] of a spot light.
 pub const EMITTER_SPOT: u32 = 3;
+/// [`Emitter::kind`] of a constant environment, always the last emitter.
+pub const EMITTER_ENVIRONMENT: u32 = 4;
 /// [`GpuMaterial::texture`] of a material without a texture.
 pub const NO_TEXTURE: u32 = u32::MAX;
 /// Texture header flag: nearest-texel lookups (else bilinear).

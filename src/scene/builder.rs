@@ -410,6 +410,13 @@ impl SceneBuilder {
         self
     }
 
+    /// A constant environment: `radiance` (each channel >= 0) from every direction, at
+    /// infinity (Mitsuba 3's `constant`). A scene has at most one.
+    pub fn constant_environment(mut self, radiance: impl Into<Vec3>) -> Self {
+        self.lights.push(LightKind::Constant { radiance: radiance.into() });
+        self
+    }
+
     /// A spot light at `position` whose cone's axis points along `direction` (nonzero;
     /// normalized here): radiant `intensity` (W/sr, each channel >= 0) within `beam_width`
     /// degrees of the axis, falling off linearly in the angle to zero at `cutoff_angle`
@@ -469,6 +476,9 @@ impl SceneBuilder {
             .enumerate()
             .map(|(i, light)| Ok(Light { kind: check.light(&format!("lights[{i}]"), light)?, line: 0 }))
             .collect::<Result<Vec<_>>>()?;
+        if let Some(i) = lights.iter().enumerate().filter(|(_, l)| l.kind.is_environment()).nth(1).map(|(i, _)| i) {
+            return Err(check.error(&format!("lights[{i}]"), "a scene has at most one environment light".into()));
+        }
         let mut scene = Scene {
             path: self.path.clone(),
             render,
@@ -670,6 +680,9 @@ impl Check<'_> {
                     cutoff_angle,
                     beam_width: self.f32(&format!("{key}.beam_width"), beam_width, Bound::NonNegative)?,
                 }
+            }
+            LightKind::Constant { radiance } => {
+                LightKind::Constant { radiance: self.vec3(&format!("{key}.radiance"), radiance, Bound::NonNegative)? }
             }
         })
     }

@@ -52,6 +52,12 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
         table.entries().iter().map(|(name, m)| read_material(name, m, &mut textures)).collect()
     })?;
     let lights = root.or("lights", Vec::new(), |v| v.elements()?.iter().map(read_light).collect())?;
+    // At most one environment surrounds the scene.
+    let mut environments = lights.iter().enumerate().filter(|(_, l)| l.kind.is_environment());
+    if let (Some((_, first)), Some((i, second))) = (environments.next(), environments.next()) {
+        let message = format!("a scene has at most one environment light; another is at line {}", first.line);
+        return Err(source.error(Some(second.line), Some(&format!("lights[{i}]")), message));
+    }
     let mut scene = Scene {
         path: path.to_path_buf(),
         render,
@@ -458,6 +464,7 @@ type LightReader = fn(&Table) -> Result<LightKind>;
 const LIGHT_TYPES: &[(&str, LightReader, &[&str])] = &[
     ("point", read_point_light, &["position", "intensity"]),
     ("directional", read_directional_light, &["direction", "irradiance"]),
+    ("constant", read_constant_light, &["radiance"]),
 ];
 
 /// Reads one `[[lights]]` entry.
@@ -472,6 +479,11 @@ fn read_point_light(t: &Table) -> Result<LightKind> {
         position: t.req("position", Value::vec3)?,
         intensity: t.req("intensity", |v| v.vec3_in(Bound::NonNegative))?,
     })
+}
+
+/// A constant environment: `radiance` from every direction.
+fn read_constant_light(t: &Table) -> Result<LightKind> {
+    Ok(LightKind::Constant { radiance: t.req("radiance", |v| v.vec3_in(Bound::NonNegative))? })
 }
 
 /// A directional light; its direction is normalized.

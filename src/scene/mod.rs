@@ -436,6 +436,20 @@ pub enum LightKind {
         /// `cutoff_angle` the cone's edge is hard.
         beam_width: f32,
     },
+    /// Mitsuba 3's `constant` environment: the same radiance from every direction, at
+    /// infinity. A scene has at most one environment.
+    Constant {
+        /// Radiance L, linear RGB; power average(L) pi R^2 4 pi through the disk of radius R
+        /// that covers the scene's bounding sphere.
+        radiance: Vec3,
+    },
+}
+
+impl LightKind {
+    /// Whether the light is an environment (at infinity, around the whole scene).
+    pub fn is_environment(&self) -> bool {
+        matches!(self, LightKind::Constant { .. })
+    }
 }
 
 /// Mitsuba 3's spot falloff (its `spot` plugin's `falloff_curve`, checked against Mitsuba
@@ -473,8 +487,8 @@ pub fn spot_solid_angle(cutoff: f64, beam: f64) -> f64 {
     inner + 2.0 * std::f64::consts::PI * (b.cos() * s + b.sin() * t)
 }
 
-/// One `[[lights]]` entry (a point, directional or spot light; area lights are shapes with
-/// `emission`).
+/// One `[[lights]]` entry (a point, directional, spot or constant environment light; area
+/// lights are shapes with `emission`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Light {
     /// The light's type and parameters.
@@ -528,14 +542,15 @@ impl Scene {
         (lo, hi)
     }
 
-    /// Whether anything gives light: an emitting shape, or a point, spot or directional light,
-    /// with some channel above zero.
+    /// Whether anything gives light: an emitting shape, or a point, spot, directional or
+    /// environment light, with some channel above zero.
     pub fn is_lit(&self) -> bool {
         self.shapes.iter().any(|s| s.emission.is_some_and(|e| e.max_element() > 0.0))
             || self.lights.iter().any(|l| match l.kind {
                 LightKind::Point { intensity: e, .. }
                 | LightKind::Directional { irradiance: e, .. }
-                | LightKind::Spot { intensity: e, .. } => e.max_element() > 0.0,
+                | LightKind::Spot { intensity: e, .. }
+                | LightKind::Constant { radiance: e } => e.max_element() > 0.0,
             })
     }
 
