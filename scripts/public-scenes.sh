@@ -146,6 +146,7 @@ stage mitsuba-spot $M "$MD" docs/scenes/emitter_spot_no_texture.xml \
 noenv mitsuba-spot-noenv mitsuba-spot docs/scenes/emitter_spot_no_texture.xml
 stage mitsuba-veach-mis $M "$MD" docs/scenes/integrator_direct_both.xml \
     docs/scenes/include/veach_mis.xml docs/scenes/meshes/veach common/meshes/rectangle.obj  # <path> needs common/
+stage mitsuba-hello $M "$MD" scenes/hello.xml common/meshes/teapot.ply
 stage mitsuba-twosided-cbox $M "$MD" docs/scenes/bsdf_twosided_cbox.xml common/meshes/cbox
 stage mitsuba-ply-bunny $M "$MD" docs/scenes/shape_ply_bunny.xml \
     docs/scenes/include/shape_scene.xml common/meshes/bunny.ply common/textures/museum.exr common/meshes/matpreview.serialized
