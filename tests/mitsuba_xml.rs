@@ -115,11 +115,10 @@ fn defines_override_defaults() {
     assert_eq!((s.render.iterations, s.render.width, s.render.height), (16, 32, 32));
 }
 
-#[test]
-/// What public scenes write and Mitsuba 3 reads: a 0.x `<default>` whose camelCase name its
-/// `$name` uses as written; `<path>` (a folder where files are found, relative to the file
-/// naming it); names on nested objects (`<rfilter name="rfilter">`, `<bsdf name="bsdf">`) and
-/// on `<ref>`s; an emitter's `sampling_weight`.
+/// A flat `<spectrum>` on an emitter is the sRGB colour of a flat spectrum, as Mitsuba 3's RGB
+/// variants make it (values printed by Mitsuba 3.9.1's `mi.traverse`: radiance 2 gives
+/// 2.40959 1.89658 1.81783, intensity 3 gives 3.61438 2.84487 2.72675); a `<float>` stays
+/// grey, and so does a flat spectrum on a reflectance.
 #[test]
 fn flat_emitter_spectra_are_mitsubas_srgb() {
     let text = scene_with(
@@ -162,6 +161,7 @@ fn wavelength_spectra_are_mitsubas_srgb() {
     let line = backwards.lines().position(|l| l.contains("500:0.5")).unwrap() + 1;
     expect_error("wavelengths-backwards", &[("s.xml", &backwards)], &[], "s.xml", Some(line), "wavelengths increase");
 }
+
 /// `direct` renders paths of two vertices (our max_depth 1); another project's integrator
 /// (Bitterli's scenes name a path guider) keeps its `max_depth` as Mitsuba's `path` means it.
 #[test]
@@ -175,7 +175,6 @@ fn other_integrators_keep_their_depth() {
     let default = load_files("integrators", &[("s.xml", &scene_with(""))], &[]).unwrap().render.max_depth;
     assert_eq!(depth_of(r#"<integrator type="bdpt"/>"#), default);
 }
-
 
 /// What public scenes write and Mitsuba 3 reads: a 0.x `<default>` whose camelCase name its
 /// `$name` uses as written; `<path>` (a folder where files are found, relative to the file
@@ -234,6 +233,7 @@ fn structure_as_public_scenes_write_it() {
     assert!(e.contains("sampling_weight -1"), "{e}");
 }
 
+#[test]
 fn legacy_scene_reads_camel_case_includes_meshes_and_instances() {
     let s = load("legacy.xml");
     assert_eq!((s.render.width, s.render.height), (160, 120));
