@@ -137,7 +137,7 @@ fn readme_cases() -> Vec<Case> {
             with_light("type = \"spot\"\n"),
             14,
             "lights[0].type",
-            "unknown light type `spot`; expected one of: point, directional",
+            "unknown light type `spot`; expected one of: point, directional, constant",
         ),
         Case {
             what: "missing OBJ file",
@@ -447,6 +447,16 @@ fn shapes_that_vanish_in_32_bit_floats_are_errors() {
 fn zero_area_light_is_an_error() {
     let light = format!("{QUAD}emission = [10, 10, 10]\n").replace("u = [1, 0, 0]", "u = [0, 0, 0]");
     assert_error("zero-light", &with_shape(&light), &[], 17, "shapes[0].v", &["no area"]);
+}
+
+#[test]
+fn environment_errors_name_line_and_key() {
+    let sky = "type = \"constant\"\nradiance = [1, 1, 1]\n";
+    let negative = with_light(&sky.replace("[1, 1, 1]", "[1, -1, 1]"));
+    assert_error("negative-radiance", &negative, &[], 15, "lights[0].radiance", &["must be at least 0, found -1"]);
+    // At most one environment: the second is named, at its header.
+    let two = format!("{}[[lights]]\n{sky}", with_light(sky));
+    assert_error("two-environments", &two, &[], 16, "lights[1]", &["at most one environment light", "another is at line 13"]);
 }
 
 #[test]

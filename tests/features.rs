@@ -41,8 +41,22 @@ fn features_of_the_canonical_scenes() {
     let box_xml = scene::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/box.xml")).unwrap();
     let f = Features::of(&SceneData::new(&box_xml).unwrap());
     assert!(f.mirror && f.glossy && !f.conductor_fresnel && !f.beckmann, "material none, ggx: {f:?}");
-    assert_eq!(Features::ALL.constants().len(), 18);
+    assert_eq!(Features::ALL.constants().len(), 22);
     assert!(Features::ALL.constants().iter().all(|(_, v)| *v == 1.0));
+}
+
+/// A constant environment switches USES_ENVIRONMENT on, and nothing else does: scenes
+/// without one compile their kernels as before it existed.
+#[test]
+fn the_environment_is_a_feature_of_its_own() {
+    for name in ["cornell-box.toml", "cornell-spheres.toml", "point-light.toml", "textured.toml", "motion-blur.toml"] {
+        let f = features(name);
+        assert!(!f.environment, "{name}");
+        assert!(f.constants().contains(&("USES_ENVIRONMENT", 0.0)), "{name}");
+    }
+    let f = features("furnace-environment.toml");
+    assert!(f.environment && !(f.point_lights || f.directional_lights || f.spot_lights || f.triangle_lights), "{f:?}");
+    assert!(f.constants().contains(&("USES_ENVIRONMENT", 1.0)));
 }
 
 /// Spot lights switch USES_SPOT_LIGHTS on, and nothing else does: scenes without them

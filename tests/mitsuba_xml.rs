@@ -468,6 +468,11 @@ fn bad_input_names_file_line_and_element() {
     let a = scene_with(r#"    <include filename="b.xml"/>"#);
     let b = "<scene version=\"3.0.0\">\n    <include filename=\"s.xml\"/>\n</scene>\n";
     expect_error("cycle", &[("s.xml", &a), ("b.xml", b)], &[], "b.xml", Some(2), "includes itself");
+    // A second environment; a negative radiance.
+    let text = scene_with("    <emitter type=\"constant\"/>\n    <emitter type=\"constant\" id=\"sky2\"/>");
+    expect_error("two environments", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "sky2")), "at most one environment");
+    let text = scene_with(r#"    <emitter type="constant"><rgb name="radiance" value="1, -1, 1"/></emitter>"#);
+    expect_error("negative radiance", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "-1, 1")), "radiance is negative");
     // What is not modelled yet is named, never dropped.
     for (test, body, needle) in [
         (
@@ -475,7 +480,6 @@ fn bad_input_names_file_line_and_element() {
             r#"    <emitter type="envmap"><string name="filename" value="sky.exr"/></emitter>"#,
             "`envmap` environment emitter",
         ),
-        ("constant", r#"    <emitter type="constant"/>"#, "`constant` environment emitter"),
         ("projector", r#"    <emitter type="projector"/>"#, "`projector` emitter is not modelled"),
         ("principled", r#"    <shape type="sphere"><bsdf type="principled"/></shape>"#, "`principled` BSDF is not modelled"),
         (
@@ -606,6 +610,22 @@ fn assert_close(name: &str, c: &sppm_gpu::metrics::Comparison, rel_mse: f64, mea
     for r in c.mean_ratio {
         assert!((r - 1.0).abs() < mean, "{name}: channel mean ratios {:?}", c.mean_ratio);
     }
+}
+
+/// constant.xml: a constant environment (issue 25) with a small area light, over a ground
+/// plane, a diffuse cube and a glossy gold sphere.
+#[test]
+fn constant_environment_matches_mitsuba() {
+    let s = load("constant.xml");
+    assert_eq!(s.lights.len(), 1);
+    assert_eq!(s.lights[0].kind, LightKind::Constant { radiance: Vec3::new(0.45, 0.55, 0.8) });
+    if common::gpu().is_none() {
+        return;
+    }
+    let c = against_mitsuba("constant", Method::Sppm, 32, 100_000);
+    assert_close("constant sppm", &c, 0.003, 0.01);
+    let c = against_mitsuba("constant", Method::PtNee, 64, 0);
+    assert_close("constant pt-nee", &c, 0.003, 0.01);
 }
 
 #[test]
