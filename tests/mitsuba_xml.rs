@@ -673,7 +673,13 @@ fn metals_scene_reads_conductors_and_beckmann() {
     );
     assert_eq!(
         sphere(0.5),
-        MaterialKind::Dielectric { ior: 1.5 / 1.000277, roughness: 0.15, distribution: Microfacet::Beckmann }
+        MaterialKind::Dielectric {
+            ior: 1.5 / 1.000277,
+            roughness: 0.15,
+            distribution: Microfacet::Beckmann,
+            reflectance: Vec3::ONE,
+            transmittance: Vec3::ONE
+        }
     );
     // eta 0, k 1 (Mitsuba's `none`, given or by default) is Fresnel 1: no term to compute.
     let text = scene_with(
@@ -721,6 +727,7 @@ fn plastic_scene_reads_plastics_and_thin_dielectrics() {
         smooth,
         MaterialKind::Plastic {
             albedo: Vec3::new(0.7, 0.15, 0.1),
+            texture: None,
             specular: Vec3::ONE,
             ior: 1.49 / air,
             roughness: 0.0,
@@ -733,6 +740,7 @@ fn plastic_scene_reads_plastics_and_thin_dielectrics() {
         nonlinear,
         MaterialKind::Plastic {
             albedo: Vec3::new(0.9, 0.8, 0.3),
+            texture: None,
             specular: Vec3::splat(0.8),
             ior: 1.9 / air,
             roughness: 0.0,
@@ -745,6 +753,7 @@ fn plastic_scene_reads_plastics_and_thin_dielectrics() {
         rough,
         MaterialKind::Plastic {
             albedo: Vec3::new(0.1, 0.3, 0.6),
+            texture: None,
             specular: Vec3::ONE,
             ior: 1.49 / air,
             roughness: 0.1,
@@ -768,6 +777,7 @@ fn plastic_scene_reads_plastics_and_thin_dielectrics() {
         cube.unwrap().kind,
         MaterialKind::Plastic {
             albedo: Vec3::new(0.2, 0.7, 0.4),
+            texture: None,
             specular: Vec3::ONE,
             ior: 1.49 / air,
             roughness: 0.3,
@@ -971,6 +981,24 @@ fn spot_matches_mitsuba() {
     assert_close("spot sppm", &c, 0.003, 0.01);
     let c = against_mitsuba("spot", Method::PtNee, 64, 0);
     assert_close("spot pt-nee", &c, 0.003, 0.01);
+}
+
+/// Dielectrics whose lobes Mitsuba's specular_reflectance and specular_transmittance scale
+/// (smooth, GGX and Beckmann, one that reflects only), and plastics over textures (a
+/// checkerboard under a smooth nonlinear coating, a bitmap under a rough one).
+#[test]
+fn tinted_matches_mitsuba() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let s = load("tinted.xml");
+    let kind = |i: usize| s.materials[s.shapes[s.spheres[i].shape as usize].material as usize].kind.clone();
+    let MaterialKind::Dielectric { reflectance, transmittance, .. } = kind(0) else { panic!("{:?}", kind(0)) };
+    assert_eq!((reflectance, transmittance), (Vec3::splat(0.3), Vec3::new(0.9, 0.6, 0.3)));
+    let c = against_mitsuba("tinted", Method::Sppm, 32, 100_000);
+    assert_close("tinted sppm", &c, 0.003, 0.01);
+    let c = against_mitsuba("tinted", Method::PtNee, 128, 0);
+    assert_close("tinted pt-nee", &c, 0.003, 0.01);
 }
 
 /// Batches and checkpoints of renders with different pixel filters must not merge: the

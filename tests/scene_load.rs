@@ -177,8 +177,10 @@ chrome = { type = "mirror", albedo = [0.9, 0.9, 0.9] }
             fresnel: None
         }
     );
-    assert_eq!(kinds[2], &MaterialKind::Dielectric { ior: 1.5, roughness: 0.0, distribution: Microfacet::Ggx });
-    assert_eq!(kinds[3], &MaterialKind::Dielectric { ior: 1.31, roughness: 0.15, distribution: Microfacet::Ggx });
+    let (reflectance, transmittance) = (Vec3::ONE, Vec3::ONE);
+    let ggx = Microfacet::Ggx;
+    assert_eq!(kinds[2], &MaterialKind::Dielectric { ior: 1.5, roughness: 0.0, distribution: ggx, reflectance, transmittance });
+    assert_eq!(kinds[3], &MaterialKind::Dielectric { ior: 1.31, roughness: 0.15, distribution: ggx, reflectance, transmittance });
     assert_eq!(kinds[4], &MaterialKind::Mirror { albedo: Vec3::splat(0.9), texture: None, fresnel: None });
     assert_eq!(scene.materials[4].line, 16);
 }

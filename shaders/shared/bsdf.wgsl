@@ -408,6 +408,11 @@ fn sample_nondiffuse(m: Material, d: vec3f, s: Surface, u: vec3f, radiance: bool
     if USES_SMOOTH_DIELECTRIC && m.kind == MATERIAL_DIELECTRIC && m.roughness == 0.0 {
         next = sample_dielectric(d, s.ng, m.ior, u.z, radiance);
     }
+    // Mitsuba's specular_reflectance and specular_transmittance scale each lobe of a
+    // dielectric (1 and 1 unless a scene asks otherwise), sampled as before.
+    if m.kind == MATERIAL_DIELECTRIC {
+        next.weight *= select(m.transmittance, m.specular, dot(next.wi, s.ng) * dot(d, s.ng) < 0.0);
+    }
     if USES_THIN_DIELECTRIC && m.kind == MATERIAL_THIN_DIELECTRIC {
         next = sample_thin_dielectric(m, d, s, u.z);
     }

@@ -44,7 +44,10 @@ fn vertex_bsdf(s: Surface, m: Material, albedo: vec3f, wo: vec3f, wi: vec3f) -> 
         return glossy_eval(m, wo, wi, s.ns);
     }
     if USES_ROUGH_DIELECTRIC && m.kind == MATERIAL_DIELECTRIC {
-        return rough_dielectric_eval(m.ior, m.roughness, is_beckmann(m), wo, wi, s.ng, s.ns, true);
+        var b = rough_dielectric_eval(m.ior, m.roughness, is_beckmann(m), wo, wi, s.ng, s.ns, true);
+        // The lobe's factor, as sample_nondiffuse applies it.
+        b.f *= select(m.transmittance, m.specular, dot(wi, s.ng) * dot(wo, s.ng) > 0.0);
+        return b;
     }
     if is_plastic(m) {
         return plastic_eval(m, albedo, wo, wi, s.ns);

@@ -142,7 +142,14 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> 
                 t.insert("albedo".into(), vec3(albedo));
                 t.insert("roughness".into(), float(roughness));
             }
-            MaterialKind::Dielectric { ior, roughness, distribution } if roughness == 0.0 || distribution == Microfacet::Ggx => {
+            MaterialKind::Dielectric { reflectance, transmittance, .. }
+                if reflectance != glam::Vec3::ONE || transmittance != glam::Vec3::ONE =>
+            {
+                return unsupported("a dielectric's specular reflectance or transmittance other than 1")
+            }
+            MaterialKind::Dielectric { ior, roughness, distribution, .. }
+                if roughness == 0.0 || distribution == Microfacet::Ggx =>
+            {
                 t.insert("type".into(), Value::String("dielectric".into()));
                 t.insert("ior".into(), float(ior));
                 t.insert("roughness".into(), float(roughness));

@@ -83,8 +83,8 @@ fn set_fresnel(g: &mut GpuMaterial, fresnel: Option<ComplexIor>) {
 /// mean(specular)); Fdr, the coating's diffuse reflectance from inside, by the fit for a
 /// smooth coating and by quadrature for a rough one, whose transmittance table goes at the end
 /// of `attributes` ([`crate::scene::coating`]).
-fn set_plastic(g: &mut GpuMaterial, kind: &MaterialKind, attributes: &mut Vec<[f32; 4]>) {
-    let MaterialKind::Plastic { albedo, specular, ior, roughness, distribution, nonlinear } = *kind else { return };
+fn set_plastic(g: &mut GpuMaterial, kind: &MaterialKind, textures: &[crate::scene::Texture], attributes: &mut Vec<[f32; 4]>) {
+    let MaterialKind::Plastic { albedo, texture, specular, ior, roughness, distribution, nonlinear } = *kind else { return };
     g.kind = MATERIAL_PLASTIC;
     g.albedo = albedo.into();
     g.specular = specular.into();
@@ -92,7 +92,12 @@ fn set_plastic(g: &mut GpuMaterial, kind: &MaterialKind, attributes: &mut Vec<[f
     g.roughness = roughness;
     g.distribution = microfacet(distribution);
     g.nonlinear = nonlinear as u32;
-    let (d_mean, s_mean) = (albedo.element_sum() / 3.0, specular.element_sum() / 3.0);
+    // Mitsuba's weight takes a texture's mean over its texels.
+    let base = match texture {
+        Some(t) => textures[t as usize].texels.iter().sum::<Vec3>() / textures[t as usize].texels.len().max(1) as f32,
+        None => albedo,
+    };
+    let (d_mean, s_mean) = (base.element_sum() / 3.0, specular.element_sum() / 3.0);
     g.coat_weight = s_mean / (d_mean + s_mean);
     if roughness == 0.0 {
         g.coat_fdr = crate::scene::coating::fresnel_diffuse_reflectance(1.0 / ior);
@@ -272,14 +277,16 @@ impl SceneData {
                         g.distribution = microfacet(distribution);
                         set_fresnel(&mut g, fresnel);
                     }
-                    MaterialKind::Dielectric { ior, roughness, distribution } => {
+                    MaterialKind::Dielectric { ior, roughness, distribution, reflectance, transmittance } => {
                         g.kind = MATERIAL_DIELECTRIC;
                         g.albedo = [1.0; 3];
                         g.ior = ior;
                         g.roughness = roughness;
                         g.distribution = microfacet(distribution);
+                        g.specular = reflectance.into();
+                        g.transmittance = transmittance.into();
                     }
-                    MaterialKind::Plastic { .. } => set_plastic(&mut g, &m.kind, &mut attributes),
+                    MaterialKind::Plastic { .. } => set_plastic(&mut g, &m.kind, &scene.textures, &mut attributes),
                     MaterialKind::ThinDielectric { ior, reflectance, transmittance } => {
                         g.kind = MATERIAL_THIN_DIELECTRIC;
                         g.albedo = [1.0; 3];

@@ -283,7 +283,11 @@ impl SceneBuilder {
 
     /// A dielectric of index of refraction `ior`, smooth when `roughness` is 0.
     pub fn dielectric(self, name: impl Into<String>, ior: f32, roughness: f32) -> Self {
-        self.material(name, MaterialKind::Dielectric { ior, roughness, distribution: Microfacet::Ggx })
+        let (reflectance, transmittance) = (Vec3::ONE, Vec3::ONE);
+        self.material(
+            name,
+            MaterialKind::Dielectric { ior, roughness, distribution: Microfacet::Ggx, reflectance, transmittance },
+        )
     }
 
     fn shape(mut self, geometry: Geometry, material: impl Into<String>) -> Self {

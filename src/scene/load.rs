@@ -315,6 +315,8 @@ fn read_dielectric(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
         ior: t.req("ior", |v| v.f32_in(Bound::Positive))?,
         roughness: t.or("roughness", 0.0, |v| v.f32_in(UNIT))?,
         distribution: Microfacet::Ggx,
+        reflectance: Vec3::ONE,
+        transmittance: Vec3::ONE,
     })
 }
 

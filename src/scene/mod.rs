@@ -205,13 +205,21 @@ pub enum MaterialKind {
         roughness: f32,
         /// The distribution of microfacet normals of a rough interface.
         distribution: Microfacet,
+        /// Factor on reflected light (Mitsuba's `specular_reflectance`; 1 is physical), linear
+        /// RGB in [0, 1]. The lobe is still chosen with the Fresnel probability.
+        reflectance: Vec3,
+        /// Factor on refracted light (`specular_transmittance`; 1 is physical), [0, 1].
+        transmittance: Vec3,
     },
     /// Mitsuba 3's `plastic` (roughness 0) and `roughplastic`: a dielectric coating, smooth or
     /// of microfacets, over a Lambertian base, with the light trapped between them summed
     /// ([`coating`]).
     Plastic {
-        /// The base's reflectance, linear RGB in [0, 1] (`diffuse_reflectance`).
+        /// The base's reflectance, linear RGB in [0, 1] (`diffuse_reflectance`; `[1, 1, 1]`
+        /// when textured).
         albedo: Vec3,
+        /// Index into [`Scene::textures`] of the texture that replaces `albedo`.
+        texture: Option<u32>,
         /// The coating's reflection is scaled by it (`specular_reflectance`, [0, 1]).
         specular: Vec3,
         /// Index of refraction of the coating relative to the outside.
@@ -244,8 +252,9 @@ impl MaterialKind {
         match *self {
             MaterialKind::Diffuse { texture, .. }
             | MaterialKind::Mirror { texture, .. }
-            | MaterialKind::Glossy { texture, .. } => texture,
-            MaterialKind::Dielectric { .. } | MaterialKind::Plastic { .. } | MaterialKind::ThinDielectric { .. } => None,
+            | MaterialKind::Glossy { texture, .. }
+            | MaterialKind::Plastic { texture, .. } => texture,
+            MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. } => None,
         }
     }
 }
@@ -374,7 +383,6 @@ pub struct Shape {
 /// The frame of a TOML sphere's texture coordinates (see [`Shape::sphere_frame`]): s is the
 /// longitude about +y from +z towards +x, t the latitude from the bottom (-y) pole.
 pub const TOML_SPHERE_FRAME: glam::Mat3 = glam::Mat3::from_cols(Vec3::Z, Vec3::X, Vec3::NEG_Y);
-
 
 /// A world-space triangle. The geometric normal is `normalize(cross(p[1]-p[0], p[2]-p[0]))`,
 /// which is the front side for emission.

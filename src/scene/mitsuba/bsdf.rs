@@ -224,16 +224,10 @@ impl<'a> SceneReader<'a> {
                     return Err(node
                         .error(Some("int_ior"), format!("int_ior / ext_ior = {ior}: an interface needs two different indices")));
                 }
-                for name in ["specular_reflectance", "specular_transmittance"] {
-                    if constant_reflectance(&p, name, 1.0)? != Vec3::ONE {
-                        return Err(p
-                            .get(name)
-                            .unwrap()
-                            .error(Some(name), format!("a dielectric's {name} other than 1 is not modelled by sppm-gpu yet")));
-                    }
-                }
+                let reflectance = constant_reflectance(&p, "specular_reflectance", 1.0)?;
+                let transmittance = constant_reflectance(&p, "specular_transmittance", 1.0)?;
                 let (roughness, distribution) = if kind == "roughdielectric" { alpha(&p)? } else { (0.0, Microfacet::Ggx) };
-                MaterialKind::Dielectric { ior, roughness, distribution }
+                MaterialKind::Dielectric { ior, roughness, distribution, reflectance, transmittance }
             }
             "conductor" | "roughconductor" => {
                 let fresnel = conductor_ior(&p)?;
@@ -253,11 +247,11 @@ impl<'a> SceneReader<'a> {
                     return Err(node
                         .error(Some("int_ior"), format!("int_ior / ext_ior = {ior}: an interface needs two different indices")));
                 }
-                let albedo = constant_reflectance(&p, "diffuse_reflectance", 0.5)?;
+                let (albedo, texture) = self.reflectance(&p, "diffuse_reflectance", 0.5)?;
                 let specular = constant_reflectance(&p, "specular_reflectance", 1.0)?;
                 let nonlinear = p.boolean_or("nonlinear", false)?;
                 let (roughness, distribution) = if kind == "roughplastic" { alpha(&p)? } else { (0.0, Microfacet::Ggx) };
-                MaterialKind::Plastic { albedo, specular, ior, roughness, distribution, nonlinear }
+                MaterialKind::Plastic { albedo, texture, specular, ior, roughness, distribution, nonlinear }
             }
             "thindielectric" => {
                 let ior = ior(&p, "int_ior", 1.5046)? / ior(&p, "ext_ior", 1.000277)?;
@@ -309,8 +303,8 @@ pub(super) fn untexturable(p: &Props, node: &Node, name: &str) -> super::SceneEr
     node.error(
         Some(name),
         format!(
-            "a texture as {name} of {}: sppm-gpu textures only a diffuse `reflectance` and a conductor's \
-             `specular_reflectance`",
+            "a texture as {name} of {}: sppm-gpu textures only a diffuse `reflectance`, a plastic's \
+             `diffuse_reflectance` and a conductor's `specular_reflectance`",
             p.node.describe()
         ),
     )

@@ -185,7 +185,7 @@ impl<'a> SceneReader<'a> {
                 path,
                 None,
                 Some("emitter"),
-                "the scene has no light: no area emitter with positive radiance, no point, directional or spot emitter",
+                "the scene has no light: no area emitter with positive radiance, no point, directional, spot or constant emitter",
             ));
         }
         Ok(scene)
