@@ -294,6 +294,16 @@ fn wavelengths(node: &Node, text: &str, name: &str, used: SpectrumUse) -> Result
     Ok(rgb)
 }
 
+/// Rodrigues' rotation about `a` by `theta`, R = cos I + (1 - cos) a a^T + sin [a]x, with `a`
+/// as written, not normalized: Mitsuba 3 (Dr.Jit's `rotate`) does not normalize it either, so
+/// an axis such as (0, 1, 1) also scales and shears, and scenes are rendered with that.
+fn rotation(a: Vec3, theta: f32) -> Mat3 {
+    let (s, c) = theta.sin_cos();
+    let outer = Mat3::from_cols(a * a.x, a * a.y, a * a.z);
+    let cross = Mat3::from_cols(Vec3::new(0.0, a.z, -a.y), Vec3::new(-a.z, 0.0, a.x), Vec3::new(a.y, -a.x, 0.0));
+    Mat3::from_diagonal(Vec3::splat(c)) + outer * (1.0 - c) + cross * s
+}
+
 /// One finite number.
 pub fn parse_f32(node: &Node, text: &str, key: &str) -> Result<f32> {
     let v = numbers(node, text, key)?;
@@ -373,8 +383,10 @@ pub fn transform(node: &Node) -> Result<Mat4> {
                         Vec3::from_array(a)
                     }
                 };
-                let axis = axis.try_normalize().ok_or_else(|| op.error(Some("axis"), "the rotation axis is zero"))?;
-                Mat4::from_axis_angle(axis, angle.to_radians())
+                if axis == Vec3::ZERO {
+                    return Err(op.error(Some("axis"), "the rotation axis is zero"));
+                }
+                Mat4::from_mat3(rotation(axis, angle.to_radians()))
             }
             "matrix" => {
                 op.allow_attrs(&["value"])?;
