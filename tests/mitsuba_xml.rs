@@ -1004,6 +1004,37 @@ fn spot_matches_mitsuba() {
     assert_close("spot pt-nee", &c, 0.003, 0.01);
 }
 
+/// A film's crop window is the image: the window of the whole render, its pixels the film's
+/// (box.xml cropped, against the same window of Mitsuba's render of the whole film); a
+/// window past the film's edge is an error at the film.
+#[test]
+fn crop_windows_render_the_films_pixels() {
+    let crop = r#"<integer name="crop_offset_x" value="24"/><integer name="crop_offset_y" value="40"/>
+            <integer name="crop_width" value="64"/><integer name="crop_height" value="48"/>
+            <rfilter type="tent"/>"#;
+    let text = std::fs::read_to_string(scene_path("box.xml")).unwrap().replace(r#"<rfilter type="tent"/>"#, crop);
+    let mut s = load_files("crop", &[("box.xml", &text)], &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((s.render.width, s.render.height), (64, 48));
+    let w = s.camera.crop.expect("a crop window");
+    assert_eq!((w.min, w.max), (Vec2::new(24.0, 40.0) / 128.0, Vec2::new(88.0, 88.0) / 128.0));
+    let bad = text.replace(r#"value="24""#, r#"value="80""#);
+    let e = load_files("crop-bad", &[("box.xml", &bad)], &[]).unwrap_err().to_string();
+    assert!(e.contains("crop window from 80 of size 64 does not lie within the film's 128 pixels"), "{e}");
+    let Some(gpu) = common::gpu() else { return };
+    let whole = common::reference("mitsuba/box.exr");
+    let window = sppm_gpu::image_io::Rgb32Image::from_fn(64, 48, |x, y| whole.get(x + 24, y + 40));
+    for (method, passes, photons) in [(Method::Sppm, 32, 100_000), (Method::PtNee, 256, 0)] {
+        (s.render.method, s.render.iterations, s.render.photons) = (method, passes, photons);
+        let mut r = integrators::create(&gpu.device, &gpu.queue, &s).unwrap_or_else(|e| panic!("{e}"));
+        for _ in 0..passes {
+            r.run_pass().unwrap();
+        }
+        let c = compare(&r.image().unwrap(), &window, 8).unwrap();
+        eprintln!("crop {method:?}: {c:?}");
+        assert_close(&format!("crop {method:?}"), &c, 0.003, 0.01);
+    }
+}
+
 /// Dielectrics whose lobes Mitsuba's specular_reflectance and specular_transmittance scale
 /// (smooth, GGX and Beckmann, one that reflects only), and plastics over textures (a
 /// checkerboard under a smooth nonlinear coating, a bitmap under a rough one).

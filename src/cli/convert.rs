@@ -106,6 +106,9 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> 
     doc.insert("render".into(), Value::Table(render));
 
     let c = &scene.camera;
+    if c.crop.is_some() {
+        return Err("the camera's crop window cannot be written in TOML yet".into());
+    }
     let mut camera = Table::new();
     camera.insert("position".into(), vec3(c.position));
     camera.insert("look_at".into(), vec3(c.look_at));

@@ -32,11 +32,14 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
         r.iterations, r.photons, r.alpha, r.max_depth, r.seed
     );
     let c = &scene.camera;
-    let lens = if c.aperture_radius > 0.0 {
+    let mut lens = if c.aperture_radius > 0.0 {
         format!(", aperture radius {} focused at {}", c.aperture_radius, c.focus_distance)
     } else {
         String::new()
     };
+    if let Some(w) = c.crop {
+        lens += &format!(", the film's window {} to {}", w.min, w.max);
+    }
     let _ =
         writeln!(out, "camera:     at {} looking at {}, up {}, vertical fov {:.4} deg{lens}", c.position, c.look_at, c.up, c.fov);
     let mut shapes = BTreeMap::new();

@@ -349,15 +349,24 @@ pub fn camera_frame_for(c: &Camera, width: u32, height: u32) -> Frame {
     let right = forward.cross(c.up).normalize();
     let up = right.cross(forward);
     let tan_half = (c.fov.to_radians() * 0.5).tan();
-    let aspect = width as f32 / height as f32;
+    let (min, max) = c.crop.map_or((glam::Vec2::ZERO, glam::Vec2::ONE), |w| (w.min, w.max));
+    // The whole film's aspect ratio, of which the image is the window [min, max].
+    let extent = max - min;
+    let aspect = (width as f32 / extent.x) / (height as f32 / extent.y);
+    let (right, up) = (right * tan_half * aspect, up * tan_half);
+    // The window's image plane: the film's coordinates sx' = sx (max - min).x + (min + max).x
+    // - 1 and sy' = sy (max - min).y + 1 - (min + max).y, in the kernels' sx, sy in [-1, 1]
+    // (shared/camera.wgsl), folded into the basis. The forward part stays 1, so a thin lens
+    // still focuses on the plane at focus_distance.
+    let centre = forward + right * (min.x + max.x - 1.0) + up * (1.0 - min.y - max.y);
     Frame {
         cam_position: c.position.into(),
         lens_radius: c.aperture_radius,
-        cam_right: (right * tan_half * aspect).into(),
+        cam_right: (right * extent.x).into(),
         focus_distance: c.focus_distance,
-        cam_up: (up * tan_half).into(),
+        cam_up: (up * extent.y).into(),
         width,
-        cam_forward: forward.into(),
+        cam_forward: centre.into(),
         height,
         image_height: height,
         ..Frame::default()

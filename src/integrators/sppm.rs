@@ -48,7 +48,9 @@ pub const AUTO_RADIUS_PIXELS_INDIRECT: f32 = 3.0;
 pub fn auto_radius(scene: &Scene) -> f32 {
     let c = &scene.camera;
     let d = if c.aperture_radius > 0.0 { c.focus_distance } else { (c.look_at - c.position).length() };
-    let footprint = 2.0 * d * (0.5 * c.fov.to_radians()).tan() / scene.render.height as f32;
+    // A crop window's pixels are the whole film's.
+    let film_height = scene.render.height as f32 / c.crop.map_or(1.0, |w| w.max.y - w.min.y);
+    let footprint = 2.0 * d * (0.5 * c.fov.to_radians()).tan() / film_height;
     let pixels = match scene.render.direct {
         DirectLight::Sampled => AUTO_RADIUS_PIXELS_INDIRECT,
         DirectLight::Photons => AUTO_RADIUS_PIXELS,

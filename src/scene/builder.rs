@@ -233,6 +233,7 @@ impl SceneBuilder {
             aperture_radius: 0.0,
             focus_distance: look_at.distance(position),
             aperture_line: None,
+            crop: None,
         });
         self
     }

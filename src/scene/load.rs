@@ -250,6 +250,7 @@ fn read_camera(t: &Table) -> Result<Camera> {
         aperture_radius: t.or("aperture_radius", 0.0, |v| v.f32_in(Bound::NonNegative))?,
         focus_distance: t.or("focus_distance", look_at.distance(position), |v| v.f32_in(Bound::Positive))?,
         aperture_line: t.get("aperture_radius").map(|v| v.line),
+        crop: None,
     })
 }
 

@@ -159,6 +159,20 @@ pub struct Camera {
     pub focus_distance: f32,
     /// Line of `aperture_radius` in the file, when given.
     pub aperture_line: Option<usize>,
+    /// The part of a larger film the image shows (a Mitsuba film's crop window), `None` for
+    /// the whole: `fov` and the aspect ratio are the whole film's, and the image's pixels
+    /// are those of the window.
+    pub crop: Option<CropWindow>,
+}
+
+/// A window of the film, in fractions of its width and height from its top-left corner:
+/// `min` < `max`, both in [0, 1].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CropWindow {
+    /// Top-left corner.
+    pub min: Vec2,
+    /// Bottom-right corner.
+    pub max: Vec2,
 }
 
 /// A material's scattering model.

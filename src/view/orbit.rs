@@ -67,6 +67,7 @@ mod tests {
             aperture_radius: 0.0,
             focus_distance: 3.9,
             aperture_line: None,
+            crop: None,
         }
     }
 

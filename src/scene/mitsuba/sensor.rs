@@ -5,8 +5,10 @@
 //!   `x`) or `focal_length` (35 mm equivalent, a diagonal field of view of
 //!   2 atan(43.27 mm / 2 f)); `to_world` with the camera looking along its +z, +y up and +x
 //!   to the image's left. `thinlens`: also `aperture_radius` and `focus_distance`.
-//! - `hdrfilm`/`ldrfilm`: `width` (768), `height` (576); an `rfilter`: `box`, `tent`
-//!   (`radius` 1) or `gaussian` (`stddev` 0.5, the default).
+//! - `hdrfilm`/`ldrfilm`: `width` (768), `height` (576); a crop window `crop_offset_x`,
+//!   `crop_offset_y` (0), `crop_width`, `crop_height` (the rest of the film), which is then
+//!   the image ([`crate::scene::Camera::crop`]); an `rfilter`: `box`, `tent` (`radius` 1) or
+//!   `gaussian` (`stddev` 0.5, the default).
 //! - Any sampler: `sample_count` (4) becomes the number of passes; `seed` our seed.
 //! - `path`/`volpath`: `max_depth` (-1, unbounded) counts path vertices after the camera's,
 //!   so 2 is direct light alone: our `max_depth` (scattering events) is one less. `sppm`
@@ -52,6 +54,7 @@ pub(super) fn sensor(node: &Node) -> Result<SensorSettings> {
     let mut width = 768;
     let mut height = 576;
     let mut filter = PixelFilter::Gaussian { stddev: 0.5 };
+    let mut crop = None;
     let mut sample_count = 4;
     let mut seed = 0;
     let (mut films, mut samplers) = (0, 0);
@@ -59,7 +62,7 @@ pub(super) fn sensor(node: &Node) -> Result<SensorSettings> {
         match object.tag.as_str() {
             "film" => {
                 films += 1;
-                (width, height, filter) = film(object)?;
+                (width, height, filter, crop) = film(object)?;
             }
             "sampler" => {
                 samplers += 1;
@@ -89,8 +92,23 @@ pub(super) fn sensor(node: &Node) -> Result<SensorSettings> {
             at.error(Some("to_world"), "the sensor's to_world mirrors the image (a negative scale): not modelled by sppm-gpu")
         );
     }
-    let mut camera =
-        Camera { position, look_at: position + forward, up, fov, aperture_radius: 0.0, focus_distance: 1.0, aperture_line: None };
+    let mut camera = Camera {
+        position,
+        look_at: position + forward,
+        up,
+        fov,
+        aperture_radius: 0.0,
+        focus_distance: 1.0,
+        aperture_line: None,
+        crop: None,
+    };
+    // The image is the crop window: its pixels are the film's (fov and aspect stay the film's).
+    if let Some([x, y, w, h]) = crop {
+        let film = glam::Vec2::new(width as f32, height as f32);
+        let (min, max) = (glam::Vec2::new(x as f32, y as f32), glam::Vec2::new((x + w) as f32, (y + h) as f32));
+        camera.crop = Some(crate::scene::CropWindow { min: min / film, max: max / film });
+        (width, height) = (w, h);
+    }
     if kind == "thinlens" {
         let need = |name: &str| -> Result<f32> {
             p.float(name)?.ok_or_else(|| node.error(Some(name), format!("a thinlens sensor needs `{name}`")))
@@ -171,7 +189,9 @@ fn vertical_fov(p: &Props, aspect: f32) -> Result<f32> {
 }
 
 /// A film's size and pixel filter.
-fn film(node: &Node) -> Result<(u32, u32, PixelFilter)> {
+/// A `<film>`: its width, height, pixel filter, and crop window (x, y, width, height) unless
+/// that is the whole film.
+fn film(node: &Node) -> Result<(u32, u32, PixelFilter, Option<[u32; 4]>)> {
     node.allow_attrs(&["type", "id", "name"])?;
     let kind = node.req_attr("type")?;
     if kind != "hdrfilm" && kind != "ldrfilm" {
@@ -188,15 +208,24 @@ fn film(node: &Node) -> Result<(u32, u32, PixelFilter)> {
     };
     let width = size("width", 768)?;
     let height = size("height", 576)?;
-    // A crop window that is the whole image changes nothing; any other is not modelled.
-    let crop = [("crop_offset_x", 0), ("crop_offset_y", 0), ("crop_width", width as i64), ("crop_height", height as i64)];
-    for (name, whole) in crop {
-        if let Some(v) = p.integer(name)? {
-            if v != whole {
-                return Err(p.get(name).unwrap().error(Some(name), "a crop window is not modelled by sppm-gpu yet"));
-            }
+    // The crop window (Mitsuba's defaults: the whole film), x, y, width, height in pixels.
+    let crop_x = p.integer("crop_offset_x")?.unwrap_or(0);
+    let crop_y = p.integer("crop_offset_y")?.unwrap_or(0);
+    let crop_w = p.integer("crop_width")?.unwrap_or(width as i64 - crop_x);
+    let crop_h = p.integer("crop_height")?.unwrap_or(height as i64 - crop_y);
+    for (name, offset, size, whole) in
+        [("crop_width", crop_x, crop_w, width as i64), ("crop_height", crop_y, crop_h, height as i64)]
+    {
+        if offset < 0 || size < 1 || offset + size > whole {
+            let at = p.get(name).or(p.get(if name == "crop_width" { "crop_offset_x" } else { "crop_offset_y" })).unwrap_or(node);
+            return Err(at.error(
+                Some(name),
+                format!("a crop window from {offset} of size {size} does not lie within the film's {whole} pixels"),
+            ));
         }
     }
+    let whole = (crop_x, crop_y, crop_w, crop_h) == (0, 0, width as i64, height as i64);
+    let crop = (!whole).then_some([crop_x as u32, crop_y as u32, crop_w as u32, crop_h as u32]);
     // What only the output file's encoding depends on: read and passed over (`attach_log`:
     // Mitsuba 0.6 wrote its log into the EXR).
     for name in [
@@ -233,7 +262,7 @@ fn film(node: &Node) -> Result<(u32, u32, PixelFilter)> {
         filter = rfilter(f)?;
     }
     p.finish()?;
-    Ok((width, height, filter))
+    Ok((width, height, filter, crop))
 }
 
 /// A reconstruction filter.
