@@ -152,6 +152,11 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         }
         o = offset_origin(s.p, s.ng, next.wi);
         d = next.wi;
+        // That was the last scattering event max_depth allows: the next segment only gathers
+        // the emission it meets, weighed by MIS, as a path tracer's last segment does.
+        if depth + 1u >= frame.max_depth {
+            to_emission = true;
+        }
     }
     return path;
 }
