@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 python="${MITSUBA_PYTHON:-.venv-mi/bin/python}"
 spp="${1:-8192}"
 mkdir -p tests/references/mitsuba
-for scene in box lights legacy metals spot textures plastic constant tinted; do
+for scene in box lights legacy metals spot textures plastic constant tinted lens; do
     "$python" ../shared/tools/mitsuba_xml.py "scenes/mitsuba/$scene.xml" "tests/references/mitsuba/$scene.exr" \
         --spp "$spp" --chunk 64
 done

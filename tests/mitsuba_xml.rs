@@ -1027,6 +1027,21 @@ fn spot_matches_mitsuba() {
     assert_close("spot pt-nee", &c, 0.003, 0.01);
 }
 
+/// Mitsuba's thin lens (aperture, focus distance, a focal length for the field of view), disks
+/// (an area light turned by flip_normals, a diffuse one) and a gaussian filter.
+#[test]
+fn lens_matches_mitsuba() {
+    let s = load("lens.xml");
+    assert!(s.camera.aperture_radius == 0.12 && s.camera.focus_distance == 3.9, "{:?}", s.camera);
+    if common::gpu().is_none() {
+        return;
+    }
+    let c = against_mitsuba("lens", Method::Sppm, 32, 100_000);
+    assert_close("lens sppm", &c, 0.003, 0.01);
+    let c = against_mitsuba("lens", Method::PtNee, 128, 0);
+    assert_close("lens pt-nee", &c, 0.003, 0.01);
+}
+
 /// A film's crop window is the image: the window of the whole render, its pixels the film's
 /// (box.xml cropped, against the same window of Mitsuba's render of the whole film); a
 /// window past the film's edge is an error at the film.
