@@ -10,7 +10,7 @@
 //! down by the coating's inside scatters again, a geometric series of ratio rho Fdr that Mitsuba
 //! sums as 1 / (1 - rho Fdr) (`nonlinear = true`) or, keeping the base's colour, 1 / (1 - Fdr):
 //!
-//!   f_base(wo, wi) = rho / (1 - [rho] Fdr) / (pi eta^2) t(cos_o) t(cos_i),
+//!   f_base(wo, wi) = rho / (1 - \[rho\] Fdr) / (pi eta^2) t(cos_o) t(cos_i),
 //!
 //! with t = 1 - F (the dielectric Fresnel reflectance) for `plastic` and t = T, a rough
 //! dielectric's directional transmittance, for `roughplastic`.
