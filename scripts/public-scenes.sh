@@ -56,14 +56,19 @@ stage() {
     echo "$name: $out/$scene ($missing missing)"
 }
 
+# copy_scene NAME FROM: FROM's scene tree and SOURCE.txt (not its results) into NAME.
+copy_scene() {
+    mkdir -p "$DEST/$1"
+    for e in "$DEST/$2"/*; do
+        [ -d "$e" ] || [ "$(basename "$e")" = SOURCE.txt ] || continue
+        rm -rf "$DEST/$1/$(basename "$e")"; cp -r "$e" "$DEST/$1/"
+    done
+}
+
 # derive NAME FROM SCENE: a copy of FROM's SCENE without its `constant` emitter.
 noenv() {
     local name=$1 from=$2 scene=$3
-    mkdir -p "$DEST/$name"
-    for e in "$DEST/$from"/*; do   # the scene's tree and SOURCE.txt, not the results
-        [ -d "$e" ] || [ "$(basename "$e")" = SOURCE.txt ] || continue
-        rm -rf "$DEST/$name/$(basename "$e")"; cp -r "$e" "$DEST/$name/"
-    done
+    copy_scene "$name" "$from"
     python3 - "$DEST/$name/$scene" <<'EOF'
 import re, sys
 p = sys.argv[1]
@@ -81,11 +86,7 @@ EOF
 # reader decode it) and a <spectrum> of three numbers (RGB in 0.6's RGB mode) becomes <rgb>.
 m3() {
     local name=$1 from=$2 scene=$3
-    mkdir -p "$DEST/$name"
-    for e in "$DEST/$from"/*; do
-        [ -d "$e" ] || [ "$(basename "$e")" = SOURCE.txt ] || continue
-        rm -rf "$DEST/$name/$(basename "$e")"; cp -r "$e" "$DEST/$name/"
-    done
+    copy_scene "$name" "$from"
     python3 - "$DEST/$name/$scene" <<'EOF'
 import re, sys
 p = sys.argv[1]
