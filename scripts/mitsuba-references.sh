@@ -8,7 +8,11 @@ cd "$(dirname "$0")/.."
 python="${MITSUBA_PYTHON:-.venv-mi/bin/python}"
 spp="${1:-8192}"
 mkdir -p tests/references/mitsuba
-for scene in box lights legacy metals spot textures plastic constant tinted lens; do
+for scene in box lights legacy metals spot textures plastic constant tinted lens null; do
     "$python" ../shared/tools/mitsuba_xml.py "scenes/mitsuba/$scene.xml" "tests/references/mitsuba/$scene.exr" \
         --spp "$spp" --chunk 64
 done
+# null.xml again at Mitsuba's max_depth 2 (direct light only): the floor under the null slab
+# is black there.
+"$python" ../shared/tools/mitsuba_xml.py scenes/mitsuba/null.xml tests/references/mitsuba/null-direct.exr \
+    --spp "$spp" --chunk 64 -D max_depth=2

@@ -608,8 +608,21 @@ fn the_command_line_reads_xml_with_defines_and_keeps_the_aspect_ratio() {
 /// Renders a test scene at its own size with `method` and compares it with Mitsuba's render
 /// of the same file, both reduced 8x8.
 fn against_mitsuba(name: &str, method: Method, iterations: u32, photons: u32) -> sppm_gpu::metrics::Comparison {
+    against_mitsuba_with(name, name, method, iterations, photons, |_| {})
+}
+
+/// against_mitsuba for scene `name` changed by `edit`, against reference `reference`.
+fn against_mitsuba_with(
+    name: &str,
+    reference: &str,
+    method: Method,
+    iterations: u32,
+    photons: u32,
+    edit: impl FnOnce(&mut Scene),
+) -> sppm_gpu::metrics::Comparison {
     let gpu = common::gpu().expect("checked by the caller");
     let mut s = load(&format!("{name}.xml"));
+    edit(&mut s);
     s.render.method = method;
     s.render.iterations = iterations;
     s.render.photons = photons;
@@ -620,9 +633,8 @@ fn against_mitsuba(name: &str, method: Method, iterations: u32, photons: u32) ->
     let img = r.image().unwrap();
     assert_eq!(count_non_finite(&img), 0);
     assert_eq!(count_negative(&img), 0);
-    let reference = common::reference(&format!("mitsuba/{name}.exr"));
-    let c = compare(&img, &reference, 8).unwrap();
-    eprintln!("{name} {method:?}: {c:?}");
+    let c = compare(&img, &common::reference(&format!("mitsuba/{reference}.exr")), 8).unwrap();
+    eprintln!("{reference} {method:?}: {c:?}");
     c
 }
 
@@ -1089,6 +1101,30 @@ fn tinted_matches_mitsuba() {
     assert_close("tinted sppm", &c, 0.003, 0.01);
     let c = against_mitsuba("tinted", Method::PtNee, 128, 0);
     assert_close("tinted pt-nee", &c, 0.003, 0.01);
+}
+
+/// null.xml: Mitsuba's `null` BSDF, invisible: a slab between the light and half the floor,
+/// a sphere holding a diffuse one. Against Mitsuba at its max_depth 8, and at max_depth 2
+/// (direct light only), where the floor under the slab is black in Mitsuba: shadow rays stop
+/// at null surfaces and crossing one counts a bounce. Either rule done otherwise (shadow rays
+/// passing through, a free crossing) would brighten that floor and fail.
+#[test]
+fn null_bsdf_matches_mitsuba() {
+    let s = load("null.xml");
+    let kinds: Vec<_> = s.materials.iter().map(|m| m.kind.clone()).collect();
+    assert_eq!(kinds.iter().filter(|k| **k == MaterialKind::Null).count(), 1, "{kinds:?}");
+    if common::gpu().is_none() {
+        return;
+    }
+    let c = against_mitsuba("null", Method::Sppm, 32, 100_000);
+    assert_close("null sppm", &c, 0.003, 0.01);
+    let c = against_mitsuba("null", Method::PtNee, 128, 0);
+    assert_close("null pt-nee", &c, 0.003, 0.01);
+    // Mitsuba's max_depth 2 is our 1.
+    for (method, iterations, photons) in [(Method::Sppm, 32, 100_000), (Method::PtNee, 128, 0)] {
+        let c = against_mitsuba_with("null", "null-direct", method, iterations, photons, |s| s.render.max_depth = 1);
+        assert_close(&format!("null direct {method:?}"), &c, 0.003, 0.01);
+    }
 }
 
 /// Batches and checkpoints of renders with different pixel filters must not merge: the

@@ -375,7 +375,8 @@ fn sample_rough_dielectric(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, alpha_in: f
 // branch is chosen with its probability, so the weights are the tints; flux and radiance alike,
 // since nothing refracts. A reflection about ns that crosses ng ends the path.
 fn sample_thin_dielectric(m: Material, d: vec3f, s: Surface, u: f32) -> SpecularSample {
-    let r = fresnel_dielectric(abs(dot(d, s.ns)), m.ior);
+    // Index 1 (Mitsuba's null BSDF) reflects nothing; exactly, not by Fresnel's roundoff.
+    let r = select(fresnel_dielectric(abs(dot(d, s.ns)), m.ior), 0.0, m.ior == 1.0);
     if u < 2.0 * r / (1.0 + r) {
         let n = select(-s.ns, s.ns, dot(d, s.ns) < 0.0);
         let wi = reflect(d, n);

@@ -163,6 +163,7 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> 
             MaterialKind::Glossy { .. } | MaterialKind::Dielectric { .. } => return unsupported("the Beckmann distribution"),
             MaterialKind::Plastic { .. } => return unsupported("a plastic"),
             MaterialKind::ThinDielectric { .. } => return unsupported("a thin dielectric"),
+            MaterialKind::Null => return unsupported("a null BSDF"),
         }
         if m.one_sided && !matches!(m.kind, MaterialKind::Dielectric { .. }) {
             t.insert("one_sided".into(), Value::Boolean(true));

@@ -74,6 +74,7 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
             MaterialKind::Plastic { roughness, .. } if roughness > 0.0 => "rough plastic",
             MaterialKind::Plastic { .. } => "plastic",
             MaterialKind::ThinDielectric { .. } => "thin dielectric",
+            MaterialKind::Null => "null",
         };
         *materials.entry(kind).or_insert(0) += 1;
     }

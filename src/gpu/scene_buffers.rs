@@ -294,6 +294,14 @@ impl SceneData {
                         g.specular = reflectance.into();
                         g.transmittance = transmittance.into();
                     }
+                    // A slab of index 1: Fresnel reflectance 0, everything passes unbent.
+                    MaterialKind::Null => {
+                        g.kind = MATERIAL_THIN_DIELECTRIC;
+                        g.albedo = [1.0; 3];
+                        g.ior = 1.0;
+                        g.specular = [0.0; 3];
+                        g.transmittance = [1.0; 3];
+                    }
                 }
                 // Dielectrics, thin ones too, are two-sided by nature: Mitsuba 3's ignore `twosided`.
                 g.one_sided = (m.one_sided && g.kind != MATERIAL_DIELECTRIC && g.kind != MATERIAL_THIN_DIELECTRIC) as u32;

@@ -265,7 +265,10 @@ pub fn limitations(scene: &Scene) -> Vec<String> {
     // Surfaces where pt-nee samples no light: mirrors and glass, smooth or rough, thin glass
     // and smooth plastics' coatings.
     let specular = scene.materials.iter().any(|m| match m.kind {
-        MaterialKind::Mirror { .. } | MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. } => true,
+        MaterialKind::Mirror { .. }
+        | MaterialKind::Dielectric { .. }
+        | MaterialKind::ThinDielectric { .. }
+        | MaterialKind::Null => true,
         MaterialKind::Plastic { roughness, .. } => roughness == 0.0,
         _ => false,
     });

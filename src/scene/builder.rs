@@ -616,6 +616,7 @@ impl Check<'_> {
                 self.vec3(&format!("{key}.reflectance"), reflectance, UNIT)?;
                 self.vec3(&format!("{key}.transmittance"), transmittance, UNIT)?;
             }
+            MaterialKind::Null => {}
         }
         Ok(kind.clone())
     }

@@ -257,6 +257,11 @@ pub enum MaterialKind {
         /// Scales the transmission (`specular_transmittance`, [0, 1]).
         transmittance: Vec3,
     },
+    /// Mitsuba 3's `null`: an invisible surface. Rays and photons pass straight through it
+    /// with weight 1 (a forward delta, null.cpp), counting a bounce; no light is sampled
+    /// there, and shadow rays stop at it like at any surface. The kernels draw it as a
+    /// thin dielectric of index 1, which reflects nothing.
+    Null,
 }
 
 impl MaterialKind {
@@ -268,7 +273,7 @@ impl MaterialKind {
             | MaterialKind::Mirror { texture, .. }
             | MaterialKind::Glossy { texture, .. }
             | MaterialKind::Plastic { texture, .. } => texture,
-            MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. } => None,
+            MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. } | MaterialKind::Null => None,
         }
     }
 }

@@ -141,7 +141,6 @@ pub const NAMED_CONDUCTORS: &[(&str, [f32; 3], [f32; 3])] = &[
 
 /// BSDF plugins that Mitsuba has and sppm-gpu does not model yet.
 const NOT_YET: &[&str] = &[
-    "null",
     "principled",
     "principledthin",
     "blendbsdf",
@@ -262,6 +261,7 @@ impl<'a> SceneReader<'a> {
                 let transmittance = constant_reflectance(&p, "specular_transmittance", 1.0)?;
                 MaterialKind::ThinDielectric { ior, reflectance, transmittance }
             }
+            "null" => MaterialKind::Null,
             other if NOT_YET.contains(&other) => {
                 return Err(node.error(Some("type"), format!("the `{other}` BSDF is not modelled by sppm-gpu yet")))
             }
@@ -269,7 +269,8 @@ impl<'a> SceneReader<'a> {
         };
         p.finish()?;
         // Dielectrics scatter from both sides; the flag means nothing to them.
-        let one_sided = !matches!(model, MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. });
+        let one_sided =
+            !matches!(model, MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. } | MaterialKind::Null);
         Ok((model, one_sided))
     }
 
