@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 python="${MITSUBA_PYTHON:-.venv-mi/bin/python}"
 spp="${1:-8192}"
 mkdir -p tests/references/mitsuba
-for scene in box lights legacy metals spot textures plastic constant tinted lens null; do
+for scene in box lights legacy metals spot textures plastic constant tinted lens null envmap; do
     "$python" ../shared/tools/mitsuba_xml.py "scenes/mitsuba/$scene.xml" "tests/references/mitsuba/$scene.exr" \
         --spp "$spp" --chunk 64
 done

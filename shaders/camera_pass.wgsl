@@ -52,7 +52,7 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         if hit.prim_ref == 0xffffffffu {
             // The ray escapes: the environment, weighted as emission is.
             if USES_ENVIRONMENT {
-                path.ld += beta * escaped_light(pdf_prev);
+                path.ld += beta * escaped_light(d, pdf_prev);
             }
             break;
         }

@@ -43,7 +43,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
         if hit.prim_ref == 0xffffffffu {
             // The ray escapes: the environment, weighted as emission is.
             if USES_ENVIRONMENT {
-                l += beta * escaped_light(pdf_prev);
+                l += beta * escaped_light(d, pdf_prev);
             }
             break;
         }

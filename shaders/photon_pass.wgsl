@@ -121,7 +121,7 @@ struct Photon {
 // on it and a cosine-distributed direction from its front; from a point light, a uniform
 // direction; from a spot light, a direction in its cone (sample_spot_emission); from a
 // directional light, a point on a disk facing it that covers the scene; from the environment,
-// a uniform direction and a point on such a disk.
+// a direction (uniform, or by an envmap's distribution) and a point on such a disk.
 // beta = Le cos / (pmf * pdf(position) * pdf(direction)), relative to the total power.
 fn emit_photon(rng: ptr<function, Rng>) -> Photon {
     let e = emitters[find_emitter(rng_next(rng))];
@@ -146,12 +146,20 @@ fn emit_photon(rng: ptr<function, Rng>) -> Photon {
     if USES_ENVIRONMENT && e.kind == EMITTER_ENVIRONMENT {
         // Arriving from w, uniform on the sphere, through a point uniform on the disk of the
         // bounding sphere's radius R facing w, placed outside the sphere (pbrt-v4 sec.
-        // 12.5.3, UniformInfiniteLight::SampleLe): L / ((1 / 4 pi) (1 / pi R^2)).
-        let w = sample_uniform_sphere(u_dir);
+        // 12.5.3, UniformInfiniteLight::SampleLe): L / ((1 / 4 pi) (1 / pi R^2)); from an
+        // envmap, w by its distribution (pbrt-v4 ImageInfiniteLight::SampleLe): L(w) pi R^2 /
+        // p(w).
+        var w = sample_uniform_sphere(u_dir);
+        var flux = e.radiance * (4.0 * PI * e.area * scale);
+        if is_envmap(e) {
+            let s = sample_envmap(e, u_dir);
+            w = s.wi;
+            flux = s.l * select(0.0, e.area * scale / s.pdf, s.pdf > 0.0);
+        }
         let b = basis(w);
         let q = e.radius * sample_disk(u_pos);
         let p = e.position + 1.01 * e.radius * w + b[0] * q.x + b[1] * q.y;
-        return Photon(p, -w, e.radiance * (4.0 * PI * e.area * scale), 0u);
+        return Photon(p, -w, flux, 0u);
     }
     let l = sample_area_emitter(e, u_pos);
     let d = sample_cosine_hemisphere(l.n, u_dir);

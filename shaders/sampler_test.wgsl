@@ -83,10 +83,15 @@ struct SamplerTestParams {
 @group(0) @binding(22) var<storage, read_write> test_out: array<vec4f>;
 
 // Density and red emission of the emitter that the ray from p along w meets first, if it
-// meets its front: light_pdf at the hit, as the integrators weigh emission they hit.
+// meets its front: light_pdf at the hit, as the integrators weigh emission they hit; the
+// environment's where the ray escapes.
 fn traced_light(p: vec3f, w: vec3f) -> vec2f {
     let hit = trace_closest(p, w, 3.4e38);
     if hit.prim_ref == 0xffffffffu {
+        if USES_ENVIRONMENT && frame.emitter_count > 0u && environment().kind == EMITTER_ENVIRONMENT {
+            let env = environment_eval(w);
+            return vec2f(env.pdf, env.l.x);
+        }
         return vec2f(0.0);
     }
     let s = surface_at(hit, p, w);
@@ -177,8 +182,10 @@ fn draw_sample(i: u32) {
     if q.sampler == SAMPLER_LIGHT {
         let ls = sample_light(q.p, u);
         let usable = any(ls.li != vec3f(0.0));
-        // The cosine at the light point sample_light chose (the test's lights are area lights).
-        test_out[2u * i] = vec4f(ls.wi, select(0.0, max(ls.cos_l, 1e-30), usable));
+        // The cosine at the light point sample_light chose (the test's lights are area lights),
+        // 1 for the environment (at infinity).
+        let cos_l = select(max(ls.cos_l, 1e-30), 1.0, ls.dist >= 3.4e38);
+        test_out[2u * i] = vec4f(ls.wi, select(0.0, cos_l, usable));
         let traced = traced_light(q.p, ls.wi);
         test_out[2u * i + 1u] = vec4f(ls.pdf, traced.x, ls.li.x * ls.pdf, traced.y);
         return;

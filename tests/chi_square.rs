@@ -33,8 +33,8 @@ const MIN_EXPECTED: f64 = 5.0;
 /// (Bonferroni's correction).
 const SIGNIFICANCE: f64 = 0.01;
 /// Chi-square tests in this file: cosine 1, glossy 10 of each distribution, rough dielectric
-/// 14 of each, lights 3, plastics 11, thin dielectric 2.
-const TESTS: f64 = 65.0;
+/// 14 of each, lights 3, plastics 11, thin dielectric 2, environment map 1.
+const TESTS: f64 = 66.0;
 /// Samples in a bin whose expected count is 0 that are put down to rounding (as pbrt-v4 does:
 /// 1e-5 of the samples).
 const STRAY: f64 = 1e-5 * SAMPLES as f64;
@@ -894,5 +894,55 @@ fn light_sampling() {
         quad_size: 0.8,
     };
     light_test(&bench, &tiny, 302, &mut failures);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// sample_light on an environment map (the scene's only light) against the density the
+/// integrators weigh escaping rays by (environment_eval, traced_light's miss). The map, 16x9
+/// texels with a bright texel and a black one, is turned by a rotation; the bins' frame is the
+/// map's own, x along its u = 0 (-z), so that the cells' edges, at u = (i + 1/2) / 16 and v =
+/// j / 8, fall on bins' edges (the density is constant within each bin, and the quadrature
+/// exact). A dark quad lies in a plane through p, which no ray from p meets but edge-on.
+#[test]
+fn envmap_sampling() {
+    use glam::{Mat3, Vec3};
+    use sppm_gpu::scene::envmap::Envmap;
+    let Some(gpu) = common::gpu() else { return };
+    let bench = Bench::new(gpu);
+    let (w, h) = (16u32, 9u32);
+    let texels = (0..w * h)
+        .map(|k| {
+            let (x, y) = (k % w, k / w);
+            match (x, y) {
+                (5, 3) => Vec3::new(30.0, 20.0, 10.0),
+                (12, 6) => Vec3::ZERO,
+                _ => Vec3::new(0.2 + 0.05 * x as f32, 0.5, 0.1 + 0.1 * y as f32),
+            }
+        })
+        .collect();
+    let rotation = Mat3::from_rotation_z(0.3) * Mat3::from_rotation_y(1.1) * Mat3::from_rotation_x(-0.5);
+    let map = Envmap::new("chi2.exr".into(), w, h, texels, 2.0, rotation).unwrap();
+    let p = DVec3::new(2.0, 1.5, 0.0);
+    let scene = SceneBuilder::new(8, 8)
+        .camera([0.0, 0.0, 5.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0)
+        .diffuse("dark", [0.0; 3])
+        .quad([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], "dark")
+        .envmap_environment(map)
+        .build()
+        .unwrap_or_else(|e| panic!("{e}"));
+    let gpu_scene = bench.upload(&scene);
+    // The map's frame: theta from its +y, phi = 2 pi u = atan2(d.x, -d.z).
+    let axis = |v: Vec3| (rotation * v).as_dvec3();
+    let q = Params {
+        p: f32x3(p),
+        x: f32x3(axis(-Vec3::Z)),
+        y: f32x3(axis(Vec3::X)),
+        z: f32x3(axis(Vec3::Y)),
+        ..params(SAMPLER_LIGHT, 303, axis(Vec3::Y))
+    };
+    let outcome = run_test(&bench, &gpu_scene, &q);
+    let mut failures = Vec::new();
+    judge("envmap: 16x9, turned", &outcome, &mut failures);
+    assert!((outcome.usable - 1.0).abs() < 1e-9, "usable {}", outcome.usable);
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

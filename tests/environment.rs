@@ -14,7 +14,8 @@ use glam::DVec3;
 use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators::{self, Integrator};
 use sppm_gpu::metrics::{count_negative, count_non_finite};
-use sppm_gpu::scene::{DirectLight, Method, Scene, SceneBuilder};
+use sppm_gpu::scene::envmap::Envmap;
+use sppm_gpu::scene::{DirectLight, Light, LightKind, Method, Scene, SceneBuilder};
 
 const SIZE: u32 = 64;
 const EYE: [f32; 3] = [0.0, 0.0, 4.0];
@@ -122,16 +123,24 @@ fn means(img: &Rgb32Image) -> Means {
 
 /// The sphere reads `expected` (mean within 0.5%, inner disk and outer ring within 1% each)
 /// and the background 1 (within 0.5%).
-fn check(
+fn check(what: &str, with: impl FnOnce(SceneBuilder) -> SceneBuilder, expected: f64, run: (Method, DirectLight, u32, u32)) {
+    check_edited(what, with, |_| {}, expected, run)
+}
+
+/// [`check`] on the furnace changed by `edit`.
+fn check_edited(
     what: &str,
     with: impl FnOnce(SceneBuilder) -> SceneBuilder,
+    edit: impl FnOnce(&mut Scene),
     expected: f64,
     (method, direct, passes, photons): (Method, DirectLight, u32, u32),
 ) {
     if common::gpu().is_none() {
         return;
     }
-    let m = means(&render(&furnace(with, method, direct, passes, photons)));
+    let mut scene = furnace(with, method, direct, passes, photons);
+    edit(&mut scene);
+    let m = means(&render(&scene));
     eprintln!(
         "{what} {method:?} {direct:?}: sphere {:.5} (inner {:.5}, outer {:.5}), background {:.5}; expected {expected}",
         m.sphere, m.inner, m.outer, m.background
@@ -187,6 +196,23 @@ fn furnace_smooth_glass_reads_one() {
     }
 }
 
+/// The furnace under an environment map of radiance 1 everywhere (8x4 texels, turned) in place
+/// of the constant: the map's lookup, its sampling and density (next-event estimation and the
+/// MIS of escaping rays) and its photons give the albedo as the constant's do.
+fn envmap_of_one(scene: &mut Scene) {
+    let turn = glam::Mat3::from_rotation_x(0.4) * glam::Mat3::from_rotation_y(1.0);
+    let map = Envmap::new("ones.exr".into(), 8, 4, vec![glam::Vec3::ONE; 32], 1.0, turn).unwrap();
+    scene.lights = vec![Light { kind: LightKind::Envmap(std::sync::Arc::new(map)), line: 0 }];
+}
+
+#[test]
+fn furnace_envmap_of_one_reads_albedo() {
+    for run in ALL {
+        check_edited("envmap, albedo 0.8", grey, envmap_of_one, 0.8, run);
+        check_edited("envmap, glass", glass, envmap_of_one, 1.0, run);
+    }
+}
+
 /// The TOML scene of the furnace renders the same answer from the command line's path.
 #[test]
 fn furnace_scene_file_reads_point_eight() {
@@ -203,4 +229,30 @@ fn furnace_scene_file_reads_point_eight() {
         m.sphere,
         m.background
     );
+}
+
+/// TOML's `envmap` light (`file`, `scale`, `rotate` in degrees as a shape's) gives the map that
+/// envmap.xml's `<emitter type="envmap">` gives (rotate y 200, scale 1.5); a missing file and
+/// a key it lacks are errors naming the line and key.
+#[test]
+fn toml_envmap_matches_the_mitsuba_one() {
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let xml = sppm_gpu::scene::load(&dir.join("mitsuba/envmap.xml")).unwrap_or_else(|e| panic!("{e}"));
+    let scene = |light: &str| {
+        let text = format!(
+            "[render]\nwidth = 8\nheight = 8\niterations = 1\n\n[camera]\nposition = [0.0, 0.0, 4.0]\nlook_at = [0.0, 0.0, 0.0]\nfov = 40.0\n\n\
+             [materials]\ngrey = {{ type = \"diffuse\", albedo = [0.8, 0.8, 0.8] }}\n\n[[shapes]]\ntype = \"sphere\"\n\
+             center = [0.0, 0.0, 0.0]\nradius = 1.0\nmaterial = \"grey\"\n\n[[lights]]\ntype = \"envmap\"\n{light}"
+        );
+        sppm_gpu::scene::load_str(&text, &dir.join("envmap-test.toml"))
+    };
+    let toml = scene("file = \"mitsuba/textures/envmap-test.exr\"\nscale = 1.5\nrotate = [0.0, 200.0, 0.0]\n")
+        .unwrap_or_else(|e| panic!("{e}"));
+    let (LightKind::Envmap(a), LightKind::Envmap(b)) = (&toml.lights[0].kind, &xml.lights[0].kind) else { panic!() };
+    assert_eq!((a.width, a.height, a.scale, &a.texels), (b.width, b.height, b.scale, &b.texels));
+    assert!((0..3).all(|i| (a.to_world.col(i) - b.to_world.col(i)).abs().max_element() < 1e-6));
+    let e = scene("file = \"nowhere.exr\"\n").unwrap_err();
+    assert!(e.to_string().contains("nowhere.exr") && e.line == Some(22), "{e}");
+    let e = scene("file = \"mitsuba/textures/envmap-test.exr\"\nradiance = [1.0, 1.0, 1.0]\n").unwrap_err();
+    assert!(e.to_string().contains("radiance"), "{e}");
 }

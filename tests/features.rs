@@ -41,7 +41,7 @@ fn features_of_the_canonical_scenes() {
     let box_xml = scene::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/box.xml")).unwrap();
     let f = Features::of(&SceneData::new(&box_xml).unwrap());
     assert!(f.mirror && f.glossy && !f.conductor_fresnel && !f.beckmann, "material none, ggx: {f:?}");
-    assert_eq!(Features::ALL.constants().len(), 22);
+    assert_eq!(Features::ALL.constants().len(), 23);
     assert!(Features::ALL.constants().iter().all(|(_, v)| *v == 1.0));
 }
 
@@ -57,6 +57,11 @@ fn the_environment_is_a_feature_of_its_own() {
     let f = features("furnace-environment.toml");
     assert!(f.environment && !(f.point_lights || f.directional_lights || f.spot_lights || f.triangle_lights), "{f:?}");
     assert!(f.constants().contains(&("USES_ENVIRONMENT", 1.0)));
+    // A constant environment leaves the envmap's code out; an envmap puts it in.
+    assert!(f.constants().contains(&("USES_ENVMAP", 0.0)));
+    let envmap = scene::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/envmap.xml")).unwrap();
+    let f = Features::of(&SceneData::new(&envmap).unwrap());
+    assert!(f.environment && f.envmap && !f.triangle_lights, "{f:?}");
 }
 
 /// Spot lights switch USES_SPOT_LIGHTS on, and nothing else does: scenes without them

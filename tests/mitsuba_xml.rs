@@ -496,11 +496,7 @@ fn bad_input_names_file_line_and_element() {
     expect_error("negative radiance", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "-1, 1")), "radiance is negative");
     // What is not modelled yet is named, never dropped.
     for (test, body, needle) in [
-        (
-            "envmap",
-            r#"    <emitter type="envmap"><string name="filename" value="sky.exr"/></emitter>"#,
-            "`envmap` environment emitter",
-        ),
+        ("sunsky", r#"    <emitter type="sunsky"/>"#, "`sunsky` environment emitter"),
         ("projector", r#"    <emitter type="projector"/>"#, "`projector` emitter is not modelled"),
         ("principled", r#"    <shape type="sphere"><bsdf type="principled"/></shape>"#, "`principled` BSDF is not modelled"),
         (
@@ -643,6 +639,63 @@ fn assert_close(name: &str, c: &sppm_gpu::metrics::Comparison, rel_mse: f64, mea
     for r in c.mean_ratio {
         assert!((r - 1.0).abs() < mean, "{name}: channel mean ratios {:?}", c.mean_ratio);
     }
+}
+
+/// envmap.xml: an environment map (issue 25), scaled by 1.5 and turned 200 degrees about y,
+/// over a ground plane, a diffuse, a rough copper and a glass sphere.
+#[test]
+fn envmap_matches_mitsuba() {
+    let s = load("envmap.xml");
+    let [scene::Light { kind: LightKind::Envmap(m), .. }] = &s.lights[..] else { panic!("{:?}", s.lights) };
+    assert_eq!((m.width, m.height, m.scale), (64, 32, 1.5));
+    let turn = glam::Mat3::from_rotation_y(200f32.to_radians());
+    assert!((0..3).all(|i| (m.to_world.col(i) - turn.col(i)).abs().max_element() < 1e-6), "{:?}", m.to_world);
+    if common::gpu().is_none() {
+        return;
+    }
+    let c = against_mitsuba("envmap", Method::Sppm, 32, 100_000);
+    assert_close("envmap sppm", &c, 0.003, 0.01);
+    let c = against_mitsuba("envmap", Method::PtNee, 64, 0);
+    assert_close("envmap pt-nee", &c, 0.003, 0.01);
+}
+
+/// An envmap's bad input, each an error naming the file, line and parameter: a missing file,
+/// a NaN texel, a negative scale, a to_world that scales, a parameter Mitsuba's envmap lacks, a
+/// second environment.
+#[test]
+fn envmap_bad_input_names_file_line_and_parameter() {
+    let line_of = |text: &str, needle: &str| text.lines().position(|l| l.contains(needle)).unwrap() + 1;
+    let write = |test: &str, name: &str, green: f32| {
+        let img = sppm_gpu::image_io::Rgb32Image { width: 4, height: 2, pixels: vec![[1.0, green, 0.5]; 8] };
+        sppm_gpu::image_io::write_exr(&temp_dir(test).join(name), &img).unwrap();
+    };
+    let env = |inner: &str| scene_with(&format!("    <emitter type=\"envmap\">\n        {inner}\n    </emitter>"));
+    let text = env(r#"<string name="filename" value="missing.exr"/>"#);
+    expect_error("envmap missing", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "missing.exr")), "missing.exr");
+    write("envmap-nan", "nan.exr", f32::NAN);
+    let text = env(r#"<string name="filename" value="nan.exr"/>"#);
+    expect_error("envmap-nan", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "nan.exr")), "not a finite number");
+    for (test, extra, needle, message) in [
+        ("envmap-scale", r#"<float name="scale" value="-1"/>"#, "scale", "at least 0"),
+        ("envmap-to-world", r#"<transform name="to_world"><scale value="2"/></transform>"#, "scale value", "must be a rotation"),
+        ("envmap-param", r#"<float name="uoffset" value="0.5"/>"#, "uoffset", "no parameter `uoffset`"),
+    ] {
+        write(test, "sky.exr", 1.0);
+        let text = env(&format!(r#"<string name="filename" value="sky.exr"/>{extra}"#));
+        expect_error(test, &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, needle)), message);
+    }
+    write("envmap-two", "sky.exr", 1.0);
+    let text = scene_with(
+        "    <emitter type=\"constant\"/>\n    <emitter type=\"envmap\" id=\"sky2\"><string name=\"filename\" value=\"sky.exr\"/></emitter>",
+    );
+    expect_error("envmap-two", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "sky2")), "at most one environment");
+    // Mitsuba 0.6's camelCase toWorld reads as to_world; a good map loads.
+    write("envmap-ok", "sky.exr", 1.0);
+    let text =
+        env(r#"<string name="filename" value="sky.exr"/><transform name="toWorld"><rotate y="1" angle="90"/></transform>"#)
+            .replace("version=\"3.0.0\"", "version=\"0.6.0\"");
+    let s = load_files("envmap-ok", &[("s.xml", &text)], &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert!(matches!(&s.lights[0].kind, LightKind::Envmap(m) if m.width == 4 && (m.to_world.x_axis.z + 1.0).abs() < 1e-6));
 }
 
 /// constant.xml: a constant environment (issue 25) with a small area light, over a ground

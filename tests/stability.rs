@@ -133,7 +133,7 @@ fn scaled(scene: &Scene, s: f32) -> Scene {
                 *position *= s;
                 *intensity *= s * s;
             }
-            LightKind::Directional { .. } | LightKind::Constant { .. } => {}
+            LightKind::Directional { .. } | LightKind::Constant { .. } | LightKind::Envmap(_) => {}
         }
     }
     out.camera.position *= s;

@@ -85,13 +85,13 @@ fn emission_weight(pdf_prev: f32, o: vec3f, hit: Hit, s: Surface, d: vec3f) -> f
     return power_heuristic(pdf_prev, light_pdf(o, hit.prim_ref, s.shape, hit.t, -dot(d, s.ng)));
 }
 
-// Radiance of the environment that a ray escaping the scene brings, weighted as
-// emission_weight weighs emission it hits: the light pdf is environment_pdf(). Call only
+// Radiance of the environment that a ray escaping the scene along d brings, weighted as
+// emission_weight weighs emission it hits: the light pdf is environment_eval's. Call only
 // where USES_ENVIRONMENT.
-fn escaped_light(pdf_prev: f32) -> vec3f {
-    let l = environment().radiance;
+fn escaped_light(d: vec3f, pdf_prev: f32) -> vec3f {
+    let env = environment_eval(d);
     if pdf_prev <= 0.0 {
-        return l;
+        return env.l;
     }
-    return l * power_heuristic(pdf_prev, environment_pdf());
+    return env.l * power_heuristic(pdf_prev, env.pdf);
 }

@@ -2,6 +2,8 @@
 // emission and next-event estimation both start here; sample_light and light_pdf are the
 // light side of next-event estimation, for the path tracer and SPPM's camera pass alike.
 
+#import envmap
+
 @group(0) @binding(15) var<storage, read> emitters: array<Emitter>;
 
 // The kinds of emitter the scene has (src/gpu/features.rs); see scene.wgsl.
@@ -140,11 +142,21 @@ fn sample_light(p: vec3f, u: vec3f) -> LightSample {
         return LightSample(wi, 3.4e38, e.radiance / e.pmf, 0.0, p + far * wi, 0.0);
     }
     if USES_ENVIRONMENT && e.kind == EMITTER_ENVIRONMENT {
-        // Uniform on the sphere, as Mitsuba 3's `constant` samples: pdf pmf / (4 pi).
-        let wi = sample_uniform_sphere(u.yz);
-        let pdf = environment_pdf();
         // Past the bounding sphere (centre e.position, radius e.radius).
         let far = 2.0 * e.radius + length(p - e.position);
+        if is_envmap(e) {
+            // By the map's distribution (envmap.wgsl): pdf pmf p(w). Radiance and density
+            // as environment_eval finds them from the direction, so that the two strategies
+            // weigh a direction on a cell's edge alike whatever its rounding.
+            let wi = sample_envmap(e, u.yz).wi;
+            let m = envmap_eval(e, wi);
+            let pdf = e.pmf * m.pdf;
+            let li = select(vec3f(0.0), m.l / pdf, pdf > 0.0);
+            return LightSample(wi, 3.4e38, li, pdf, p + far * wi, 0.0);
+        }
+        // Uniform on the sphere, as Mitsuba 3's `constant` samples: pdf pmf / (4 pi).
+        let wi = sample_uniform_sphere(u.yz);
+        let pdf = e.pmf * (0.25 * INV_PI);
         return LightSample(wi, 3.4e38, e.radiance / pdf, pdf, p + far * wi, 0.0);
     }
     var l: LightPoint;
@@ -187,10 +199,16 @@ fn light_pdf(p: vec3f, prim_ref: u32, shape: u32, t: f32, cos_l: f32) -> f32 {
     return area_emitter_density(shape) * t * t / cos_l;
 }
 
-// Solid-angle density with which sample_light picks any one direction of the environment:
-// its pmf times the uniform sphere's 1 / (4 pi).
-fn environment_pdf() -> f32 {
-    return environment().pmf * (0.25 * INV_PI);
+// Radiance of the environment from direction w (unit, towards it), and the solid-angle
+// density with which sample_light picks w: its pmf times the uniform sphere's 1 / (4 pi) for
+// a constant environment, times the map's density for an envmap. Only where USES_ENVIRONMENT.
+fn environment_eval(w: vec3f) -> EnvmapEval {
+    let e = environment();
+    if is_envmap(e) {
+        let m = envmap_eval(e, w);
+        return EnvmapEval(m.l, e.pmf * m.pdf);
+    }
+    return EnvmapEval(e.radiance, e.pmf * (0.25 * INV_PI));
 }
 
 // Mitsuba 3's spot falloff (src/scene/mod.rs, spot_falloff) in unit direction d leaving spot

@@ -205,21 +205,40 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> 
     let mut lights = Vec::new();
     for l in &scene.lights {
         let mut t = Table::new();
-        match l.kind {
-            LightKind::Point { position, intensity } => {
+        match &l.kind {
+            &LightKind::Point { position, intensity } => {
                 t.insert("type".into(), Value::String("point".into()));
                 t.insert("position".into(), vec3(position));
                 t.insert("intensity".into(), vec3(intensity));
             }
-            LightKind::Directional { direction, irradiance } => {
+            &LightKind::Directional { direction, irradiance } => {
                 t.insert("type".into(), Value::String("directional".into()));
                 t.insert("direction".into(), vec3(direction));
                 t.insert("irradiance".into(), vec3(irradiance));
             }
             LightKind::Spot { .. } => return Err("a spot light cannot be written in TOML yet".into()),
-            LightKind::Constant { radiance } => {
+            &LightKind::Constant { radiance } => {
                 t.insert("type".into(), Value::String("constant".into()));
                 t.insert("radiance".into(), vec3(radiance));
+            }
+            LightKind::Envmap(m) => {
+                // The image stays where it is, named by its absolute path; to_world as the
+                // angles of rotate (R = Rz Ry Rx, degrees).
+                let r = m.to_world;
+                if r.determinant() < 0.0 {
+                    return Err("an environment map mirrored by its to_world cannot be written in TOML".into());
+                }
+                let b = (-r.x_axis.z).clamp(-1.0, 1.0).asin();
+                let (a, c) = if r.x_axis.z.abs() < 0.9999 {
+                    (r.y_axis.z.atan2(r.z_axis.z), r.x_axis.y.atan2(r.x_axis.x))
+                } else {
+                    (0.0, (-r.y_axis.x).atan2(r.y_axis.y))
+                };
+                let file = std::path::absolute(&m.path).unwrap_or_else(|_| m.path.clone());
+                t.insert("type".into(), Value::String("envmap".into()));
+                t.insert("file".into(), Value::String(file.to_string_lossy().into_owned()));
+                t.insert("scale".into(), float(m.scale));
+                t.insert("rotate".into(), vec3(glam::Vec3::new(a, b, c) * (180.0 / std::f32::consts::PI)));
             }
         }
         lights.push(Value::Table(t));

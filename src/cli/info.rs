@@ -97,6 +97,7 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
             LightKind::Directional { .. } => "directional",
             LightKind::Spot { .. } => "spot",
             LightKind::Constant { .. } => "constant",
+            LightKind::Envmap(_) => "envmap",
         };
         *lights.entry(kind).or_insert(0) += 1;
     }

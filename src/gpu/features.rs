@@ -63,6 +63,8 @@ pub struct Features {
     pub spot_lights: bool,
     /// The scene has an environment (the last emitter).
     pub environment: bool,
+    /// The environment is an image (`envmap`), not a constant.
+    pub envmap: bool,
 }
 
 impl Features {
@@ -90,6 +92,7 @@ impl Features {
         directional_lights: true,
         spot_lights: true,
         environment: true,
+        envmap: true,
     };
 
     /// The features `data` uses.
@@ -128,6 +131,7 @@ impl Features {
             directional_lights: emitter(EMITTER_DIRECTIONAL, false),
             spot_lights: emitter(EMITTER_SPOT, false),
             environment: emitter(EMITTER_ENVIRONMENT, false),
+            envmap: data.emitters.iter().any(|e| e.kind == EMITTER_ENVIRONMENT && e.prim_ref != NO_TEXTURE),
         }
     }
 
@@ -156,6 +160,7 @@ impl Features {
             ("USES_DIRECTIONAL_LIGHTS", self.directional_lights),
             ("USES_SPOT_LIGHTS", self.spot_lights),
             ("USES_ENVIRONMENT", self.environment),
+            ("USES_ENVMAP", self.envmap),
         ]
         .into_iter()
         .map(|(name, on)| (name, if on { 1.0 } else { 0.0 }))

@@ -51,6 +51,7 @@ const FILES: &[(&str, &str)] = &[
     ("camera", include_str!("../../shaders/shared/camera.wgsl")),
     ("grid", include_str!("../../shaders/shared/grid.wgsl")),
     ("lights", include_str!("../../shaders/shared/lights.wgsl")),
+    ("envmap", include_str!("../../shaders/shared/envmap.wgsl")),
     ("direct", include_str!("../../shaders/shared/direct.wgsl")),
     ("lanes", include_str!("../../shaders/shared/lanes.wgsl")),
     ("lanes_single", include_str!("../../shaders/shared/lanes_single.wgsl")),

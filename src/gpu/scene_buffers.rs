@@ -125,6 +125,10 @@ fn rough_coating_cached(ior: f32, alpha: f32, distribution: Microfacet) -> crate
     c
 }
 
+/// Most `texels` entries with an environment map: 128 MiB, lavapipe's (and WebGPU's
+/// default) largest storage buffer binding.
+const ENVMAP_MAX_ENTRIES: usize = (128 << 20) / 16;
+
 /// The average over RGB, in f64 for the power sums.
 fn average(v: Vec3) -> f64 {
     v.element_sum() as f64 / 3.0
@@ -392,23 +396,56 @@ impl SceneData {
                     powers.push(average(intensity) * omega);
                 }
                 // Last, after the loop.
-                LightKind::Constant { .. } => {}
+                LightKind::Constant { .. } | LightKind::Envmap(_) => {}
             }
         }
         // The environment is the last emitter, where the kernels find it. Its photons cross
         // the disk of radius R that covers the bounding sphere, from every direction: power
-        // average(L) pi R^2 4 pi.
-        if let Some(LightKind::Constant { radiance }) = scene.lights.iter().map(|l| &l.kind).find(|k| k.is_environment()) {
+        // pi R^2 times the integral of average(L) over the sphere, average(L) pi R^2 4 pi for
+        // a constant one. An envmap's image and distribution go at the end of `texels`, its
+        // `prim_ref` their header (NO_TEXTURE for a constant environment), its `radiance` the
+        // scale.
+        let environment = scene.lights.iter().find(|l| l.kind.is_environment());
+        if let Some(light) = environment {
             let area = pi * radius * radius;
-            emitters.push(Emitter {
+            let mut e = Emitter {
                 kind: EMITTER_ENVIRONMENT,
+                prim_ref: NO_TEXTURE,
                 position: center.into(),
                 area,
-                radiance: (*radiance).into(),
                 radius,
                 ..Emitter::default()
-            });
-            powers.push(average(*radiance) * area as f64 * 4.0 * std::f64::consts::PI);
+            };
+            let integral = match &light.kind {
+                LightKind::Envmap(map) => {
+                    let needed = texels.len() + crate::scene::envmap::EnvmapDistribution::packed_len(map);
+                    if needed > ENVMAP_MAX_ENTRIES {
+                        return Err(SceneError {
+                            file: map.path.clone(),
+                            line: Some(light.line),
+                            key: None,
+                            message: format!(
+                                "the environment map of {}x{} texels, with the textures, needs {} MiB, over the {} MiB of a storage buffer",
+                                map.width,
+                                map.height,
+                                (needed * 16) >> 20,
+                                (ENVMAP_MAX_ENTRIES * 16) >> 20
+                            ),
+                        });
+                    }
+                    let distribution = crate::scene::envmap::EnvmapDistribution::new(map);
+                    e.prim_ref = distribution.pack(map, &mut texels);
+                    e.radiance = [map.scale; 3];
+                    map.integral().iter().sum::<f64>() / 3.0
+                }
+                LightKind::Constant { radiance } => {
+                    e.radiance = (*radiance).into();
+                    average(*radiance) * 4.0 * std::f64::consts::PI
+                }
+                _ => unreachable!("is_environment"),
+            };
+            emitters.push(e);
+            powers.push(integral * area as f64);
         }
         let power_total: f64 = powers.iter().sum();
         if !power_total.is_finite() || power_total <= 0.0 {

@@ -261,7 +261,8 @@ pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
 /// Empty when the method suits the scene.
 pub fn limitations(scene: &Scene) -> Vec<String> {
     use crate::scene::MaterialKind;
-    let delta_lights = scene.lights.len();
+    // Environments are found by escaping rays, by every method.
+    let delta_lights = scene.lights.iter().filter(|l| !l.kind.is_environment()).count();
     // Surfaces where pt-nee samples no light: mirrors and glass, smooth or rough, thin glass
     // and smooth plastics' coatings.
     let specular = scene.materials.iter().any(|m| match m.kind {

@@ -422,6 +422,13 @@ impl SceneBuilder {
         self
     }
 
+    /// An environment map (Mitsuba 3's `envmap`, already checked by
+    /// [`super::envmap::Envmap::new`]), at infinity. A scene has at most one environment.
+    pub fn envmap_environment(mut self, map: super::envmap::Envmap) -> Self {
+        self.lights.push(LightKind::Envmap(std::sync::Arc::new(map)));
+        self
+    }
+
     /// A spot light at `position` whose cone's axis points along `direction` (nonzero;
     /// normalized here): radiant `intensity` (W/sr, each channel >= 0) within `beam_width`
     /// degrees of the axis, falling off linearly in the angle to zero at `cutoff_angle`
@@ -690,6 +697,7 @@ impl Check<'_> {
             LightKind::Constant { radiance } => {
                 LightKind::Constant { radiance: self.vec3(&format!("{key}.radiance"), radiance, Bound::NonNegative)? }
             }
+            LightKind::Envmap(ref m) => LightKind::Envmap(m.clone()),
         })
     }
 

@@ -468,6 +468,7 @@ const LIGHT_TYPES: &[(&str, LightReader, &[&str])] = &[
     ("point", read_point_light, &["position", "intensity"]),
     ("directional", read_directional_light, &["direction", "irradiance"]),
     ("constant", read_constant_light, &["radiance"]),
+    ("envmap", read_envmap_light, &["file", "scale", "rotate"]),
 ];
 
 /// Reads one `[[lights]]` entry.
@@ -487,6 +488,20 @@ fn read_point_light(t: &Table) -> Result<LightKind> {
 /// A constant environment: `radiance` from every direction.
 fn read_constant_light(t: &Table) -> Result<LightKind> {
     Ok(LightKind::Constant { radiance: t.req("radiance", |v| v.vec3_in(Bound::NonNegative))? })
+}
+
+/// An environment map: `file` (an equirectangular image, EXR or HDR linear, PNG sRGB),
+/// `scale` (default 1) and `rotate` (degrees about x, y and z, as a shape's; default none),
+/// which turns the map's frame (+y up, see [`super::envmap`]) into the world.
+fn read_envmap_light(t: &Table) -> Result<LightKind> {
+    let scale = t.or("scale", 1.0, |v| v.f32_in(Bound::NonNegative))?;
+    let to_world = super::envmap::rotation_degrees(t.or("rotate", Vec3::ZERO, Value::vec3)?);
+    let file = t.require("file")?;
+    let path = file.path()?;
+    let image = file.read_file("environment map", &path, |p| mesh::read_image(p, false))?;
+    let map =
+        super::envmap::Envmap::new(path, image.width, image.height, image.texels, scale, to_world).map_err(|e| file.error(e))?;
+    Ok(LightKind::Envmap(std::sync::Arc::new(map)))
 }
 
 /// A directional light; its direction is normalized.

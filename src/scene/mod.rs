@@ -7,6 +7,7 @@
 
 mod builder;
 pub mod coating;
+pub mod envmap;
 mod error;
 mod load;
 mod mesh;
@@ -470,12 +471,15 @@ pub enum LightKind {
         /// that covers the scene's bounding sphere.
         radiance: Vec3,
     },
+    /// Mitsuba 3's `envmap`: radiance from an equirectangular image ([`envmap::Envmap`]),
+    /// at infinity; the scene's one environment.
+    Envmap(std::sync::Arc<envmap::Envmap>),
 }
 
 impl LightKind {
     /// Whether the light is an environment (at infinity, around the whole scene).
     pub fn is_environment(&self) -> bool {
-        matches!(self, LightKind::Constant { .. })
+        matches!(self, LightKind::Constant { .. } | LightKind::Envmap(_))
     }
 }
 
@@ -573,11 +577,12 @@ impl Scene {
     /// environment light, with some channel above zero.
     pub fn is_lit(&self) -> bool {
         self.shapes.iter().any(|s| s.emission.is_some_and(|e| e.max_element() > 0.0))
-            || self.lights.iter().any(|l| match l.kind {
+            || self.lights.iter().any(|l| match &l.kind {
                 LightKind::Point { intensity: e, .. }
                 | LightKind::Directional { irradiance: e, .. }
                 | LightKind::Spot { intensity: e, .. }
                 | LightKind::Constant { radiance: e } => e.max_element() > 0.0,
+                LightKind::Envmap(m) => m.scale > 0.0 && m.texels.iter().any(|t| t.max_element() > 0.0),
             })
     }
 

@@ -125,7 +125,7 @@ impl<'a> SceneReader<'a> {
                 "shape" => self.shape(node, glam::Mat4::IDENTITY)?,
                 // An area emitter declared apart, for the shapes that refer to it.
                 "emitter" if node.attr("type") == Some("area") && node.attr("id").is_some() => {}
-                "emitter" => sensor::light(node, &mut self.lights)?,
+                "emitter" => sensor::light(node, &mut self.lights, &self.root)?,
                 "sensor" => {
                     if self.sensor.is_some() {
                         return Err(node.error(None, "a second <sensor>: sppm-gpu renders one camera"));

@@ -428,8 +428,9 @@ fn max_depth(p: &Props) -> Result<u32> {
     }
 }
 
-/// A top-level `<emitter>`: point, directional, spot or constant.
-pub(super) fn light(node: &Node, lights: &mut Vec<Light>) -> Result<()> {
+/// A top-level `<emitter>`: point, directional, spot, constant or envmap (whose `filename`
+/// is resolved against the file's directory, then `root`).
+pub(super) fn light(node: &Node, lights: &mut Vec<Light>, root: &[std::path::PathBuf]) -> Result<()> {
     node.allow_attrs(&["type", "id", "name"])?;
     let kind = node.req_attr("type")?;
     let p = Props::new(node)?;
@@ -515,7 +516,16 @@ pub(super) fn light(node: &Node, lights: &mut Vec<Light>) -> Result<()> {
             }
             LightKind::Constant { radiance: rgb("radiance")? }
         }
-        "envmap" | "sunsky" | "skysun" | "sky" | "sun" => {
+        "envmap" => {
+            if let Some(first) = lights.iter().find(|l| l.kind.is_environment()) {
+                return Err(node.error(
+                    Some("type"),
+                    format!("a scene has at most one environment emitter; another is at line {}", first.line),
+                ));
+            }
+            LightKind::Envmap(std::sync::Arc::new(envmap(&p, to_world, root)?))
+        }
+        "sunsky" | "skysun" | "sky" | "sun" => {
             return Err(node.error(Some("type"), format!("the `{kind}` environment emitter is not modelled by sppm-gpu yet")))
         }
         "projector" => return Err(node.error(Some("type"), format!("the `{kind}` emitter is not modelled by sppm-gpu yet"))),
@@ -525,4 +535,32 @@ pub(super) fn light(node: &Node, lights: &mut Vec<Light>) -> Result<()> {
     p.finish()?;
     lights.push(Light { kind: light, line: node.line });
     Ok(())
+}
+
+/// An `envmap` emitter: `filename` (required; an equirectangular EXR or HDR, linear, or an 8-
+/// or 16-bit image, sRGB-decoded, as Mitsuba 3's `Bitmap` reads them), `scale` (1),
+/// `to_world` (a rotation; its translation is ignored, as the map lies at infinity), and
+/// `mis_compensation`, which changes Mitsuba's sampling only. Errors name the parameter.
+fn envmap(p: &Props, to_world: Option<Mat4>, root: &[std::path::PathBuf]) -> Result<crate::scene::envmap::Envmap> {
+    let name = p.string("filename")?.ok_or_else(|| p.node.error(Some("filename"), "an envmap needs a `filename`"))?;
+    let at = p.get("filename").unwrap();
+    let path = super::xml::resolve(name, &p.node.file, root);
+    let scale = p.float_or("scale", 1.0)?;
+    if !(scale.is_finite() && scale >= 0.0) {
+        return Err(p.get("scale").unwrap().error(Some("scale"), format!("scale {scale}: an envmap's scale is at least 0")));
+    }
+    p.boolean_or("mis_compensation", false)?;
+    let linear = glam::Mat3::from_mat4(to_world.unwrap_or(Mat4::IDENTITY));
+    let image = crate::scene::mesh::read_image(&path, false)
+        .map_err(|e| at.error(Some("filename"), format!("{}: {e}", path.display())))?;
+    crate::scene::envmap::Envmap::new(path, image.width, image.height, image.texels, scale, linear).map_err(|e| {
+        let (node, key) = if e.contains("to_world") {
+            (p.get("to_world").unwrap_or(p.node), "to_world")
+        } else if e.starts_with("scale") {
+            (p.get("scale").unwrap_or(p.node), "scale")
+        } else {
+            (at, "filename")
+        };
+        node.error(Some(key), e)
+    })
 }
