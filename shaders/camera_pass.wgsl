@@ -70,7 +70,6 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         if seen_from_behind(m, s, d) {
             break;
         }
-        var diffuse = m.kind == MATERIAL_DIFFUSE;
         let albedo = m.albedo;
         // Next-event estimation at diffuse, glossy, rough dielectric and plastic vertices
         // (mirrors and smooth glass cannot sample lights), from one call site: the shadow
@@ -79,77 +78,32 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         if nee {
             path.ld += beta * direct_light(s, -d, m, albedo, vec3f(rng_next(rng), rng_next2(rng)));
         }
-        // A plastic: one of its lobes, chosen here (shared/coating.wgsl). Its base's is a
-        // diffuse surface's, a visible point weighted by the base's term over the lobe's
-        // probability (coat.vp_weight; photons bring the factor of their direction); its
-        // coating's is passed through as a glossy surface's. The expectation over the choice
-        // is the whole BSDF's estimate.
-        var coat: CoatSample;
-        if is_plastic(m) {
-            coat = sample_plastic(m, albedo, d, s, vec3f(rng_next2(rng), rng_next(rng)));
-            diffuse = coat.base;
-        }
-        if diffuse {
+        // The BSDF sampled once (shared/direct.wgsl): a diffuse surface's or a plastic's base's
+        // lobe leaves the visible point; any other is passed through. For a plastic the
+        // expectation over its lobes is the whole BSDF's estimate.
+        let next = sample_vertex(s, m, albedo, d, nee, vec3f(rng_next2(rng), rng_next(rng)));
+        if next.diffuse {
             // The visible point: the photon pass adds flux * weight for photons near it.
             let n = select(-s.ng, s.ng, dot(d, s.ng) < 0.0);
-            var weight = albedo * INV_PI;
-            if is_plastic(m) {
-                weight = coat.vp_weight;
-            }
-            path.vp = VisiblePoint(s.p, 0.0, beta * weight, encode_normal(n, depth));
+            path.vp = VisiblePoint(s.p, 0.0, beta * next.vp_weight, encode_normal(n, depth));
             path.found = true;
             if !sample_direct {
                 break;
             }
             // The path ends here, so both MIS strategies are taken: the light sample above,
-            // and a cosine-sampled direction (f cos / pdf = albedo) whose emission the next
-            // segment weighs by emission_weight.
-            // A plastic's base direction was drawn with its lobe (f cos / pdf = coat.weight).
-            let wo = -d;
-            let n_out = select(-s.ns, s.ns, dot(wo, s.ng) > 0.0);
-            var wi: vec3f;
-            if is_plastic(m) {
-                wi = coat.wi;
-            } else {
-                wi = sample_cosine_hemisphere(n_out, rng_next2(rng));
-            }
-            if dot(wi, s.ng) * dot(wo, s.ng) <= 0.0 || one_sided_culls(m, s, wi) {
-                break;
-            }
-            if is_plastic(m) {
-                beta *= coat.weight;
-                pdf_prev = coat.pdf;
-            } else {
-                beta *= albedo;
-                pdf_prev = abs(dot(wi, s.ns)) * INV_PI;
-            }
-            o = offset_origin(s.p, s.ng, wi);
-            d = wi;
+            // and the sampled direction, whose emission the next segment weighs by
+            // emission_weight.
             to_emission = true;
-            continue;
         }
         // Specular and glossy surfaces are passed through by sampling them, so visible points
         // lie on diffuse surfaces only (as pbrt-v4's SPPM does for all but the last bounce):
         // the estimate at a glossy surface is then the unbiased average over its lobe of
         // the density estimates further on, and no BSDF has to be evaluated per photon.
-        var next: SpecularSample;
-        if is_plastic(m) {
-            next = SpecularSample(coat.wi, coat.weight);
-        } else {
-            next = sample_nondiffuse(m, d, s, vec3f(rng_next2(rng), rng_next(rng)), true);
-        }
         if all(next.weight == vec3f(0.0)) {
             break;
         }
         beta *= next.weight;
-        pdf_prev = 0.0;
-        if nee {
-            if is_plastic(m) {
-                pdf_prev = coat.pdf;
-            } else {
-                pdf_prev = vertex_bsdf(s, m, m.albedo, -d, next.wi).pdf;
-            }
-        }
+        pdf_prev = next.pdf;
         o = offset_origin(s.p, s.ng, next.wi);
         d = next.wi;
         // That was the last scattering event max_depth allows: the next segment only gathers

@@ -76,36 +76,13 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
         if nee {
             l += beta * direct_light(s, wo, m, albedo, u_light);
         }
-        if diffuse {
-            let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
-            let wi = sample_cosine_hemisphere(n_in, rng_next2(&rng));
-            if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 || one_sided_culls(m, s, wi) {
-                break;
-            }
-            beta *= albedo;
-            pdf_prev = select(0.0, abs(dot(wi, s.ns)) * INV_PI, frame.nee != 0u);
-            d = wi;
-        } else if is_plastic(m) {
-            // One of its two lobes (shared/coating.wgsl); the mixture density for MIS.
-            let c = sample_plastic(m, albedo, d, s, vec3f(rng_next2(&rng), rng_next(&rng)));
-            if all(c.weight == vec3f(0.0)) {
-                break;
-            }
-            beta *= c.weight;
-            pdf_prev = select(0.0, c.pdf, nee);
-            d = c.wi;
-        } else {
-            let next = sample_nondiffuse(m, d, s, vec3f(rng_next2(&rng), rng_next(&rng)), true);
-            if all(next.weight == vec3f(0.0)) {
-                break;
-            }
-            beta *= next.weight;
-            pdf_prev = 0.0;
-            if nee {
-                pdf_prev = vertex_bsdf(s, m, m.albedo, wo, next.wi).pdf;
-            }
-            d = next.wi;
+        let next = sample_vertex(s, m, albedo, d, nee, vec3f(rng_next2(&rng), rng_next(&rng)));
+        if all(next.weight == vec3f(0.0)) {
+            break;
         }
+        beta *= next.weight;
+        pdf_prev = next.pdf;
+        d = next.wi;
         o = offset_origin(s.p, s.ng, d);
         // Russian roulette after three bounces, keeping the largest channel's weight.
         if depth >= 3u {

@@ -55,6 +55,42 @@ fn vertex_bsdf(s: Surface, m: Material, albedo: vec3f, wo: vec3f, wi: vec3f) -> 
     return BsdfEval(albedo * INV_PI, abs(dot(wi, s.ns)) * INV_PI);
 }
 
+// One scattering event of a camera path (the path tracer's or SPPM's) at surface s of
+// material m, met along d: the next direction, its weight f |cos| / pdf (0 ends the path),
+// the density for MIS at the emission it meets (0 where no light is sampled, nee false, and
+// after a delta lobe), and whether the lobe was diffuse (a diffuse surface or a plastic's
+// base), where SPPM leaves a visible point of weight vp_weight (f without the photon's part).
+struct VertexSample {
+    wi: vec3f,
+    weight: vec3f,
+    pdf: f32,
+    diffuse: bool,
+    vp_weight: vec3f,
+}
+
+// Sample the BSDF at a camera-path vertex: cosine-weighted for diffuse (f cos / pdf = albedo),
+// one lobe of a plastic (shared/coating.wgsl), or sample_nondiffuse. u from the path's stream.
+fn sample_vertex(s: Surface, m: Material, albedo: vec3f, d: vec3f, nee: bool, u: vec3f) -> VertexSample {
+    if m.kind == MATERIAL_DIFFUSE {
+        let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
+        let wi = sample_cosine_hemisphere(n_in, u.xy);
+        // A shading normal can send wi through the surface, or behind a one-sided ns.
+        let ok = dot(wi, s.ng) * dot(d, s.ng) < 0.0 && !one_sided_culls(m, s, wi);
+        let pdf = select(0.0, abs(dot(wi, s.ns)) * INV_PI, nee);
+        return VertexSample(wi, select(vec3f(0.0), albedo, ok), pdf, true, albedo * INV_PI);
+    }
+    if is_plastic(m) {
+        let c = sample_plastic(m, albedo, d, s, u);
+        return VertexSample(c.wi, c.weight, select(0.0, c.pdf, nee), c.base, c.vp_weight);
+    }
+    let next = sample_nondiffuse(m, d, s, u, true);
+    var pdf = 0.0;
+    if nee {
+        pdf = vertex_bsdf(s, m, albedo, -d, next.wi).pdf;
+    }
+    return VertexSample(next.wi, next.weight, pdf, false, vec3f(0.0));
+}
+
 // Next-event estimate at surface s seen from wo, for a material where samples_lights(m) with
 // `albedo` (its texture looked up): one light chosen by power and a point on it, u from the
 // path's stream.
