@@ -153,6 +153,17 @@ stage mitsuba-ply-bunny $M "$MD" docs/scenes/shape_ply_bunny.xml \
     docs/scenes/include/shape_scene.xml common/meshes/bunny.ply common/textures/museum.exr common/meshes/matpreview.serialized
 stage mitsuba-roughplastic $M "$MD" docs/scenes/bsdf_roughplastic_beckmann.xml \
     docs/scenes/include/matpreview.xml common/meshes/matpreview.serialized common/textures/museum.exr
+# Mitsuba's material previews (issue 25): one BSDF each on the material-preview object under
+# the museum environment map, those whose BSDFs we read; and scenes/matpreview.
+for b in conductor_aluminium conductor_gold dielectric_diamond dielectric_glass diffuse_plain \
+    diffuse_textured plastic_default plastic_diffuse plastic_nopreserve plastic_preserve plastic_shiny \
+    roughconductor_copper roughdielectric_glass roughdielectric_rough roughplastic_beckmann \
+    roughplastic_diffuse roughplastic_ggx roughplastic_nopreserve roughplastic_preserve thindielectric_glass; do
+    stage "matpreview-$b" $M "$MD" "docs/scenes/bsdf_$b.xml" docs/scenes/include/matpreview.xml \
+        common/meshes/matpreview.serialized common/textures/museum.exr common/textures/wood.jpg
+done
+stage mitsuba-matpreview $M "$MD" scenes/matpreview/matpreview.xml scenes/matpreview/envmap.exr \
+    scenes/matpreview/matpreview.serialized
 
 # Bitterli scenes in Mitsuba 0.5/2 form (jgarciapueyo/mitsuba2-transient-scenes).
 J=jgarciapueyo+mitsuba2-transient-scenes
