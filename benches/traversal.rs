@@ -6,12 +6,15 @@
 //! cornell-spheres and the gallery's glass dragon (11k triangles). `VARIANTS="A=1,B=0;A=0"`
 //! compares kernels with other override constants, interleaved in one run, and counts the
 //! rays whose hit is not the first variant's bit for bit (a variant meant to change only the
-//! speed must read 0).
+//! speed must read 0). Besides the kernels' overrides, `CWBVH=0` traces the binary tree (the
+//! data traversal, or the baked one), `CWBVH=1` the compressed 8-wide BVH, whatever the
+//! scene's own choice; `ANY_HIT=1` times shadow-ray queries instead of closest hits.
 
 use std::path::PathBuf;
 use std::time::Instant;
 
 use glam::Vec3;
+use sppm_gpu::accel::build_cwbvh;
 use sppm_gpu::gpu::baked_bvh::replacements;
 use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
 use sppm_gpu::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
@@ -76,17 +79,37 @@ fn main() {
                 [[o.x, o.y, o.z, 3.4e38], [r * phi.cos(), r * phi.sin(), z, 0.0]]
             })
             .collect();
+        // The scene's own tree (its layout as `SceneData::new` chose), and both layouts for
+        // the CWBVH=0 and CWBVH=1 variants (the binary tree's data traversal, the CWBVH).
+        let own = SceneBuffers::new(&gpu.device, &data);
+        let mut data = data;
+        let own_cwbvh = data.cwbvh.is_some();
+        let cw = data.cwbvh.take().or_else(|| {
+            build_cwbvh(&scene.triangles, &scene.spheres, |s| scene.shapes[s as usize].velocity.unwrap_or(Vec3::ZERO))
+        });
+        let binary = SceneBuffers::new(&gpu.device, &data);
+        data.cwbvh = cw;
+        let cwbvh = SceneBuffers::new(&gpu.device, &data);
+        let mut variant_buffers = Vec::new();
         let kernels: Vec<Kernel> = variants
             .iter()
             .map(|(_, extra)| {
                 let mut constants = Features::of(&data).constants();
                 constants.extend(extra.iter().map(|(k, x)| (k.as_str(), *x)));
-                let baked = if constants.iter().any(|(k, x)| *k == "BAKED" && *x == 0.0) { vec![] } else { replacements(&data) };
+                let forced = constants.iter().find(|(k, _)| *k == "CWBVH").map(|(_, x)| *x != 0.0);
+                let use_cw = forced.unwrap_or(own_cwbvh);
+                variant_buffers.push(match forced {
+                    None => &own,
+                    Some(true) => &cwbvh,
+                    Some(false) => &binary,
+                });
+                constants.push(("BVH_LAYOUT", if use_cw { 2.0 } else { 1.0 }));
+                let no_bake = use_cw || constants.iter().any(|(k, x)| *k == "BAKED" && *x == 0.0);
+                let baked = if no_bake { vec![] } else { replacements(&data) };
                 let replace: Vec<(&str, &str)> = baked.iter().map(|(t, c)| (*t, c.as_str())).collect();
                 Kernel::specialized(&gpu.device, "trace_rays", &replace, &constants).unwrap()
             })
             .collect();
-        let buffers = SceneBuffers::new(&gpu.device, &data);
         let ray_buffer = storage_buffer(&gpu.device, "rays", &rays);
         let hits = storage_buffer(&gpu.device, "hits", &vec![[0f32; 4]; RAYS]);
         let frame = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -94,11 +117,17 @@ fn main() {
             contents: bytemuck::bytes_of(&sppm_gpu::gpu::types::Frame::default()),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        let mut resources = buffers.resources();
-        resources.push(Resource { name: "frame", buffer: &frame });
-        resources.push(Resource { name: "rays", buffer: &ray_buffer });
-        resources.push(Resource { name: "hits", buffer: &hits });
-        let groups: Vec<wgpu::BindGroup> = kernels.iter().map(|k| k.bind_group(&gpu.device, &resources).unwrap()).collect();
+        let groups: Vec<wgpu::BindGroup> = kernels
+            .iter()
+            .zip(&variant_buffers)
+            .map(|(k, buffers)| {
+                let mut resources = buffers.resources();
+                resources.push(Resource { name: "frame", buffer: &frame });
+                resources.push(Resource { name: "rays", buffer: &ray_buffer });
+                resources.push(Resource { name: "hits", buffer: &hits });
+                k.bind_group(&gpu.device, &resources).unwrap()
+            })
+            .collect();
         let staging = staging_buffer(&gpu.device, "hits_staging", hits.size());
         let mut best = vec![f64::INFINITY; kernels.len()];
         let mut hit_counts = vec![0; kernels.len()];

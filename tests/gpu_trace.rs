@@ -1,10 +1,12 @@
-//! The WGSL BVH traversal (`trace_rays`, which runs the same `trace_closest` as the camera and
-//! photon passes) finds the same closest hits as the CPU oracle in `accel::bvh`.
+//! The WGSL BVH traversals (`trace_rays`, which runs the same `trace_closest` and `occluded` as
+//! the camera and photon passes) find the same closest hits as the CPU oracles in `accel`:
+//! baked, binary data and CWBVH.
 
 mod common;
 
 use common::Rng;
 use glam::Vec3;
+use sppm_gpu::accel::build_cwbvh;
 use sppm_gpu::accel::bvh::brute_force_intersect;
 use sppm_gpu::gpu::baked_bvh::{baked_trace, PLACEHOLDER};
 use sppm_gpu::gpu::scene_buffers::SceneData;
@@ -75,8 +77,10 @@ fn gpu_traversal_matches_cpu_oracle() {
     let Some(gpu) = common::gpu() else { return };
     let mut rand = Rng(12345);
     let scene = random_scene(&mut rand, 600, 24);
-    let data = SceneData::new(&scene).unwrap();
+    let mut data = SceneData::new(&scene).unwrap();
     assert!(baked_trace(&data).is_none(), "too many primitives to bake: the data traversal");
+    // The binary tree (this scene's own is the CWBVH: cwbvh_traversal_matches_cpu_oracle).
+    assert!(data.cwbvh.take().is_some());
     let rays = cloud_rays(&mut rand, 4096, 1.5);
     // Every feature on: the general traversal (tests/features.rs compares the specialized ones).
     let gpu_hits = common::trace_rays(&gpu, &data, &rays, &[]);
@@ -101,5 +105,80 @@ fn baked_traversal_matches_cpu_oracle() {
     let bits = |h: &[f32; 4]| h.map(f32::to_bits);
     let differ = baked.iter().zip(&loaded).filter(|(a, b)| bits(a) != bits(b)).count();
     assert_eq!(differ, 0, "baked and data traversal differ on {differ} rays");
+    gpu.check().unwrap();
+}
+
+/// The scene's primitives and rays like the traversal bench's: origins uniform in the box,
+/// directions uniform.
+fn box_rays(rand: &mut Rng, data: &SceneData, n: usize) -> Vec<[f32; 4]> {
+    let (lo, hi) = data.swept_bounds();
+    let (lo, hi) = (lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo));
+    (0..n)
+        .flat_map(|i| {
+            let o = lo + (hi - lo) * Vec3::new(rand.f32(), rand.f32(), rand.f32());
+            let d = rand.unit_vec3();
+            let t_max = if i % 5 == 0 { 0.3 } else { 3.4e38 };
+            [[o.x, o.y, o.z, t_max], [d.x, d.y, d.z, 0.0]]
+        })
+        .collect()
+}
+
+/// The CWBVH traversal (`shaders/shared/cwbvh.wgsl`): closest hits as the CPU oracle's, and
+/// the same as the binary data traversal's bit for bit; shadow rays (`occluded`) blocked
+/// exactly where the oracle finds a hit. On a random cloud (triangles and spheres) and on the
+/// Cornell box (flat, axis-aligned boxes).
+#[test]
+fn cwbvh_traversal_matches_cpu_oracle() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut rand = Rng(2424);
+    let cloud = random_scene(&mut rand, 3000, 24);
+    let cornell = common::load_scene("cornell-box.toml");
+    for (name, scene, extent) in [("cloud", cloud, 1.5), ("cornell-box", cornell, 0.0)] {
+        let mut data = SceneData::new(&scene).unwrap();
+        if extent == 0.0 {
+            assert!(data.cwbvh.is_none(), "a small scene is baked");
+            data.cwbvh = build_cwbvh(&scene.triangles, &scene.spheres, |_| Vec3::ZERO);
+        }
+        let cw = data.cwbvh.clone().expect("a large scene takes the CWBVH");
+        let rays = if extent == 0.0 { box_rays(&mut rand, &data, 8192) } else { cloud_rays(&mut rand, 8192, extent) };
+        // The runtime choice (bvh.tree_kind) and the compiled-in one.
+        let closest = common::trace_rays(&gpu, &data, &rays, &[]);
+        if name == "cloud" {
+            check_against_oracle(&closest, &scene, &data, &rays);
+        }
+        let compiled = common::trace_rays(&gpu, &data, &rays, &[("BVH_LAYOUT", 2.0)]);
+        let any = common::trace_rays(&gpu, &data, &rays, &[("ANY_HIT", 1.0), ("BVH_LAYOUT", 2.0)]);
+        data.cwbvh = None;
+        let binary = common::trace_rays(&gpu, &data, &rays, &[("BVH_LAYOUT", 1.0)]);
+        let bits = |h: &[f32; 4]| h.map(f32::to_bits);
+        let (mut hits, mut ties) = (0, 0);
+        for i in 0..rays.len() / 2 {
+            let o = Vec3::from_slice(&rays[2 * i][..3]);
+            let d = Vec3::from_slice(&rays[2 * i + 1][..3]);
+            let oracle = cw.intersect(&scene.triangles, &scene.spheres, o, d, rays[2 * i][3]);
+            // The host's traversal of the same tree takes the same steps: the same primitive,
+            // coplanar ones (a box standing on the floor) included; the device's arithmetic
+            // may round t and the barycentrics differently.
+            let got = bits(&closest[i]);
+            assert_eq!(got[1], oracle.map_or(u32::MAX, |h| h.prim_ref), "{name}, ray {i}");
+            if let Some(h) = oracle {
+                let g = closest[i];
+                assert!((g[0] - h.t).abs() <= 1e-5 * h.t.max(1.0), "{name}, ray {i}: t {} vs {}", g[0], h.t);
+                assert!((g[2] - h.b1).abs() < 1e-4 && (g[3] - h.b2).abs() < 1e-4, "{name}, ray {i}: barycentrics");
+                hits += 1;
+            }
+            assert_eq!(got, bits(&compiled[i]), "{name}, ray {i}: runtime and compiled-in layout");
+            let blocked = any[i][1].to_bits() == 0;
+            assert_eq!(blocked, oracle.is_some(), "{name}, ray {i}: occluded");
+            // The binary traversal: the same t; another primitive only at the same t.
+            let other = bits(&binary[i]);
+            assert_eq!(other[0], got[0], "{name}, ray {i}: t of the binary traversal");
+            ties += (other != got) as usize;
+        }
+        assert!(hits > rays.len() / 8, "{name}: {hits} hits");
+        if name == "cloud" {
+            assert_eq!(ties, 0, "{name}: CWBVH and binary traversal differ on {ties} rays");
+        }
+    }
     gpu.check().unwrap();
 }

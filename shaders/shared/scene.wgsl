@@ -16,6 +16,17 @@
 
 const BVH_STACK_SIZE: u32 = 64u;
 
+// Which layout `bvh_nodes` and `prim_refs` hold: 0 reads it from bvh.tree_kind at run time, 1 is
+// the binary tree, 2 the CWBVH (src/accel/cwbvh.rs), set per scene by the host so that the
+// other traversal is compiled out.
+override BVH_LAYOUT: u32 = 0u;
+
+fn uses_cwbvh() -> bool {
+    return BVH_LAYOUT == 2u || (BVH_LAYOUT == 0u && bvh.tree_kind == 1u);
+}
+
+#import cwbvh
+
 // What the scene has, set by the host per scene (src/gpu/features.rs); code for what it lacks
 // is folded away when the pipeline is compiled. CPU drivers run both sides of a branch,
 // masked, so without this every bounce would pay for every feature. The defaults build
@@ -175,6 +186,10 @@ fn trace(o: vec3f, d: vec3f, t_max_in: f32, any_hit: bool) -> Hit {
     var hit = Hit(t_max_in, 0xffffffffu, vec2f(0.0));
     let inv_d = 1.0 / d;
     if trace_baked(o, d, inv_d, &hit) {
+        return hit;
+    }
+    if uses_cwbvh() {
+        trace_cwbvh(o, d, inv_d, any_hit, &hit);
         return hit;
     }
     var stack: array<u32, BVH_STACK_SIZE>;

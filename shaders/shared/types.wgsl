@@ -90,10 +90,11 @@ struct BvhNode {
     child_b: u32,
 }
 
-// Quantized coordinate q decodes to origin + q * scale.
+// Quantized coordinate q decodes to origin + q * scale. tree_kind: 0 for the binary tree, 1
+// for the CWBVH (which needs no origin or scale).
 struct BvhParams {
     origin: vec3f,
-    _pad0: u32,
+    tree_kind: u32,
     scale: vec3f,
     _pad1: u32,
 }

@@ -95,8 +95,9 @@ pub const LEAF_FIRST_MASK: u32 = (1 << LEAF_COUNT_SHIFT) - 1;
 pub struct BvhParams {
     /// World position of q = 0.
     pub origin: [f32; 3],
-    /// Padding; always 0.
-    pub _pad0: u32,
+    /// Which tree the kernels' `bvh_nodes` and `prim_refs` hold: 0 this binary one, 1 a
+    /// [`super::cwbvh::CwBvh`] (whose nodes carry their own grids: origin and scale unused).
+    pub tree_kind: u32,
     /// World size of one quantization step, per axis.
     pub scale: [f32; 3],
     /// Padding; always 0.
@@ -167,8 +168,17 @@ pub fn build_bvh_moving(triangles: &[Triangle], spheres: &[Sphere], velocity: im
         };
     }
 
-    // Primitive i of the obvhs build: triangles first, then spheres.
-    let aabbs: Vec<Aabb> = triangles
+    let aabbs = primitive_aabbs(triangles, spheres, velocity);
+    let params = BvhBuildParams { max_prims_per_leaf: MAX_PRIMS_PER_LEAF, ..BvhBuildParams::medium_build() };
+    let bvh2 = build_bvh2(&aabbs, params, &mut Duration::default());
+
+    flatten(&bvh2, triangles.len() as u32)
+}
+
+/// The boxes of `triangles` then `spheres` (primitive i of the obvhs builds), swept over the
+/// shutter by `velocity` (see [`build_bvh_moving`]).
+pub(crate) fn primitive_aabbs(triangles: &[Triangle], spheres: &[Sphere], velocity: impl Fn(u32) -> Vec3) -> Vec<Aabb> {
+    triangles
         .iter()
         .map(|t| {
             let (lo, hi) = (t.p[0].min(t.p[1]).min(t.p[2]), t.p[0].max(t.p[1]).max(t.p[2]));
@@ -180,11 +190,7 @@ pub fn build_bvh_moving(triangles: &[Triangle], spheres: &[Sphere], velocity: im
             let v = velocity(s.shape);
             aabb(lo.min(lo + v), hi.max(hi + v))
         }))
-        .collect();
-    let params = BvhBuildParams { max_prims_per_leaf: MAX_PRIMS_PER_LEAF, ..BvhBuildParams::medium_build() };
-    let bvh2 = build_bvh2(&aabbs, params, &mut Duration::default());
-
-    flatten(&bvh2, triangles.len() as u32)
+        .collect()
 }
 
 fn aabb(min: Vec3, max: Vec3) -> Aabb {
@@ -363,7 +369,7 @@ impl Bvh {
                 nodes[dst] = GpuBvhNode { box_a: quantize(a), child_a: refs[0], box_b: quantize(b), child_b: refs[1] };
             }
         }
-        PackedBvh { nodes, params: BvhParams { origin: origin.as_vec3().to_array(), _pad0: 0, scale, _pad1: 0 } }
+        PackedBvh { nodes, params: BvhParams { origin: origin.as_vec3().to_array(), tree_kind: 0, scale, _pad1: 0 } }
     }
 }
 
@@ -394,7 +400,7 @@ impl PackedBvh {
 /// distance is padded by `1 + 2 gamma(3)` (pbrt-v3, section 3.9.2) so that rounding does not
 /// cull the box of a primitive hit at the box's boundary.
 #[inline]
-fn slab_test(min: Vec3, max: Vec3, origin: Vec3, inv_dir: Vec3, t_max: f32) -> bool {
+pub(crate) fn slab_test(min: Vec3, max: Vec3, origin: Vec3, inv_dir: Vec3, t_max: f32) -> bool {
     let negative = inv_dir.cmplt(Vec3::ZERO);
     let near = Vec3::select(negative, max, min);
     let far = Vec3::select(negative, min, max);
@@ -418,7 +424,14 @@ const SLAB_PAD: f32 = 1.0 + 2.0 * (3.0 * 0.5 * f32::EPSILON) / (1.0 - 3.0 * 0.5 
 
 /// Intersects one primitive reference.
 #[inline]
-fn intersect_prim(triangles: &[Triangle], spheres: &[Sphere], prim_ref: u32, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
+pub(crate) fn intersect_prim(
+    triangles: &[Triangle],
+    spheres: &[Sphere],
+    prim_ref: u32,
+    origin: Vec3,
+    dir: Vec3,
+    t_max: f32,
+) -> Option<Hit> {
     if prim_ref & SPHERE_BIT != 0 {
         let s = &spheres[(prim_ref & !SPHERE_BIT) as usize];
         let t = intersect_sphere(s.center, s.radius, origin, dir, t_max)?;

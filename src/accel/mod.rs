@@ -6,7 +6,9 @@
 //! the WGSL kernels do, and serve as their reference in tests.
 
 pub mod bvh;
+pub mod cwbvh;
 pub mod grid;
 
 pub use bvh::{build_bvh, build_bvh_moving, Bvh, BvhNode, SPHERE_BIT};
+pub use cwbvh::{build_cwbvh, CwBvh, CwNode};
 pub use grid::{build_grid, build_grid_in, hash_cell, GridParams, HashGrid};

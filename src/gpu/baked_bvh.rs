@@ -94,3 +94,20 @@ fn node(data: &SceneData, index: usize, depth: usize, out: &mut String) {
 pub fn replacements(data: &SceneData) -> Vec<(&'static str, String)> {
     baked_trace(data).map(|code| (PLACEHOLDER, code)).into_iter().collect()
 }
+
+/// Whether a scene of `primitives` primitives is traced through the compressed 8-wide BVH
+/// ([`crate::accel::cwbvh`]) rather than the binary tree's data traversal.
+///
+/// Scenes small enough to bake are traced by code, which loads nothing and beats both
+/// (`cargo bench --bench traversal`, see BENCHMARKS.md, session 12): the CWBVH takes every
+/// larger scene.
+pub fn uses_cwbvh(primitives: usize) -> bool {
+    primitives > MAX_BAKED_PRIMITIVES
+}
+
+/// The `BVH_LAYOUT` override for `data`'s scene (`shaders/shared/scene.wgsl`): 2 when its
+/// buffers hold the CWBVH, 1 for the binary tree, so that kernels compile only the
+/// traversal the scene uses.
+pub fn layout_constant(data: &SceneData) -> (&'static str, f64) {
+    ("BVH_LAYOUT", if data.cwbvh.is_some() { 2.0 } else { 1.0 })
+}

@@ -180,7 +180,9 @@ pub struct Specialization {
 impl Specialization {
     /// The specialization for `data`'s scene.
     pub fn of(data: &SceneData) -> Self {
-        Self { constants: Features::of(data).constants(), replace: super::baked_bvh::replacements(data) }
+        let mut constants = Features::of(data).constants();
+        constants.push(super::baked_bvh::layout_constant(data));
+        Self { constants, replace: super::baked_bvh::replacements(data) }
     }
 
     /// Kernel `name` compiled for this scene.

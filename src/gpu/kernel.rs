@@ -46,6 +46,7 @@ const FILES: &[(&str, &str)] = &[
     ("rng", include_str!("../../shaders/shared/rng.wgsl")),
     ("sampling", include_str!("../../shaders/shared/sampling.wgsl")),
     ("scene", include_str!("../../shaders/shared/scene.wgsl")),
+    ("cwbvh", include_str!("../../shaders/shared/cwbvh.wgsl")),
     ("bsdf", include_str!("../../shaders/shared/bsdf.wgsl")),
     ("coating", include_str!("../../shaders/shared/coating.wgsl")),
     ("camera", include_str!("../../shaders/shared/camera.wgsl")),

@@ -17,6 +17,9 @@ pub struct SceneData {
     pub bvh: Bvh,
     /// The same tree in the kernels' layout (quantized child boxes in each interior node).
     pub packed_bvh: PackedBvh,
+    /// The compressed 8-wide BVH the kernels traverse instead, for scenes where
+    /// [`super::baked_bvh::uses_cwbvh`] says it is faster.
+    pub cwbvh: Option<crate::accel::CwBvh>,
     /// Every triangle, in the scene's order (the BVH's triangle references index this).
     pub triangles: Vec<GpuTriangle>,
     /// Every analytic sphere, in the scene's order (references `i | SPHERE_BIT`).
@@ -144,6 +147,9 @@ impl SceneData {
         let velocity = |shape: u32| scene.shapes[shape as usize].velocity.unwrap_or(Vec3::ZERO);
         let motion = scene.shapes.iter().any(|s| s.velocity.is_some_and(|v| v != Vec3::ZERO));
         let bvh = crate::accel::build_bvh_moving(&scene.triangles, &scene.spheres, velocity);
+        let cwbvh = super::baked_bvh::uses_cwbvh(bvh.prim_refs.len())
+            .then(|| crate::accel::build_cwbvh(&scene.triangles, &scene.spheres, velocity))
+            .flatten();
 
         // Textures: a header each, then the texels of each distinct image; a material refers
         // to its texture's header.
@@ -470,6 +476,7 @@ impl SceneData {
         Ok(Self {
             packed_bvh: bvh.pack(),
             bvh,
+            cwbvh,
             triangles,
             spheres,
             materials,
@@ -523,11 +530,11 @@ fn swept_bounds(scene: &Scene, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
 /// Storage buffers of a [`SceneData`]. Empty arrays get one zeroed element, since wgpu
 /// cannot bind a zero-sized buffer.
 pub struct SceneBuffers {
-    /// [`PackedBvh::nodes`]: `array<BvhNode>`.
+    /// [`PackedBvh::nodes`]: `array<BvhNode>`, or the nodes of [`SceneData::cwbvh`].
     pub bvh_nodes: wgpu::Buffer,
-    /// [`PackedBvh::params`]: `var<uniform> bvh: BvhParams`.
+    /// [`PackedBvh::params`]: `var<uniform> bvh: BvhParams` (its `tree_kind` 1 with a CWBVH).
     pub bvh: wgpu::Buffer,
-    /// [`Bvh::prim_refs`]: `array<u32>`.
+    /// [`Bvh::prim_refs`]: `array<u32>`, or those of [`SceneData::cwbvh`].
     pub prim_refs: wgpu::Buffer,
     /// [`SceneData::triangles`]: `array<Triangle>`.
     pub triangles: wgpu::Buffer,
@@ -559,14 +566,18 @@ pub fn storage_buffer<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, data
 impl SceneBuffers {
     /// Upload every array of `data` to a storage buffer named like its WGSL global.
     pub fn new(device: &wgpu::Device, data: &SceneData) -> Self {
+        let params = BvhParams { tree_kind: data.cwbvh.is_some() as u32, ..data.packed_bvh.params };
         Self {
-            bvh_nodes: storage_buffer(device, "bvh_nodes", &data.packed_bvh.nodes),
+            bvh_nodes: match &data.cwbvh {
+                Some(cw) => storage_buffer(device, "bvh_nodes", &cw.nodes),
+                None => storage_buffer(device, "bvh_nodes", &data.packed_bvh.nodes),
+            },
             bvh: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("bvh"),
-                contents: bytemuck::bytes_of(&data.packed_bvh.params),
+                contents: bytemuck::bytes_of(&params),
                 usage: wgpu::BufferUsages::UNIFORM,
             }),
-            prim_refs: storage_buffer(device, "prim_refs", &data.bvh.prim_refs),
+            prim_refs: storage_buffer(device, "prim_refs", data.cwbvh.as_ref().map_or(&data.bvh.prim_refs, |cw| &cw.prim_refs)),
             triangles: storage_buffer(device, "triangles", &data.triangles),
             spheres: storage_buffer(device, "spheres", &data.spheres),
             materials: storage_buffer(device, "materials", &data.materials),
