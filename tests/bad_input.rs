@@ -123,7 +123,7 @@ fn readme_cases() -> Vec<Case> {
             12,
             "materials.white.type",
             "unknown material type `lambert`; expected one of: diffuse, mirror, glossy, \
-             dielectric",
+             dielectric, plastic, thin_dielectric, null",
         ),
         case(
             "unknown shape type",
@@ -134,10 +134,10 @@ fn readme_cases() -> Vec<Case> {
         ),
         case(
             "unknown light type",
-            with_light("type = \"spot\"\n"),
+            with_light("type = \"area\"\n"),
             14,
             "lights[0].type",
-            "unknown light type `spot`; expected one of: point, directional, constant",
+            "unknown light type `area`; expected one of: point, directional, spot, constant, envmap",
         ),
         Case {
             what: "missing OBJ file",

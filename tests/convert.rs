@@ -1,8 +1,10 @@
-//! `sppm-gpu convert`: a Mitsuba XML scene written as TOML (and PLY meshes) loads back to the
-//! same scene: settings, camera, materials, lights, spheres and every triangle bit for bit,
-//! shading normals to within the last bits of their normalization.
+//! `sppm-gpu convert`: every Mitsuba XML test scene written as TOML (and PLY meshes, EXR
+//! textures) loads back to the same scene: settings, camera, materials and their textures,
+//! lights, spheres and every triangle and its uvs bit for bit, shading normals and directions
+//! to within the last bits of their normalization.
 
-use sppm_gpu::scene::{self, LightKind, Scene};
+use glam::Vec3;
+use sppm_gpu::scene::{self, LightKind, MaterialKind, Scene};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -21,13 +23,24 @@ fn converted_scenes_load_back_to_the_same_scene() {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("convert-tests");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    for name in ["box.xml", "legacy.xml", "lights.xml"] {
+    // Every test scene but legacy-walls.xml, a fragment without a camera.
+    let names = std::fs::read_dir(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba")).unwrap();
+    let mut names: Vec<String> = names
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".xml") && n != "legacy-walls.xml")
+        .collect();
+    names.sort();
+    assert!(names.len() >= 12, "{names:?}");
+    for name in &names {
         let (a, b) = convert(name, &dir);
         assert_eq!(a.render, b.render, "{name}");
         assert_eq!(a.camera.position, b.camera.position, "{name}");
         assert_eq!(a.camera.look_at, b.camera.look_at, "{name}");
         assert_eq!(a.camera.up, b.camera.up, "{name}");
         assert_eq!(a.camera.fov, b.camera.fov, "{name}");
+        assert_eq!(a.camera.aperture_radius, b.camera.aperture_radius, "{name}");
+        assert_eq!(a.camera.focus_distance, b.camera.focus_distance, "{name}");
+        assert_eq!(a.camera.crop, b.camera.crop, "{name}");
         assert_eq!(a.lights.len(), b.lights.len(), "{name}");
         for (l, m) in a.lights.iter().zip(&b.lights) {
             match (&l.kind, &m.kind) {
@@ -38,6 +51,21 @@ fn converted_scenes_load_back_to_the_same_scene() {
                     // Normalized again on loading.
                     assert!((*d - *f).length() < 1e-6 && e == g, "{name}: {l:?} {m:?}");
                 }
+                (LightKind::Spot { direction: d, .. }, LightKind::Spot { direction: f, .. }) => {
+                    assert!((*d - *f).length() < 1e-6, "{name}: {l:?} {m:?}");
+                    let same_direction = |k: &LightKind| match *k {
+                        LightKind::Spot { position, intensity, cutoff_angle, beam_width, .. } => {
+                            LightKind::Spot { position, direction: Vec3::Z, intensity, cutoff_angle, beam_width }
+                        }
+                        _ => unreachable!(),
+                    };
+                    assert_eq!(same_direction(&l.kind), same_direction(&m.kind), "{name}");
+                }
+                (LightKind::Envmap(e), LightKind::Envmap(f)) => {
+                    // The map's rotation goes through Euler angles: the same to within roundoff.
+                    assert_eq!((&e.texels, e.width, e.height, e.scale), (&f.texels, f.width, f.height, f.scale), "{name}");
+                    assert!(e.to_world.abs_diff_eq(f.to_world, 1e-5), "{name}: {:?} {:?}", e.to_world, f.to_world);
+                }
                 (k, j) => assert_eq!(k, j, "{name}"),
             }
         }
@@ -47,11 +75,35 @@ fn converted_scenes_load_back_to_the_same_scene() {
         assert_eq!(a.shapes.len(), b.shapes.len());
         for (s, t) in a.shapes.iter().zip(&b.shapes) {
             let (m, n) = (&a.materials[s.material as usize], &b.materials[t.material as usize]);
-            assert_eq!((&m.kind, m.one_sided, s.emission), (&n.kind, n.one_sided, t.emission), "{name}: {}", m.name);
+            // Texture indices may differ (materials in key order): compare the textures.
+            let texture = |scene: &Scene, k: &MaterialKind| {
+                k.texture().map(|i| {
+                    let t = &scene.textures[i as usize];
+                    (t.width, t.height, t.texels.clone(), t.filter, t.wrap, t.to_uv)
+                })
+            };
+            assert_eq!(texture(&a, &m.kind), texture(&b, &n.kind), "{name}: {}", m.name);
+            let untextured = |k: &MaterialKind| {
+                let mut k = k.clone();
+                if let MaterialKind::Diffuse { texture, .. }
+                | MaterialKind::Mirror { texture, .. }
+                | MaterialKind::Glossy { texture, .. }
+                | MaterialKind::Plastic { texture, .. } = &mut k
+                {
+                    *texture = texture.map(|_| 0);
+                }
+                k
+            };
+            assert_eq!(
+                (untextured(&m.kind), m.one_sided, s.emission),
+                (untextured(&n.kind), n.one_sided, t.emission),
+                "{name}: {}",
+                m.name
+            );
         }
         assert_eq!(a.triangles.len(), b.triangles.len(), "{name}");
         for (s, t) in a.triangles.iter().zip(&b.triangles) {
-            assert_eq!((s.p, s.shape), (t.p, t.shape), "{name}");
+            assert_eq!((s.p, s.shape, s.uv), (t.p, t.shape, t.uv), "{name}");
             // The loader normalizes the file's normals again: the same to within an ulp or two.
             match (s.n, t.n) {
                 (None, None) => {}

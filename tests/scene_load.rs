@@ -454,7 +454,12 @@ fn unknown_names_are_errors() {
         "shapes[0].type",
         &["unknown shape type `cone`", "quad, sphere, cube, mesh"],
     );
-    assert_error(&with_light("type = \"spot\"\n"), 14, "lights[0].type", &["unknown light type `spot`", "point, directional"]);
+    assert_error(
+        &with_light("type = \"area\"\n"),
+        14,
+        "lights[0].type",
+        &["unknown light type `area`", "point, directional, spot"],
+    );
     assert_error(
         &edit("\"diffuse\"", "\"lambert\""),
         12,
@@ -727,4 +732,93 @@ fn one_sided_materials_and_pixel_filters() {
         "materials.white.one_sided",
         &["both sides"],
     );
+}
+
+/// The keys that let `sppm-gpu convert` write every scene the Mitsuba reader reads: conductor
+/// Fresnel terms, microfacet distributions, tinted dielectrics, plastics, thin dielectrics,
+/// null surfaces, spot lights and crop windows, each with a refusal at its line and key.
+#[test]
+fn materials_lights_and_crop_beyond_v1() {
+    use sppm_gpu::scene::{ComplexIor, CropWindow};
+    let material = |m: &str| {
+        let s = load(&edit("white = { type = \"diffuse\", albedo = [0.5, 0.5, 0.5] }", &format!("white = {m}")));
+        s.map(|s| s.materials[0].kind.clone())
+    };
+    let half = Vec3::splat(0.5);
+    assert_eq!(
+        material(r#"{ type = "glossy", albedo = [0.5, 0.5, 0.5], roughness = 0.2, distribution = "beckmann", eta = [0.2, 0.9, 1.1], k = [3, 2.5, 2] }"#).unwrap(),
+        MaterialKind::Glossy {
+            albedo: half,
+            texture: None,
+            roughness: 0.2,
+            distribution: Microfacet::Beckmann,
+            fresnel: Some(ComplexIor { eta: Vec3::new(0.2, 0.9, 1.1), k: Vec3::new(3.0, 2.5, 2.0) }),
+        }
+    );
+    assert_eq!(
+        material(r#"{ type = "dielectric", ior = 1.5, reflectance = [0.3, 0.3, 0.3], transmittance = [0.9, 0.6, 0.3] }"#)
+            .unwrap(),
+        MaterialKind::Dielectric {
+            ior: 1.5,
+            roughness: 0.0,
+            distribution: Microfacet::Ggx,
+            reflectance: Vec3::splat(0.3),
+            transmittance: Vec3::new(0.9, 0.6, 0.3),
+        }
+    );
+    assert_eq!(
+        material(r#"{ type = "plastic", albedo = [0.5, 0.5, 0.5], ior = 1.9, roughness = 0.1, nonlinear = true }"#).unwrap(),
+        MaterialKind::Plastic {
+            albedo: half,
+            texture: None,
+            specular: Vec3::ONE,
+            ior: 1.9,
+            roughness: 0.1,
+            distribution: Microfacet::Ggx,
+            nonlinear: true,
+        }
+    );
+    assert_eq!(
+        material(r#"{ type = "thin_dielectric", ior = 1.5 }"#).unwrap(),
+        MaterialKind::ThinDielectric { ior: 1.5, reflectance: Vec3::ONE, transmittance: Vec3::ONE }
+    );
+    assert_eq!(material(r#"{ type = "null" }"#).unwrap(), MaterialKind::Null);
+    let refused = |m: &str, key: &str, words: &[&str]| {
+        let e = material(m).unwrap_err();
+        assert_eq!((e.line, e.key.as_deref()), (Some(12), Some(key)), "{e}");
+        assert_message(&e, words);
+    };
+    refused(r#"{ type = "mirror", albedo = [1, 1, 1], eta = [1, 1, 1] }"#, "materials.white.eta", &["k"]);
+    refused(
+        r#"{ type = "glossy", albedo = [1, 1, 1], roughness = 0.1, distribution = "phong" }"#,
+        "materials.white.distribution",
+        &["phong", "beckmann"],
+    );
+    refused(r#"{ type = "plastic", albedo = [1, 1, 1], ior = 1, roughness = 0.1 }"#, "materials.white.ior", &["rough"]);
+    refused(r#"{ type = "null", one_sided = true }"#, "materials.white.one_sided", &["both sides"]);
+    refused(r#"{ type = "null", albedo = [1, 1, 1] }"#, "materials.white.albedo", &["unknown key"]);
+
+    let spot = load_ok(&with_light(
+        "type = \"spot\"\nposition = [0, 2, 0]\ndirection = [0, -2, 0]\nintensity = [5, 5, 5]\ncutoff_angle = 30\n",
+    ));
+    assert_eq!(
+        spot.lights[0].kind,
+        LightKind::Spot {
+            position: Vec3::new(0.0, 2.0, 0.0),
+            direction: Vec3::NEG_Y,
+            intensity: Vec3::splat(5.0),
+            cutoff_angle: 30.0,
+            beam_width: 22.5
+        }
+    );
+    assert_error(
+        &with_light("type = \"spot\"\nposition = [0, 2, 0]\ndirection = [0, -1, 0]\nintensity = [5, 5, 5]\ncutoff_angle = 200\n"),
+        18,
+        "lights[0].cutoff_angle",
+        &["180"],
+    );
+
+    let crop = load_ok(&edit("fov = 40\n", "fov = 40\ncrop = [0.25, 0, 0.75, 0.5]\n"));
+    assert_eq!(crop.camera.crop, Some(CropWindow { min: Vec2::new(0.25, 0.0), max: Vec2::new(0.75, 0.5) }));
+    assert_error(&edit("fov = 40\n", "fov = 40\ncrop = [0.5, 0, 0.25, 1]\n"), 10, "camera.crop", &["x0 < x1"]);
 }

@@ -2,11 +2,16 @@
 //! TOML format, so that it renders the same: the settings, camera, materials (`one_sided`),
 //! lights and pixel filter as keys, spheres as spheres, and every other shape's world-space
 //! triangles as a binary PLY file of its own in `OUT.meshes/` (with the shading normals the
-//! reader gave them, which a TOML `smooth` mesh takes from the file). What TOML cannot express
-//! yet (a conductor's Fresnel term, the Beckmann distribution, a spot light, a texture) is an
-//! error naming it, never a different scene. Nothing that exists is overwritten.
+//! reader gave them, which a TOML `smooth` mesh takes from the file, and their texture
+//! coordinates), every texture's texels as a linear EXR beside them. What TOML cannot express
+//! (a moving shape, a mirrored environment map) is an error naming it, never a different
+//! scene. Nothing that exists is overwritten.
 
-use sppm_gpu::scene::{DirectLight, LightKind, MaterialKind, Method, Microfacet, PixelFilter, RadiusSchedule, Scene, Triangle};
+use sppm_gpu::image_io::Rgb32Image;
+use sppm_gpu::scene::{
+    ComplexIor, DirectLight, LightKind, MaterialKind, Method, Microfacet, PixelFilter, RadiusSchedule, Scene, Texture,
+    TextureFilter, TextureWrap, Triangle,
+};
 use sppm_gpu::Error;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -22,13 +27,17 @@ pub fn convert(scene: &Scene, output: &Path) -> Result<(), Error> {
     if output.exists() || meshes.exists() {
         return Err(fail(format!("{} or {} exists already: convert writes new files only", output.display(), meshes.display())));
     }
-    let (doc, ply_files) = document(scene, &meshes).map_err(fail)?;
+    let (doc, ply_files, images) = document(scene, &meshes).map_err(fail)?;
     let text = toml::to_string(&doc).map_err(|e| fail(e.to_string()))?;
-    if !ply_files.is_empty() {
+    if !ply_files.is_empty() || !images.is_empty() {
         std::fs::create_dir(&meshes).map_err(|e| fail(format!("{}: {e}", meshes.display())))?;
     }
     for (path, bytes) in &ply_files {
         write_new(path, bytes)?;
+    }
+    // In the folder just made: nothing there to overwrite.
+    for (path, image) in &images {
+        sppm_gpu::image_io::write_exr(path, image).map_err(|e| fail(e.to_string()))?;
     }
     write_new(output, text.as_bytes())
 }
@@ -57,8 +66,39 @@ fn vec3(v: glam::Vec3) -> Value {
 /// A file to write: its path and bytes.
 type File = (PathBuf, Vec<u8>);
 
-/// The TOML document and the PLY files of `scene`'s meshes.
-fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> {
+/// A texture's texels to write as a linear EXR: its path and image.
+type Image = (PathBuf, Rgb32Image);
+
+/// A material's `texture` value: a table naming texture `index`'s texels, written (once) as
+/// a linear float EXR in `meshes` (its values kept bit for bit, whatever the file they came
+/// from, a procedural checkerboard too), with its filter, wrap mode and uv transform.
+fn texture_value(texture: &Texture, index: u32, meshes: &Path, images: &mut Vec<Image>) -> Value {
+    let name = format!("texture-{index}.exr");
+    let path = meshes.join(&name);
+    if !images.iter().any(|(p, _)| *p == path) {
+        let pixels = texture.texels.iter().map(|t| t.to_array()).collect();
+        images.push((path, Rgb32Image { width: texture.width, height: texture.height, pixels }));
+    }
+    let dir = meshes.file_name().map_or_else(|| "meshes".into(), |n| n.to_string_lossy().into_owned());
+    let mut t = Table::new();
+    t.insert("file".into(), Value::String(format!("{dir}/{name}")));
+    let filter = if texture.filter == TextureFilter::Nearest { "nearest" } else { "bilinear" };
+    t.insert("filter".into(), Value::String(filter.into()));
+    let wrap = match texture.wrap {
+        TextureWrap::Repeat => "repeat",
+        TextureWrap::Mirror => "mirror",
+        TextureWrap::Clamp => "clamp",
+    };
+    t.insert("wrap".into(), Value::String(wrap.into()));
+    let [a, c, b, d, tx, ty] = texture.to_uv.to_cols_array();
+    let row = |r: [f32; 3]| Value::Array(r.iter().map(|&x| float(x)).collect());
+    t.insert("uv_transform".into(), Value::Array(vec![row([a, b, tx]), row([c, d, ty])]));
+    Value::Table(t)
+}
+
+/// The TOML document, the PLY files of `scene`'s meshes and the images of its textures.
+fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image>), String> {
+    let mut images = Vec::new();
     let mut doc = Table::new();
     let r = &scene.render;
     let mut render = Table::new();
@@ -106,10 +146,10 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> 
     doc.insert("render".into(), Value::Table(render));
 
     let c = &scene.camera;
-    if c.crop.is_some() {
-        return Err("the camera's crop window cannot be written in TOML yet".into());
-    }
     let mut camera = Table::new();
+    if let Some(crop) = c.crop {
+        camera.insert("crop".into(), Value::Array([crop.min.x, crop.min.y, crop.max.x, crop.max.y].map(float).to_vec()));
+    }
     camera.insert("position".into(), vec3(c.position));
     camera.insert("look_at".into(), vec3(c.look_at));
     camera.insert("up".into(), vec3(c.up));
@@ -129,43 +169,67 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> 
             taken.insert(name.clone());
         }
         let mut t = Table::new();
-        let unsupported = |what: &str| Err(format!("material `{}`: {what} cannot be written in TOML yet", m.name));
+        let mut put = |key: &str, v: Value| {
+            t.insert(key.into(), v);
+        };
+        let string = |s: &str| Value::String(s.into());
+        let distribution = |d: Microfacet| string(if d == Microfacet::Beckmann { "beckmann" } else { "ggx" });
         match m.kind {
-            _ if m.kind.texture().is_some() => return unsupported("a texture"),
-            MaterialKind::Diffuse { albedo, .. } => {
-                t.insert("type".into(), Value::String("diffuse".into()));
-                t.insert("albedo".into(), vec3(albedo));
+            MaterialKind::Diffuse { .. } => put("type", string("diffuse")),
+            MaterialKind::Mirror { fresnel, .. } => {
+                put("type", string("mirror"));
+                if let Some(ComplexIor { eta, k }) = fresnel {
+                    put("eta", vec3(eta));
+                    put("k", vec3(k));
+                }
             }
-            MaterialKind::Mirror { albedo, fresnel: None, .. } => {
-                t.insert("type".into(), Value::String("mirror".into()));
-                t.insert("albedo".into(), vec3(albedo));
+            MaterialKind::Glossy { roughness, distribution: d, fresnel, .. } => {
+                put("type", string("glossy"));
+                put("roughness", float(roughness));
+                put("distribution", distribution(d));
+                if let Some(ComplexIor { eta, k }) = fresnel {
+                    put("eta", vec3(eta));
+                    put("k", vec3(k));
+                }
             }
-            MaterialKind::Glossy { albedo, roughness, distribution: Microfacet::Ggx, fresnel: None, .. } => {
-                t.insert("type".into(), Value::String("glossy".into()));
-                t.insert("albedo".into(), vec3(albedo));
-                t.insert("roughness".into(), float(roughness));
+            MaterialKind::Dielectric { ior, roughness, distribution: d, reflectance, transmittance } => {
+                put("type", string("dielectric"));
+                put("ior", float(ior));
+                put("roughness", float(roughness));
+                put("distribution", distribution(d));
+                put("reflectance", vec3(reflectance));
+                put("transmittance", vec3(transmittance));
             }
-            MaterialKind::Dielectric { reflectance, transmittance, .. }
-                if reflectance != glam::Vec3::ONE || transmittance != glam::Vec3::ONE =>
-            {
-                return unsupported("a dielectric's specular reflectance or transmittance other than 1")
+            MaterialKind::Plastic { specular, ior, roughness, distribution: d, nonlinear, .. } => {
+                put("type", string("plastic"));
+                put("specular", vec3(specular));
+                put("ior", float(ior));
+                put("roughness", float(roughness));
+                put("distribution", distribution(d));
+                put("nonlinear", Value::Boolean(nonlinear));
             }
-            MaterialKind::Dielectric { ior, roughness, distribution, .. }
-                if roughness == 0.0 || distribution == Microfacet::Ggx =>
-            {
-                t.insert("type".into(), Value::String("dielectric".into()));
-                t.insert("ior".into(), float(ior));
-                t.insert("roughness".into(), float(roughness));
+            MaterialKind::ThinDielectric { ior, reflectance, transmittance } => {
+                put("type", string("thin_dielectric"));
+                put("ior", float(ior));
+                put("reflectance", vec3(reflectance));
+                put("transmittance", vec3(transmittance));
             }
-            MaterialKind::Mirror { .. } | MaterialKind::Glossy { fresnel: Some(_), .. } => {
-                return unsupported("a conductor's Fresnel term")
-            }
-            MaterialKind::Glossy { .. } | MaterialKind::Dielectric { .. } => return unsupported("the Beckmann distribution"),
-            MaterialKind::Plastic { .. } => return unsupported("a plastic"),
-            MaterialKind::ThinDielectric { .. } => return unsupported("a thin dielectric"),
-            MaterialKind::Null => return unsupported("a null BSDF"),
+            MaterialKind::Null => put("type", string("null")),
         }
-        if m.one_sided && !matches!(m.kind, MaterialKind::Dielectric { .. }) {
+        // The albedo of the kinds that have one, or the texture in its place.
+        if let MaterialKind::Diffuse { albedo, texture }
+        | MaterialKind::Mirror { albedo, texture, .. }
+        | MaterialKind::Glossy { albedo, texture, .. }
+        | MaterialKind::Plastic { albedo, texture, .. } = m.kind
+        {
+            match texture {
+                Some(i) => put("texture", texture_value(&scene.textures[i as usize], i, meshes, &mut images)),
+                None => put("albedo", vec3(albedo)),
+            }
+        }
+        if m.one_sided
+            && !matches!(m.kind, MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. } | MaterialKind::Null)
+        {
             t.insert("one_sided".into(), Value::Boolean(true));
         }
         materials.insert(name.clone(), Value::Table(t));
@@ -189,7 +253,8 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> 
             let dir = meshes.file_name().map_or_else(|| "meshes".into(), |n| n.to_string_lossy().into_owned());
             let file = format!("shape-{i}.ply");
             let smooth = triangles.iter().all(|t| t.n.is_some());
-            files.push((meshes.join(&file), ply(&triangles, smooth)));
+            let uvs = triangles.iter().all(|t| t.uv.is_some());
+            files.push((meshes.join(&file), ply(&triangles, smooth, uvs)));
             t.insert("type".into(), Value::String("mesh".into()));
             t.insert("file".into(), Value::String(format!("{dir}/{file}")));
             t.insert("smooth".into(), Value::Boolean(smooth));
@@ -216,7 +281,14 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> 
                 t.insert("direction".into(), vec3(direction));
                 t.insert("irradiance".into(), vec3(irradiance));
             }
-            LightKind::Spot { .. } => return Err("a spot light cannot be written in TOML yet".into()),
+            &LightKind::Spot { position, direction, intensity, cutoff_angle, beam_width } => {
+                t.insert("type".into(), Value::String("spot".into()));
+                t.insert("position".into(), vec3(position));
+                t.insert("direction".into(), vec3(direction));
+                t.insert("intensity".into(), vec3(intensity));
+                t.insert("cutoff_angle".into(), float(cutoff_angle));
+                t.insert("beam_width".into(), float(beam_width));
+            }
             &LightKind::Constant { radiance } => {
                 t.insert("type".into(), Value::String("constant".into()));
                 t.insert("radiance".into(), vec3(radiance));
@@ -246,18 +318,20 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>), String> 
     if !lights.is_empty() {
         doc.insert("lights".into(), Value::Array(lights));
     }
-    Ok((doc, files))
+    Ok((doc, files, images))
 }
 
 /// A binary little-endian PLY of `triangles`, three vertices each in order (so that the
-/// winding, the front, is kept), with their shading normals when `normals`.
-fn ply(triangles: &[&Triangle], normals: bool) -> Vec<u8> {
+/// winding, the front, is kept), with their shading normals when `normals` and their texture
+/// coordinates when `uvs`.
+fn ply(triangles: &[&Triangle], normals: bool, uvs: bool) -> Vec<u8> {
     let mut out = format!(
         "ply\nformat binary_little_endian 1.0\ncomment written by sppm-gpu convert\nelement vertex {}\n\
-         property float x\nproperty float y\nproperty float z\n{}element face {}\n\
+         property float x\nproperty float y\nproperty float z\n{}{}element face {}\n\
          property list uchar uint vertex_indices\nend_header\n",
         3 * triangles.len(),
         if normals { "property float nx\nproperty float ny\nproperty float nz\n" } else { "" },
+        if uvs { "property float u\nproperty float v\n" } else { "" },
         triangles.len()
     )
     .into_bytes();
@@ -266,6 +340,9 @@ fn ply(triangles: &[&Triangle], normals: bool) -> Vec<u8> {
             out.extend(t.p[k].to_array().iter().flat_map(|x| x.to_le_bytes()));
             if let (true, Some(n)) = (normals, t.n) {
                 out.extend(n[k].to_array().iter().flat_map(|x| x.to_le_bytes()));
+            }
+            if let (true, Some(uv)) = (uvs, t.uv) {
+                out.extend(uv[k].to_array().iter().flat_map(|x| x.to_le_bytes()));
             }
         }
     }

@@ -5,8 +5,8 @@
 use super::mesh::{self, Normals, Transform};
 use super::{ply, serialized};
 use super::{
-    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, Microfacet, PixelFilter, RadiusSchedule,
-    RenderSettings, Scene, SceneError, Shape, ShapeKind, Sphere, Texture,
+    Camera, ComplexIor, CropWindow, DirectLight, Light, LightKind, Material, MaterialKind, Method, Microfacet, PixelFilter,
+    RadiusSchedule, RenderSettings, Scene, SceneError, Shape, ShapeKind, Sphere, Texture, TextureFilter, TextureWrap,
 };
 use glam::{Vec2, Vec3};
 use std::fmt;
@@ -228,7 +228,7 @@ fn read_filter(t: &Table) -> Result<PixelFilter> {
 
 /// The `[camera]` table; `focus_distance` defaults to the distance to `look_at`.
 fn read_camera(t: &Table) -> Result<Camera> {
-    t.allow_keys(&["position", "look_at", "up", "fov", "aperture_radius", "focus_distance"])?;
+    t.allow_keys(&["position", "look_at", "up", "fov", "aperture_radius", "focus_distance", "crop"])?;
     let position = t.req("position", Value::vec3)?;
     let look_at = t.req("look_at", Value::vec3)?;
     let up = t.or("up", Vec3::Y, Value::vec3)?;
@@ -250,8 +250,18 @@ fn read_camera(t: &Table) -> Result<Camera> {
         aperture_radius: t.or("aperture_radius", 0.0, |v| v.f32_in(Bound::NonNegative))?,
         focus_distance: t.or("focus_distance", look_at.distance(position), |v| v.f32_in(Bound::Positive))?,
         aperture_line: t.get("aperture_radius").map(|v| v.line),
-        crop: None,
+        crop: t.opt("crop", read_crop)?,
     })
+}
+
+/// `crop` = [x0, y0, x1, y1]: the part of the film the image is, in fractions of its width
+/// and height from its top-left corner (the render's width and height are the window's).
+fn read_crop(v: &Value) -> Result<CropWindow> {
+    let [x0, y0, x1, y1] = v.floats::<4>(Bound::Closed(0.0, 1.0))?;
+    if x0 >= x1 || y0 >= y1 {
+        return Err(v.error("a crop window [x0, y0, x1, y1] needs x0 < x1 and y0 < y1"));
+    }
+    Ok(CropWindow { min: Vec2::new(x0, y0), max: Vec2::new(x1, y1) })
 }
 
 /// Why a camera is refused when `look_at - position` overflows 32-bit floats.
@@ -263,9 +273,12 @@ type MaterialReader = fn(&Table, &mut Vec<Texture>) -> Result<MaterialKind>;
 /// Material types: name, reader, and the keys allowed besides `type`.
 const MATERIAL_TYPES: &[(&str, MaterialReader, &[&str])] = &[
     ("diffuse", read_diffuse, &["albedo", "texture"]),
-    ("mirror", read_mirror, &["albedo"]),
-    ("glossy", read_glossy, &["albedo", "roughness"]),
-    ("dielectric", read_dielectric, &["ior", "roughness"]),
+    ("mirror", read_mirror, &["albedo", "texture", "eta", "k"]),
+    ("glossy", read_glossy, &["albedo", "texture", "roughness", "distribution", "eta", "k"]),
+    ("dielectric", read_dielectric, &["ior", "roughness", "distribution", "reflectance", "transmittance"]),
+    ("plastic", read_plastic, &["albedo", "texture", "specular", "ior", "roughness", "distribution", "nonlinear"]),
+    ("thin_dielectric", read_thin_dielectric, &["ior", "reflectance", "transmittance"]),
+    ("null", read_null, &[]),
 ];
 
 /// Reflectances and roughnesses lie in [0, 1].
@@ -278,14 +291,20 @@ fn read_material(name: &str, entry: &Value, textures: &mut Vec<Texture>) -> Resu
     let kind = read(&t, textures)?;
     // Black seen from behind, as Mitsuba's BSDFs unless wrapped in `twosided`.
     let one_sided = t.or("one_sided", false, Value::bool)?;
-    if one_sided && matches!(kind, MaterialKind::Dielectric { .. }) {
-        return Err(t.error_at("one_sided", "a dielectric scatters from both sides: one_sided does not apply"));
+    if one_sided && matches!(kind, MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. } | MaterialKind::Null) {
+        return Err(t.error_at("one_sided", "a dielectric or null surface is the same from both sides: one_sided does not apply"));
     }
     Ok(Material { name: name.to_owned(), kind, one_sided, line: entry.line })
 }
 
 /// Lambertian: `albedo`, or `texture` in its place.
 fn read_diffuse(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> {
+    let (albedo, texture) = read_albedo(t, textures)?;
+    Ok(MaterialKind::Diffuse { albedo, texture })
+}
+
+/// `albedo` in [0, 1], or a `texture` in its place (then the albedo is white).
+fn read_albedo(t: &Table, textures: &mut Vec<Texture>) -> Result<(Vec3, Option<u32>)> {
     let albedo = t.opt("albedo", |v| v.vec3_in(UNIT))?;
     if albedo.is_some() && t.get("texture").is_some() {
         return Err(t.error_at("texture", "give either `albedo` or `texture`, not both"));
@@ -294,20 +313,48 @@ fn read_diffuse(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> 
     if albedo.is_none() && texture.is_none() {
         return Err(t.error_at("albedo", "missing required key `albedo` (or `texture`)"));
     }
-    Ok(MaterialKind::Diffuse { albedo: albedo.unwrap_or(Vec3::ONE), texture })
+    Ok((albedo.unwrap_or(Vec3::ONE), texture))
 }
 
-fn read_mirror(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
-    Ok(MaterialKind::Mirror { albedo: t.req("albedo", |v| v.vec3_in(UNIT))?, texture: None, fresnel: None })
+/// A conductor's complex index of refraction: `eta` and `k` together (each >= 0 per
+/// channel), or neither (no Fresnel term: the albedo alone).
+fn read_fresnel(t: &Table) -> Result<Option<ComplexIor>> {
+    let eta = t.opt("eta", |v| v.vec3_in(Bound::NonNegative))?;
+    let k = t.opt("k", |v| v.vec3_in(Bound::NonNegative))?;
+    match (eta, k) {
+        (Some(eta), Some(k)) => Ok(Some(ComplexIor { eta, k })),
+        (None, None) => Ok(None),
+        (Some(_), None) => Err(t.error_at("eta", "a conductor's `eta` needs its `k`")),
+        (None, Some(_)) => Err(t.error_at("k", "a conductor's `k` needs its `eta`")),
+    }
 }
 
-fn read_glossy(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
+/// `distribution` of microfacet normals: "ggx" (default) or "beckmann".
+fn read_distribution(t: &Table) -> Result<Microfacet> {
+    t.or("distribution", Microfacet::Ggx, |v| {
+        v.choice("distribution", &[("ggx", Microfacet::Ggx), ("beckmann", Microfacet::Beckmann)])
+    })
+}
+
+/// A specular lobe's tint in [0, 1] (Mitsuba's `specular_reflectance` and
+/// `specular_transmittance`), white unless given.
+fn read_tint(t: &Table, key: &str) -> Result<Vec3> {
+    t.or(key, Vec3::ONE, |v| v.vec3_in(UNIT))
+}
+
+fn read_mirror(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> {
+    let (albedo, texture) = read_albedo(t, textures)?;
+    Ok(MaterialKind::Mirror { albedo, texture, fresnel: read_fresnel(t)? })
+}
+
+fn read_glossy(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> {
+    let (albedo, texture) = read_albedo(t, textures)?;
     Ok(MaterialKind::Glossy {
-        albedo: t.req("albedo", |v| v.vec3_in(UNIT))?,
-        texture: None,
+        albedo,
+        texture,
         roughness: t.req("roughness", |v| v.f32_in(UNIT))?,
-        distribution: Microfacet::Ggx,
-        fresnel: None,
+        distribution: read_distribution(t)?,
+        fresnel: read_fresnel(t)?,
     })
 }
 
@@ -315,19 +362,83 @@ fn read_dielectric(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
     Ok(MaterialKind::Dielectric {
         ior: t.req("ior", |v| v.f32_in(Bound::Positive))?,
         roughness: t.or("roughness", 0.0, |v| v.f32_in(UNIT))?,
-        distribution: Microfacet::Ggx,
-        reflectance: Vec3::ONE,
-        transmittance: Vec3::ONE,
+        distribution: read_distribution(t)?,
+        reflectance: read_tint(t, "reflectance")?,
+        transmittance: read_tint(t, "transmittance")?,
     })
 }
 
-/// Index of the texture a `texture` value names, loaded once per distinct path.
+/// Mitsuba's plastic: a diffuse base (`albedo` or `texture`) under a dielectric coating of
+/// index `ior`, smooth or of `roughness` (alpha), tinted by `specular`.
+fn read_plastic(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> {
+    let (albedo, texture) = read_albedo(t, textures)?;
+    let ior = t.req("ior", |v| v.f32_in(Bound::Positive))?;
+    let roughness = t.or("roughness", 0.0, |v| v.f32_in(UNIT))?;
+    if ior == 1.0 && roughness > 0.0 {
+        return Err(t.error_at("ior", "a rough coating needs an index other than 1"));
+    }
+    Ok(MaterialKind::Plastic {
+        albedo,
+        texture,
+        specular: read_tint(t, "specular")?,
+        ior,
+        roughness,
+        distribution: read_distribution(t)?,
+        nonlinear: t.or("nonlinear", false, Value::bool)?,
+    })
+}
+
+fn read_thin_dielectric(t: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
+    Ok(MaterialKind::ThinDielectric {
+        ior: t.req("ior", |v| v.f32_in(Bound::Positive))?,
+        reflectance: read_tint(t, "reflectance")?,
+        transmittance: read_tint(t, "transmittance")?,
+    })
+}
+
+fn read_null(_: &Table, _: &mut Vec<Texture>) -> Result<MaterialKind> {
+    Ok(MaterialKind::Null)
+}
+
+/// Index of the texture a `texture` value names, loaded once per distinct file and settings:
+/// a file name, or a table `{ file, filter, wrap, uv_transform }` with `filter` "bilinear"
+/// (default) or "nearest", `wrap` "repeat" (default), "mirror" or "clamp", and
+/// `uv_transform` = [[a, b, tx], [c, d, ty]], the image point (x right, y down, in [0, 1]) of
+/// texture coordinates (u, v): x = a u + b v + tx, y = c u + d v + ty; by default
+/// [[1, 0, 0], [0, -1, 1]], v up the image.
 fn texture_index(v: &Value, textures: &mut Vec<Texture>) -> Result<u32> {
-    let path = v.path()?;
-    if let Some(index) = textures.iter().position(|t| t.path == path) {
+    let (file, settings) = match v.value {
+        DeValue::Table(_) => {
+            let t = v.table()?;
+            t.allow_keys(&["file", "filter", "wrap", "uv_transform"])?;
+            (t.require("file")?, Some(t))
+        }
+        _ => (Value { source: v.source, value: v.value, key: v.key.clone(), line: v.line }, None),
+    };
+    let path = file.path()?;
+    let mut texture = file.read_file("texture", &path, mesh::read_texture)?;
+    if let Some(t) = settings {
+        let filters = [("bilinear", TextureFilter::Bilinear), ("nearest", TextureFilter::Nearest)];
+        let wraps = [("repeat", TextureWrap::Repeat), ("mirror", TextureWrap::Mirror), ("clamp", TextureWrap::Clamp)];
+        texture.filter = t.or("filter", texture.filter, |v| v.choice("filter", &filters))?;
+        texture.wrap = t.or("wrap", texture.wrap, |v| v.choice("wrap", &wraps))?;
+        if let Some(rows) = t.opt("uv_transform", |v| {
+            let rows = v.elements()?;
+            if rows.len() != 2 {
+                return Err(v.error(format!("expected two rows of three numbers, found {} rows", rows.len())));
+            }
+            Ok([rows[0].floats::<3>(Bound::Any)?, rows[1].floats::<3>(Bound::Any)?])
+        })? {
+            let [[a, b, tx], [c, d, ty]] = rows;
+            texture.to_uv = glam::Affine2::from_cols_array(&[a, c, b, d, tx, ty]);
+        }
+    }
+    let same =
+        |u: &Texture| u.path == texture.path && u.filter == texture.filter && u.wrap == texture.wrap && u.to_uv == texture.to_uv;
+    if let Some(index) = textures.iter().position(same) {
         return Ok(index as u32);
     }
-    textures.push(v.read_file("texture", &path, mesh::read_texture)?);
+    textures.push(texture);
     Ok(textures.len() as u32 - 1)
 }
 
@@ -467,6 +578,7 @@ type LightReader = fn(&Table) -> Result<LightKind>;
 const LIGHT_TYPES: &[(&str, LightReader, &[&str])] = &[
     ("point", read_point_light, &["position", "intensity"]),
     ("directional", read_directional_light, &["direction", "irradiance"]),
+    ("spot", read_spot_light, &["position", "direction", "intensity", "cutoff_angle", "beam_width"]),
     ("constant", read_constant_light, &["radiance"]),
     ("envmap", read_envmap_light, &["file", "scale", "rotate"]),
 ];
@@ -482,6 +594,29 @@ fn read_point_light(t: &Table) -> Result<LightKind> {
     Ok(LightKind::Point {
         position: t.req("position", Value::vec3)?,
         intensity: t.req("intensity", |v| v.vec3_in(Bound::NonNegative))?,
+    })
+}
+
+/// A spot light (Mitsuba 3's): at `position`, its axis along `direction`, `intensity` on the
+/// axis, lighting the cone of half-angle `cutoff_angle` (degrees, default 20), at full
+/// intensity within `beam_width` (degrees, default 3/4 of the cutoff) and falling off
+/// linearly in the angle beyond.
+fn read_spot_light(t: &Table) -> Result<LightKind> {
+    let direction = t.req("direction", Value::vec3)?;
+    let direction = direction.as_dvec3().normalize_or_zero().as_vec3();
+    if direction == Vec3::ZERO {
+        return Err(t.error_at("direction", "the direction must not be zero"));
+    }
+    let cutoff_angle = t.or("cutoff_angle", 20.0, |v| v.f32_in(Bound::Positive))?;
+    if cutoff_angle > 180.0 {
+        return Err(t.error_at("cutoff_angle", format!("a spot's cutoff is at most 180 degrees, found {cutoff_angle}")));
+    }
+    Ok(LightKind::Spot {
+        position: t.req("position", Value::vec3)?,
+        direction,
+        intensity: t.req("intensity", |v| v.vec3_in(Bound::NonNegative))?,
+        cutoff_angle,
+        beam_width: t.or("beam_width", 0.75 * cutoff_angle, |v| v.f32_in(Bound::NonNegative))?,
     })
 }
 
