@@ -159,8 +159,8 @@ for b in conductor_aluminium conductor_gold dielectric_diamond dielectric_glass 
     diffuse_textured plastic_default plastic_diffuse plastic_nopreserve plastic_preserve plastic_shiny \
     roughconductor_copper roughdielectric_glass roughdielectric_rough roughplastic_beckmann \
     roughplastic_diffuse roughplastic_ggx roughplastic_nopreserve roughplastic_preserve thindielectric_glass; do
-    stage "matpreview-$b" $M "$MD" "docs/scenes/bsdf_$b.xml" docs/scenes/include/matpreview.xml \
-        common/meshes/matpreview.serialized common/textures/museum.exr common/textures/wood.jpg
+    stage "matpreview-$b" $M "$MD" "docs/scenes/bsdf_$b.xml" docs/scenes/include/matpreview.xml docs/scenes/include/matpreview_no_rr.xml \
+        common/meshes/matpreview.serialized common/textures/museum.exr common/textures/wood.jpg common/textures/floor_tiles.jpg
 done
 stage mitsuba-matpreview $M "$MD" scenes/matpreview/matpreview.xml scenes/matpreview/envmap.exr \
     scenes/matpreview/matpreview.serialized
