@@ -134,6 +134,8 @@ fn main() {
         // Rays whose hit differs from the first variant's, bit for bit.
         let mut first_hits: Vec<[u32; 4]> = Vec::new();
         let mut differing = vec![0; kernels.len()];
+        // Of those, the rays whose t differs too (not a tie between primitives at one t).
+        let mut other_t = vec![0; kernels.len()];
         // The first round compiles the kernels (lavapipe compiles at first use): untimed.
         for round in 0..=REPEATS {
             for (k, (kernel, group)) in kernels.iter().zip(&groups).enumerate() {
@@ -153,17 +155,19 @@ fn main() {
                     first_hits = bits;
                 } else {
                     differing[k] = bits.iter().zip(&first_hits).filter(|(a, b)| a != b).count();
+                    other_t[k] = bits.iter().zip(&first_hits).filter(|(a, b)| a[0] != b[0]).count();
                 }
             }
         }
         for (k, (name, _)) in variants.iter().enumerate() {
             println!(
-                "{:<22} {:>7} primitives {:>6.2} M rays/s ({:.1}% hit, {} hits not those of the first variant) {}",
+                "{:<22} {:>7} primitives {:>6.2} M rays/s ({:.1}% hit, {} hits not those of the first variant, {} at another t) {}",
                 path.file_name().unwrap().to_string_lossy(),
                 scene.triangles.len() + scene.spheres.len(),
                 RAYS as f64 / best[k] / 1e6,
                 100.0 * hit_counts[k] as f64 / RAYS as f64,
                 differing[k],
+                other_t[k],
                 name
             );
         }

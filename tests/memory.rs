@@ -50,12 +50,13 @@ fn renderer_memory_follows_the_pixels_and_photons_scene_memory_the_primitives() 
     assert_eq!(need(600_000, 128), need(1 << 24, 128), "nor more photons");
     scene.render.photons = photons;
 
-    // A scene with a mesh of thousands of triangles: about 110 bytes a primitive.
+    // A scene with a mesh of thousands of triangles (the CWBVH, a leaf-order copy of each
+    // primitive, shading normals): about 155 bytes a primitive.
     let bunny = common::load_scene("gallery/bunny-cube.toml");
     let prims = (bunny.triangles.len() + bunny.spheres.len()) as f64;
     let mesh = memory(&gpu, &bunny);
     let per_prim = mesh.scene_bytes() as f64 / prims;
-    assert!(prims > 3_000.0 && per_prim > 48.0 && per_prim < 160.0, "{per_prim} bytes per primitive, {prims} primitives");
+    assert!(prims > 3_000.0 && per_prim > 48.0 && per_prim < 200.0, "{per_prim} bytes per primitive, {prims} primitives");
     let cornell_prims = (scene.triangles.len() + scene.spheres.len()) as f64;
     assert!((small.scene_bytes() as f64 / cornell_prims) < 160.0);
 

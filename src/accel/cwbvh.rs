@@ -12,11 +12,12 @@
 //! lanes, loads per child box are what the time is made of.
 //!
 //! obvhs quantizes with `f32` arithmetic that may round a child's box inwards by an ulp;
-//! [`build_cwbvh`] quantizes every node again from the exact boxes so that a box decoded as
-//! the kernels decode it (`p + q * e` in `f32`, exact product) contains the child's exact box.
-//! With the same padded slab test as the binary traversal, a ray can then only lose a box that
-//! it also misses exactly, and the closest hit is the same triangle at the same `t` as the
-//! binary traversal's, bit for bit (primitives at exactly the same distance aside).
+//! [`build_cwbvh`] quantizes every node again from the exact boxes so that a box decoded in
+//! `f32` (`p + q * e`, exact product) contains the child's exact box. The slab test works in
+//! the node's grid, a fused multiply-add a plane, its planes moved outwards by a bound on
+//! its rounding ([`CwNode`]'s `hit_mask`): a ray can only lose a box that it also misses
+//! exactly, and the closest hit is the same triangle at the same `t` as the binary
+//! traversal's, bit for bit (primitives at exactly the same distance aside).
 //!
 //! [`CwBvh::intersect`] and [`CwBvh::occluded`] traverse the tree on the CPU exactly as
 //! `shaders/shared/cwbvh.wgsl` does (same slot order, same group stack): the oracle its
@@ -27,7 +28,7 @@ use std::time::Duration;
 use glam::Vec3;
 use obvhs::{aabb::Aabb, cwbvh::builder::build_cwbvh as obvhs_build_cwbvh, BvhBuildParams};
 
-use super::bvh::{intersect_prim, primitive_aabbs, slab_test, Hit, SPHERE_BIT};
+use super::bvh::{intersect_prim, primitive_aabbs, Hit, SPHERE_BIT};
 use crate::scene::{Sphere, Triangle};
 
 /// Entries of the traversal's stack of node groups, here and in the kernels. A group is
@@ -204,15 +205,45 @@ impl CwNode {
 
     /// The hit mask of the children the segment `0 < t < t_max` enters: interior children
     /// at bit `24 + (slot ^ oct_inv)`, the primitives of leaves at bits `offset ..`.
+    ///
+    /// The slab test in the node's grid, as the kernels do it: plane `p + q e` at
+    /// `t = q (e inv_dir) + (p - origin) inv_dir`, one fused multiply-add a plane, near planes
+    /// moved towards the origin and far ones away by `1e-6 (|p - origin| + |p| + 255 e)
+    /// |inv_dir|`, which bounds the rounding of that form, of `inv_dir`, and of the `f32`
+    /// decode the boxes were made to contain (a few ulps of those magnitudes each): a ray is
+    /// kept wherever it enters a child's exact box. A zero direction component gives NaN
+    /// planes, which (compared, as in the binary tree's slab test) narrow nothing.
     fn hit_mask(&self, origin: Vec3, inv_dir: Vec3, oct_inv: u32, t_max: f32) -> u32 {
+        let step = |a: u32| f32::from_bits(((self.e_imask >> (8 * a)) & 0xff) << 23);
+        let (p, e) = (Vec3::from(self.p), Vec3::new(step(0), step(1), step(2)));
+        let po = p - origin;
+        let scale = e * inv_dir;
+        let b = po * inv_dir;
+        let slack = 1e-6 * (po.abs() + p.abs() + 255.0 * e) * inv_dir.abs();
+        let (b_near, b_far) = (b - slack, b + slack);
+        let negative = inv_dir.cmplt(Vec3::ZERO);
         let mut mask = 0;
         for i in 0..8 {
             let m = (self.meta[i / 4] >> (8 * (i % 4))) & 0xff;
             if m == 0 {
                 continue;
             }
-            let (lo, hi) = self.child_box(i);
-            if !slab_test(lo, hi, origin, inv_dir, t_max) {
+            let byte = |k: usize| ((self.q[k + i / 4] >> (8 * (i % 4))) & 0xff) as f32;
+            let (lo, hi) = (Vec3::new(byte(0), byte(4), byte(8)), Vec3::new(byte(2), byte(6), byte(10)));
+            let (q_near, q_far) = (Vec3::select(negative, hi, lo), Vec3::select(negative, lo, hi));
+            let (mut t0, mut t1) = (0.0f32, t_max);
+            for a in 0..3 {
+                let near = q_near[a].mul_add(scale[a], b_near[a]);
+                let far = q_far[a].mul_add(scale[a], b_far[a]);
+                if near > t0 {
+                    t0 = near;
+                }
+                if far < t1 {
+                    t1 = far;
+                }
+            }
+            // t0 and t1 are never NaN: NaN planes were not taken.
+            if t0 > t1 {
                 continue;
             }
             let inner = m & (m << 1) & 0x10 != 0;

@@ -111,3 +111,28 @@ pub fn uses_cwbvh(primitives: usize) -> bool {
 pub fn layout_constant(data: &SceneData) -> (&'static str, f64) {
     ("BVH_LAYOUT", if data.cwbvh.is_some() { 2.0 } else { 1.0 })
 }
+
+/// The primitives of [`SceneData::cwbvh`]'s leaves in leaf order, three `vec4f` each, as the
+/// CWBVH traversal reads them (`leaf_prims` in `shaders/shared/cwbvh.wgsl`): a triangle as
+/// `(p0, prim_ref)`, `(e1, shape)`, `(e2, 0)`, a sphere as `(center, prim_ref)`,
+/// `(radius, shape, 0, 0)`, `0`, the integers as `f32` bits. The coordinates are those of
+/// `triangles` and `spheres`, so the intersection tests compute the same numbers. One zero
+/// entry without a CWBVH (a buffer cannot be empty).
+pub fn leaf_prims(data: &SceneData) -> Vec<[f32; 4]> {
+    let Some(cw) = &data.cwbvh else { return vec![[0.0; 4]] };
+    let bits = f32::from_bits;
+    cw.prim_refs
+        .iter()
+        .flat_map(|&r| {
+            if r & SPHERE_BIT != 0 {
+                let s = &data.spheres[(r & !SPHERE_BIT) as usize];
+                let c = s.center;
+                [[c[0], c[1], c[2], bits(r)], [s.radius, bits(s.shape), 0.0, 0.0], [0.0; 4]]
+            } else {
+                let t = &data.triangles[r as usize];
+                let (p, e1, e2) = (t.p0, t.e1, t.e2);
+                [[p[0], p[1], p[2], bits(r)], [e1[0], e1[1], e1[2], bits(t.shape)], [e2[0], e2[1], e2[2], 0.0]]
+            }
+        })
+        .collect()
+}

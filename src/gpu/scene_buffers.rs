@@ -550,6 +550,8 @@ pub struct SceneBuffers {
     pub shapes: wgpu::Buffer,
     /// [`SceneData::emitters`]: `array<Emitter>`.
     pub emitters: wgpu::Buffer,
+    /// [`super::baked_bvh::leaf_prims`]: `array<vec4f>`.
+    pub leaf_prims: wgpu::Buffer,
 }
 
 /// A read-only storage buffer holding `data` (one zeroed element when it is empty).
@@ -585,6 +587,7 @@ impl SceneBuffers {
             texels: storage_buffer(device, "texels", &data.texels),
             shapes: storage_buffer(device, "shapes", &data.shapes),
             emitters: storage_buffer(device, "emitters", &data.emitters),
+            leaf_prims: storage_buffer(device, "leaf_prims", &super::baked_bvh::leaf_prims(data)),
         }
     }
 
@@ -602,6 +605,7 @@ impl SceneBuffers {
             R { name: "texels", buffer: &self.texels },
             R { name: "shapes", buffer: &self.shapes },
             R { name: "emitters", buffer: &self.emitters },
+            R { name: "leaf_prims", buffer: &self.leaf_prims },
         ]
     }
 }

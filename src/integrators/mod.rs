@@ -239,11 +239,15 @@ pub fn memory_need(device: &wgpu::Device, scene: &Scene) -> MemoryNeed {
         })
         .sum();
     // Per triangle: itself (48), its reference (4), a BVH node at most (32), shading normals
-    // (48) and texture coordinates (32); per sphere: itself, a reference and a node.
+    // (48) and texture coordinates (32); per sphere: itself, a reference and a node. A scene
+    // traced through the CWBVH has a node of 80 bytes at most per primitive (every interior
+    // node has two children or more) and a copy of each primitive in leaf order (48).
     let attributes: u64 = scene.triangles.iter().map(|t| 48 * t.n.is_some() as u64 + 32 * t.uv.is_some() as u64).sum();
+    let primitives = scene.triangles.len() + scene.spheres.len();
+    let cwbvh = if crate::gpu::baked_bvh::uses_cwbvh(primitives) { primitives as u64 * (48 + 80 - 32) } else { 0 };
     let texels: u64 = scene.textures.iter().map(|t| 16 * t.width as u64 * t.height as u64).sum();
     let fixed = 64 * (scene.materials.len() + scene.shapes.len() + scene.lights.len() + 64) as u64;
-    let scene_bytes = scene.triangles.len() as u64 * 84 + attributes + scene.spheres.len() as u64 * 68 + texels + fixed;
+    let scene_bytes = scene.triangles.len() as u64 * 84 + attributes + scene.spheres.len() as u64 * 68 + texels + fixed + cwbvh;
     MemoryNeed { scene: scene_bytes, renderer, host: r.width as u64 * r.height as u64 * 40 }
 }
 
