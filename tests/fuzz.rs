@@ -730,30 +730,35 @@ proptest! {
 
 // --- Mitsuba scene XML ---
 
-/// A folder holding the Mitsuba test scenes' meshes and included fragment, where mutated
-/// copies of the scenes are written (one file per case, under a name of its own).
+/// A folder holding the Mitsuba test scenes' meshes, textures and included fragment, where
+/// mutated copies of the scenes are written (one file per case, under a name of its own).
 fn mitsuba_dir() -> PathBuf {
     let source = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/mitsuba"));
     let dir = std::env::temp_dir().join(format!("sppm-gpu-fuzz-mitsuba-{}", std::process::id()));
-    if !dir.join("meshes").exists() {
-        std::fs::create_dir_all(dir.join("meshes")).unwrap();
-        for entry in std::fs::read_dir(source.join("meshes")).unwrap() {
-            let path = entry.unwrap().path();
-            std::fs::copy(&path, dir.join("meshes").join(path.file_name().unwrap())).unwrap();
+    if !dir.join("legacy-walls.xml").exists() {
+        for folder in ["meshes", "textures"] {
+            std::fs::create_dir_all(dir.join(folder)).unwrap();
+            for entry in std::fs::read_dir(source.join(folder)).unwrap() {
+                let path = entry.unwrap().path();
+                std::fs::copy(&path, dir.join(folder).join(path.file_name().unwrap())).unwrap();
+            }
         }
         std::fs::copy(source.join("legacy-walls.xml"), dir.join("legacy-walls.xml")).unwrap();
     }
     dir
 }
 
-/// The Mitsuba test scenes' texts.
+/// The Mitsuba test scenes' texts: every scene of scenes/mitsuba but the fragment
+/// legacy-walls.xml.
 fn mitsuba_scenes() -> Vec<String> {
-    ["box.xml", "legacy.xml", "lights.xml"]
-        .iter()
-        .map(|name| {
-            std::fs::read_to_string(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/mitsuba")).join(name)).unwrap()
-        })
-        .collect()
+    let source = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/mitsuba"));
+    let mut names: Vec<PathBuf> = std::fs::read_dir(source)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "xml") && !p.ends_with("legacy-walls.xml"))
+        .collect();
+    names.sort();
+    names.iter().map(|p| std::fs::read_to_string(p).unwrap()).collect()
 }
 
 /// Values an XML attribute is replaced with.
