@@ -68,7 +68,7 @@ fn gpu_structs_match_wgsl() {
         ]
     );
     check!(module, GpuBvhNode, "BvhNode", [box_a, child_a, box_b, child_b]);
-    check!(module, BvhParams, "BvhParams", [origin, tree_kind, scale, _pad1]);
+    check!(module, BvhParams, "BvhParams", [origin, tree_kind, scale, leaf_base]);
     check!(module, GpuTriangle, "Triangle", [p0, material, e1, shape, e2, attributes]);
     check!(module, GpuSphere, "Sphere", [center, radius, material, shape, attributes, _pad]);
     check!(

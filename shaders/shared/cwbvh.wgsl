@@ -1,6 +1,6 @@
 // Traversal of the compressed 8-wide BVH (src/accel/cwbvh.rs; Ylitie, Karras & Laine, HPG
-// 2017): `bvh_nodes` holds its nodes, five vec4u each, and `leaf_prims` its primitives in
-// leaf order.
+// 2017): `bvh_nodes` holds its nodes, five vec4u each, then from bvh.leaf_base the
+// primitives of its leaves in leaf order.
 //
 // Node (CwNode): n0 = (p.xyz as bits, e.x | e.y << 8 | e.z << 16 | imask << 24),
 // n1 = (child_base, prim_base, desc of slots 0-3, desc of slots 4-7), n2..n4 = the quantized
@@ -15,11 +15,12 @@
 
 const CW_STACK_SIZE: u32 = 32u;
 
-// The leaves' primitives in leaf order, three entries each (src/gpu/baked_bvh.rs,
-// leaf_prims): a triangle (p0, prim_ref), (e1, shape), (e2, 0); a sphere (center, prim_ref),
-// (radius, shape, 0, 0). One load fewer than prim_refs then triangles, and adjacent: 1.05x
-// rays/s on the bunny and the 11k and 871k dragons (cargo bench --bench traversal).
-@group(0) @binding(31) var<storage, read> leaf_prims: array<vec4f>;
+// The leaves' primitives, three entries each from bvh.leaf_base in bvh_nodes
+// (src/gpu/baked_bvh.rs, leaf_prims): a triangle (p0, prim_ref), (e1, shape), (e2, 0); a
+// sphere (center, prim_ref), (radius, shape, 0, 0), as f32 bits. One load fewer than
+// prim_refs then triangles, and adjacent: 1.05x rays/s on the bunny and the 11k and 871k
+// dragons (cargo bench --bench traversal); in the nodes' buffer, because the photon pass
+// has no binding to spare (16 storage buffers a stage).
 
 // Hit bits of the four children of one half of a node: `desc` their descriptions, `q_near`
 // and `q_far` their near and far quantized bounds per axis (already chosen by the ray's
@@ -105,14 +106,14 @@ fn trace_cwbvh(o: vec3f, d: vec3f, inv_d: vec3f, any_hit: bool, hit: ptr<functio
         while prims.y != 0u {
             let bit = firstLeadingBit(prims.y);
             prims.y &= ~(1u << bit);
-            let k = 3u * (prims.x + bit);
-            let a = leaf_prims[k];
-            let b = leaf_prims[k + 1u];
+            let k = bvh.leaf_base + 3u * (prims.x + bit);
+            let a = bitcast<vec4f>(bvh_nodes[k]);
+            let b = bitcast<vec4f>(bvh_nodes[k + 1u]);
             let r = bitcast<u32>(a.w);
             if is_sphere(r) {
                 hit_sphere(a.xyz, b.x, r, bitcast<u32>(b.y), o, d, hit);
             } else {
-                hit_triangle(a.xyz, b.xyz, leaf_prims[k + 2u].xyz, r, bitcast<u32>(b.w), o, d, hit);
+                hit_triangle(a.xyz, b.xyz, bitcast<vec3f>(bvh_nodes[k + 2u].xyz), r, bitcast<u32>(b.w), o, d, hit);
             }
             if any_hit && (*hit).prim_ref != 0xffffffffu {
                 return;

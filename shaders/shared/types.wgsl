@@ -91,12 +91,13 @@ struct BvhNode {
 }
 
 // Quantized coordinate q decodes to origin + q * scale. tree_kind: 0 for the binary tree, 1
-// for the CWBVH (which needs no origin or scale).
+// for the CWBVH (which needs no origin or scale), whose leaf primitives start at entry
+// leaf_base of bvh_nodes.
 struct BvhParams {
     origin: vec3f,
     tree_kind: u32,
     scale: vec3f,
-    _pad1: u32,
+    leaf_base: u32,
 }
 
 // A triangle as a corner and two edges (Moller & Trumbore 1997).

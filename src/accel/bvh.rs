@@ -100,8 +100,9 @@ pub struct BvhParams {
     pub tree_kind: u32,
     /// World size of one quantization step, per axis.
     pub scale: [f32; 3],
-    /// Padding; always 0.
-    pub _pad1: u32,
+    /// With a CWBVH, the entry of `bvh_nodes` (16 bytes each) where its leaf primitives
+    /// start; 0 otherwise.
+    pub leaf_base: u32,
 }
 
 /// The BVH in the layout the kernels traverse: interior nodes only, root at index 0 (see
@@ -369,7 +370,7 @@ impl Bvh {
                 nodes[dst] = GpuBvhNode { box_a: quantize(a), child_a: refs[0], box_b: quantize(b), child_b: refs[1] };
             }
         }
-        PackedBvh { nodes, params: BvhParams { origin: origin.as_vec3().to_array(), tree_kind: 0, scale, _pad1: 0 } }
+        PackedBvh { nodes, params: BvhParams { origin: origin.as_vec3().to_array(), tree_kind: 0, scale, leaf_base: 0 } }
     }
 }
 

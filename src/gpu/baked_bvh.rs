@@ -113,13 +113,13 @@ pub fn layout_constant(data: &SceneData) -> (&'static str, f64) {
 }
 
 /// The primitives of [`SceneData::cwbvh`]'s leaves in leaf order, three `vec4f` each, as the
-/// CWBVH traversal reads them (`leaf_prims` in `shaders/shared/cwbvh.wgsl`): a triangle as
-/// `(p0, prim_ref)`, `(e1, shape)`, `(e2, 0)`, a sphere as `(center, prim_ref)`,
-/// `(radius, shape, 0, 0)`, `0`, the integers as `f32` bits. The coordinates are those of
-/// `triangles` and `spheres`, so the intersection tests compute the same numbers. One zero
-/// entry without a CWBVH (a buffer cannot be empty).
+/// CWBVH traversal reads them after its nodes in `bvh_nodes` (`shaders/shared/cwbvh.wgsl`):
+/// a triangle as `(p0, prim_ref)`, `(e1, shape)`, `(e2, 0)`, a sphere as
+/// `(center, prim_ref)`, `(radius, shape, 0, 0)`, `0`, the integers as `f32` bits. The
+/// coordinates are those of `triangles` and `spheres`, so the intersection tests compute the
+/// same numbers. Empty without a CWBVH.
 pub fn leaf_prims(data: &SceneData) -> Vec<[f32; 4]> {
-    let Some(cw) = &data.cwbvh else { return vec![[0.0; 4]] };
+    let Some(cw) = &data.cwbvh else { return Vec::new() };
     let bits = f32::from_bits;
     cw.prim_refs
         .iter()

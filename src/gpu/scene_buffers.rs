@@ -530,9 +530,11 @@ fn swept_bounds(scene: &Scene, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
 /// Storage buffers of a [`SceneData`]. Empty arrays get one zeroed element, since wgpu
 /// cannot bind a zero-sized buffer.
 pub struct SceneBuffers {
-    /// [`PackedBvh::nodes`]: `array<BvhNode>`, or the nodes of [`SceneData::cwbvh`].
+    /// [`PackedBvh::nodes`]: `array<BvhNode>`, or the nodes of [`SceneData::cwbvh`] then
+    /// its leaves' primitives ([`super::baked_bvh::leaf_prims`]).
     pub bvh_nodes: wgpu::Buffer,
-    /// [`PackedBvh::params`]: `var<uniform> bvh: BvhParams` (its `tree_kind` 1 with a CWBVH).
+    /// [`PackedBvh::params`]: `var<uniform> bvh: BvhParams` (its `tree_kind` 1 with a CWBVH,
+    /// `leaf_base` where the primitives start).
     pub bvh: wgpu::Buffer,
     /// [`Bvh::prim_refs`]: `array<u32>`, or those of [`SceneData::cwbvh`].
     pub prim_refs: wgpu::Buffer,
@@ -550,8 +552,6 @@ pub struct SceneBuffers {
     pub shapes: wgpu::Buffer,
     /// [`SceneData::emitters`]: `array<Emitter>`.
     pub emitters: wgpu::Buffer,
-    /// [`super::baked_bvh::leaf_prims`]: `array<vec4f>`.
-    pub leaf_prims: wgpu::Buffer,
 }
 
 /// A read-only storage buffer holding `data` (one zeroed element when it is empty).
@@ -568,12 +568,18 @@ pub fn storage_buffer<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, data
 impl SceneBuffers {
     /// Upload every array of `data` to a storage buffer named like its WGSL global.
     pub fn new(device: &wgpu::Device, data: &SceneData) -> Self {
-        let params = BvhParams { tree_kind: data.cwbvh.is_some() as u32, ..data.packed_bvh.params };
+        let mut params = data.packed_bvh.params;
+        let bvh_nodes = match &data.cwbvh {
+            Some(cw) => {
+                let mut words: Vec<[f32; 4]> = bytemuck::cast_slice(&cw.nodes).to_vec();
+                (params.tree_kind, params.leaf_base) = (1, words.len() as u32);
+                words.extend(super::baked_bvh::leaf_prims(data));
+                storage_buffer(device, "bvh_nodes", &words)
+            }
+            None => storage_buffer(device, "bvh_nodes", &data.packed_bvh.nodes),
+        };
         Self {
-            bvh_nodes: match &data.cwbvh {
-                Some(cw) => storage_buffer(device, "bvh_nodes", &cw.nodes),
-                None => storage_buffer(device, "bvh_nodes", &data.packed_bvh.nodes),
-            },
+            bvh_nodes,
             bvh: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("bvh"),
                 contents: bytemuck::bytes_of(&params),
@@ -587,7 +593,6 @@ impl SceneBuffers {
             texels: storage_buffer(device, "texels", &data.texels),
             shapes: storage_buffer(device, "shapes", &data.shapes),
             emitters: storage_buffer(device, "emitters", &data.emitters),
-            leaf_prims: storage_buffer(device, "leaf_prims", &super::baked_bvh::leaf_prims(data)),
         }
     }
 
@@ -605,7 +610,6 @@ impl SceneBuffers {
             R { name: "texels", buffer: &self.texels },
             R { name: "shapes", buffer: &self.shapes },
             R { name: "emitters", buffer: &self.emitters },
-            R { name: "leaf_prims", buffer: &self.leaf_prims },
         ]
     }
 }
