@@ -99,10 +99,14 @@ pub fn replacements(data: &SceneData) -> Vec<(&'static str, String)> {
 /// ([`crate::accel::cwbvh`]) rather than the binary tree's data traversal.
 ///
 /// Scenes small enough to bake are traced by code, which loads nothing and beats both
-/// (`cargo bench --bench traversal`, see BENCHMARKS.md, session 12): the CWBVH takes every
-/// larger scene.
+/// (`cargo bench --bench traversal`, see BENCHMARKS.md, session 12: on the Cornell box the
+/// baked traversal traces about twice the CWBVH's rays per second, the CWBVH twice the binary
+/// tree's); the CWBVH takes every larger scene, where it traced 1.3x to 1.7x the binary
+/// tree's closest hits and 2.6x to 3x its shadow rays (the bunny box, the 48k and 871k
+/// dragons). `SPPM_GPU_TRAVERSAL=binary` in the environment keeps the binary tree instead,
+/// to compare the two in one binary (images agree bit for bit but for ties).
 pub fn uses_cwbvh(primitives: usize) -> bool {
-    primitives > MAX_BAKED_PRIMITIVES
+    primitives > MAX_BAKED_PRIMITIVES && std::env::var("SPPM_GPU_TRAVERSAL").map_or(true, |v| v != "binary")
 }
 
 /// The `BVH_LAYOUT` override for `data`'s scene (`shaders/shared/scene.wgsl`): 2 when its
