@@ -103,8 +103,10 @@ pub fn replacements(data: &SceneData) -> Vec<(&'static str, String)> {
 /// baked traversal traces about twice the CWBVH's rays per second, the CWBVH twice the binary
 /// tree's); the CWBVH takes every larger scene, where it traced 1.3x to 1.7x the binary
 /// tree's closest hits and 2.6x to 3x its shadow rays (the bunny box, the 48k and 871k
-/// dragons). `SPPM_GPU_TRAVERSAL=binary` in the environment keeps the binary tree instead,
-/// to compare the two in one binary (images agree bit for bit but for ties).
+/// dragons), and pt-nee drew 1.5x the samples on the bunny box; SPPM's passes on the 871k
+/// dragon took as long either way (not yet explained). `SPPM_GPU_TRAVERSAL=binary` in the
+/// environment keeps the binary tree instead, to compare the two in one binary (images agree
+/// bit for bit but for ties).
 pub fn uses_cwbvh(primitives: usize) -> bool {
     primitives > MAX_BAKED_PRIMITIVES && std::env::var("SPPM_GPU_TRAVERSAL").map_or(true, |v| v != "binary")
 }
