@@ -16,10 +16,15 @@
 #import camera
 #import lights
 #import direct
+#import grid
 
 @group(0) @binding(8) var<storage, read_write> visible_points: array<VisiblePoint>;
 @group(0) @binding(10) var<storage, read_write> vp_stats: array<VpStats>;
-// The largest radius of this pass's visible points, as f32 bits, for grid_setup.
+// Word 0: the largest radius of this pass's visible points, as f32 bits, for grid_setup.
+// With an environment aimed at the visible points (frame.env_aim > 0), words 1 to 3 the
+// largest x, y, z of the positions of those the camera sees directly (with no scattering
+// event before) and words 4 to 6 the smallest, as order keys
+// (shared/grid.wgsl: order_key, the smallest as the largest complement), for photon_pass.
 @group(0) @binding(17) var<storage, read_write> grid_max_radius: array<atomic<u32>>;
 
 const STREAM_CAMERA: u32 = 0u;
@@ -150,6 +155,15 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         vp.radius = select(vp_stats[index].radius, frame.global_radius, frame.global_radius > 0.0);
         // Positive floats order like their bits.
         atomicMax(&grid_max_radius[0], bitcast<u32>(vp.radius));
+        // Only points the camera sees directly: one seen in a mirror or glass may lie anywhere
+        // (the far edge of a wide ground plane), and would stretch the bounds over the scene.
+        if USES_ENVIRONMENT && frame.env_aim > 0.0 && vp_depth(vp.normal) == 0u {
+            for (var k = 0u; k < 3u; k++) {
+                let key = order_key(vp.p[k]);
+                atomicMax(&grid_max_radius[1u + k], key);
+                atomicMax(&grid_max_radius[4u + k], ~key);
+            }
+        }
     }
     visible_points[index] = vp;
     vp_stats[index].ld += ld / f32(paths);

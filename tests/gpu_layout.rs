@@ -61,7 +61,7 @@ fn gpu_structs_match_wgsl() {
             at_once,
             pixel_filter,
             filter_width,
-            _pad2,
+            env_aim,
             _pad3,
             _pad4,
             filter_cdf,

@@ -72,3 +72,16 @@ fn point_buckets(g: GridParams, p: vec3f, r: f32) -> PointBuckets {
     }
     return out;
 }
+
+// A key of a float that orders as the float does (as u32), so that atomicMax finds the
+// largest float and, on the complement, the smallest (the bounds of the visible points that
+// photon_pass aims environment photons at). Not for NaN.
+fn order_key(x: f32) -> u32 {
+    let b = bitcast<u32>(x);
+    return select(b ^ 0x80000000u, ~b, (b & 0x80000000u) != 0u);
+}
+
+// The float of an order_key.
+fn from_order_key(k: u32) -> f32 {
+    return bitcast<f32>(select(~k, k ^ 0x80000000u, (k & 0x80000000u) != 0u));
+}

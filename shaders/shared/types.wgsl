@@ -62,7 +62,9 @@ struct Frame {
     pixel_filter: u32,
     // FILTER_TENT: the radius; FILTER_GAUSSIAN: the standard deviation (pixels).
     filter_width: f32,
-    _pad2: u32,
+    // SPPM with an environment light: the share of its photons aimed at this pass's visible
+    // points (photon_pass.wgsl, emit_photon); 0 for none.
+    env_aim: f32,
     _pad3: u32,
     _pad4: u32,
     // FILTER_GAUSSIAN: the CDF of the filter's density on [0, 4] standard deviations at the

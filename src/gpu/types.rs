@@ -100,8 +100,10 @@ pub struct Frame {
     pub pixel_filter: u32,
     /// [`FILTER_TENT`]: the radius; [`FILTER_GAUSSIAN`]: the standard deviation (pixels).
     pub filter_width: f32,
-    /// Padding; always 0.
-    pub _pad2: u32,
+    /// SPPM with an environment light: the share of its photons aimed at this pass's visible
+    /// points (from a disk covering their bounding sphere; the rest from the disk covering the
+    /// scene, with weights of the mixture); 0 for none (`integrators::sppm::ENV_AIM`).
+    pub env_aim: f32,
     /// Padding; always 0.
     pub _pad3: u32,
     /// Padding; always 0.

@@ -26,6 +26,13 @@ use crate::scene::{DirectLight, RadiusSchedule, Scene};
 use std::ops::Range;
 use std::sync::Arc;
 
+/// The share of an environment light's photons aimed at each pass's visible points
+/// ([`Frame::env_aim`], `environment_origin` in `photon_pass.wgsl`): drawn from a disk covering
+/// the sphere about the points' bounds rather than from the disk covering the whole scene,
+/// with weights that keep the estimate unbiased. The environment variable `SPPM_ENV_AIM`
+/// (a number in [0, 1)) overrides it, for experiments; 0 turns it off.
+pub const ENV_AIM: f32 = 0.9;
+
 /// Photons each `photon_pass` thread traces (`PHOTONS_PER_THREAD` in the kernel).
 pub const PHOTONS_PER_THREAD: u32 = 16;
 
@@ -177,6 +184,23 @@ fn global_radius_factor(k: u32, alpha: f32) -> f64 {
     (k as f64 + alpha as f64) / (k as f64 + 1.0)
 }
 
+/// Bytes of camera_pass's words on a pass's visible points (`grid_max_radius`): the largest
+/// radius, then with [`Frame::env_aim`] the bounds of their positions (six order keys).
+const GRID_POINT_WORDS_BYTES: u64 = 32;
+
+/// [`ENV_AIM`], or `SPPM_ENV_AIM` where set.
+fn env_aim() -> Result<f32, Error> {
+    match std::env::var("SPPM_ENV_AIM") {
+        Err(_) => Ok(ENV_AIM),
+        Ok(v) => v
+            .trim()
+            .parse::<f32>()
+            .ok()
+            .filter(|f| (0.0..1.0).contains(f))
+            .ok_or_else(|| Error::Setting(format!("SPPM_ENV_AIM must be a number in [0, 1), found `{v}`"))),
+    }
+}
+
 /// Statistics a caller may read between passes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RadiusStats {
@@ -227,6 +251,8 @@ pub struct Sppm {
     gathers: u64,
     /// Whether every photon hit is added at once ([`Deposits::AtOnce`]).
     at_once: bool,
+    /// Whether the scene has an environment light (whose photons [`Frame::env_aim`] aims).
+    has_environment: bool,
 
     camera_pass: Stage,
     grid_setup: Stage,
@@ -417,6 +443,8 @@ impl Sppm {
 
         frame.photon_count = r.photons;
         frame.vp_count = vp_count;
+        let has_environment = scene.lights.iter().any(|l| l.kind.is_environment());
+        frame.env_aim = if has_environment { env_aim()? } else { 0.0 };
 
         let n = vp_count as u64;
         let max_binding = device.limits().max_storage_buffer_binding_size;
@@ -443,9 +471,9 @@ impl Sppm {
             flux_accum: buffer(device, "flux_accum", n * ACCUM_STRIDE as u64 * 4, STORAGE),
             image: buffer(device, "image", pixel_count as u64 * 16, STORAGE),
             grid_scene: storage_buffer(device, "grid_scene", &[grid_scene]),
-            grid_max_radius: buffer(device, "grid_max_radius", 16, STORAGE),
+            grid_max_radius: buffer(device, "grid_max_radius", GRID_POINT_WORDS_BYTES, STORAGE),
             grid_params: buffer(device, "grid_params", size_of::<GridParams>() as u64, STORAGE),
-            grid: buffer(device, "grid", size_of::<GridParams>() as u64, uniform),
+            grid: buffer(device, "grid", size_of::<GridParams>() as u64 + GRID_POINT_WORDS_BYTES, uniform),
             grid_cell_count: buffer(device, "grid_cell_count", table_size as u64 * 4, STORAGE),
             grid_cell_start: buffer(device, "grid_cell_start", (table_size as u64 + 1) * 4, STORAGE),
             grid_entries: buffer(device, "grid_entries", n * 8 * 4, STORAGE),
@@ -478,6 +506,7 @@ impl Sppm {
             threads_pending: 0,
             gathers: 0,
             at_once,
+            has_environment,
             initial_radius,
             global_radius_sq: (r.radius_schedule == RadiusSchedule::Global).then(|| global_radius_sq(initial_radius, r.alpha, 0)),
             first_pass: 0,
@@ -571,8 +600,12 @@ impl Sppm {
         }
         encoder.clear_buffer(&b.photon_resume_args, ARGS_COUNTS, None);
         self.threads_pending = 0;
-        // The photon pass reads the parameters as a uniform.
+        // The photon pass reads the parameters as a uniform, and after them the visible
+        // points' bounds where it aims environment photons at them.
         encoder.copy_buffer_to_buffer(&b.grid_params, 0, &b.grid, 0, size_of::<GridParams>() as u64);
+        if self.frame.env_aim > 0.0 {
+            encoder.copy_buffer_to_buffer(&b.grid_max_radius, 0, &b.grid, size_of::<GridParams>() as u64, GRID_POINT_WORDS_BYTES);
+        }
         if self.at_once {
             self.record_point_grid(encoder, false);
         }
@@ -719,6 +752,20 @@ impl Sppm {
     /// Whether every photon hit is added at once rather than gathered ([`Deposits`]).
     pub fn deposits_at_once(&self) -> bool {
         self.at_once
+    }
+
+    /// The share of the environment's photons aimed at the visible points ([`ENV_AIM`]); 0
+    /// without an environment.
+    pub fn environment_aim(&self) -> f32 {
+        self.frame.env_aim
+    }
+
+    /// Aim `share` (in [0, 1)) of the environment's photons at the visible points from the
+    /// next pass on (for tests and experiments; no effect without an environment).
+    pub fn set_environment_aim(&mut self, share: f32) {
+        if self.has_environment {
+            self.frame.env_aim = share.clamp(0.0, 0.999);
+        }
     }
 
     /// Photon hits a pass may store for the gather at a time.
