@@ -395,8 +395,15 @@ impl Sppm {
         let points = pixels * r.spp as u64;
         let table = points.max(1).next_power_of_two();
         let per_point = size_of::<VisiblePoint>() + size_of::<VpStats>() + ACCUM_STRIDE as usize * 4 + 8 * 4;
-        let fixed = [size_of::<Frame>(), size_of::<GridScene>(), 16, size_of::<GridParams>(), size_of::<GridParams>()]
-            .map(|b| b.max(16) as u64);
+        let grid_words = GRID_POINT_WORDS_BYTES as usize;
+        let fixed = [
+            size_of::<Frame>(),
+            size_of::<GridScene>(),
+            grid_words,
+            size_of::<GridParams>(),
+            size_of::<GridParams>() + grid_words,
+        ]
+        .map(|b| b.max(16) as u64);
         let at_once = deposits_at_once(r, points);
         let hits = (photon_hit_capacity(r, at_once, max_binding) as u64 * size_of::<PhotonHit>() as u64).max(16);
         let photons = hits + suspended_bytes(r, at_once, max_binding).max(16) + RESUME_ARGS_BYTES;
