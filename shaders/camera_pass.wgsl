@@ -142,7 +142,13 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     var first: CameraPath;
     var ld = vec3f(0.0);
     let paths = max(frame.direct_samples, 1u);
+    // With the Sobol sampler: path i of slot s of pixel p in pass n is sample
+    // (n spp + s) paths + i of the pixel's sequence.
+    let global = index + frame.row_offset * frame.width * frame.spp;
+    let first_sample = (frame.pass_index * frame.spp + global % frame.spp) * paths;
+    let pixel_seed = sobol_seed(frame.seed, STREAM_CAMERA, global / frame.spp);
     for (var i = 0u; i < paths; i++) {
+        rng_sobol(&rng, first_sample + i, pixel_seed);
         let path = trace_camera_path(px, py, &rng);
         ld += path.ld;
         if i == 0u {

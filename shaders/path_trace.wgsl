@@ -28,6 +28,8 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     }
     // Keyed by the pixel's index in the whole image (this may be a band of it).
     var rng = rng_new(frame.seed, frame.pass_index, STREAM_PATH, pixel + frame.row_offset * frame.width);
+    // With the Sobol sampler: the pixel's sample pass_index, one per pass.
+    rng_sobol(&rng, frame.pass_index, sobol_seed(frame.seed, STREAM_PATH, pixel + frame.row_offset * frame.width));
     let ray = camera_ray(pixel % frame.width, pixel / frame.width, &rng);
     var o = ray.o;
     var d = ray.d;

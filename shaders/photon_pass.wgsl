@@ -315,7 +315,7 @@ fn suspend(ph: Photon, rng: Rng, next: u32, end: u32) {
     photon_suspended[4u * slot] = vec4u(bitcast<vec3u>(ph.o), ph.depth);
     photon_suspended[4u * slot + 1u] = vec4u(bitcast<vec3u>(ph.d), rng.state);
     photon_suspended[4u * slot + 2u] = vec4u(bitcast<vec3u>(ph.beta), next);
-    photon_suspended[4u * slot + 3u] = vec4u(end, 0u, 0u, 0u);
+    photon_suspended[4u * slot + 3u] = vec4u(end, rng.index, rng.seed, rng.dim);
 }
 
 // Each thread traces PHOTONS_PER_THREAD photons and starts the next as soon as one ends, so
@@ -343,9 +343,10 @@ fn photon_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         let b = photon_suspended[4u * thread + 1u];
         let c = photon_suspended[4u * thread + 2u];
         ph = Photon(bitcast<vec3f>(a.xyz), bitcast<vec3f>(b.xyz), bitcast<vec3f>(c.xyz), a.w);
-        rng = Rng(b.w);
+        let e = photon_suspended[4u * thread + 3u];
+        rng = Rng(b.w, e.y, e.z, e.w);
         next = c.w;
-        end = photon_suspended[4u * thread + 3u].x;
+        end = e.x;
         alive = true;
     }
     loop {
@@ -354,6 +355,11 @@ fn photon_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
                 break;
             }
             rng = rng_new(frame.seed, frame.pass_index, STREAM_PHOTON, next);
+            // With the Sobol sampler: photons are numbered across passes, runs of `per_seed`
+            // passes sharing one sequence (its index stays below 2^32).
+            let per_seed = max(0xffffffffu / max(frame.photon_count, 1u), 1u);
+            let key = frame.pass_index / per_seed;
+            rng_sobol(&rng, (frame.pass_index % per_seed) * frame.photon_count + next, sobol_seed(frame.seed, STREAM_PHOTON, key));
             ph = emit_photon(&rng);
             next += 1u;
         }

@@ -60,7 +60,7 @@ impl Fingerprint {
         let r = &scene.render;
         let settings = format!(
             "width = {}\nheight = {}\nmethod = {:?}\nspp = {}\nphotons = {}\nradius = {:?}\nalpha = {}\nmax_depth = {}\n\
-             seed = {}\ndirect = {:?}\ndirect_samples = {:?}\nradius_schedule = {:?}\nfilter = {:?}\n",
+             seed = {}\ndirect = {:?}\ndirect_samples = {:?}\nradius_schedule = {:?}\nfilter = {:?}\nsampler = {:?}\n",
             r.width,
             r.height,
             r.method,
@@ -73,7 +73,8 @@ impl Fingerprint {
             r.direct,
             r.direct_samples,
             r.radius_schedule,
-            r.filter
+            r.filter,
+            r.sampler
         );
         let mut geometry = Fnv::new();
         for t in &scene.triangles {

@@ -130,6 +130,7 @@ pub mod gpu;
 pub mod image_io;
 pub mod integrators;
 pub mod metrics;
+pub mod sampler;
 pub mod scene;
 
 pub use error::Error;

@@ -116,6 +116,10 @@ struct Overrides {
     /// run in batches; Knaus & Zwicker 2011) (overrides render.radius_schedule).
     #[arg(long, value_parser = ["per-point", "global"])]
     radius_schedule: Option<String>,
+    /// Where the kernels' random numbers come from: independent (PCG streams) or sobol
+    /// (Owen-scrambled Sobol points) (overrides render.sampler).
+    #[arg(long, value_parser = ["independent", "sobol"])]
+    sampler: Option<String>,
     /// Set a Mitsuba XML scene's parameter `$name`, as Mitsuba's own `-D name=value` (over the
     /// file's `<default>`); repeatable.
     #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
@@ -162,8 +166,13 @@ enum Command {
         #[arg(long)]
         reference: PathBuf,
         /// Methods to run, in order (each for --time-limit seconds of passes); sppm-photons is
-        /// SPPM with direct light from photons alone.
-        #[arg(long, value_delimiter = ',', default_value = "sppm,pt,pt-nee", value_parser = ["sppm", "sppm-photons", "pt", "pt-nee"])]
+        /// SPPM with direct light from photons alone; `/independent` or `/sobol` after a
+        /// method sets its sampler (`pt-nee/sobol`).
+        #[arg(long, value_delimiter = ',', default_value = "sppm,pt,pt-nee", value_parser = [
+            "sppm", "sppm-photons", "pt", "pt-nee",
+            "sppm/independent", "sppm-photons/independent", "pt/independent", "pt-nee/independent",
+            "sppm/sobol", "sppm-photons/sobol", "pt/sobol", "pt-nee/sobol",
+        ])]
         methods: Vec<String>,
         /// Box-downsample before measuring the error.
         #[arg(long, default_value_t = 1)]
@@ -409,6 +418,9 @@ fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Resul
     }
     if let Some(s) = &cli.radius_schedule {
         render.radius_schedule = if s == "global" { RadiusSchedule::Global } else { RadiusSchedule::PerPoint };
+    }
+    if let Some(s) = &cli.sampler {
+        render.sampler = if s == "sobol" { sppm_gpu::sampler::Sampler::Sobol } else { sppm_gpu::sampler::Sampler::Independent };
     }
     Ok(())
 }

@@ -126,21 +126,29 @@ fn global_radius_follows_the_schedule() {
 }
 
 /// Four batches written as partials, read back and merged, against one integrator running
-/// every pass: within the stated bound, for SPPM with the global schedule and for pt-nee.
+/// every pass: within the stated bound, for SPPM with the global schedule and for pt-nee, with
+/// either sampler (the Sobol sampler's photons are numbered across passes).
 #[test]
 fn batches_merge_to_the_whole_render() {
+    use sppm_gpu::sampler::Sampler;
     let Some(gpu) = common::gpu() else { return };
     let dir = temp_dir("merge");
-    for method in [Method::Sppm, Method::PtNee] {
+    for (method, sampler) in [
+        (Method::Sppm, Sampler::Independent),
+        (Method::PtNee, Sampler::Independent),
+        (Method::Sppm, Sampler::Sobol),
+        (Method::PtNee, Sampler::Sobol),
+    ] {
         let mut scene = global("cornell-spheres.toml", 48, 20_000);
         scene.render.method = method;
+        scene.render.sampler = sampler;
         let whole = batch(&gpu, &scene, 0, 12);
         let fingerprint = Fingerprint::of(&scene);
         let ranges = [(0, 3), (3, 4), (4, 9), (9, 12)];
         let mut parts: Vec<Partial> = ranges
             .iter()
             .map(|&(a, b)| {
-                let path = dir.join(format!("{method:?}-{a}-{b}.exr"));
+                let path = dir.join(format!("{method:?}-{sampler:?}-{a}-{b}.exr"));
                 write_partial(&path, &batch(&gpu, &scene, a, b), a, b, &fingerprint).unwrap();
                 read_partial(&path).unwrap_or_else(|e| panic!("{e}"))
             })
@@ -150,8 +158,8 @@ fn batches_merge_to_the_whole_render() {
         let (merged, warnings) = merge(&parts).unwrap_or_else(|e| panic!("{e}"));
         assert!(warnings.is_empty(), "{warnings:?}");
         let worst = worst_against_bound(&merged, &whole);
-        eprintln!("{method:?}: the merge differs from one process by at most {worst:.3} of the bound");
-        assert!(worst <= 1.0, "{method:?}: {worst} times the bound");
+        eprintln!("{method:?} {sampler:?}: the merge differs from one process by at most {worst:.3} of the bound");
+        assert!(worst <= 1.0, "{method:?} {sampler:?}: {worst} times the bound");
         // Not the same as a batch alone: the merge averages every pass.
         assert!(worst_against_bound(&parts[0].sum, &whole) > 1.0);
 
@@ -173,6 +181,12 @@ fn batches_merge_to_the_whole_render() {
     write_partial(&b, &batch(&gpu, &scene, 1, 2), 1, 2, &Fingerprint::of(&scene)).unwrap();
     let e = merge(&[read_partial(&a).unwrap(), read_partial(&b).unwrap()]).unwrap_err().to_string();
     assert!(e.contains("seed 0 (now 1)"), "{e}");
+    // Another sampler's part: refused too.
+    scene.render.seed = 0;
+    scene.render.sampler = if scene.render.sampler == Sampler::Sobol { Sampler::Independent } else { Sampler::Sobol };
+    write_partial(&b, &batch(&gpu, &scene, 1, 2), 1, 2, &Fingerprint::of(&scene)).unwrap();
+    let e = merge(&[read_partial(&a).unwrap(), read_partial(&b).unwrap()]).unwrap_err().to_string();
+    assert!(e.contains("sampler"), "{e}");
     // An image that is not a partial.
     let plain = dir.join("plain.exr");
     sppm_gpu::image_io::write_exr(&plain, &Rgb32Image::new(4, 4)).unwrap();

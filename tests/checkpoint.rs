@@ -1,6 +1,6 @@
 //! Checkpoints and resume through the command line: a render stopped (even by SIGKILL) and
-//! resumed gives the image an uninterrupted render gives, bit for bit, for SPPM and pt-nee;
-//! a checkpoint of another scene or other settings is refused.
+//! resumed gives the image an uninterrupted render gives, bit for bit, for SPPM and pt-nee,
+//! with either sampler; a checkpoint of another scene or other settings is refused.
 
 mod common;
 
@@ -52,17 +52,19 @@ fn stopped_and_resumed_equals_uninterrupted() {
     if common::gpu().is_none() {
         return;
     }
-    for method in ["sppm", "pt-nee"] {
-        let dir = scratch(&format!("resume-{method}"));
+    for (method, sampler) in [("sppm", "independent"), ("pt-nee", "independent"), ("sppm", "sobol"), ("pt-nee", "sobol")] {
+        let dir = scratch(&format!("resume-{method}-{sampler}"));
         let (full, part, resumed, checkpoint) =
             (dir.join("full.exr"), dir.join("part.exr"), dir.join("resumed.exr"), dir.join("ck"));
-        run(sppm_gpu("cornell-box.toml", method, &full, &["--iterations", "6"]));
-        run(sppm_gpu("cornell-box.toml", method, &part, &["--iterations", "3", "--checkpoint", checkpoint.to_str().unwrap()]));
+        let ck = checkpoint.to_str().unwrap();
+        let s = ["--sampler", sampler];
+        run(sppm_gpu("cornell-box.toml", method, &full, &[&["--iterations", "6"][..], &s].concat()));
+        run(sppm_gpu("cornell-box.toml", method, &part, &[&["--iterations", "3", "--checkpoint", ck][..], &s].concat()));
         let output =
-            run(sppm_gpu("cornell-box.toml", method, &resumed, &["--iterations", "6", "--resume", checkpoint.to_str().unwrap()]));
+            run(sppm_gpu("cornell-box.toml", method, &resumed, &[&["--iterations", "6", "--resume", ck][..], &s].concat()));
         assert_eq!(resumed_after(&output.stderr), 3);
-        assert_ne!(bits(&part), bits(&full), "{method}: 3 passes differ from 6");
-        assert!(bits(&resumed) == bits(&full), "{method}: resumed after 3 passes differs from 6 passes in one run");
+        assert_ne!(bits(&part), bits(&full), "{method} {sampler}: 3 passes differ from 6");
+        assert!(bits(&resumed) == bits(&full), "{method} {sampler}: resumed after 3 passes differs from 6 passes in one run");
     }
 }
 
@@ -118,9 +120,13 @@ fn a_checkpoint_of_another_scene_or_settings_is_refused() {
     let checkpoint = dir.join("ck");
     let ck = checkpoint.to_str().unwrap();
     run(sppm_gpu("cornell-box.toml", "sppm", &dir.join("a.exr"), &["--iterations", "1", "--checkpoint", ck]));
+    use sppm_gpu::sampler::Sampler;
+    let other = if Sampler::DEFAULT == Sampler::Sobol { Sampler::Independent } else { Sampler::Sobol };
+    let sampler_changed = format!("sampler {:?} (now {other:?})", Sampler::DEFAULT);
     for (scene, extra, expected) in [
         ("cornell-spheres.toml", &[][..], "the geometry"),
         ("cornell-box.toml", &["--alpha", "0.5"][..], "alpha 0.6667 (now 0.5)"),
+        ("cornell-box.toml", &["--sampler", other.name()][..], sampler_changed.as_str()),
     ] {
         let output = sppm_gpu(scene, "sppm", &dir.join("b.exr"), &[&["--iterations", "2", "--resume", ck][..], extra].concat())
             .output()

@@ -45,9 +45,13 @@ fn pt_nee_matches_the_references() {
     if common::gpu().is_none() {
         return;
     }
-    for name in ["cornell-box", "cornell-glossy", "textured", "depth-of-field", "point-light"] {
+    for name in ["cornell-box", "cornell-glossy", "textured", "point-light"] {
         check(name, Method::PtNee, 128, 0.003);
     }
+    // Light through the glass sphere makes fireflies: at 128 spp relMSE over seeds 0..6 is
+    // 1.6e-3 to 2.7e-3 with one outlier of 4.6e-3 (seed 0, the Sobol sampler; the independent
+    // sampler 1.8e-3 to 2.4e-3): twice the samples, the same bound.
+    check("depth-of-field", Method::PtNee, 256, 0.003);
 }
 
 #[test]

@@ -29,46 +29,73 @@ pub fn method_name(method: Method) -> &'static str {
     }
 }
 
-/// A method as [`compare`] runs it: the integrator and, for SPPM, where its direct light comes
-/// from. Named like the method, with `sppm-photons` for SPPM with direct light from photons
-/// alone (`direct = "photons"`).
+/// A method as [`compare`] runs it: the integrator, for SPPM where its direct light comes
+/// from, and the sampler. Named like the method, with `sppm-photons` for SPPM with direct
+/// light from photons alone (`direct = "photons"`), and `/independent` or `/sobol` after the
+/// name for a sampler other than the scene's (`pt-nee/sobol`), so that one run can set the
+/// samplers side by side.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Variant {
     /// The integrator.
     pub method: Method,
     /// SPPM's source of direct light (ignored by the path tracers).
     pub direct: DirectLight,
+    /// The sampler, or `None` for the scene's.
+    pub sampler: Option<crate::sampler::Sampler>,
 }
+
+/// [`Variant::name`]s: a row per variant of [`Variant::ALL`], a column per sampler (the
+/// scene's, independent, sobol).
+const VARIANT_NAMES: [[&str; 3]; 4] = [
+    ["sppm", "sppm/independent", "sppm/sobol"],
+    ["sppm-photons", "sppm-photons/independent", "sppm-photons/sobol"],
+    ["pt", "pt/independent", "pt/sobol"],
+    ["pt-nee", "pt-nee/independent", "pt-nee/sobol"],
+];
 
 impl Variant {
     /// Every variant, in the order of [`Variant::name`]'s list.
     pub const ALL: [Variant; 4] = [
-        Variant { method: Method::Sppm, direct: DirectLight::Sampled },
-        Variant { method: Method::Sppm, direct: DirectLight::Photons },
-        Variant { method: Method::Pt, direct: DirectLight::Sampled },
-        Variant { method: Method::PtNee, direct: DirectLight::Sampled },
+        Variant { method: Method::Sppm, direct: DirectLight::Sampled, sampler: None },
+        Variant { method: Method::Sppm, direct: DirectLight::Photons, sampler: None },
+        Variant { method: Method::Pt, direct: DirectLight::Sampled, sampler: None },
+        Variant { method: Method::PtNee, direct: DirectLight::Sampled, sampler: None },
     ];
 
-    /// From its name: `sppm`, `sppm-photons`, `pt` or `pt-nee`.
+    /// From its name: `sppm`, `sppm-photons`, `pt` or `pt-nee`, optionally followed by
+    /// `/independent` or `/sobol`.
     pub fn parse(name: &str) -> Result<Self, Error> {
-        Self::ALL
+        use crate::sampler::Sampler;
+        [None, Some(Sampler::Independent), Some(Sampler::Sobol)]
             .into_iter()
+            .flat_map(|sampler| Self::ALL.into_iter().map(move |v| Variant { sampler, ..v }))
             .find(|v| v.name() == name)
-            .ok_or_else(|| Error::Setting(format!("unknown method `{name}`: expected sppm, sppm-photons, pt or pt-nee")))
+            .ok_or_else(|| {
+                Error::Setting(format!(
+                    "unknown method `{name}`: expected sppm, sppm-photons, pt or pt-nee, optionally with /independent or /sobol"
+                ))
+            })
     }
 
     /// Its name, as [`Variant::parse`] reads it.
     pub fn name(self) -> &'static str {
-        match (self.method, self.direct) {
-            (Method::Sppm, DirectLight::Photons) => "sppm-photons",
-            (method, _) => method_name(method),
-        }
+        use crate::sampler::Sampler;
+        let row = Self::ALL.iter().position(|v| v.method == self.method && (v.method != Method::Sppm || v.direct == self.direct));
+        let column = match self.sampler {
+            None => 0,
+            Some(Sampler::Independent) => 1,
+            Some(Sampler::Sobol) => 2,
+        };
+        VARIANT_NAMES[row.expect("every method has a variant")][column]
     }
 
     /// `render` set to this variant.
     pub fn apply(self, render: &mut RenderSettings) {
         render.method = self.method;
         render.direct = self.direct;
+        if let Some(sampler) = self.sampler {
+            render.sampler = sampler;
+        }
     }
 }
 

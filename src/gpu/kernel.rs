@@ -25,6 +25,7 @@ pub const KERNELS: &[&str] = &[
     "path_resolve_texture",
     "trace_rays",
     "sampler_test",
+    "sobol_test",
 ];
 
 /// Shader files, embedded at build time so the binary stands alone.
@@ -44,6 +45,7 @@ const FILES: &[(&str, &str)] = &[
     ("trace_rays", include_str!("../../shaders/trace_rays.wgsl")),
     ("types", include_str!("../../shaders/shared/types.wgsl")),
     ("rng", include_str!("../../shaders/shared/rng.wgsl")),
+    ("sobol", include_str!("../../shaders/shared/sobol.wgsl")),
     ("sampling", include_str!("../../shaders/shared/sampling.wgsl")),
     ("scene", include_str!("../../shaders/shared/scene.wgsl")),
     ("cwbvh", include_str!("../../shaders/shared/cwbvh.wgsl")),
@@ -61,6 +63,7 @@ const FILES: &[(&str, &str)] = &[
     ("path_trace", include_str!("../../shaders/path_trace.wgsl")),
     ("path_resolve_texture", include_str!("../../shaders/path_resolve_texture.wgsl")),
     ("sampler_test", include_str!("../../shaders/sampler_test.wgsl")),
+    ("sobol_test", include_str!("../../shaders/sobol_test.wgsl")),
 ];
 
 fn file(name: &str) -> Result<&'static str, GpuError> {

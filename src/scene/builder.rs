@@ -122,6 +122,7 @@ impl SceneBuilder {
                 direct_samples: None,
                 radius_schedule: super::RadiusSchedule::PerPoint,
                 filter: super::PixelFilter::Box,
+                sampler: crate::sampler::Sampler::DEFAULT,
             },
             camera: None,
             lens: None,

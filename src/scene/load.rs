@@ -185,10 +185,12 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         "filter",
         "filter_radius",
         "filter_stddev",
+        "sampler",
     ])?;
     let schedules = [("per-point", RadiusSchedule::PerPoint), ("global", RadiusSchedule::Global)];
     let directs = [("sampled", DirectLight::Sampled), ("photons", DirectLight::Photons)];
     let methods = [("sppm", Method::Sppm), ("pt", Method::Pt), ("pt-nee", Method::PtNee)];
+    let samplers = [("independent", crate::sampler::Sampler::Independent), ("sobol", crate::sampler::Sampler::Sobol)];
     Ok(RenderSettings {
         width: t.req("width", |v| v.u32_in(1, MAX_RESOLUTION))?,
         height: t.req("height", |v| v.u32_in(1, MAX_RESOLUTION))?,
@@ -205,6 +207,7 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         direct_samples: t.opt("direct_samples", |v| v.u32_in(1, MAX_DIRECT_SAMPLES))?,
         radius_schedule: t.or("radius_schedule", RadiusSchedule::PerPoint, |v| v.choice("radius_schedule", &schedules))?,
         filter: read_filter(t)?,
+        sampler: t.or("sampler", crate::sampler::Sampler::DEFAULT, |v| v.choice("sampler", &samplers))?,
     })
 }
 

@@ -140,6 +140,9 @@ pub struct RenderSettings {
     pub radius_schedule: RadiusSchedule,
     /// The pixel filter (default [`PixelFilter::Box`]).
     pub filter: PixelFilter,
+    /// Where the kernels' random numbers come from (`sampler`: `"independent"` or
+    /// `"sobol"`; default [`crate::sampler::Sampler::DEFAULT`]).
+    pub sampler: crate::sampler::Sampler,
 }
 
 /// The `[camera]` table.

@@ -10,6 +10,9 @@
 //!   the image ([`crate::scene::Camera::crop`]); an `rfilter`: `box`, `tent` (`radius` 1) or
 //!   `gaussian` (`stddev` 0.5, the default).
 //! - Any sampler: `sample_count` (4) becomes the number of passes; `seed` our seed.
+//!   `independent` is our independent sampler; the low-discrepancy and stratified ones
+//!   (`ldsampler`, `multijitter`, `stratified`, `orthogonal`, and Mitsuba 0.6's `sobol`,
+//!   `halton`, `hammersley`) our Sobol sampler; any other kind, or none, our default.
 //! - `path`/`volpath`: `max_depth` (-1, unbounded) counts path vertices after the camera's,
 //!   so 2 is direct light alone: our `max_depth` (scattering events) is one less. `sppm`
 //!   (Mitsuba 0.6): `photon_count`, `initial_radius` (0: automatic), `alpha`, `max_depth`,
@@ -41,6 +44,8 @@ pub(super) struct SensorSettings {
     pub sample_count: u32,
     /// The sampler's `seed`.
     pub seed: u32,
+    /// Ours for the sampler's kind.
+    pub sampler: crate::sampler::Sampler,
 }
 
 /// Reads a `<sensor>`.
@@ -57,6 +62,7 @@ pub(super) fn sensor(node: &Node) -> Result<SensorSettings> {
     let mut crop = None;
     let mut sample_count = 4;
     let mut seed = 0;
+    let mut kind_of_sampler = crate::sampler::Sampler::DEFAULT;
     let (mut films, mut samplers) = (0, 0);
     for object in p.all_objects() {
         match object.tag.as_str() {
@@ -66,7 +72,7 @@ pub(super) fn sensor(node: &Node) -> Result<SensorSettings> {
             }
             "sampler" => {
                 samplers += 1;
-                (sample_count, seed) = sampler(object)?;
+                (sample_count, seed, kind_of_sampler) = sampler(object)?;
             }
             _ => return Err(object.error(None, format!("{} inside a sensor", object.describe()))),
         }
@@ -142,7 +148,7 @@ pub(super) fn sensor(node: &Node) -> Result<SensorSettings> {
     }
     p.finish()?;
     crate::scene::validate_camera(&camera).map_err(|e| node.error(None, e))?;
-    Ok(SensorSettings { camera, width, height, filter, sample_count, seed })
+    Ok(SensorSettings { camera, width, height, filter, sample_count, seed, sampler: kind_of_sampler })
 }
 
 /// The vertical field of view in degrees, from `fov` and `fov_axis` or `focal_length`.
@@ -292,10 +298,15 @@ fn positive(p: &Props, name: &str, default: f32) -> Result<f32> {
     Ok(v)
 }
 
-/// A sampler's sample count and seed; its kind changes only the noise.
-fn sampler(node: &Node) -> Result<(u32, u32)> {
+/// A sampler's sample count, seed and our sampler for its kind, which changes only the noise.
+fn sampler(node: &Node) -> Result<(u32, u32, crate::sampler::Sampler)> {
+    use crate::sampler::Sampler;
     node.allow_attrs(&["type", "id", "name"])?;
-    node.req_attr("type")?;
+    let kind = match node.req_attr("type")? {
+        "independent" => Sampler::Independent,
+        "ldsampler" | "multijitter" | "stratified" | "orthogonal" | "sobol" | "halton" | "hammersley" => Sampler::Sobol,
+        _ => Sampler::DEFAULT,
+    };
     let p = Props::new(node)?;
     let count = p.integer("sample_count")?.unwrap_or(4);
     if !(1..=u32::MAX as i64).contains(&count) {
@@ -309,7 +320,7 @@ fn sampler(node: &Node) -> Result<(u32, u32)> {
         p.get(name);
     }
     p.finish()?;
-    Ok((count as u32, seed))
+    Ok((count as u32, seed, kind))
 }
 
 /// Our render settings from the sensor and the integrator element.
@@ -330,6 +341,7 @@ pub(super) fn render_settings(sensor: &SensorSettings, integrator: Option<&Node>
         direct_samples: None,
         radius_schedule: RadiusSchedule::PerPoint,
         filter: sensor.filter,
+        sampler: sensor.sampler,
     };
     let Some(node) = integrator else { return Ok(render) };
     node.allow_attrs(&["type", "id", "name"])?;
