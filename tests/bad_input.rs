@@ -106,7 +106,7 @@ fn readme_cases() -> Vec<Case> {
             "render.samples",
             "unknown key `samples`; allowed keys: width, height, method, iterations, spp, \
              photons, radius, alpha, max_depth, seed, time_limit, direct, direct_samples, radius_schedule, filter, \
-             filter_radius, filter_stddev",
+             filter_radius, filter_stddev, sampler",
         ),
         case("wrong type", edit("width = 8", "width = \"8\""), 2, "render.width", "expected an integer, found a string"),
         case("missing required key", edit("fov = 40\n", ""), 6, "camera.fov", "missing required key `fov`"),

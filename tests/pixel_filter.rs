@@ -171,6 +171,11 @@ const CAMERA: &str = include_str!("../shaders/shared/camera.wgsl");
 const ENTRY: &str = "@compute @workgroup_size(64)\nfn trace_rays";
 const BODY: &str = "    let o = rays[2u * index];
     let d = rays[2u * index + 1u].xyz;
+    if ANY_HIT {
+        let blocked = occluded(o.xyz, d, o.w);
+        hits[index] = vec4f(0.0, bitcast<f32>(select(0xffffffffu, 0u, blocked)), 0.0, 0.0);
+        return;
+    }
     let hit = trace_closest(o.xyz, d, o.w);
     hits[index] = vec4f(hit.t, bitcast<f32>(hit.prim_ref), hit.b.x, hit.b.y);
 ";
@@ -192,8 +197,9 @@ const CAMERA_BODY: &str = "    if index >= arrayLength(&hits) / 2u {
 fn camera_kernel(gpu: &GpuContext, camera: &str, constants: &[(&str, f64)]) -> Kernel {
     let source = shader_source("trace_rays").unwrap();
     assert!(source.contains(ENTRY) && source.contains(BODY), "trace_rays.wgsl changed: update this test");
-    let prefix =
-        [include_str!("../shaders/shared/rng.wgsl"), include_str!("../shaders/shared/sampling.wgsl"), camera, ENTRY].join("\n");
+    // rng.wgsl's import of the Sobol sampler spelled out (its SAMPLER_SOBOL left false).
+    let rng = include_str!("../shaders/shared/rng.wgsl").replace("#import sobol", include_str!("../shaders/shared/sobol.wgsl"));
+    let prefix = [rng.as_str(), include_str!("../shaders/shared/sampling.wgsl"), camera, ENTRY].join("\n");
     Kernel::specialized(&gpu.device, "trace_rays", &[(ENTRY, &prefix), (BODY, CAMERA_BODY)], constants)
         .unwrap_or_else(|e| panic!("{e}"))
 }
