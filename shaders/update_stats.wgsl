@@ -10,7 +10,8 @@
 // (alpha = ALPHA_UNIFORM) while its photons look uniform over the disc and shrinks by alpha
 // once they do not, as Lin et al. 2020 ("CPPM: Chi-squared Progressive Photon Mapping") decide
 // with a chi-square test on sector counts. The test here uses the photons' offsets
-// u = (x - p) / r instead of sectors: uniform on the unit disc, E[u] = 0, Cov[u] = I / 4,
+// u = (x - p) / r instead of sectors: uniform on the unit disc, E[u] = 0, Cov[u] = I / 4 in
+// the disc's plane (0 along its normal),
 // E[|u|^2] = 1/2, Var[|u|^2] = 1/12 and Cov[u, |u|^2] = 0, so for M photons
 //   X^2 = |sum u|^2 / (M / 4) + (sum (|u|^2 - 1/2))^2 / (M / 12)
 // is chi-square with 3 degrees of freedom (the score test of a density with a gradient and
@@ -23,7 +24,6 @@
 // far, and sum M_i / sum_{j<=i} M_j diverges): r -> 0, as under the plain rule.
 
 #import types
-#import sampling
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
@@ -38,13 +38,15 @@ fn fixed_to_float(lo: u32) -> f32 {
 
 // Fold the pass's m photons, with offset moments at words base + 8 .. base + 11, into the
 // adaptive rule's test, and test once enough photons are in.
-fn radius_test(st: ptr<function, RadiusTest>, base: u32, m: u32, n: vec3f) {
+fn radius_test(st: ptr<function, RadiusTest>, base: u32, m: u32) {
     // Exact signed sums: sum (u + 1) OFFSET_SCALE - m OFFSET_SCALE, modulo 2^32.
     let axes = vec3u(flux_accum[base + 8u], flux_accum[base + 9u], flux_accum[base + 10u]) - m * OFFSET_SCALE;
     let sum_u = vec3f(bitcast<vec3i>(axes)) / f32(OFFSET_SCALE);
     let spread = bitcast<i32>(flux_accum[base + 11u] - m * (SPREAD_SCALE / 2u));
-    // The part in the plane of the point's disc (photons on a curved surface lie off it).
-    (*st).offset_sum += sum_u - n * dot(n, sum_u);
+    // In 3D: on a flat surface the part along the normal is 0; photons off the disc's plane
+    // (on a second wall across an edge, on a curved surface) show in it, and bias the
+    // estimate too (the disc's area is then not pi r^2).
+    (*st).offset_sum += sum_u;
     (*st).spread_sum += f32(spread) / f32(SPREAD_SCALE);
     (*st).tested += m;
     if (*st).tested < RADIUS_TEST_PHOTONS {
@@ -97,7 +99,7 @@ fn update_stats(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
         st.n = n_new;
         st.radius = radius_new;
         if ADAPTIVE_RADIUS {
-            radius_test(&test, base, flux_accum[base + 6u], normalize(decode_normal(visible_points[index].normal)));
+            radius_test(&test, base, flux_accum[base + 6u]);
             radius_tests[index] = test;
         }
         vp_stats[index] = st;

@@ -223,8 +223,8 @@ struct VpStats {
 // Per visible point, the adaptive radius rule's uniformity test (update_stats.wgsl; only with
 // ADAPTIVE_RADIUS).
 struct RadiusTest {
-    // Since the last rejection: the photons' offsets u = (x - p) / r in the disc's plane,
-    // summed, and the photons counted.
+    // Since the last rejection: the photons' offsets u = (x - p) / r, summed, and the
+    // photons counted.
     offset_sum: vec3f,
     tested: u32,
     // Since the last rejection: the sum of |u|^2 - 1/2.

@@ -357,13 +357,13 @@ pub struct VpStats {
 /// Per visible point, the uniformity test of the adaptive radius rule
 /// ([`RadiusRule::Adaptive`](crate::scene::RadiusRule), `update_stats.wgsl`), carried from pass
 /// to pass: the photons' offsets u = (x - p) / r from the point since the last rejection, their
-/// sum in the disc's plane and the sum of |u|^2 - 1/2, which for M photons uniform on the disc
+/// sum and the sum of |u|^2 - 1/2, which for M photons uniform on the disc
 /// make X^2 = |sum u|^2 / (M / 4) + (sum (|u|^2 - 1/2))^2 / (M / 12) chi-square with 3 degrees
 /// of freedom.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct RadiusTest {
-    /// The sum of the offsets u in the plane of each pass's disc.
+    /// The sum of the offsets u (along the normal, 0 for photons on a flat surface).
     pub offset_sum: [f32; 3],
     /// The photons counted in `offset_sum` and `spread_sum`.
     pub tested: u32,
