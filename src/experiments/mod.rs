@@ -34,7 +34,7 @@ pub fn method_name(method: Method) -> &'static str {
 /// light from photons alone (`direct = "photons"`), and `/independent` or `/sobol` after the
 /// name for a sampler other than the scene's (`pt-nee/sobol`), so that one run can set the
 /// samplers side by side; `sppm-shrink` and `sppm-adaptive` are SPPM with that
-/// [`RadiusRule`](crate::scene::RadiusRule) rather than the scene's.
+/// [`RadiusRule`] rather than the scene's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Variant {
     /// The integrator.
