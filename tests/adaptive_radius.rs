@@ -344,3 +344,23 @@ fn adaptive_is_deterministic_and_deposit_independent() {
         panic!("word {w} (point {}) {} gathered, {} added at once", w / STRIDE, gathered[w], at_once[w]);
     }
 }
+
+/// `radius_rule` reads from `[render]` ("shrink" by default); "adaptive" with the global
+/// schedule is refused at its key, and by the renderer when set from the command line.
+#[test]
+fn radius_rule_is_read_and_checked() {
+    let path = common::scene_path("cornell-box.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert_eq!(sppm_gpu::scene::load_str(&text, &path).unwrap().render.radius_rule, RadiusRule::Shrink);
+    let with = |keys: &str| text.replacen("[render]\n", &format!("[render]\n{keys}\n"), 1);
+    let scene = sppm_gpu::scene::load_str(&with("radius_rule = \"adaptive\""), &path).unwrap();
+    assert_eq!(scene.render.radius_rule, RadiusRule::Adaptive);
+    let e = sppm_gpu::scene::load_str(&with("radius_rule = \"adaptive\"\nradius_schedule = \"global\""), &path).unwrap_err();
+    assert!(e.to_string().contains("render.radius_rule") && e.to_string().contains("per-point"), "{e}");
+    let e = sppm_gpu::scene::load_str(&with("radius_rule = \"wide\""), &path).unwrap_err();
+    assert!(e.to_string().contains("shrink, adaptive"), "{e}");
+    let Some(gpu) = common::gpu() else { return };
+    let mut global = scene;
+    global.render.radius_schedule = sppm_gpu::scene::RadiusSchedule::Global;
+    assert!(Sppm::new(&gpu.device, &gpu.queue, &global).is_err(), "adaptive with the global schedule");
+}
