@@ -7,7 +7,8 @@
 // writes its point's words in this dispatch (the direct deposits of resumed photon threads,
 // with atomics, are dispatches of their own). Integer sums do not
 // depend on the order of the terms, so the accumulator holds the bits a direct deposit of
-// every hit would leave.
+// every hit would leave. With ADAPTIVE_RADIUS the hits' offsets from the point are summed too
+// (offset_moments in shared/types.wgsl), for the adaptive radius rule's test.
 
 #import types
 #import sampling
@@ -39,6 +40,7 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
     let depth = vp_depth(q.normal);
     var flux = array<vec2u, 3>(vec2u(0u), vec2u(0u), vec2u(0u));
     var count = 0u;
+    var moments = vec4u(0u);
     for (var k = 0u; k < 8u; k++) {
         if ((b.keep >> k) & 1u) == 0u {
             continue;
@@ -55,6 +57,9 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
             if !lights_side(n, bitcast<vec3f>(arrival.xyz)) || !within_depth(depth, arrival.w, frame.max_depth) {
                 continue;
             }
+            if ADAPTIVE_RADIUS {
+                moments += offset_moments((bitcast<vec3f>(head.xyz) - q.p) / q.radius);
+            }
             let beta = bitcast<vec3f>(photon_hits[i + 2u].xyz);
             flux[0] = add_fixed(flux[0], fixed_point_words(beta.x));
             flux[1] = add_fixed(flux[1], fixed_point_words(beta.y));
@@ -66,11 +71,17 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
         return;
     }
     // Words 2c, 2c + 1: channel c, low word first; word 6: the count (flux.wgsl).
-    let base = index * ACCUM_STRIDE;
+    let base = index * accum_stride();
     for (var c = 0u; c < 3u; c++) {
         let sum = add_fixed(vec2u(flux_accum[base + 2u * c], flux_accum[base + 2u * c + 1u]), flux[c]);
         flux_accum[base + 2u * c] = sum.x;
         flux_accum[base + 2u * c + 1u] = sum.y;
     }
     flux_accum[base + 6u] += count;
+    if ADAPTIVE_RADIUS {
+        // Words 8 to 11: the offsets' moments (update_stats.wgsl).
+        for (var c = 0u; c < 4u; c++) {
+            flux_accum[base + 8u + c] += moments[c];
+        }
+    }
 }

@@ -54,6 +54,9 @@ fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f, depth: u32) {
     if within_radius(q.p, q.radius, p) && lights_side(decode_normal(q.normal), d)
         && within_depth(vp_depth(q.normal), depth, frame.max_depth) {
         accumulate_flux(v, beta);
+        if ADAPTIVE_RADIUS {
+            accumulate_moments(v, offset_moments((p - q.p) / q.radius));
+        }
     }
 }
 

@@ -60,7 +60,7 @@ impl Fingerprint {
         let r = &scene.render;
         let settings = format!(
             "width = {}\nheight = {}\nmethod = {:?}\nspp = {}\nphotons = {}\nradius = {:?}\nalpha = {}\nmax_depth = {}\n\
-             seed = {}\ndirect = {:?}\ndirect_samples = {:?}\nradius_schedule = {:?}\nfilter = {:?}\nsampler = {:?}\n",
+             seed = {}\ndirect = {:?}\ndirect_samples = {:?}\nradius_schedule = {:?}\nradius_rule = {:?}\nfilter = {:?}\nsampler = {:?}\n",
             r.width,
             r.height,
             r.method,
@@ -73,6 +73,7 @@ impl Fingerprint {
             r.direct,
             r.direct_samples,
             r.radius_schedule,
+            r.radius_rule,
             r.filter,
             r.sampler
         );

@@ -116,6 +116,11 @@ struct Overrides {
     /// run in batches; Knaus & Zwicker 2011) (overrides render.radius_schedule).
     #[arg(long, value_parser = ["per-point", "global"])]
     radius_schedule: Option<String>,
+    /// How each SPPM visible point's radius shrinks (per-point schedule): shrink (by alpha of
+    /// each pass's photons; default) or adaptive (by alpha only where its photons stop looking
+    /// uniform over its disc, by a chi-square test) (overrides render.radius_rule).
+    #[arg(long, value_parser = ["shrink", "adaptive"])]
+    radius_rule: Option<String>,
     /// Where the kernels' random numbers come from: independent (PCG streams) or sobol
     /// (Owen-scrambled Sobol points) (overrides render.sampler).
     #[arg(long, value_parser = ["independent", "sobol"])]
@@ -167,11 +172,14 @@ enum Command {
         reference: PathBuf,
         /// Methods to run, in order (each for --time-limit seconds of passes); sppm-photons is
         /// SPPM with direct light from photons alone; `/independent` or `/sobol` after a
-        /// method sets its sampler (`pt-nee/sobol`).
+        /// method sets its sampler (`pt-nee/sobol`); sppm-adaptive is SPPM with
+        /// radius_rule = "adaptive", sppm-shrink with "shrink".
         #[arg(long, value_delimiter = ',', default_value = "sppm,pt,pt-nee", value_parser = [
             "sppm", "sppm-photons", "pt", "pt-nee",
             "sppm/independent", "sppm-photons/independent", "pt/independent", "pt-nee/independent",
             "sppm/sobol", "sppm-photons/sobol", "pt/sobol", "pt-nee/sobol",
+            "sppm-shrink", "sppm-adaptive", "sppm-shrink/independent", "sppm-adaptive/independent",
+            "sppm-shrink/sobol", "sppm-adaptive/sobol",
         ])]
         methods: Vec<String>,
         /// Box-downsample before measuring the error.
@@ -418,6 +426,9 @@ fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Resul
     }
     if let Some(s) = &cli.radius_schedule {
         render.radius_schedule = if s == "global" { RadiusSchedule::Global } else { RadiusSchedule::PerPoint };
+    }
+    if let Some(s) = &cli.radius_rule {
+        render.radius_rule = if s == "adaptive" { scene::RadiusRule::Adaptive } else { scene::RadiusRule::Shrink };
     }
     if let Some(s) = &cli.sampler {
         render.sampler = if s == "sobol" { sppm_gpu::sampler::Sampler::Sobol } else { sppm_gpu::sampler::Sampler::Independent };

@@ -68,6 +68,34 @@ fn stopped_and_resumed_equals_uninterrupted() {
     }
 }
 
+/// The adaptive radius rule's per-point tests are part of the state: a render stopped after
+/// 4 passes and resumed to 8 gives the image of 8 passes in one run, which differs from the
+/// plain rule's.
+#[test]
+fn adaptive_radius_resumes_bit_for_bit() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = scratch("resume-adaptive");
+    let (full, part, resumed, plain, checkpoint) =
+        (dir.join("full.exr"), dir.join("part.exr"), dir.join("resumed.exr"), dir.join("plain.exr"), dir.join("ck"));
+    let ck = checkpoint.to_str().unwrap();
+    let rule = ["--radius-rule", "adaptive"];
+    run(sppm_gpu("cornell-spheres.toml", "sppm", &full, &[&["--iterations", "8"][..], &rule].concat()));
+    run(sppm_gpu("cornell-spheres.toml", "sppm", &plain, &["--iterations", "8"]));
+    run(sppm_gpu("cornell-spheres.toml", "sppm", &part, &[&["--iterations", "4", "--checkpoint", ck][..], &rule].concat()));
+    let output =
+        run(sppm_gpu("cornell-spheres.toml", "sppm", &resumed, &[&["--iterations", "8", "--resume", ck][..], &rule].concat()));
+    assert_eq!(resumed_after(&output.stderr), 4);
+    assert_ne!(bits(&plain), bits(&full), "the adaptive rule changed nothing");
+    assert!(bits(&resumed) == bits(&full), "resumed after 4 passes differs from 8 passes in one run");
+    // The rule is in the fingerprint: the plain rule does not resume it.
+    let refused = sppm_gpu("cornell-spheres.toml", "sppm", &dir.join("other.exr"), &["--iterations", "8", "--resume", ck])
+        .output()
+        .unwrap();
+    assert!(!refused.status.success(), "a checkpoint of the adaptive rule resumed under the plain one");
+}
+
 /// Killed with SIGKILL at some pass (checkpoints after every pass), resumed to two passes
 /// past its checkpoint: the image of as many passes in one run, bit for bit.
 #[test]

@@ -44,6 +44,14 @@ fn methods_and_sweep_parameters_parse_and_check_ranges() {
     let photons = experiments::Variant::parse("sppm-photons").unwrap();
     assert_eq!((photons.method, photons.direct), (Method::Sppm, DirectLight::Photons));
     assert!(experiments::Variant::parse("pt-photons").is_err());
+    let adaptive = experiments::Variant::parse("sppm-adaptive/sobol").unwrap();
+    assert_eq!(adaptive.radius_rule, Some(sppm_gpu::scene::RadiusRule::Adaptive));
+    assert_eq!(adaptive.name(), "sppm-adaptive/sobol");
+    let mut render = sppm_gpu::scene::load(std::path::Path::new("scenes/cornell-box.toml")).unwrap().render;
+    adaptive.apply(&mut render);
+    assert_eq!(render.radius_rule, sppm_gpu::scene::RadiusRule::Adaptive);
+    assert_eq!(experiments::Variant::parse("sppm-shrink").unwrap().radius_rule, Some(sppm_gpu::scene::RadiusRule::Shrink));
+    assert_eq!(experiments::Variant::parse("sppm").unwrap().radius_rule, None);
 
     let scene = sppm_gpu::scene::load(std::path::Path::new("scenes/cornell-box.toml")).unwrap();
     let mut r = scene.render.clone();

@@ -103,6 +103,7 @@ fn gpu_structs_match_wgsl() {
     check!(module, VisiblePoint, "VisiblePoint", [p, radius, weight, normal]);
     check!(module, PhotonHit, "PhotonHit", [p, next, d, depth, beta, _pad1]);
     check!(module, VpStats, "VpStats", [tau, n, ld, radius]);
+    check!(module, RadiusTest, "RadiusTest", [offset_sum, tested, spread_sum, shrinking, tests, rejections]);
     check!(module, GridParams, "GridParams", [origin, cell_size, res, table_mask]);
     check!(module, GridScene, "GridScene", [lo, table_size, hi, _pad]);
 }
@@ -140,6 +141,18 @@ fn wgsl_constants_match_rust() {
     assert_eq!(constant("MICROFACET_GGX"), MICROFACET_GGX);
     assert_eq!(constant("MICROFACET_BECKMANN"), MICROFACET_BECKMANN);
     assert_eq!(constant("ACCUM_STRIDE"), ACCUM_STRIDE);
+    assert_eq!(constant("OFFSET_SCALE"), OFFSET_SCALE);
+    assert_eq!(constant("SPREAD_SCALE"), SPREAD_SCALE);
+    assert_eq!(constant("RADIUS_TEST_PHOTONS"), RADIUS_TEST_PHOTONS);
+    let float = |name: &str| -> f32 {
+        let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some(name)).unwrap();
+        match module.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::F32(v)) => v,
+            ref e => panic!("{name}: {e:?}"),
+        }
+    };
+    assert_eq!(float("RADIUS_TEST_CHI2"), RADIUS_TEST_CHI2);
+    assert_eq!(float("ALPHA_UNIFORM"), ALPHA_UNIFORM);
     assert_eq!(constant("LEAF_BIT"), sppm_gpu::accel::bvh::LEAF_BIT);
     assert_eq!(constant("LEAF_COUNT_SHIFT"), sppm_gpu::accel::bvh::LEAF_COUNT_SHIFT);
     assert_eq!(constant("LEAF_FIRST_MASK"), sppm_gpu::accel::bvh::LEAF_FIRST_MASK);

@@ -77,14 +77,19 @@ fn memory_need_matches_what_is_allocated() {
     let small =
         sppm_gpu::gpu::GpuContext::with_limits(|l| wgpu::Limits { max_storage_buffer_binding_size: 64 << 10, ..l }).unwrap();
     let bunny = common::load_scene("gallery/bunny-cube.toml");
-    for (context, name, method, size) in [
-        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 48),
-        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::PtNee, 48),
-        (&small, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 64),
-        (&gpu, "gallery/bunny-cube.toml", sppm_gpu::scene::Method::Sppm, 32),
+    use sppm_gpu::scene::RadiusRule::{Adaptive, Shrink};
+    for (context, name, method, size, rule) in [
+        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 48, Shrink),
+        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::PtNee, 48, Shrink),
+        (&small, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 64, Shrink),
+        (&gpu, "gallery/bunny-cube.toml", sppm_gpu::scene::Method::Sppm, 32, Shrink),
+        // The adaptive radius rule's wider accumulator and per-point tests, whole and in bands.
+        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 48, Adaptive),
+        (&small, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 64, Adaptive),
     ] {
         let mut scene = if name.contains("bunny") { bunny.clone() } else { common::load_scene(name) };
         scene.render.method = method;
+        scene.render.radius_rule = rule;
         scene.render.width = size;
         scene.render.height = size - 8;
         if std::ptr::eq(context, &small) {
@@ -92,7 +97,7 @@ fn memory_need_matches_what_is_allocated() {
         }
         let need = integrators::memory_need(&context.device, &scene);
         let got = memory(context, &scene);
-        assert_eq!(need.renderer, got.renderer_bytes(), "{name} {method:?} {size}: the renderer's buffers");
+        assert_eq!(need.renderer, got.renderer_bytes(), "{name} {method:?} {size} {rule:?}: the renderer's buffers");
         assert!(need.scene >= got.scene_bytes(), "{name}: scene estimate {} below {}", need.scene, got.scene_bytes());
         assert!(
             need.scene < 3 * got.scene_bytes() + 65536,

@@ -16,10 +16,19 @@ fn fixed_point(c: f32) -> u64 {
 
 // Add a photon's flux beta and one to the count of visible point v.
 fn accumulate_flux(v: u32, beta: vec3f) {
-    let base = v * (ACCUM_STRIDE / 2u);
+    let base = v * (accum_stride() / 2u);
     atomicAdd(&flux_accum[base], fixed_point(beta.x));
     atomicAdd(&flux_accum[base + 1u], fixed_point(beta.y));
     atomicAdd(&flux_accum[base + 2u], fixed_point(beta.z));
     // Words 6 and 7: the count, and a word no count reaches (fewer than 2^32 photons a pass).
     atomicAdd(&flux_accum[base + 3u], 1lu);
+}
+
+// Add a photon's offset moments (offset_moments) to visible point v's words 8 to 11, two to a
+// 64-bit word: each low half sums to less than 2^32 (fewer than 2^21 photons a point and pass),
+// so no carry reaches the high half, and the words hold what flux_u32.wgsl's hold.
+fn accumulate_moments(v: u32, q: vec4u) {
+    let base = v * (accum_stride() / 2u) + 4u;
+    atomicAdd(&flux_accum[base], (u64(q.y) << 32u) | u64(q.x));
+    atomicAdd(&flux_accum[base + 1u], (u64(q.w) << 32u) | u64(q.z));
 }

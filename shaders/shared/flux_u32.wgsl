@@ -19,9 +19,17 @@ fn accumulate_fixed(lo: u32, c: f32) {
 
 // Add a photon's flux beta and one to the count of visible point v.
 fn accumulate_flux(v: u32, beta: vec3f) {
-    let base = v * ACCUM_STRIDE;
+    let base = v * accum_stride();
     accumulate_fixed(base, beta.x);
     accumulate_fixed(base + 2u, beta.y);
     accumulate_fixed(base + 4u, beta.z);
     atomicAdd(&flux_accum[base + 6u], 1u);
+}
+
+// Add a photon's offset moments (offset_moments) to visible point v's words 8 to 11.
+fn accumulate_moments(v: u32, q: vec4u) {
+    let base = v * accum_stride() + 8u;
+    for (var c = 0u; c < 4u; c++) {
+        atomicAdd(&flux_accum[base + c], q[c]);
+    }
 }

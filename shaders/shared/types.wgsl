@@ -220,6 +220,22 @@ struct VpStats {
     radius: f32,
 }
 
+// Per visible point, the adaptive radius rule's uniformity test (update_stats.wgsl; only with
+// ADAPTIVE_RADIUS).
+struct RadiusTest {
+    // Since the last rejection: the photons' offsets u = (x - p) / r, summed, and the
+    // photons counted.
+    offset_sum: vec3f,
+    tested: u32,
+    // Since the last rejection: the sum of |u|^2 - 1/2.
+    spread_sum: f32,
+    // 1 while the last test rejected uniformity (the radius shrinks by alpha), else 0.
+    shrinking: u32,
+    // Tests made and uniformity rejected, over the whole render.
+    tests: u32,
+    rejections: u32,
+}
+
 // What grid_setup needs from the host: the box holding every visible point (the scene's
 // bounds over the shutter) and the hash table's size (a power of two).
 struct GridScene {
@@ -276,8 +292,39 @@ const COAT_TABLE_SIZE: u32 = 64u;
 const MICROFACET_GGX: u32 = 0u;
 const MICROFACET_BECKMANN: u32 = 1u;
 
-// Words per visible point in the flux accumulator: (lo, hi) for r, g, b, then the photon count.
+// Flux words per visible point in the flux accumulator: (lo, hi) for r, g, b, the photon count
+// and a word no count reaches. With ADAPTIVE_RADIUS the photons' offset moments follow
+// (offset_moments, 4 words): accum_stride() words a point.
 const ACCUM_STRIDE: u32 = 8u;
+
+// The adaptive radius rule (radius_rule = "adaptive", update_stats.wgsl): the sums of each
+// photon's offset u = (x - p) / r from a visible point are only kept where it is compiled in.
+override ADAPTIVE_RADIUS: bool = true;
+// Words per visible point in the flux accumulator.
+fn accum_stride() -> u32 {
+    return select(ACCUM_STRIDE, ACCUM_STRIDE + 4u, ADAPTIVE_RADIUS);
+}
+
+// Fixed-point steps per unit of u's coordinates and of |u|^2 in offset_moments.
+const OFFSET_SCALE: u32 = 1024u;
+const SPREAD_SCALE: u32 = 2048u;
+// Photons gathered before the first test after a rejection.
+const RADIUS_TEST_PHOTONS: u32 = 16u;
+// The chi-square statistic with 3 degrees of freedom above which uniformity is rejected
+// (its 99th percentile).
+const RADIUS_TEST_CHI2: f32 = 11.3449;
+// The fraction of a pass's photons kept while the photons look uniform (alpha otherwise).
+const ALPHA_UNIFORM: f32 = 0.95;
+
+// A photon's offset u = (x - p) / r (|u| <= 1) from a visible point, as the accumulator's four
+// moment words: u + 1 per axis in steps of 1 / OFFSET_SCALE and |u|^2 in steps of
+// 1 / SPREAD_SCALE (each at most 2048), so that integer sums, in any order, stay exact for
+// fewer than 2^21 photons per point and pass.
+fn offset_moments(u: vec3f) -> vec4u {
+    let axes = floor((clamp(u, vec3f(-1.0), vec3f(1.0)) + 1.0) * f32(OFFSET_SCALE) + 0.5);
+    let spread = floor(min(dot(u, u), 1.0) * f32(SPREAD_SCALE) + 0.5);
+    return vec4u(vec3u(axes), u32(spread));
+}
 
 // c >= 0 in the accumulator's 32.32 fixed point as (lo, hi) words, the low word rounded down
 // and kept below 2^32: one rounding for shared/flux.wgsl and flux_u32.wgsl alike, so that the

@@ -130,6 +130,7 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
     }
     let schedule = if r.radius_schedule == RadiusSchedule::Global { "global" } else { "per-point" };
     render.insert("radius_schedule".into(), Value::String(schedule.into()));
+    render.insert("radius_rule".into(), Value::String(r.radius_rule.name().into()));
     render.insert("sampler".into(), Value::String(r.sampler.name().into()));
     match r.filter {
         PixelFilter::Box => {

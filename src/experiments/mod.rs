@@ -14,7 +14,7 @@ use crate::gpu::{GpuContext, GpuError};
 use crate::image_io::{self, Rgb32Image};
 use crate::integrators::{self, Integrator};
 use crate::metrics;
-use crate::scene::{DirectLight, Method, RadiusSchedule, RenderSettings, Scene};
+use crate::scene::{DirectLight, Method, RadiusRule, RadiusSchedule, RenderSettings, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use plot::{Chart, Series, Tile};
 use std::path::{Path, PathBuf};
@@ -33,7 +33,8 @@ pub fn method_name(method: Method) -> &'static str {
 /// from, and the sampler. Named like the method, with `sppm-photons` for SPPM with direct
 /// light from photons alone (`direct = "photons"`), and `/independent` or `/sobol` after the
 /// name for a sampler other than the scene's (`pt-nee/sobol`), so that one run can set the
-/// samplers side by side.
+/// samplers side by side; `sppm-shrink` and `sppm-adaptive` are SPPM with that
+/// [`RadiusRule`] rather than the scene's.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Variant {
     /// The integrator.
@@ -42,28 +43,34 @@ pub struct Variant {
     pub direct: DirectLight,
     /// The sampler, or `None` for the scene's.
     pub sampler: Option<crate::sampler::Sampler>,
+    /// SPPM's radius rule, or `None` for the scene's.
+    pub radius_rule: Option<crate::scene::RadiusRule>,
 }
 
 /// [`Variant::name`]s: a row per variant of [`Variant::ALL`], a column per sampler (the
 /// scene's, independent, sobol).
-const VARIANT_NAMES: [[&str; 3]; 4] = [
+const VARIANT_NAMES: [[&str; 3]; 6] = [
     ["sppm", "sppm/independent", "sppm/sobol"],
     ["sppm-photons", "sppm-photons/independent", "sppm-photons/sobol"],
     ["pt", "pt/independent", "pt/sobol"],
     ["pt-nee", "pt-nee/independent", "pt-nee/sobol"],
+    ["sppm-shrink", "sppm-shrink/independent", "sppm-shrink/sobol"],
+    ["sppm-adaptive", "sppm-adaptive/independent", "sppm-adaptive/sobol"],
 ];
 
 impl Variant {
     /// Every variant, in the order of [`Variant::name`]'s list.
-    pub const ALL: [Variant; 4] = [
-        Variant { method: Method::Sppm, direct: DirectLight::Sampled, sampler: None },
-        Variant { method: Method::Sppm, direct: DirectLight::Photons, sampler: None },
-        Variant { method: Method::Pt, direct: DirectLight::Sampled, sampler: None },
-        Variant { method: Method::PtNee, direct: DirectLight::Sampled, sampler: None },
+    pub const ALL: [Variant; 6] = [
+        Variant { method: Method::Sppm, direct: DirectLight::Sampled, sampler: None, radius_rule: None },
+        Variant { method: Method::Sppm, direct: DirectLight::Photons, sampler: None, radius_rule: None },
+        Variant { method: Method::Pt, direct: DirectLight::Sampled, sampler: None, radius_rule: None },
+        Variant { method: Method::PtNee, direct: DirectLight::Sampled, sampler: None, radius_rule: None },
+        Variant { method: Method::Sppm, direct: DirectLight::Sampled, sampler: None, radius_rule: Some(RadiusRule::Shrink) },
+        Variant { method: Method::Sppm, direct: DirectLight::Sampled, sampler: None, radius_rule: Some(RadiusRule::Adaptive) },
     ];
 
-    /// From its name: `sppm`, `sppm-photons`, `pt` or `pt-nee`, optionally followed by
-    /// `/independent` or `/sobol`.
+    /// From its name: `sppm`, `sppm-photons`, `pt`, `pt-nee`, `sppm-shrink` or
+    /// `sppm-adaptive`, optionally followed by `/independent` or `/sobol`.
     pub fn parse(name: &str) -> Result<Self, Error> {
         use crate::sampler::Sampler;
         [None, Some(Sampler::Independent), Some(Sampler::Sobol)]
@@ -72,7 +79,8 @@ impl Variant {
             .find(|v| v.name() == name)
             .ok_or_else(|| {
                 Error::Setting(format!(
-                    "unknown method `{name}`: expected sppm, sppm-photons, pt or pt-nee, optionally with /independent or /sobol"
+                    "unknown method `{name}`: expected sppm, sppm-photons, pt, pt-nee, sppm-shrink or sppm-adaptive, \
+                     optionally with /independent or /sobol"
                 ))
             })
     }
@@ -80,7 +88,10 @@ impl Variant {
     /// Its name, as [`Variant::parse`] reads it.
     pub fn name(self) -> &'static str {
         use crate::sampler::Sampler;
-        let row = Self::ALL.iter().position(|v| v.method == self.method && (v.method != Method::Sppm || v.direct == self.direct));
+        let row = Self::ALL.iter().position(|v| {
+            v.method == self.method
+                && (v.method != Method::Sppm || (v.direct == self.direct && v.radius_rule == self.radius_rule))
+        });
         let column = match self.sampler {
             None => 0,
             Some(Sampler::Independent) => 1,
@@ -95,6 +106,9 @@ impl Variant {
         render.direct = self.direct;
         if let Some(sampler) = self.sampler {
             render.sampler = sampler;
+        }
+        if let Some(rule) = self.radius_rule {
+            render.radius_rule = rule;
         }
     }
 }

@@ -354,6 +354,29 @@ pub struct VpStats {
     pub radius: f32,
 }
 
+/// Per visible point, the uniformity test of the adaptive radius rule
+/// ([`RadiusRule::Adaptive`](crate::scene::RadiusRule), `update_stats.wgsl`), carried from pass
+/// to pass: the photons' offsets u = (x - p) / r from the point since the last rejection, their
+/// sum and the sum of |u|^2 - 1/2, which for M photons uniform on the disc
+/// make X^2 = |sum u|^2 / (M / 4) + (sum (|u|^2 - 1/2))^2 / (M / 12) chi-square with 3 degrees
+/// of freedom.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct RadiusTest {
+    /// The sum of the offsets u (along the normal, 0 for photons on a flat surface).
+    pub offset_sum: [f32; 3],
+    /// The photons counted in `offset_sum` and `spread_sum`.
+    pub tested: u32,
+    /// The sum of |u|^2 - 1/2 over the same photons.
+    pub spread_sum: f32,
+    /// 1 while the last test rejected uniformity (the radius shrinks by alpha), else 0.
+    pub shrinking: u32,
+    /// Tests made over the render.
+    pub tests: u32,
+    /// Tests that rejected uniformity.
+    pub rejections: u32,
+}
+
 /// Flag in [`GpuTriangle::attributes`]: three shading normals (unit, xyz) come first.
 pub const HAS_NORMALS: u32 = 1 << 31;
 /// Flag in [`GpuTriangle::attributes`]: two entries of texture coordinates follow (after
@@ -400,8 +423,31 @@ pub const COAT_TABLE_SIZE: u32 = crate::scene::coating::COAT_TABLE_SIZE as u32;
 pub const MICROFACET_GGX: u32 = 0;
 /// [`GpuMaterial::distribution`]: Beckmann.
 pub const MICROFACET_BECKMANN: u32 = 1;
-/// u32 words per visible point in the flux accumulator.
+/// u32 words of flux and photon count per visible point in the flux accumulator; the adaptive
+/// radius rule adds [`ACCUM_MOMENT_WORDS`] (see [`accum_stride`]).
 pub const ACCUM_STRIDE: u32 = 8;
+/// The accumulator's words of photon offset moments per visible point under the adaptive
+/// radius rule (`offset_moments` in WGSL): sum (u + 1) OFFSET_SCALE per axis, then
+/// sum |u|^2 SPREAD_SCALE.
+pub const ACCUM_MOMENT_WORDS: u32 = 4;
+/// Words per visible point in the flux accumulator (`accum_stride()` in WGSL).
+pub fn accum_stride(rule: crate::scene::RadiusRule) -> u32 {
+    match rule {
+        crate::scene::RadiusRule::Shrink => ACCUM_STRIDE,
+        crate::scene::RadiusRule::Adaptive => ACCUM_STRIDE + ACCUM_MOMENT_WORDS,
+    }
+}
+/// Fixed-point steps per unit of a photon offset's coordinate (`offset_moments`).
+pub const OFFSET_SCALE: u32 = 1024;
+/// Fixed-point steps per unit of a photon offset's squared length (`offset_moments`).
+pub const SPREAD_SCALE: u32 = 2048;
+/// Photons gathered before the adaptive rule's first test after a rejection.
+pub const RADIUS_TEST_PHOTONS: u32 = 16;
+/// The 99th percentile of the chi-square distribution with 3 degrees of freedom: the
+/// adaptive rule rejects uniformity above it.
+pub const RADIUS_TEST_CHI2: f32 = 11.3449;
+/// The fraction of a pass's photons kept (alpha) while a point's photons look uniform.
+pub const ALPHA_UNIFORM: f32 = 0.95;
 /// Invocations per workgroup of every kernel.
 pub const WORKGROUP_SIZE: u32 = 64;
 /// [`Frame::pixel_filter`]: uniform over the pixel's square (Mitsuba's `box`, radius 1/2).

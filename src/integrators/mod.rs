@@ -330,11 +330,12 @@ fn band_frame(scene: &Scene, data: &crate::gpu::scene_buffers::SceneData, rows: 
 }
 
 /// What the tracing kernels of `scene` are compiled for: the features of its `data`, its
-/// pixel filter and its sampler.
+/// pixel filter, its sampler and its radius rule.
 fn specialization(scene: &Scene, data: &crate::gpu::scene_buffers::SceneData) -> crate::gpu::Specialization {
     let mut spec = crate::gpu::Specialization::of(data);
     spec.constants.extend(filter::pixel_filter_constants(scene.render.filter));
     spec.constants.extend(scene.render.sampler.constants());
+    spec.constants.extend(scene.render.radius_rule.constants());
     spec
 }
 

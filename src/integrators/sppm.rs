@@ -22,9 +22,15 @@ use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
 use crate::gpu::types::*;
 use crate::gpu::{Kernel, Resource, Specialization};
 use crate::image_io::Rgb32Image;
-use crate::scene::{DirectLight, RadiusSchedule, Scene};
+use crate::scene::{DirectLight, RadiusRule, RadiusSchedule, Scene};
 use std::ops::Range;
 use std::sync::Arc;
+
+/// Bytes a visible point takes in the largest of the per-point buffers: the flux accumulator
+/// (32, or 48 under the adaptive radius rule), statistics, points and grid entries (32 each).
+fn largest_point_bytes(scene: &Scene) -> u64 {
+    (accum_stride(scene.render.radius_rule) as u64 * 4).max(size_of::<VpStats>() as u64)
+}
 
 /// The share of an environment light's photons aimed at each pass's visible points
 /// ([`Frame::env_aim`], `environment_origin` in `photon_pass.wgsl`): drawn from a disk covering
@@ -251,6 +257,9 @@ pub struct Sppm {
     gathers: u64,
     /// Whether every photon hit is added at once ([`Deposits::AtOnce`]).
     at_once: bool,
+    /// Whether the radius follows the adaptive rule ([`RadiusRule::Adaptive`]): the flux
+    /// accumulator holds the photons' offset moments, and `radius_tests` a test per point.
+    adaptive: bool,
     /// Whether the scene has an environment light (whose photons [`Frame::env_aim`] aims).
     has_environment: bool,
 
@@ -290,6 +299,7 @@ struct Buffers {
     photon_hit_lists: wgpu::Buffer,
     photon_suspended: wgpu::Buffer,
     photon_resume_args: wgpu::Buffer,
+    radius_tests: wgpu::Buffer,
 }
 
 /// A kernel and its bind group.
@@ -331,6 +341,7 @@ impl Buffers {
             Resource { name: "photon_hit_lists", buffer: &self.photon_hit_lists },
             Resource { name: "photon_suspended", buffer: &self.photon_suspended },
             Resource { name: "photon_resume_args", buffer: &self.photon_resume_args },
+            Resource { name: "radius_tests", buffer: &self.radius_tests },
         ]);
         resources
     }
@@ -374,8 +385,9 @@ impl Sppm {
     /// Rows of `scene`'s image whose visible points fit in one set of this device's buffers;
     /// 0 when not even one row fits.
     pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
-        // The largest per-point buffers hold 32 bytes a point (flux, statistics, grid).
-        let points = device.limits().max_storage_buffer_binding_size / (ACCUM_STRIDE as u64 * 4);
+        // The largest per-point buffers hold 32 bytes a point (flux, statistics, grid; 48 for
+        // the flux of the adaptive radius rule).
+        let points = device.limits().max_storage_buffer_binding_size / largest_point_bytes(scene);
         let per_row = scene.render.width as u64 * scene.render.spp as u64;
         (points / per_row.max(1)).min(u32::MAX as u64) as u32
     }
@@ -384,7 +396,8 @@ impl Sppm {
     /// device whose storage buffers hold `max_binding` bytes, as
     /// [`Integrator::gpu_memory`] reports them once allocated:
     /// computed before allocating, for the memory check. Per visible point: the point (32),
-    /// statistics (32), flux (32), up to 8 grid entries (32) and two buckets' lists (of grid
+    /// statistics (32), flux (32; 48 and a uniformity test of 32 under the adaptive radius
+    /// rule), up to 8 grid entries (32) and two buckets' lists (of grid
     /// entries and of photon hits: 12 at most, the table being the point count rounded up to a
     /// power of two); per pixel: the image and its read-back copy (32); per photon: room for
     /// its hits ([`photon_hit_capacity`]). Where hits are added at once there is neither room
@@ -394,7 +407,10 @@ impl Sppm {
         let pixels = r.width as u64 * rows as u64;
         let points = pixels * r.spp as u64;
         let table = points.max(1).next_power_of_two();
-        let per_point = size_of::<VisiblePoint>() + size_of::<VpStats>() + ACCUM_STRIDE as usize * 4 + 8 * 4;
+        let adaptive = r.radius_rule == RadiusRule::Adaptive;
+        let tests = if adaptive { size_of::<RadiusTest>() } else { 0 };
+        let per_point =
+            size_of::<VisiblePoint>() + size_of::<VpStats>() + accum_stride(r.radius_rule) as usize * 4 + 8 * 4 + tests;
         let grid_words = GRID_POINT_WORDS_BYTES as usize;
         let fixed = [
             size_of::<Frame>(),
@@ -409,7 +425,9 @@ impl Sppm {
         let photons = hits + suspended_bytes(r, at_once, max_binding).max(16) + RESUME_ARGS_BYTES;
         // Buffers of fewer than 16 bytes are made 16 bytes long.
         let tables = (table * 4).max(16) + ((table + 1) * 4).max(16) + hit_lists_bytes(table, at_once).max(16);
-        points * per_point as u64 + pixels * 32 + tables + photons + fixed.iter().sum::<u64>()
+        // Under the plain rule, the one unused uniformity test.
+        let unused_test = if adaptive { 0 } else { size_of::<RadiusTest>() as u64 };
+        points * per_point as u64 + pixels * 32 + tables + photons + fixed.iter().sum::<u64>() + unused_test
     }
 
     /// [`Sppm::new_rows`] on scene buffers already uploaded (shared between bands).
@@ -435,7 +453,7 @@ impl Sppm {
         let pixel_count = r.width.checked_mul(band_height).ok_or_else(|| Error::Setting("image too large".into()))?;
         let vp_count = pixel_count
             .checked_mul(r.spp)
-            .filter(|n| (*n as u64) * (ACCUM_STRIDE as u64) * 4 <= device.limits().max_storage_buffer_binding_size)
+            .filter(|n| (*n as u64) * largest_point_bytes(scene) <= device.limits().max_storage_buffer_binding_size)
             .ok_or_else(|| {
                 Error::Setting(format!(
                     "{}x{} pixels with spp {} need more visible points than this device's buffers hold; \
@@ -447,6 +465,10 @@ impl Sppm {
                 ))
             })?;
         let initial_radius = r.radius.unwrap_or_else(|| auto_radius(scene));
+        let adaptive = r.radius_rule == RadiusRule::Adaptive;
+        if adaptive && r.radius_schedule == RadiusSchedule::Global {
+            return Err(Error::Setting("radius_rule = \"adaptive\" needs radius_schedule = \"per-point\"".into()));
+        }
 
         frame.photon_count = r.photons;
         frame.vp_count = vp_count;
@@ -475,7 +497,7 @@ impl Sppm {
             frame: buffer(device, "frame", size_of::<Frame>() as u64, uniform),
             visible_points: buffer(device, "visible_points", n * size_of::<VisiblePoint>() as u64, STORAGE),
             vp_stats: storage_buffer(device, "vp_stats", &stats),
-            flux_accum: buffer(device, "flux_accum", n * ACCUM_STRIDE as u64 * 4, STORAGE),
+            flux_accum: buffer(device, "flux_accum", n * accum_stride(r.radius_rule) as u64 * 4, STORAGE),
             image: buffer(device, "image", pixel_count as u64 * 16, STORAGE),
             grid_scene: storage_buffer(device, "grid_scene", &[grid_scene]),
             grid_max_radius: buffer(device, "grid_max_radius", GRID_POINT_WORDS_BYTES, STORAGE),
@@ -488,6 +510,7 @@ impl Sppm {
             photon_hit_lists: buffer(device, "photon_hit_lists", hit_lists_bytes(table_size as u64, at_once), STORAGE),
             photon_suspended: buffer(device, "photon_suspended", suspended_bytes(r, at_once, max_binding), STORAGE),
             photon_resume_args: buffer(device, "photon_resume_args", RESUME_ARGS_BYTES, STORAGE | wgpu::BufferUsages::INDIRECT),
+            radius_tests: buffer(device, "radius_tests", if adaptive { n } else { 1 } * size_of::<RadiusTest>() as u64, STORAGE),
         };
         queue.write_buffer(&buffers.frame, 0, bytemuck::bytes_of(&frame));
         // The tracing kernels, compiled for what this scene has.
@@ -513,6 +536,7 @@ impl Sppm {
             threads_pending: 0,
             gathers: 0,
             at_once,
+            adaptive,
             has_environment,
             initial_radius,
             global_radius_sq: (r.radius_schedule == RadiusSchedule::Global).then(|| global_radius_sq(initial_radius, r.alpha, 0)),
@@ -554,6 +578,12 @@ impl Sppm {
         Integrator::record_pass(self, &mut encoder);
         self.queue.submit([encoder.finish()]);
         Ok(())
+    }
+
+    /// Bytes of [`Integrator::state`]'s buffers: the statistics and, under the adaptive radius
+    /// rule, the uniformity tests.
+    fn state_bytes(&self) -> u64 {
+        self.buffers.vp_stats.size() + if self.adaptive { self.buffers.radius_tests.size() } else { 0 }
     }
 
     /// Forget the parts recorded of a pass not completed, and the photons they deposited.
@@ -855,7 +885,13 @@ impl Sppm {
         Ok(read_whole(&self.device, &self.queue, &self.buffers.vp_stats)?)
     }
 
-    /// The photon pass's flux accumulator, read back: `ACCUM_STRIDE` words per visible point,
+    /// The uniformity tests of the adaptive radius rule, read back (one a visible point; one in
+    /// all under the plain rule).
+    pub fn radius_tests(&self) -> Result<Vec<RadiusTest>, Error> {
+        Ok(read_whole(&self.device, &self.queue, &self.buffers.radius_tests)?)
+    }
+
+    /// The photon pass's flux accumulator, read back: [`accum_stride`] words per visible point,
     /// (lo, hi) 32.32 fixed-point pairs for r, g, b of the photons' own flux relative to
     /// `power_total` (not yet times the point's weight, which `update_statistics` applies),
     /// then the photon count. It holds the current pass's photons between `trace_photons` and
@@ -917,6 +953,8 @@ impl Integrator for Sppm {
     fn reset(&mut self) {
         let stats = vec![VpStats { radius: self.initial_radius, ..VpStats::default() }; self.vp_count as usize];
         self.queue.write_buffer(&self.buffers.vp_stats, 0, bytemuck::cast_slice(&stats));
+        let tests = vec![0u8; self.buffers.radius_tests.size() as usize];
+        self.queue.write_buffer(&self.buffers.radius_tests, 0, &tests);
         self.drop_pass_under_way();
         self.passes = self.first_pass;
         self.photons_traced = 0;
@@ -1008,14 +1046,18 @@ impl Integrator for Sppm {
             renderer: super::sizes(own.chain(staging)),
         }
     }
+    /// The statistics, then (adaptive radius rule) the uniformity tests.
     fn state(&mut self) -> Result<Vec<u8>, Error> {
-        let stats: Vec<u8> = read_whole(&self.device, &self.queue, &self.buffers.vp_stats)?;
+        let mut stats: Vec<u8> = read_whole(&self.device, &self.queue, &self.buffers.vp_stats)?;
+        if self.adaptive {
+            stats.extend(read_whole::<u8>(&self.device, &self.queue, &self.buffers.radius_tests)?);
+        }
         Ok(super::encode_state(self.passes, self.photons_traced, &stats))
     }
     /// The estimate of `resolve.wgsl` (shared/estimate.wgsl), on the host.
     fn image_of_state(&self, state: &[u8]) -> Result<Rgb32Image, Error> {
-        let (passes, _, stats) = super::decode_state(state, self.buffers.vp_stats.size())?;
-        let stats: Vec<VpStats> = bytemuck::pod_collect_to_vec(stats);
+        let (passes, _, stats) = super::decode_state(state, self.state_bytes())?;
+        let stats: Vec<VpStats> = bytemuck::pod_collect_to_vec(&stats[..self.buffers.vp_stats.size() as usize]);
         let (k, spp) = (passes.saturating_sub(self.first_pass).max(1) as f32, self.frame.spp.max(1) as usize);
         let global = self.global_radius_sq.is_some();
         let photons = k * self.frame.photon_count as f32;
@@ -1033,8 +1075,12 @@ impl Integrator for Sppm {
         Ok(image)
     }
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
-        let (passes, photons, stats) = super::decode_state(state, self.buffers.vp_stats.size())?;
+        let (passes, photons, stats) = super::decode_state(state, self.state_bytes())?;
+        let (stats, tests) = stats.split_at(self.buffers.vp_stats.size() as usize);
         self.queue.write_buffer(&self.buffers.vp_stats, 0, stats);
+        if self.adaptive {
+            self.queue.write_buffer(&self.buffers.radius_tests, 0, tests);
+        }
         self.drop_pass_under_way();
         self.passes = passes;
         if self.global_radius_sq.is_some() {

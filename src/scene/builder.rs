@@ -121,6 +121,7 @@ impl SceneBuilder {
                 direct: DirectLight::Sampled,
                 direct_samples: None,
                 radius_schedule: super::RadiusSchedule::PerPoint,
+                radius_rule: super::RadiusRule::Shrink,
                 filter: super::PixelFilter::Box,
                 sampler: crate::sampler::Sampler::DEFAULT,
             },

@@ -6,7 +6,7 @@ use super::mesh::{self, Normals, Transform};
 use super::{ply, serialized};
 use super::{
     Camera, ComplexIor, CropWindow, DirectLight, Light, LightKind, Material, MaterialKind, Method, Microfacet, PixelFilter,
-    RadiusSchedule, RenderSettings, Scene, SceneError, Shape, ShapeKind, Sphere, Texture, TextureFilter, TextureWrap,
+    RadiusRule, RadiusSchedule, RenderSettings, Scene, SceneError, Shape, ShapeKind, Sphere, Texture, TextureFilter, TextureWrap,
 };
 use glam::{Vec2, Vec3};
 use std::fmt;
@@ -182,12 +182,14 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         "direct",
         "direct_samples",
         "radius_schedule",
+        "radius_rule",
         "filter",
         "filter_radius",
         "filter_stddev",
         "sampler",
     ])?;
     let schedules = [("per-point", RadiusSchedule::PerPoint), ("global", RadiusSchedule::Global)];
+    let rules = [("shrink", RadiusRule::Shrink), ("adaptive", RadiusRule::Adaptive)];
     let directs = [("sampled", DirectLight::Sampled), ("photons", DirectLight::Photons)];
     let methods = [("sppm", Method::Sppm), ("pt", Method::Pt), ("pt-nee", Method::PtNee)];
     let samplers = [("independent", crate::sampler::Sampler::Independent), ("sobol", crate::sampler::Sampler::Sobol)];
@@ -206,9 +208,21 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         direct: t.or("direct", DirectLight::Sampled, |v| v.choice("direct", &directs))?,
         direct_samples: t.opt("direct_samples", |v| v.u32_in(1, MAX_DIRECT_SAMPLES))?,
         radius_schedule: t.or("radius_schedule", RadiusSchedule::PerPoint, |v| v.choice("radius_schedule", &schedules))?,
+        radius_rule: read_radius_rule(t, &rules)?,
         filter: read_filter(t)?,
         sampler: t.or("sampler", crate::sampler::Sampler::DEFAULT, |v| v.choice("sampler", &samplers))?,
     })
+}
+
+/// `radius_rule`; `"adaptive"` belongs to the per-point radius schedule.
+fn read_radius_rule(t: &Table, rules: &[(&str, RadiusRule)]) -> Result<RadiusRule> {
+    let rule = t.or("radius_rule", RadiusRule::Shrink, |v| v.choice("radius_rule", rules))?;
+    let schedules = [("per-point", RadiusSchedule::PerPoint), ("global", RadiusSchedule::Global)];
+    let schedule = t.or("radius_schedule", RadiusSchedule::PerPoint, |v| v.choice("radius_schedule", &schedules))?;
+    if rule == RadiusRule::Adaptive && schedule == RadiusSchedule::Global {
+        return Err(t.error_at("radius_rule", "radius_rule = \"adaptive\" needs radius_schedule = \"per-point\""));
+    }
+    Ok(rule)
 }
 
 /// The pixel filter: `filter` = `"box"` (default), `"tent"` (`filter_radius` in pixels,

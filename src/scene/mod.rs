@@ -83,6 +83,35 @@ pub enum RadiusSchedule {
     Global,
 }
 
+/// How each SPPM visible point's radius shrinks with [`RadiusSchedule::PerPoint`]
+/// (`radius_rule` in `[render]`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RadiusRule {
+    /// Every pass by the fraction alpha of its photons (Hachisuka & Jensen 2009). The default.
+    Shrink,
+    /// By alpha only where the photons around the point stop looking uniform over its disc (a
+    /// chi-square test on their offsets' moments, in the spirit of Lin et al. 2020, "CPPM:
+    /// Chi-squared Progressive Photon Mapping"), else by the milder
+    /// [`ALPHA_UNIFORM`](crate::gpu::types::ALPHA_UNIFORM); see `update_stats.wgsl`.
+    Adaptive,
+}
+
+impl RadiusRule {
+    /// The name in `[render]`'s `radius_rule`.
+    pub fn name(self) -> &'static str {
+        match self {
+            RadiusRule::Shrink => "shrink",
+            RadiusRule::Adaptive => "adaptive",
+        }
+    }
+
+    /// The kernels' `ADAPTIVE_RADIUS` override constant: the offsets' moments are summed and
+    /// tested only under the adaptive rule.
+    pub fn constants(self) -> [(&'static str, f64); 1] {
+        [("ADAPTIVE_RADIUS", (self == RadiusRule::Adaptive) as u32 as f64)]
+    }
+}
+
 /// The pixel filter (`filter` in `[render]`; Mitsuba's `rfilter`): each camera sample's
 /// offset from the pixel centre is drawn from the filter's density, separably in x and y
 /// (filter importance sampling, pbrt-v4 sec. 8.8.3), so a pixel is the filter-weighted mean
@@ -138,6 +167,9 @@ pub struct RenderSettings {
     pub direct_samples: Option<u32>,
     /// SPPM's radius schedule (`radius_schedule`: `"per-point"`, the default, or `"global"`).
     pub radius_schedule: RadiusSchedule,
+    /// How a visible point's radius shrinks under [`RadiusSchedule::PerPoint`]
+    /// (`radius_rule`: `"shrink"`, the default, or `"adaptive"`).
+    pub radius_rule: RadiusRule,
     /// The pixel filter (default [`PixelFilter::Box`]).
     pub filter: PixelFilter,
     /// Where the kernels' random numbers come from (`sampler`: `"independent"` or

@@ -340,6 +340,7 @@ pub(super) fn render_settings(sensor: &SensorSettings, integrator: Option<&Node>
         direct: DirectLight::Sampled,
         direct_samples: None,
         radius_schedule: RadiusSchedule::PerPoint,
+        radius_rule: crate::scene::RadiusRule::Shrink,
         filter: sensor.filter,
         sampler: sensor.sampler,
     };
