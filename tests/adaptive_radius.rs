@@ -12,9 +12,8 @@ use sppm_gpu::gpu::types::{
     accum_stride, RadiusTest, VpStats, ALPHA_UNIFORM, OFFSET_SCALE, RADIUS_TEST_CHI2, RADIUS_TEST_PHOTONS, SPREAD_SCALE,
 };
 use sppm_gpu::gpu::GpuContext;
-use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators::{Deposits, Sppm};
-use sppm_gpu::metrics::{compare, count_negative, count_non_finite, downsample_box};
+use sppm_gpu::metrics::{compare, downsample_box};
 use sppm_gpu::scene::{RadiusRule, Scene};
 
 const STRIDE: usize = 12;
@@ -26,17 +25,6 @@ fn adaptive(name: &str, size: u32, photons: u32) -> Scene {
     scene.render.photons = photons;
     scene.render.radius_rule = RadiusRule::Adaptive;
     scene
-}
-
-fn render(gpu: &GpuContext, scene: &Scene) -> Rgb32Image {
-    let mut sppm = Sppm::new(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
-    for _ in 0..scene.render.iterations {
-        sppm.run_pass().unwrap();
-    }
-    let img = sppm.image().unwrap();
-    assert_eq!(count_non_finite(&img), 0, "NaN or infinite pixels");
-    assert_eq!(count_negative(&img), 0, "negative pixels");
-    img
 }
 
 /// The uniformity statistic of M photon offsets u in the unit disc, from its moments: uniform
@@ -270,7 +258,7 @@ fn adaptive_furnace_is_two_everywhere() {
     let Some(gpu) = common::gpu() else { return };
     let mut scene = common::load_scene("furnace.toml");
     scene.render.radius_rule = RadiusRule::Adaptive;
-    let img = render(&gpu, &scene);
+    let img = common::render_sppm(&gpu, &scene);
     let mean = img.mean();
     for c in mean {
         assert!((c - 2.0).abs() < 0.02, "furnace mean {mean:?}");
@@ -287,7 +275,7 @@ fn adaptive_furnace_is_two_everywhere() {
 fn against_reference(gpu: &GpuContext, name: &str, rel_mse: f64, ratio: f64) {
     let mut scene = adaptive(&format!("{name}.toml"), 128, 200_000);
     scene.render.iterations = 24;
-    let img = render(gpu, &scene);
+    let img = common::render_sppm(gpu, &scene);
     let reference = downsample_box(&common::reference(&format!("{name}.exr")), 2).unwrap();
     let c = compare(&img, &reference, 4).unwrap();
     eprintln!("{name} adaptive: {c:?}");

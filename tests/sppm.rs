@@ -4,27 +4,15 @@
 mod common;
 
 use sppm_gpu::image_io::Rgb32Image;
-use sppm_gpu::integrators::Sppm;
-use sppm_gpu::metrics::{compare, count_negative, count_non_finite, downsample_box};
-use sppm_gpu::scene::{DirectLight, Scene};
-
-fn render(gpu: &sppm_gpu::gpu::GpuContext, scene: &Scene) -> Rgb32Image {
-    let mut sppm = Sppm::new(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
-    for _ in 0..scene.render.iterations {
-        sppm.run_pass().unwrap();
-    }
-    let img = sppm.image().unwrap();
-    assert_eq!(count_non_finite(&img), 0, "NaN or infinite pixels");
-    assert_eq!(count_negative(&img), 0, "negative pixels");
-    img
-}
+use sppm_gpu::metrics::{compare, downsample_box};
+use sppm_gpu::scene::DirectLight;
 
 /// Every surface has albedo 0.5 and emits 1 in a closed box: L = 1 / (1 - 0.5) = 2 everywhere.
 #[test]
 fn furnace_is_two_everywhere() {
     let Some(gpu) = common::gpu() else { return };
     let scene = common::load_scene("furnace.toml");
-    let img = render(&gpu, &scene);
+    let img = common::render_sppm(&gpu, &scene);
     let mean = img.mean();
     for c in mean {
         assert!((c - 2.0).abs() < 0.02, "furnace mean {mean:?}");
@@ -51,7 +39,7 @@ fn against_reference_with(name: &str, iterations: u32, photons: u32, direct: Dir
     scene.render.iterations = iterations;
     scene.render.photons = photons;
     scene.render.direct = direct;
-    let img = render(&gpu, &scene);
+    let img = common::render_sppm(&gpu, &scene);
     let reference = downsample_box(&common::reference(&format!("{name}.exr")), 2).unwrap();
     let c = compare(&img, &reference, 4).unwrap();
     eprintln!("{name}: {c:?}");
@@ -89,7 +77,7 @@ fn photon_only_direct_light_matches_reference() {
     let Some(gpu) = common::gpu() else { return };
     let mut furnace = common::load_scene("furnace.toml");
     furnace.render.direct = DirectLight::Photons;
-    let mean = render(&gpu, &furnace).mean();
+    let mean = common::render_sppm(&gpu, &furnace).mean();
     for c in mean {
         assert!((c - 2.0).abs() < 0.02, "furnace mean {mean:?}");
     }
@@ -108,11 +96,11 @@ fn same_seed_same_image_bit_for_bit() {
     scene.render.height = 48;
     scene.render.iterations = 3;
     scene.render.photons = 20_000;
-    let a = render(&gpu, &scene);
-    let b = render(&gpu, &scene);
+    let a = common::render_sppm(&gpu, &scene);
+    let b = common::render_sppm(&gpu, &scene);
     assert!(a.pixels == b.pixels, "two renders with the same seed differ");
     scene.render.seed += 1;
-    let c = render(&gpu, &scene);
+    let c = common::render_sppm(&gpu, &scene);
     assert!(a.pixels != c.pixels, "a different seed gave the same image");
 }
 
@@ -164,7 +152,7 @@ fn motion_blur_is_the_average_over_the_shutter() {
     let stills_count = 4;
     let passes_per_still = 12;
     moving.render.iterations = stills_count * passes_per_still;
-    let blurred = render(&gpu, &moving);
+    let blurred = common::render_sppm(&gpu, &moving);
 
     // The still scene at time t: the moving shape displaced by velocity * t, standing still.
     let still_at = |t: f32| {
@@ -183,14 +171,14 @@ fn motion_blur_is_the_average_over_the_shutter() {
     let mut average = Rgb32Image::new(96, 96);
     for k in 0..stills_count {
         let t = (k as f32 + 0.5) / stills_count as f32;
-        let img = render(&gpu, &still_at(t));
+        let img = common::render_sppm(&gpu, &still_at(t));
         for (a, p) in average.pixels.iter_mut().zip(&img.pixels) {
             for c in 0..3 {
                 a[c] += p[c] / stills_count as f32;
             }
         }
     }
-    let start = render(&gpu, &still_at(0.0));
+    let start = common::render_sppm(&gpu, &still_at(0.0));
     let c = compare(&blurred, &average, 8).unwrap();
     let c_start = compare(&blurred, &start, 8).unwrap();
     eprintln!("motion blur against the average of stills: {c:?}; against t = 0: {c_start:?}");

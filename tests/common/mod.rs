@@ -7,6 +7,9 @@ pub mod scene_text;
 pub use rng::Rng;
 
 use sppm_gpu::gpu::GpuContext;
+use sppm_gpu::image_io::Rgb32Image;
+use sppm_gpu::integrators::{Integrator, Sppm};
+use sppm_gpu::metrics::{count_negative, count_non_finite};
 use sppm_gpu::scene::Scene;
 use std::path::PathBuf;
 
@@ -82,4 +85,22 @@ pub fn trace_rays_with(
     gpu.queue.submit([encoder.finish()]);
     let staging = staging_buffer(&gpu.device, "hits_staging", hits.size());
     read_buffer(&gpu.device, &gpu.queue, &hits, &staging, hits.size()).unwrap()
+}
+
+/// Run `passes` passes of `integrator` and read its image, every pixel finite and not
+/// negative.
+pub fn run_passes(integrator: &mut dyn Integrator, passes: u32) -> Rgb32Image {
+    for _ in 0..passes {
+        integrator.run_pass().unwrap();
+    }
+    let img = integrator.image().unwrap();
+    assert_eq!(count_non_finite(&img), 0, "NaN or infinite pixels");
+    assert_eq!(count_negative(&img), 0, "negative pixels");
+    img
+}
+
+/// SPPM on `scene` for its `iterations` passes ([`run_passes`]).
+pub fn render_sppm(gpu: &GpuContext, scene: &Scene) -> Rgb32Image {
+    let mut sppm = Sppm::new(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
+    run_passes(&mut sppm, scene.render.iterations)
 }
