@@ -19,6 +19,8 @@ const SAMPLER_LIGHT: u32 = 3u;
 const SAMPLER_PLASTIC: u32 = 4u;
 // sample_thin_dielectric: each sample's direction and weight, the densities left at 0.
 const SAMPLER_THIN_DIELECTRIC: u32 = 5u;
+// sample_dielectric (smooth), the same way.
+const SAMPLER_SMOOTH_DIELECTRIC: u32 = 6u;
 
 // Draw `count` samples.
 const PASS_SAMPLE: u32 = 0u;
@@ -166,7 +168,7 @@ fn test_density(w: vec3f) -> f32 {
         case SAMPLER_PLASTIC: {
             return plastic_eval(test_coated(MATERIAL_PLASTIC), vec3f(q.albedo), q.wo, w, q.ns).pdf;
         }
-        case SAMPLER_THIN_DIELECTRIC: {
+        case SAMPLER_THIN_DIELECTRIC, SAMPLER_SMOOTH_DIELECTRIC: {
             return 0.0;
         }
         default: {
@@ -217,6 +219,9 @@ fn draw_sample(i: u32) {
         }
         case SAMPLER_THIN_DIELECTRIC: {
             s = sample_thin_dielectric(test_coated(MATERIAL_THIN_DIELECTRIC), -q.wo, test_surface(), u.x);
+        }
+        case SAMPLER_SMOOTH_DIELECTRIC: {
+            s = sample_dielectric(-q.wo, q.ng, q.ns, q.ior, u.x, q.radiance != 0u);
         }
         default: {
             let radiance = q.radiance != 0u;

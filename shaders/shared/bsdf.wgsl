@@ -78,14 +78,20 @@ struct SpecularSample {
     weight: vec3f,
 }
 
-// Sample a smooth dielectric from direction of travel d at normal ng. Reflection or
-// refraction is chosen with the Fresnel probability, so the weight is 1, times 1 / eta^2 for
-// refracted radiance (pbrt-v4 sec. 9.5.2); photons carry flux and are not scaled.
-fn sample_dielectric(d: vec3f, ng: vec3f, ior: f32, u: f32, radiance: bool) -> SpecularSample {
+// Sample a smooth dielectric from direction of travel d at geometric normal ng and shading
+// normal ns. Reflection or refraction is chosen with the Fresnel probability, so the weight
+// is 1, times 1 / eta^2 for refracted radiance (pbrt-v4 sec. 9.5.2); photons carry flux and
+// are not scaled. The side comes from ng, the law from ns, as in the rough case: Mitsuba 3's
+// dielectric works in the shading frame, so a smooth-shaded mesh refracts smoothly, not by
+// its facets. A direction at or below ns's horizon ends the path.
+fn sample_dielectric(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, u: f32, radiance: bool) -> SpecularSample {
     let entering = dot(d, ng) < 0.0;
-    let n = select(-ng, ng, entering);
+    let n = select(-ns, ns, entering);
     let eta = select(1.0 / ior, ior, entering);
     let cos_i = -dot(d, n);
+    if cos_i <= 0.0 {
+        return SpecularSample(d, vec3f(0.0));
+    }
     let f = fresnel_dielectric(cos_i, eta);
     if u < f {
         return SpecularSample(reflect(d, n), vec3f(1.0));
@@ -407,7 +413,7 @@ fn sample_nondiffuse(m: Material, d: vec3f, s: Surface, u: vec3f, radiance: bool
         next = sample_rough_dielectric(d, s.ng, s.ns, m.ior, m.roughness, is_beckmann(m), u, radiance);
     }
     if USES_SMOOTH_DIELECTRIC && m.kind == MATERIAL_DIELECTRIC && m.roughness == 0.0 {
-        next = sample_dielectric(d, s.ng, m.ior, u.z, radiance);
+        next = sample_dielectric(d, s.ng, s.ns, m.ior, u.z, radiance);
     }
     // Mitsuba's specular_reflectance and specular_transmittance scale each lobe of a
     // dielectric (1 and 1 unless a scene asks otherwise), sampled as before.
