@@ -7,10 +7,7 @@ use sppm_gpu::gpu::GpuContext;
 use sppm_gpu::integrators::{self, Bands, Integrator, Sppm};
 
 fn render(mut integrator: impl Integrator, passes: u32) -> sppm_gpu::image_io::Rgb32Image {
-    for _ in 0..passes {
-        integrator.run_pass().unwrap();
-    }
-    integrator.image().unwrap()
+    common::run_passes(&mut integrator, passes)
 }
 
 #[test]

@@ -252,18 +252,8 @@ fn render_batches(gpu: &GpuContext, scene: &Scene, batches: u32, passes: u32) ->
     let mut previous = vec![0.0; (scene.render.width * scene.render.height) as usize];
     let mut out = Vec::new();
     for k in 1..=batches {
-        for _ in 0..passes {
-            integrator.run_pass().unwrap();
-        }
-        let image = integrator.image().unwrap();
-        let sums: Vec<f64> = image
-            .pixels
-            .iter()
-            .map(|p| {
-                assert!(p.iter().all(|c| c.is_finite() && *c >= 0.0), "pixel {p:?}");
-                p.iter().map(|c| *c as f64).sum::<f64>() / 3.0 * k as f64
-            })
-            .collect();
+        let image = common::run_passes(&mut *integrator, passes);
+        let sums: Vec<f64> = image.pixels.iter().map(|p| p.iter().map(|c| *c as f64).sum::<f64>() / 3.0 * k as f64).collect();
         out.push(sums.iter().zip(&previous).map(|(s, p)| s - p).collect());
         previous = sums;
     }

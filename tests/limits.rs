@@ -10,10 +10,7 @@ use sppm_gpu::scene::{Method, Scene, SceneBuilder};
 
 fn render(gpu: &sppm_gpu::gpu::GpuContext, scene: &Scene) -> Rgb32Image {
     let mut integrator = integrators::create(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
-    for _ in 0..scene.render.iterations {
-        integrator.run_pass().unwrap();
-    }
-    integrator.image().unwrap()
+    common::run_passes(&mut *integrator, scene.render.iterations)
 }
 
 /// Mean of the first channel over pixels [x0, x1) x [y0, y1).

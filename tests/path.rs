@@ -6,7 +6,7 @@ mod common;
 
 use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators::{self, Integrator};
-use sppm_gpu::metrics::{compare, count_negative, count_non_finite, downsample_box};
+use sppm_gpu::metrics::{compare, downsample_box};
 use sppm_gpu::scene::{Method, Scene};
 
 const SIZE: u32 = 64;
@@ -18,13 +18,7 @@ fn render(scene: &Scene, method: Method, passes: u32) -> Rgb32Image {
     scene.render.width = SIZE;
     scene.render.height = SIZE;
     let mut integrator: Box<dyn Integrator> = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
-    for _ in 0..passes {
-        integrator.run_pass().unwrap();
-    }
-    let img = integrator.image().unwrap();
-    assert_eq!(count_non_finite(&img), 0, "NaN or infinite pixels");
-    assert_eq!(count_negative(&img), 0, "negative pixels");
-    img
+    common::run_passes(&mut *integrator, passes)
 }
 
 /// relMSE and channel mean ratios against the 256x256 reference, both reduced to 8x8.

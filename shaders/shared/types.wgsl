@@ -299,7 +299,9 @@ const ACCUM_STRIDE: u32 = 8u;
 
 // The adaptive radius rule (radius_rule = "adaptive", update_stats.wgsl): the sums of each
 // photon's offset u = (x - p) / r from a visible point are only kept where it is compiled in.
-override ADAPTIVE_RADIUS: bool = true;
+// Off unless the host says (integrators::specialization sets it for every kernel, as
+// SAMPLER_SOBOL), so that a kernel built without it reads the 8-word accumulator.
+override ADAPTIVE_RADIUS: bool = false;
 // Words per visible point in the flux accumulator.
 fn accum_stride() -> u32 {
     return select(ACCUM_STRIDE, ACCUM_STRIDE + 4u, ADAPTIVE_RADIUS);
