@@ -8,6 +8,7 @@
 #
 #   bash scripts/matpreview-convergence.sh BINARY [DEST [NAME ...]]
 #
+# SNAPS_SPPM and SNAPS_PT (comma-separated pass counts) replace the default snapshots.
 # Writes DEST/NAME/conv-{sppm,ptnee}/ (`sppm-gpu passes`: passes.csv and the snapshots).
 set -euo pipefail
 bin=$(realpath "${1:?usage: matpreview-convergence.sh BINARY [DEST [NAME ...]]}")
@@ -25,8 +26,8 @@ for n in "${names[@]}"; do
         *) s=$n/docs/scenes/bsdf_${n#matpreview-}.xml size=(240 180) blocks=6 ;;
     esac
     for m in sppm pt-nee; do
-        snaps=16,32,64,128,256
-        [ "$m" = pt-nee ] && snaps=64,128,256,512
+        snaps=${SNAPS_SPPM:-16,32,64,128,256}
+        [ "$m" = pt-nee ] && snaps=${SNAPS_PT:-64,128,256,512}
         echo "== $n $m, load $(cut -d' ' -f1-3 /proc/loadavg), $(date +%T)"
         "$bin" passes "$s" --method "$m" --width "${size[0]}" --height "${size[1]}" --snapshots "$snaps" \
             --reference "$n/ref.exr" --downsample "$blocks" --out "$n/conv-${m/-/}" 2>&1 | grep -vE 'clip|gamma|warning' | tail -8
