@@ -39,6 +39,8 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     // camera, after mirror or smooth glass, which NEE does not sample, and always in naive
     // path tracing.
     var pdf_prev = 0.0;
+    // The product of eta^2 over the path's refractions (refraction_eta2).
+    var eta_scale = 1.0;
     // A path has at most max_depth scattering events, so max_depth + 1 segments.
     for (var depth = 0u; depth <= frame.max_depth; depth++) {
         let hit = trace_closest(o, d, 3.4e38);
@@ -83,12 +85,16 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
             break;
         }
         beta *= next.weight;
+        eta_scale *= refraction_eta2(m, s, d, next.wi);
         pdf_prev = next.pdf;
         d = next.wi;
         o = offset_origin(s.p, s.ng, d);
-        // Russian roulette after three bounces, keeping the largest channel's weight.
+        // Russian roulette after three bounces, keeping the largest channel's weight, judged
+        // without the refractions' 1 / eta^2 (pbrt-v4 sec. 13.3.3, rrBeta = beta etaScale): a
+        // path inside a diamond carries 1 / 2.42^2 of its weight until it leaves, and would
+        // otherwise end at 83% a bounce.
         if depth >= 3u {
-            let q = max(0.05, 1.0 - max_component(beta));
+            let q = max(0.05, 1.0 - max_component(beta) * eta_scale);
             if rng_next(&rng) < q {
                 break;
             }

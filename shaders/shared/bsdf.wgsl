@@ -394,6 +394,18 @@ fn sample_thin_dielectric(m: Material, d: vec3f, s: Surface, u: f32) -> Specular
 
 // Scatter at a non-diffuse surface: mirror, glossy conductor, smooth or rough dielectric,
 // thin dielectric.
+// eta^2 where a radiance sample through dielectric m at s, from direction of travel d to wi,
+// refracted (its weight holds 1 / eta^2, eta the transmitted side's index over the incident
+// side's), else 1: what pbrt-v4's path tracer multiplies into etaScale, so that Russian
+// roulette judges the throughput without the factor a path leaving the glass undoes.
+fn refraction_eta2(m: Material, s: Surface, d: vec3f, wi: vec3f) -> f32 {
+    if m.kind != MATERIAL_DIELECTRIC || dot(wi, s.ng) * dot(d, s.ng) <= 0.0 {
+        return 1.0;
+    }
+    let eta = select(1.0 / m.ior, m.ior, dot(d, s.ng) < 0.0);
+    return eta * eta;
+}
+
 // A zero weight ends the path. `radiance` is true for camera paths, false for photons.
 // Only the materials the scene has are compiled in (USES_*, set by the host).
 fn sample_nondiffuse(m: Material, d: vec3f, s: Surface, u: vec3f, radiance: bool) -> SpecularSample {
