@@ -90,7 +90,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
         d = next.wi;
         o = offset_origin(s.p, s.ng, d);
         // Russian roulette after three bounces, keeping the largest channel's weight, judged
-        // without the refractions' 1 / eta^2 (pbrt-v4 sec. 13.3.3, rrBeta = beta etaScale): a
+        // without the refractions' 1 / eta^2 (pbrt-v4's PathIntegrator, sec. 13.4: rrBeta = beta etaScale): a
         // path inside a diamond carries 1 / 2.42^2 of its weight until it leaves, and would
         // otherwise end at 83% a bounce.
         if depth >= 3u {

@@ -392,8 +392,6 @@ fn sample_thin_dielectric(m: Material, d: vec3f, s: Surface, u: f32) -> Specular
     return SpecularSample(d, m.transmittance);
 }
 
-// Scatter at a non-diffuse surface: mirror, glossy conductor, smooth or rough dielectric,
-// thin dielectric.
 // eta^2 where a radiance sample through dielectric m at s, from direction of travel d to wi,
 // refracted (its weight holds 1 / eta^2, eta the transmitted side's index over the incident
 // side's), else 1: what pbrt-v4's path tracer multiplies into etaScale, so that Russian
@@ -406,6 +404,8 @@ fn refraction_eta2(m: Material, s: Surface, d: vec3f, wi: vec3f) -> f32 {
     return eta * eta;
 }
 
+// Scatter at a non-diffuse surface: mirror, glossy conductor, smooth or rough dielectric,
+// thin dielectric.
 // A zero weight ends the path. `radiance` is true for camera paths, false for photons.
 // Only the materials the scene has are compiled in (USES_*, set by the host).
 fn sample_nondiffuse(m: Material, d: vec3f, s: Surface, u: vec3f, radiance: bool) -> SpecularSample {
