@@ -84,33 +84,51 @@ struct Means {
     background: f64,
 }
 
-fn means(img: &Rgb32Image) -> Means {
-    let (mut inner, mut outer, mut background) = ((0.0, 0), (0.0, 0), (0.0, 0));
+/// The part of the image pixel (x, y) lies wholly in, `None` across the silhouette.
+#[derive(Clone, Copy, PartialEq)]
+enum Part {
+    /// On the sphere, within half its image radius of the centre.
+    Inner,
+    /// On the sphere, farther out.
+    Outer,
+    Background,
+}
+
+fn part(x: u32, y: u32) -> Option<Part> {
     // The sphere's image radius in pixels.
     let eye = EYE[2] as f64;
     let r_image = (RADIUS / (eye * eye - RADIUS * RADIUS).sqrt()) / (FOV as f64 / 2.0).to_radians().tan() * SIZE as f64 / 2.0;
-    for y in 0..SIZE {
-        for x in 0..SIZE {
-            let v = img.pixels[(y * SIZE + x) as usize].iter().map(|&c| c as f64).sum::<f64>() / 3.0;
-            let r = (x as f64 + 0.5 - SIZE as f64 / 2.0).hypot(y as f64 + 0.5 - SIZE as f64 / 2.0);
-            let add = |s: &mut (f64, u32)| {
-                s.0 += v;
-                s.1 += 1;
-            };
-            match coverage(x, y) {
-                Some(true) if r < 0.5 * r_image => add(&mut inner),
-                Some(true) => add(&mut outer),
-                Some(false) => add(&mut background),
-                None => {}
-            }
-        }
+    let r = (x as f64 + 0.5 - SIZE as f64 / 2.0).hypot(y as f64 + 0.5 - SIZE as f64 / 2.0);
+    match coverage(x, y)? {
+        true if r < 0.5 * r_image => Some(Part::Inner),
+        true => Some(Part::Outer),
+        false => Some(Part::Background),
     }
-    assert!(inner.1 > 100 && outer.1 > 100 && background.1 > 1000, "{inner:?} {outer:?} {background:?}");
+}
+
+/// The RGB average of every pixel wholly in `which`.
+fn values(img: &Rgb32Image, which: Part) -> Vec<f64> {
+    (0..SIZE * SIZE)
+        .filter(|&i| part(i % SIZE, i / SIZE) == Some(which))
+        .map(|i| img.pixels[i as usize].iter().map(|&c| c as f64).sum::<f64>() / 3.0)
+        .collect()
+}
+
+fn means(img: &Rgb32Image) -> Means {
+    let [inner, outer, background] = [Part::Inner, Part::Outer, Part::Background].map(|p| values(img, p));
+    assert!(
+        inner.len() > 100 && outer.len() > 100 && background.len() > 1000,
+        "{} {} {}",
+        inner.len(),
+        outer.len(),
+        background.len()
+    );
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
     Means {
-        inner: inner.0 / inner.1 as f64,
-        outer: outer.0 / outer.1 as f64,
-        sphere: (inner.0 + outer.0) / (inner.1 + outer.1) as f64,
-        background: background.0 / background.1 as f64,
+        inner: mean(&inner),
+        outer: mean(&outer),
+        sphere: (inner.iter().sum::<f64>() + outer.iter().sum::<f64>()) / (inner.len() + outer.len()) as f64,
+        background: mean(&background),
     }
 }
 
@@ -204,20 +222,10 @@ fn furnace_diamond_roulette_keeps_the_weight() {
     }
     for method in [Method::Pt, Method::PtNee] {
         let scene = furnace(|b| b.dielectric("m", 2.42, 0.0), method, DirectLight::Sampled, 16, 1);
-        let img = render(&scene);
-        let eye = EYE[2] as f64;
-        let r_image = (RADIUS / (eye * eye - RADIUS * RADIUS).sqrt()) / (FOV as f64 / 2.0).to_radians().tan() * SIZE as f64 / 2.0;
-        let (mut sum, mut sum_sq, mut n) = (0.0, 0.0, 0);
-        for y in 0..SIZE {
-            for x in 0..SIZE {
-                let r = (x as f64 + 0.5 - SIZE as f64 / 2.0).hypot(y as f64 + 0.5 - SIZE as f64 / 2.0);
-                if coverage(x, y) == Some(true) && r < 0.5 * r_image {
-                    let v = img.pixels[(y * SIZE + x) as usize].iter().map(|&c| c as f64).sum::<f64>() / 3.0;
-                    (sum, sum_sq, n) = (sum + v, sum_sq + (v - 1.0) * (v - 1.0), n + 1);
-                }
-            }
-        }
-        let (mean, rms) = (sum / n as f64, (sum_sq / n as f64).sqrt());
+        let inner = values(&render(&scene), Part::Inner);
+        let n = inner.len();
+        let mean = inner.iter().sum::<f64>() / n as f64;
+        let rms = (inner.iter().map(|v| (v - 1.0) * (v - 1.0)).sum::<f64>() / n as f64).sqrt();
         eprintln!("diamond {method:?}: inner disk of {n} pixels, mean {mean:.5}, RMS about 1 {rms:.4}");
         assert!(n > 100, "{n} pixels");
         assert!((mean - 1.0).abs() < 0.01, "diamond {method:?}: inner disk mean {mean}");
