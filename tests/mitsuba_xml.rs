@@ -1,7 +1,8 @@
 //! Mitsuba scene XML (src/scene/mitsuba/): what the reader makes of the test scenes in
 //! scenes/mitsuba/, each bad input as an error naming file, line and element, and the scenes
 //! rendered against Mitsuba 3's own renders of the same files (tests/references/mitsuba/,
-//! made by scripts/mitsuba-references.sh).
+//! made by scripts/mitsuba-references.sh); files of Mitsuba 0.5/0.6 read as their own version
+//! read them, with the parameters of their era (tests/scenes/mitsuba-era/).
 
 mod common;
 
@@ -1210,4 +1211,467 @@ fn the_pixel_filter_is_part_of_the_fingerprint() {
     let e = Fingerprint::of(&tent).check(&Fingerprint::of(&gaussian)).unwrap_err();
     assert!(e.contains("filter"), "{e}");
     Fingerprint::of(&tent).check(&Fingerprint::of(&tent.clone())).unwrap();
+}
+
+/// A scene file of tests/scenes/mitsuba-era/.
+fn era_path(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/mitsuba-era").join(name)
+}
+
+/// Writes `files` into a fresh folder and loads the first, with its warnings.
+fn load_warned(test: &str, files: &[(&str, &str)]) -> (Result<Scene, SceneError>, Vec<SceneError>) {
+    let dir = temp_dir(test);
+    for (name, text) in files {
+        std::fs::write(dir.join(name), text).unwrap();
+    }
+    scene::mitsuba::load_with_warnings(&dir.join(files[0].0), &[])
+}
+
+/// A small valid Mitsuba 0.6 scene (camelCase names) with `body` added to it: a camera, a lit
+/// rectangle.
+fn legacy_scene_with(body: &str) -> String {
+    format!(
+        r#"<scene version="0.6.0">
+    <sensor type="perspective">
+        <float name="fov" value="40"/>
+        <transform name="toWorld"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+    </sensor>
+    <shape type="rectangle">
+        <emitter type="area"><rgb name="radiance" value="1"/></emitter>
+    </shape>
+{body}
+</scene>
+"#
+    )
+}
+
+/// The 1-based line of `text` that has `needle`.
+fn line_of(text: &str, needle: &str) -> usize {
+    text.lines().position(|l| l.contains(needle)).unwrap_or_else(|| panic!("no {needle:?}")) + 1
+}
+
+/// The parameters each of `warnings` is about, with its line, each warning checked to name the
+/// file `file`.
+fn warned_keys(warnings: &[SceneError], file: &str) -> Vec<(String, usize)> {
+    warnings
+        .iter()
+        .map(|w| {
+            assert!(w.file.ends_with(file), "{w}");
+            assert!(w.to_string().starts_with(&w.file.display().to_string()), "{w}");
+            (w.key.clone().unwrap_or_default(), w.line.unwrap_or_else(|| panic!("a warning without a line: {w}")))
+        })
+        .collect()
+}
+
+/// A Mitsuba 0.5 `sppm` scene as the photon-mapping papers of its era wrote it
+/// (tests/scenes/mitsuba-era/sppm-0.5.xml) loads as Mitsuba 0.5 read it: `strictNormals`,
+/// which its sppm does not query, and `granularity`, `rrDepth`, `autoCancelGathering` and the
+/// scene's `kdStopPrims`, which change only the noise or the speed, each a warning naming file,
+/// line and parameter, and nothing else; what has a counterpart is mapped. The same scene in
+/// Mitsuba 3's form, less those parameters, loads without a warning into the same settings
+/// and renders the same image, bit for bit.
+#[test]
+fn era_parameters_of_a_0_5_file_are_warnings_and_it_renders() {
+    let path = era_path("sppm-0.5.xml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (old, warnings) = scene::mitsuba::load_with_warnings(&path, &[]);
+    let old = old.unwrap_or_else(|e| panic!("{e}"));
+    let mut keys = warned_keys(&warnings, "sppm-0.5.xml");
+    keys.sort();
+    let mut expected: Vec<(String, usize)> = [
+        ("auto_cancel_gathering", "autoCancelGathering"),
+        ("granularity", "granularity"),
+        ("kd_stop_prims", "kdStopPrims"),
+        ("rr_depth", "rrDepth"),
+        ("strict_normals", "strictNormals"),
+    ]
+    .iter()
+    .map(|(key, written)| (key.to_string(), line_of(&text, &format!("name=\"{written}\""))))
+    .collect();
+    expected.sort();
+    assert_eq!(keys, expected, "{warnings:#?}");
+    let strict = warnings.iter().find(|w| w.key.as_deref() == Some("strict_normals")).unwrap();
+    assert!(strict.message.contains("no parameter `strict_normals` in Mitsuba 0.5/0.6"), "{strict}");
+    let r = &old.render;
+    assert_eq!((r.method, r.photons, r.radius, r.alpha, r.max_depth), (Method::Sppm, 20_000, Some(0.05), 0.7, 5));
+    assert_eq!((r.iterations, r.width, r.height), (3, 24, 24), "maxPasses 3, not the sampler's 16");
+    let white = old.materials.iter().find(|m| m.name == "white").unwrap();
+    let grey = sppm_gpu::image_io::srgb_to_linear(188.0 / 255.0);
+    assert!(matches!(white.kind, MaterialKind::Diffuse { albedo, .. } if albedo == Vec3::splat(grey)), "{:?}", white.kind);
+
+    let (new, warnings) = scene::mitsuba::load_with_warnings(&era_path("sppm-3.0.xml"), &[]);
+    let new = new.unwrap_or_else(|e| panic!("{e}"));
+    assert!(warnings.is_empty(), "{warnings:#?}");
+    assert_eq!(new.render, old.render);
+    assert_eq!(new.camera, old.camera);
+    assert_eq!(new.triangles, old.triangles);
+    assert_eq!(new.spheres, old.spheres);
+    let kinds = |s: &Scene| s.materials.iter().map(|m| m.kind.clone()).collect::<Vec<_>>();
+    assert_eq!(kinds(&new), kinds(&old));
+    let Some(gpu) = common::gpu() else { return };
+    let (a, b) = (common::render_sppm(&gpu, &old), common::render_sppm(&gpu, &new));
+    assert!(a.mean().iter().all(|&m| m > 0.01), "{:?}", a.mean());
+    assert!(a.pixels == b.pixels, "the 0.5 file and its Mitsuba 3 form render differently");
+}
+
+/// In a file of version 2 or 3 a parameter that no plugin reads is an error naming file, line
+/// and parameter, as Mitsuba 3 refuses it, even one Mitsuba 0.5/0.6 took; in a 0.x file the
+/// same parameter is a warning at the same place, and the scene loads.
+#[test]
+fn unknown_parameters_are_refused_in_2_and_3_files_and_warned_in_0_x_files() {
+    let modern = std::fs::read_to_string(era_path("sppm-3.0.xml")).unwrap();
+    let anchor = r#"<integer name="max_passes" value="3"/>"#;
+    for (test, param) in [
+        ("strict", r#"<boolean name="strict_normals" value="true"/>"#),
+        ("granularity", r#"<integer name="granularity" value="50000"/>"#),
+        ("cancel", r#"<boolean name="auto_cancel_gathering" value="false"/>"#),
+        ("typo", r#"<integer name="max_dept" value="3"/>"#),
+    ] {
+        let key = param.split('"').nth(1).unwrap();
+        let text = modern.replace(anchor, &format!("{anchor}\n        {param}"));
+        expect_error(test, &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, param)), &format!("no parameter `{key}`"));
+        let e = load_files(test, &[("s.xml", &text)], &[]).unwrap_err();
+        assert_eq!(e.key.as_deref(), Some(key), "{e}");
+        // Version 2 refuses it too; so it does a 0.x name written in camelCase (2.x files
+        // are not upgraded).
+        let v2 = text.replace(r#"version="3.0.0""#, r#"version="2.1.0""#);
+        expect_error(test, &[("s.xml", &v2)], &[], "s.xml", Some(line_of(&v2, param)), &format!("no parameter `{key}`"));
+        // A 0.x file: warned, at the same line.
+        let legacy = text.replace(r#"version="3.0.0""#, r#"version="0.6.0""#);
+        let (s, warnings) = load_warned(test, &[("s.xml", &legacy)]);
+        s.unwrap_or_else(|e| panic!("{test}: {e}"));
+        let keys = warned_keys(&warnings, "s.xml");
+        assert!(keys.contains(&(key.to_string(), line_of(&legacy, param))), "{test}: {warnings:#?}");
+    }
+    let camel = scene_with(r#"<integrator type="path"><boolean name="strictNormals" value="true"/></integrator>"#)
+        .replace(r#"version="3.0.0""#, r#"version="2.0.0""#);
+    expect_error(
+        "camel",
+        &[("s.xml", &camel)],
+        &[],
+        "s.xml",
+        Some(line_of(&camel, "strictNormals")),
+        "no parameter `strictNormals`",
+    );
+    // Mitsuba 3's path has no strict_normals.
+    let text = scene_with(r#"<integrator type="path"><boolean name="strict_normals" value="false"/></integrator>"#);
+    expect_error(
+        "path strict",
+        &[("s.xml", &text)],
+        &[],
+        "s.xml",
+        Some(line_of(&text, "strict_normals")),
+        "no parameter `strict_normals`",
+    );
+    // The warning names the plugin, and a BSDF's unknown parameter is one too.
+    let legacy = legacy_scene_with(
+        "    <shape type=\"sphere\">\n        <bsdf type=\"diffuse\"><float name=\"shininess\" value=\"3\"/></bsdf>\n    </shape>",
+    );
+    let (s, warnings) = load_warned("legacy-bsdf", &[("s.xml", &legacy)]);
+    s.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(warned_keys(&warnings, "s.xml"), [("shininess".to_string(), line_of(&legacy, "shininess"))]);
+    assert!(warnings[0].message.contains("<bsdf type=\"diffuse\"> has no parameter `shininess`"), "{}", warnings[0]);
+}
+
+/// What loading a 0.6 scene with `body` gives: the scene or the error, and the parameters
+/// warned about (key and line).
+fn legacy_load(test: &str, body: &str, files: &[(&str, &str)]) -> (Result<Scene, SceneError>, Vec<(String, usize)>, String) {
+    let text = legacy_scene_with(body);
+    let mut all = vec![("s.xml", text.as_str())];
+    all.extend_from_slice(files);
+    let (s, warnings) = load_warned(test, &all);
+    let keys = warned_keys(&warnings, "s.xml");
+    for w in &warnings {
+        eprintln!("{test}: warning: {w}");
+    }
+    (s, keys, text)
+}
+
+/// What a 0.6 integrator gives: (max_depth, photons, alpha, iterations) and the keys warned
+/// about (empty for a warning about the integrator itself); or the key of the error.
+type IntegratorOutcome = Result<(u32, u32, f32, u32, &'static [&'static str]), &'static str>;
+
+/// Mitsuba 0.6's integrators, each parameter mapped, warned or refused (integrator.rs).
+#[test]
+fn mitsuba_0_6_integrators_map_warn_or_refuse_each_parameter() {
+    let unbounded = 1024;
+    let cases: &[(&str, &str, IntegratorOutcome)] = &[
+        (
+            "path",
+            r#"<integrator type="path"><integer name="maxDepth" value="8"/><integer name="rrDepth" value="3"/><boolean name="strictNormals" value="true"/><boolean name="hideEmitters" value="false"/></integrator>"#,
+            Ok((7, 100_000, 0.6667, 4, &["rr_depth"])),
+        ),
+        ("hide", r#"<integrator type="path"><boolean name="hideEmitters" value="true"/></integrator>"#, Err("hide_emitters")),
+        (
+            "volpath_simple",
+            r#"<integrator type="volpath_simple"><integer name="maxDepth" value="3"/></integrator>"#,
+            Ok((2, 100_000, 0.6667, 4, &[])),
+        ),
+        (
+            "direct",
+            r#"<integrator type="direct"><boolean name="strictNormals" value="true"/><integer name="emitterSamples" value="2"/></integrator>"#,
+            Ok((1, 100_000, 0.6667, 4, &[])),
+        ),
+        ("sppm defaults", r#"<integrator type="sppm"/>"#, Ok((unbounded, 250_000, 0.7, 4, &["max_passes"]))),
+        ("sppm passes", r#"<integrator type="sppm"><integer name="maxPasses" value="0"/></integrator>"#, Err("max_passes")),
+        ("sppm depth", r#"<integrator type="sppm"><integer name="maxDepth" value="1"/></integrator>"#, Err("max_depth")),
+        (
+            "ppm",
+            r#"<integrator type="ppm"><integer name="maxPasses" value="9"/><integer name="granularity" value="9"/></integrator>"#,
+            Ok((unbounded, 250_000, 0.7, 9, &["granularity", ""])),
+        ),
+        (
+            "photonmapper",
+            r#"<integrator type="photonmapper"><integer name="maxDepth" value="5"/><integer name="globalPhotons" value="9"/><integer name="lookupSize" value="9"/><integer name="maxSpecularDepth" value="9"/><integer name="directSamples" value="9"/><integer name="glossySamples" value="9"/></integrator>"#,
+            Ok((
+                4,
+                100_000,
+                0.6667,
+                4,
+                &["global_photons", "lookup_size", "max_specular_depth", "direct_samples", "glossy_samples", ""],
+            )),
+        ),
+        (
+            "photonmapper hide",
+            r#"<integrator type="photonmapper"><boolean name="hideEmitters" value="true"/></integrator>"#,
+            Err("hide_emitters"),
+        ),
+        (
+            "vpl",
+            r#"<integrator type="vpl"><float name="clamping" value="0.3"/></integrator>"#,
+            Ok((4, 100_000, 0.6667, 4, &["clamping", ""])),
+        ),
+        (
+            "adaptive",
+            r#"<integrator type="adaptive"><float name="maxError" value="0.01"/><integrator type="path"><integer name="maxDepth" value="4"/></integrator></integrator>"#,
+            Ok((3, 100_000, 0.6667, 4, &["max_error"])),
+        ),
+        (
+            "irrcache",
+            r#"<integrator type="irrcache"><float name="quality" value="2"/><integrator type="photonmapper"/></integrator>"#,
+            Ok((unbounded, 100_000, 0.6667, 4, &["", "quality"])),
+        ),
+        ("irrcache bounded", r#"<integrator type="irrcache"><integrator type="direct"/></integrator>"#, Err("max_depth")),
+        (
+            "irrcache indirect",
+            r#"<integrator type="irrcache"><boolean name="indirectOnly" value="true"/><integrator type="path"/></integrator>"#,
+            Err("indirect_only"),
+        ),
+        ("adaptive empty", r#"<integrator type="adaptive"/>"#, Err("")),
+        ("ao", r#"<integrator type="ao"/>"#, Err("type")),
+        ("field", r#"<integrator type="field"><string name="field" value="shNormal"/></integrator>"#, Err("type")),
+        ("multichannel", r#"<integrator type="multichannel"><integrator type="path"/></integrator>"#, Err("type")),
+        (
+            "bdpt",
+            r#"<integrator type="bdpt"><integer name="maxDepth" value="5"/><boolean name="lightImage" value="false"/></integrator>"#,
+            Ok((4, 100_000, 0.6667, 4, &["type"])),
+        ),
+    ];
+    for (test, body, expected) in cases {
+        let (s, keys, text) = legacy_load(&format!("integrator-{}", test.replace(' ', "-")), &format!("    {body}"), &[]);
+        match (expected, s) {
+            (Ok((depth, photons, alpha, iterations, warned)), Ok(s)) => {
+                let r = &s.render;
+                assert_eq!((r.max_depth, r.photons, r.alpha, r.iterations), (*depth, *photons, *alpha, *iterations), "{test}");
+                let mut keys: Vec<&str> = keys.iter().map(|(k, _)| k.as_str()).collect();
+                let mut warned = warned.to_vec();
+                keys.sort();
+                warned.sort();
+                assert_eq!(keys, warned, "{test}");
+            }
+            (Err(key), Err(e)) => {
+                assert_eq!(e.key.as_deref().unwrap_or(""), *key, "{test}: {e}");
+                assert!(e.file.ends_with("s.xml") && e.line.is_some_and(|l| l >= line_of(&text, "<integrator")), "{test}: {e}");
+            }
+            (expected, got) => panic!("{test}: expected {expected:?}, got {:?}", got.map(|s| s.render)),
+        }
+    }
+    // strict_normals true changes Mitsuba 0.6's image only where shading normals differ from
+    // the geometric ones: warned then, and only then.
+    let smooth = "v 0 0 -1\nv 1 0 -1\nv 0 1 -1\nvn 0 0 1\nvn 0.6 0 0.8\nvn 0 0.6 0.8\nf 1//1 2//2 3//3\n";
+    let body = r#"    <integrator type="path"><boolean name="strictNormals" value="true"/></integrator>
+    <shape type="obj"><string name="filename" value="smooth.obj"/></shape>"#;
+    let (s, keys, text) = legacy_load("strict-smooth", body, &[("smooth.obj", smooth)]);
+    s.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(keys, [("strict_normals".to_string(), line_of(&text, "strictNormals"))]);
+    let (s, keys, _) = legacy_load(
+        "strict-flat",
+        &body.replace("<shape type=\"obj\">", "<shape type=\"obj\"><boolean name=\"faceNormals\" value=\"true\"/>"),
+        &[("smooth.obj", smooth)],
+    );
+    s.unwrap_or_else(|e| panic!("{e}"));
+    assert!(keys.is_empty(), "{keys:?}");
+}
+
+/// Mitsuba 0.6's films, filters, sensors, emitters, textures, BSDFs, shapes and scene: each
+/// parameter Mitsuba 3 lacks mapped, warned or refused (sensor.rs, texture.rs, bsdf.rs,
+/// shape.rs, mod.rs).
+#[test]
+fn mitsuba_0_6_plugins_map_warn_or_refuse_each_parameter() {
+    let tex_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/textures");
+    // Films and filters, the camera.
+    let film =
+        |inner: &str| legacy_scene_with("").replace("<film type=\"hdrfilm\">", &format!("<film type=\"tiledhdrfilm\">{inner}"));
+    let (s, w) = load_warned("tiledhdrfilm", &[("s.xml", &film(r#"<string name="channelNames" value="a"/>"#))]);
+    assert_eq!((s.unwrap().render.width, w.len()), (8, 0));
+    let (s, _) = load_warned("box", &[("s.xml", &film(r#"<rfilter type="box"><float name="radius" value="0.5"/></rfilter>"#))]);
+    assert_eq!(s.unwrap().render.filter, PixelFilter::Box);
+    let text = film(r#"<rfilter type="box"><float name="radius" value="1"/></rfilter>"#);
+    expect_error("box wide", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "radius")), "radius other than 0.5");
+    let thinlens = legacy_scene_with("").replace(
+        "type=\"perspective\">",
+        "type=\"thinlens\"><float name=\"apertureRadius\" value=\"0.1\"/><float name=\"farClip\" value=\"50\"/>",
+    );
+    let (s, _) = load_warned("thinlens", &[("s.xml", &thinlens)]);
+    assert_eq!(s.unwrap_or_else(|e| panic!("{e}")).camera.focus_distance, 50.0, "focused at farClip, as Mitsuba 0.6");
+
+    // Textures: Mitsuba 0.6's uv scale and offset, wrap modes, gamma, filter, channel.
+    let bitmap = |params: &str| {
+        format!(
+            "    <shape type=\"rectangle\"><bsdf type=\"diffuse\"><texture type=\"bitmap\" name=\"reflectance\">\n        <string name=\"filename\" value=\"grid.png\"/>{params}\n    </texture></bsdf></shape>"
+        )
+    };
+    let png = std::fs::read(tex_dir.join("grid.png")).unwrap();
+    let load_texture = |test: &str, params: &str| {
+        let text = legacy_scene_with(&bitmap(params));
+        let dir = temp_dir(test);
+        std::fs::write(dir.join("grid.png"), &png).unwrap();
+        std::fs::write(dir.join("s.xml"), &text).unwrap();
+        let (s, warnings) = scene::mitsuba::load_with_warnings(&dir.join("s.xml"), &[]);
+        (s.map(|s| s.textures[0].clone()), warned_keys(&warnings, "s.xml"), text)
+    };
+    let (t, keys, _) = load_texture(
+        "uv",
+        r#"<float name="uscale" value="2"/><float name="voffset" value="0.5"/><string name="wrapModeU" value="clamp"/><string name="wrapModeV" value="clamp"/>"#,
+    );
+    let t = t.unwrap_or_else(|e| panic!("{e}"));
+    assert!(keys.is_empty(), "{keys:?}");
+    assert_eq!(t.to_uv.transform_point2(Vec2::new(0.25, 0.25)), Vec2::new(0.5, 0.75), "uv * (2, 1) + (0, 0.5)");
+    assert_eq!(t.wrap, scene::TextureWrap::Clamp);
+    let (t, keys, text) =
+        load_texture("ewa", r#"<string name="filterType" value="ewa"/><float name="maxAnisotropy" value="8"/>"#);
+    assert_eq!(t.unwrap().filter, scene::TextureFilter::Bilinear);
+    assert_eq!(
+        keys,
+        [("filter_type".to_string(), line_of(&text, "ewa")), ("max_anisotropy".to_string(), line_of(&text, "maxAnisotropy"))]
+    );
+    let (decoded, _, _) = load_texture("gamma0", r#"<float name="gamma" value="0"/>"#);
+    let (linear, _, _) = load_texture("gamma1", r#"<float name="gamma" value="1"/>"#);
+    let (srgb, _, _) = load_texture("gamma-1", r#"<float name="gamma" value="-1"/>"#);
+    let (decoded, linear, srgb) = (decoded.unwrap(), linear.unwrap(), srgb.unwrap());
+    assert_eq!(srgb.texels, decoded.texels);
+    let i = decoded.texels.iter().position(|t| t.x > 0.01 && t.x < 0.99).expect("a grey texel");
+    assert!(
+        linear.texels[i].x > decoded.texels[i].x + 0.01,
+        "gamma 1 keeps the stored value: {} vs {}",
+        linear.texels[i],
+        decoded.texels[i]
+    );
+    for (test, params, key) in [
+        ("gamma22", r#"<float name="gamma" value="2.2"/>"#, "gamma"),
+        ("wrap", r#"<string name="wrapModeU" value="clamp"/>"#, "wrap_mode_u"),
+        ("channel", r#"<string name="channel" value="r"/>"#, "channel"),
+    ] {
+        let (t, _, text) = load_texture(test, params);
+        let e = t.unwrap_err();
+        assert_eq!(
+            (e.key.as_deref(), e.line),
+            (Some(key), Some(line_of(&text, params.split('"').nth(1).unwrap()))),
+            "{test}: {e}"
+        );
+    }
+    let checker = r#"    <shape type="rectangle"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"><float name="uvscale" value="4"/></texture></bsdf></shape>"#;
+    let (s, keys, _) = legacy_load("checker", checker, &[]);
+    assert!(keys.is_empty());
+    assert_eq!(s.unwrap().textures[0].to_uv.transform_point2(Vec2::ONE), Vec2::splat(4.0));
+
+    // An environment map's gamma, cache and intensityScale.
+    let dir = temp_dir("legacy-envmap");
+    let img = sppm_gpu::image_io::Rgb32Image { width: 4, height: 2, pixels: vec![[1.0, 0.5, 0.25]; 8] };
+    sppm_gpu::image_io::write_exr(&dir.join("env.exr"), &img).unwrap();
+    let env = |params: &str| {
+        let body = format!("    <emitter type=\"envmap\"><string name=\"filename\" value=\"env.exr\"/>{params}</emitter>");
+        let text = legacy_scene_with(&body);
+        std::fs::write(dir.join("s.xml"), &text).unwrap();
+        let (s, warnings) = scene::mitsuba::load_with_warnings(&dir.join("s.xml"), &[]);
+        (s, warned_keys(&warnings, "s.xml"))
+    };
+    let (s, keys) = env(r#"<float name="gamma" value="1"/><boolean name="cache" value="false"/>"#);
+    s.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(keys.iter().map(|(k, _)| k.as_str()).collect::<Vec<_>>(), ["cache"]);
+    for (params, key) in
+        [(r#"<float name="gamma" value="-1"/>"#, "gamma"), (r#"<float name="intensityScale" value="2"/>"#, "intensity_scale")]
+    {
+        assert_eq!(env(params).0.unwrap_err().key.as_deref(), Some(key), "{params}");
+    }
+
+    // BSDFs: a conductor's extEta, energy conservation; a diffuse's diffuseReflectance.
+    let conductor = r#"    <shape type="sphere"><bsdf type="conductor"><rgb name="eta" value="0.3"/><rgb name="k" value="3"/><float name="extEta" value="1.5"/><boolean name="ensureEnergyConservation" value="false"/></bsdf></shape>"#;
+    let (s, keys, _) = legacy_load("ext-eta", conductor, &[]);
+    assert!(keys.is_empty(), "{keys:?}");
+    let s = s.unwrap_or_else(|e| panic!("{e}"));
+    let MaterialKind::Mirror { fresnel: Some(ComplexIor { eta, k }), .. } = s.materials[s.shapes[1].material as usize].kind
+    else {
+        panic!("{:?}", s.materials)
+    };
+    assert!(
+        (eta - Vec3::splat(0.2)).abs().max_element() < 1e-6 && (k - Vec3::splat(2.0)).abs().max_element() < 1e-6,
+        "{eta} {k}"
+    );
+    let text = scene_with(
+        &conductor.replace("extEta", "ext_eta").replace("<boolean name=\"ensureEnergyConservation\" value=\"false\"/>", ""),
+    );
+    expect_error("ext_eta 3", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "ext_eta")), "no parameter `ext_eta`");
+
+    // Meshes: OBJ's shapeIndex, collapse and loadMaterials, PLY's srgb.
+    let obj = "mtllib m.mtl\nv 0 0 -1\nv 1 0 -1\nv 0 1 -1\nusemtl red\nf 1 2 3\n";
+    let mesh = |params: &str, file: &str| {
+        format!("    <shape type=\"{}\"><string name=\"filename\" value=\"{file}\"/>{params}</shape>", &file[2..])
+    };
+    let (s, keys, text) = legacy_load(
+        "collapse",
+        &mesh(
+            r#"<boolean name="collapse" value="true"/><boolean name="loadMaterials" value="false"/><integer name="shapeIndex" value="-1"/>"#,
+            "m.obj",
+        ),
+        &[("m.obj", obj)],
+    );
+    s.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(keys, [("collapse".to_string(), line_of(&text, "collapse"))]);
+    for (params, key) in [
+        (r#"<integer name="shapeIndex" value="0"/>"#, "shape_index"),
+        (r#"<boolean name="loadMaterials" value="true"/>"#, "load_materials"),
+    ] {
+        let (s, _, text) = legacy_load("obj-refused", &mesh(params, "m.obj"), &[("m.obj", obj)]);
+        let e = s.unwrap_err();
+        assert_eq!((e.key.as_deref(), e.line), (Some(key), Some(line_of(&text, "m.obj"))), "{e}");
+    }
+    let with_bsdf = mesh(r#"<boolean name="loadMaterials" value="true"/><bsdf type="diffuse"/>"#, "m.obj");
+    legacy_load("obj-bsdf", &with_bsdf, &[("m.obj", obj)]).0.unwrap_or_else(|e| panic!("{e}"));
+    let ply = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 -1\n1 0 -1\n0 1 -1\n3 0 1 2\n";
+    let (s, keys, _) = legacy_load("ply-srgb", &mesh(r#"<boolean name="srgb" value="false"/>"#, "m.ply"), &[("m.ply", ply)]);
+    s.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(keys.iter().map(|(k, _)| k.as_str()).collect::<Vec<_>>(), ["srgb"]);
+
+    // The scene's own parameters: Mitsuba 0.6's kd-tree settings, and one it does not know.
+    let (s, keys, text) = legacy_load(
+        "scene-params",
+        "    <float name=\"kdIntersectionCost\" value=\"20\"/>\n    <float name=\"foo\" value=\"1\"/>",
+        &[],
+    );
+    s.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        keys,
+        [("kd_intersection_cost".to_string(), line_of(&text, "kdIntersection")), ("foo".to_string(), line_of(&text, "foo"))]
+    );
+    let text = scene_with("    <float name=\"foo\" value=\"1\"/>");
+    expect_error(
+        "scene param",
+        &[("s.xml", &text)],
+        &[],
+        "s.xml",
+        Some(line_of(&text, "foo")),
+        "<float> is not an element of a Mitsuba <scene>",
+    );
 }

@@ -26,6 +26,11 @@
 //! - `thindielectric`: `int_ior` (`bk7`), `ext_ior` (`air`), `specular_reflectance` (1) and
 //!   `specular_transmittance` (1): a slab reflecting with its summed reflectance 2R / (1 + R)
 //!   and transmitting the rest straight through; two-sided.
+//!
+//! In a 0.x scene, Mitsuba 0.6's parameters too: `ensure_energy_conservation` of every BSDF
+//! (true: Mitsuba 0.6 scales down a reflectance above 1, which is refused here unless it is
+//! textured), a diffuse `diffuse_reflectance` (the name it also takes for `reflectance`), and a
+//! conductor's `ext_eta` (1, Mitsuba 3's), the index outside it, which divides eta and k.
 
 use super::props::{Props, Spectrum};
 use super::xml::Node;
@@ -196,6 +201,9 @@ impl<'a> SceneReader<'a> {
         node.allow_attrs(&["type", "id", "name"])?;
         let kind = node.req_attr("type")?;
         let p = Props::new(node)?;
+        if node.legacy() {
+            p.boolean_or("ensure_energy_conservation", true)?;
+        }
         let model = match kind {
             "twosided" => {
                 let inner = p.all_objects();
@@ -214,7 +222,10 @@ impl<'a> SceneReader<'a> {
                 return Ok((model, false));
             }
             "diffuse" => {
-                let (albedo, texture) = self.reflectance(&p, "reflectance", 0.5)?;
+                // Mitsuba 0.6's diffuse takes its reflectance under either name.
+                let legacy_name = node.legacy() && !p.has("reflectance") && p.has("diffuse_reflectance");
+                let name = if legacy_name { "diffuse_reflectance" } else { "reflectance" };
+                let (albedo, texture) = self.reflectance(&p, name, 0.5)?;
                 MaterialKind::Diffuse { albedo, texture }
             }
             "dielectric" | "roughdielectric" => {
@@ -229,7 +240,7 @@ impl<'a> SceneReader<'a> {
                 MaterialKind::Dielectric { ior, roughness, distribution, reflectance, transmittance }
             }
             "conductor" | "roughconductor" => {
-                let fresnel = conductor_ior(&p)?;
+                let fresnel = ext_eta(&p, conductor_ior(&p)?)?;
                 let (albedo, texture) = self.reflectance(&p, "specular_reflectance", 1.0)?;
                 if kind == "conductor" {
                     MaterialKind::Mirror { albedo, texture, fresnel }
@@ -393,6 +404,18 @@ fn conductor_ior(p: &Props) -> Result<Option<ComplexIor>> {
         (Vec3::from(eta), Vec3::from(k))
     };
     Ok((eta != Vec3::ZERO || k != Vec3::ONE).then_some(ComplexIor { eta, k }))
+}
+
+/// Mitsuba 0.6's `ext_eta` of a conductor, in a 0.x scene: the index of refraction outside it
+/// (a number or a named medium), which divides `fresnel`'s eta and k. Left out, 1, as in
+/// Mitsuba 3, which has none (Mitsuba 0.6's default, air, is 0.03% more); in a 2/3 scene it is
+/// not read ([`Props::finish`] refuses it). A perfect mirror (`None`) stays one.
+fn ext_eta(p: &Props, fresnel: Option<ComplexIor>) -> Result<Option<ComplexIor>> {
+    if !p.node.legacy() || !p.has("ext_eta") {
+        return Ok(fresnel);
+    }
+    let outside = ior(p, "ext_eta", 1.0)?;
+    Ok(fresnel.map(|ComplexIor { eta, k }| ComplexIor { eta: eta / outside, k: k / outside }))
 }
 
 /// A part of a conductor's index of refraction: a colour (`<rgb>`, a `<spectrum>` of one value,

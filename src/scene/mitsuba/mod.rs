@@ -1,8 +1,15 @@
 //! Mitsuba's scene XML (versions 0.5/0.6 and 2/3), read into the same [`Scene`] as our TOML,
 //! rendered as Mitsuba 3 renders it. Every element is either modelled exactly, or refused
 //! with an error naming the file, line and element; only what cannot change the image (a
-//! film's file format, tone mapping of an LDR film, a sampler's kind) is passed over with a
-//! warning.
+//! film's file format, tone mapping of an LDR film, a sampler's kind, how many photons an
+//! integrator of Mitsuba 0.6 schedules at once) is passed over, with a warning naming file,
+//! line and parameter where it has no counterpart here. A file is read as its own version
+//! reads it: in a 0.x scene a parameter that the plugin does not query is a warning, as in
+//! Mitsuba 0.5/0.6, and in a 2.x/3.x scene an error, as in Mitsuba 3 (props.rs). Mitsuba
+//! 3's parameters are read as Mitsuba 3 reads them in files of every version; those only
+//! Mitsuba 0.5/0.6 have are mapped where we have their counterpart, warned where they change
+//! only the noise, the speed or the scheduling, and refused where ignoring them would change
+//! the image (each plugin's module lists them).
 //!
 //! - `xml.rs`: files, `<include>`, `<default>`, `$name` and `-D`, camelCase names of 0.x files.
 //! - `props.rs`: a plugin's typed parameters, each of which must be read.
@@ -12,8 +19,9 @@
 //!   `shapegroup` / `instance`, area emitters.
 //! - `texture.rs`: `bitmap` and `checkerboard`, on a diffuse `reflectance` or a conductor's
 //!   `specular_reflectance`.
-//! - `sensor.rs`: `perspective`, `thinlens`, the film, its pixel filter, the sampler and the
-//!   integrator; `point` and `directional` emitters.
+//! - `sensor.rs`: `perspective`, `thinlens`, the film, its pixel filter and the sampler;
+//!   `point`, `directional`, `spot`, `constant` and `envmap` emitters.
+//! - `integrator.rs`: the integrator, as our method and render settings.
 //!
 //! Conventions taken from Mitsuba 3 (and checked against its renders, tests/mitsuba_xml.rs):
 //! BSDFs are one-sided unless wrapped in `twosided`; a shape without a BSDF is a one-sided
@@ -21,6 +29,7 @@
 //! normals or else angle-weighted vertex normals; the default pixel filter is `gaussian`.
 
 mod bsdf;
+mod integrator;
 mod props;
 mod sensor;
 mod shape;
@@ -37,12 +46,28 @@ pub use xml::snake_case;
 
 type Result<T> = std::result::Result<T, SceneError>;
 
-/// Reads Mitsuba scene XML `path`; `defines` are the command line's `-D name=value`.
+/// Reads Mitsuba scene XML `path`; `defines` are the command line's `-D name=value`. Its
+/// warnings are printed (to stderr), whether or not it loads.
 pub fn load(path: &Path, defines: &[(String, String)]) -> Result<Scene> {
-    let (root, _version, dirs) = xml::read_scene(path, defines)?;
-    let mut reader = SceneReader::new(&root, dirs)?;
-    reader.read(&root)?;
-    reader.finish(path)
+    let (scene, warnings) = load_with_warnings(path, defines);
+    for warning in &warnings {
+        eprintln!("warning: {warning}");
+    }
+    scene
+}
+
+/// Reads Mitsuba scene XML `path` as [`load`] does, giving back its warnings, each with the
+/// file, line and parameter it is about, in the order met, rather than printing them.
+pub fn load_with_warnings(path: &Path, defines: &[(String, String)]) -> (Result<Scene>, Vec<SceneError>) {
+    let (root, dirs) = match xml::read_scene(path, defines) {
+        Ok(read) => read,
+        Err(e) => return (Err(e), Vec::new()),
+    };
+    let scene = SceneReader::new(&root, dirs).and_then(|mut reader| {
+        reader.read(&root)?;
+        reader.finish(path)
+    });
+    (scene, root.reading.take_warnings())
 }
 
 /// The scene as it is being read.
@@ -148,6 +173,17 @@ impl<'a> SceneReader<'a> {
                 "path" => {
                     return Err(node.error(None, "<path> (a search path) is not read: give file names relative to the scene"))
                 }
+                // Mitsuba 0.6's scene takes the settings of its kd-tree's build (`kdStopPrims`,
+                // `kdIntersectionCost`, ...): its speed, not the image.
+                tag if node.legacy() && props::PROPERTY_TAGS.contains(&tag) => {
+                    let name = node.req_attr("name")?;
+                    let why = if name.starts_with("kd_") {
+                        "it sets how Mitsuba 0.6 builds its kd-tree, which changes the speed, not the image"
+                    } else {
+                        "Mitsuba 0.5/0.6's scene does not query it either (and warns)"
+                    };
+                    node.warn(Some(name), format!("the scene's {name} is not applied: {why}"));
+                }
                 other => return Err(node.error(None, format!("<{other}> is not an element of a Mitsuba <scene>"))),
             }
         }
@@ -159,7 +195,8 @@ impl<'a> SceneReader<'a> {
         let Some(sensor) = self.sensor else {
             return Err(SceneError::new(path, None, Some("sensor"), "the scene has no <sensor>: sppm-gpu needs a camera"));
         };
-        let render = sensor::render_settings(&sensor, self.integrator)?;
+        let shading_normals = self.triangles.iter().any(|t| t.n.is_some());
+        let render = integrator::render_settings(&sensor, self.integrator, shading_normals)?;
         let mut scene = Scene {
             path: path.to_path_buf(),
             render,

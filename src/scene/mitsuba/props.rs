@@ -1,8 +1,12 @@
 //! A plugin's parameters, as Mitsuba's `Properties`: the named children of an object element
 //! (`<float name=".." value=".."/>`, `<rgb ..>`, `<transform ..>`, a nested `<bsdf>` or
 //! `<ref>`), read by type. Every parameter must be read by the plugin that owns it:
-//! [`Props::finish`] refuses any left over, so a parameter we do not model is an error rather
-//! than a silently different scene.
+//! [`Props::finish`] refuses any left over in a scene of version 2/3, as Mitsuba 3 does, so a
+//! parameter we do not model is an error rather than a silently different scene. In a 0.x
+//! scene it warns instead, as Mitsuba 0.5/0.6 warn about a parameter their plugin does not
+//! query and render: so each plugin here reads every parameter its Mitsuba 0.6 counterpart
+//! queries, mapping it, passing it over with a warning ([`Props::legacy_ignored`]: it changes
+//! only the noise, the speed or the scheduling) or refusing it (it would change the image).
 
 use super::super::SceneError;
 use super::spectra::{spectrum_to_srgb, SpectrumUse, XYZ_TO_SRGB};
@@ -13,7 +17,7 @@ use std::cell::Cell;
 type Result<T> = std::result::Result<T, SceneError>;
 
 /// Tags of property elements (as opposed to nested objects).
-const PROPERTY_TAGS: &[&str] =
+pub const PROPERTY_TAGS: &[&str] =
     &["float", "integer", "boolean", "string", "rgb", "srgb", "spectrum", "point", "vector", "transform"];
 
 /// Tags of nested objects.
@@ -75,6 +79,51 @@ impl<'a> Props<'a> {
         })
     }
 
+    /// Parameters of this plugin in Mitsuba 0.5/0.6 that sppm-gpu does not apply and that
+    /// change only the noise, the speed or the scheduling: in a 0.x scene each one given is
+    /// read and passed over with a warning naming it and `why`; in a 2/3 scene they are left
+    /// unread, for [`Props::finish`] to refuse, as Mitsuba 3 does.
+    pub fn legacy_ignored(&self, names: &[&str], why: &str) {
+        if !self.node.legacy() {
+            return;
+        }
+        for name in names {
+            if let Some(node) = self.get(name) {
+                let value = node.attr("value").map(|v| format!(" {v}")).unwrap_or_default();
+                node.warn(Some(name), format!("{name}{value} is not applied: {why}"));
+            }
+        }
+    }
+
+    /// Mitsuba 0.5/0.6's `gamma` of a `bitmap` texture or an `envmap` reading image `path`, in
+    /// a 0.x scene: whether it asks for the image's values as stored (our `raw`). 0, the
+    /// default, is as the file says, and so is -1 (sRGB) on an 8- or 16-bit image; 1 (linear)
+    /// is `raw`. Any other (a power law, or sRGB decoding of a floating-point image) would
+    /// change the image, and is refused. `None` where not given, and in a 2/3 scene, whose
+    /// Mitsuba 3 has no `gamma` ([`Props::finish`] refuses it there).
+    pub fn legacy_gamma(&self, path: &std::path::Path) -> Result<Option<bool>> {
+        if !self.node.legacy() || !self.has("gamma") {
+            return Ok(None);
+        }
+        let gamma = self.float("gamma")?.unwrap();
+        let floating = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| ["exr", "hdr", "rgbe", "pfm"].contains(&e.to_ascii_lowercase().as_str()));
+        match gamma {
+            0.0 => Ok(None),
+            1.0 => Ok(Some(true)),
+            -1.0 if !floating => Ok(Some(false)),
+            _ => Err(self.get("gamma").unwrap().error(
+                Some("gamma"),
+                format!(
+                    "gamma {gamma} is not modelled by sppm-gpu: 0 (as the file says), 1 (linear) or -1 (sRGB, of an \
+                     8- or 16-bit image)"
+                ),
+            )),
+        }
+    }
+
     /// Whether parameter `name` is given (without reading it).
     pub fn has(&self, name: &str) -> bool {
         self.named.iter().any(|(n, _, _)| *n == name)
@@ -95,16 +144,26 @@ impl<'a> Props<'a> {
             .collect()
     }
 
-    /// Refuses any parameter or nested object not read: `what` describes the plugin.
+    /// Refuses any parameter or nested object not read; in a 0.x scene a parameter not read
+    /// is one the plugin's Mitsuba 0.6 counterpart does not query either, and a warning.
     pub fn finish(&self) -> Result<()> {
-        if let Some((name, node, _)) = self.named.iter().find(|(_, _, read)| !read.get()) {
-            return Err(node.error(
+        for (name, node, _) in self.named.iter().filter(|(_, _, read)| !read.get()) {
+            if !self.node.legacy() {
+                return Err(node.error(
+                    Some(name),
+                    format!(
+                        "{} has no parameter `{name}` that sppm-gpu reads (not in Mitsuba 3, or not modelled here)",
+                        self.node.describe()
+                    ),
+                ));
+            }
+            node.warn(
                 Some(name),
                 format!(
-                    "{} has no parameter `{name}` that sppm-gpu reads (not in Mitsuba 3, or not modelled here)",
+                    "{} has no parameter `{name}` in Mitsuba 0.5/0.6: ignored, as they ignore it (with a warning)",
                     self.node.describe()
                 ),
-            ));
+            );
         }
         if let Some((node, _)) = self.unnamed.iter().find(|(_, read)| !read.get()) {
             return Err(node.error(None, format!("{} inside {} is not read by sppm-gpu", node.describe(), self.node.describe())));
@@ -285,11 +344,7 @@ fn wavelengths(node: &Node, text: &str, name: &str, used: SpectrumUse) -> Result
     }
     let (rgb, clamped) = spectrum_to_srgb(&points, used);
     if clamped {
-        eprintln!(
-            "warning: {}:{}: the spectrum of `{name}` lies outside the sRGB gamut: clamped to {rgb}, as Mitsuba does",
-            node.file.display(),
-            node.line
-        );
+        node.warn(Some(name), format!("the spectrum of `{name}` lies outside the sRGB gamut: clamped to {rgb}, as Mitsuba does"));
     }
     Ok(rgb)
 }

@@ -1,38 +1,36 @@
-//! The camera and how the image is made: Mitsuba 3's sensors, film, reconstruction filters,
-//! samplers and integrators (its plugin reference), and the emitters that are not shapes.
+//! The camera and how the image is made: Mitsuba 3's sensors, film, reconstruction filters and
+//! samplers (its plugin reference), and the emitters that are not shapes; the parameters of
+//! Mitsuba 0.5/0.6's that Mitsuba 3 lacks are read as said here (mod.rs).
 //!
 //! - `perspective`: `fov` with `fov_axis` (`x`, `y`, `diagonal`, `smaller`, `larger`; default
 //!   `x`) or `focal_length` (35 mm equivalent, a diagonal field of view of
 //!   2 atan(43.27 mm / 2 f)); `to_world` with the camera looking along its +z, +y up and +x
-//!   to the image's left. `thinlens`: also `aperture_radius` and `focus_distance`.
-//! - `hdrfilm`/`ldrfilm`: `width` (768), `height` (576); a crop window `crop_offset_x`,
-//!   `crop_offset_y` (0), `crop_width`, `crop_height` (the rest of the film), which is then
-//!   the image ([`crate::scene::Camera::crop`]); an `rfilter`: `box`, `tent` (`radius` 1) or
-//!   `gaussian` (`stddev` 0.5, the default).
+//!   to the image's left. `thinlens`: also `aperture_radius` and `focus_distance` (in a 0.x
+//!   scene by default `far_clip`, as Mitsuba 0.6 has it).
+//! - `hdrfilm`/`ldrfilm` (and 0.6's `tiledhdrfilm`, an hdrfilm written in tiles): `width`
+//!   (768), `height` (576); a crop window `crop_offset_x`, `crop_offset_y` (0), `crop_width`,
+//!   `crop_height` (the rest of the film), which is then the image
+//!   ([`crate::scene::Camera::crop`]); an `rfilter`: `box`, `tent` (`radius` 1) or `gaussian`
+//!   (`stddev` 0.5, the default). What only the output file's encoding depends on (0.6's
+//!   `channel_names` and `attach_log` among it) is passed over; an ldrfilm's tone mapping is
+//!   warned. 0.6's `box` takes a `radius` (0.5): any other is refused.
 //! - Any sampler: `sample_count` (4) becomes the number of passes; `seed` our seed.
 //!   `independent` is our independent sampler; the low-discrepancy and stratified ones
 //!   (`ldsampler`, `multijitter`, `stratified`, `orthogonal`, and Mitsuba 0.6's `sobol`,
 //!   `halton`, `hammersley`) our Sobol sampler; any other kind, or none, our default.
-//! - `path`/`volpath`: `max_depth` (-1, unbounded) counts path vertices after the camera's,
-//!   so 2 is direct light alone: our `max_depth` (scattering events) is one less. `sppm`
-//!   (Mitsuba 0.6): `photon_count`, `initial_radius` (0: automatic), `alpha`, `max_depth`,
-//!   `max_passes`. `direct`: max_depth 1 (ours). Any other integrator is a warning, and our
-//!   default method renders, at the integrator's `max_depth` if it has one (as `path`'s).
+//!   How a kind places its points (`scramble`, `dimension`, ...) changes only the noise.
 //! - `point`: `intensity` (1) at `position` or `to_world`'s origin. `directional`:
 //!   `irradiance` (1) along `direction` or `to_world`'s +z. `spot`: `intensity` (1),
 //!   `cutoff_angle` (20 degrees), `beam_width` (3/4 of the cutoff), at `to_world`'s origin
 //!   looking along its +z. `constant`: `radiance` (1) from every direction, one per scene.
-//!   Every emitter (and `area` in shape.rs) takes `sampling_weight`,
+//!   `envmap` ([`envmap`]). Every emitter (and `area` in shape.rs) takes `sampling_weight`,
 //!   which changes only Mitsuba's noise ([`Props::emitter_sampling_weight`]).
 
 use super::props::{Props, Spectrum};
 use super::xml::Node;
 use super::Result;
-use crate::scene::{Camera, DirectLight, Light, LightKind, Method, PixelFilter, RadiusSchedule, RenderSettings};
+use crate::scene::{Camera, Light, LightKind, PixelFilter};
 use glam::{Mat4, Vec3};
-
-/// Our `max_depth` for Mitsuba's -1 (unbounded): Russian roulette ends paths long before.
-const UNBOUNDED_DEPTH: u32 = 1024;
 
 /// What the sensor element says.
 pub(super) struct SensorSettings {
@@ -120,7 +118,11 @@ pub(super) fn sensor(node: &Node) -> Result<SensorSettings> {
             p.float(name)?.ok_or_else(|| node.error(Some(name), format!("a thinlens sensor needs `{name}`")))
         };
         camera.aperture_radius = need("aperture_radius")?;
-        camera.focus_distance = need("focus_distance")?;
+        camera.focus_distance = match node.legacy() {
+            // Mitsuba 0.6 focuses at the far clipping plane unless told.
+            true if !p.has("focus_distance") => p.float_or("far_clip", 1e4)?,
+            _ => need("focus_distance")?,
+        };
         camera.aperture_line = Some(node.line);
     } else {
         // A pinhole has no focal plane: Mitsuba's perspective camera takes and ignores it.
@@ -130,11 +132,7 @@ pub(super) fn sensor(node: &Node) -> Result<SensorSettings> {
         if let Some(v) = p.float(name)? {
             let default = if name == "near_clip" { 0.01 } else { 10000.0 };
             if v != default {
-                eprintln!(
-                    "warning: {}:{}: {name} {v} is not applied (sppm-gpu has no clipping planes)",
-                    node.file.display(),
-                    node.line
-                );
+                p.get(name).unwrap().warn(Some(name), format!("{name} {v} is not applied (sppm-gpu has no clipping planes)"));
             }
         }
     }
@@ -200,8 +198,11 @@ fn vertical_fov(p: &Props, aspect: f32) -> Result<f32> {
 fn film(node: &Node) -> Result<(u32, u32, PixelFilter, Option<[u32; 4]>)> {
     node.allow_attrs(&["type", "id", "name"])?;
     let kind = node.req_attr("type")?;
-    if kind != "hdrfilm" && kind != "ldrfilm" {
-        return Err(node.error(Some("type"), format!("the `{kind}` film is not read by sppm-gpu: hdrfilm or ldrfilm")));
+    if kind != "hdrfilm" && kind != "ldrfilm" && kind != "tiledhdrfilm" {
+        return Err(node.error(
+            Some("type"),
+            format!("the `{kind}` film is not read by sppm-gpu: hdrfilm, ldrfilm (or 0.6's tiledhdrfilm)"),
+        ));
     }
     let p = Props::new(node)?;
     let size = |name: &str, default: i64| -> Result<u32> {
@@ -233,7 +234,7 @@ fn film(node: &Node) -> Result<(u32, u32, PixelFilter, Option<[u32; 4]>)> {
     let whole = (crop_x, crop_y, crop_w, crop_h) == (0, 0, width as i64, height as i64);
     let crop = (!whole).then_some([crop_x as u32, crop_y as u32, crop_w as u32, crop_h as u32]);
     // What only the output file's encoding depends on: read and passed over (`attach_log`:
-    // Mitsuba 0.6 wrote its log into the EXR).
+    // Mitsuba 0.6 wrote its log into the EXR; `channel_names`: it named the EXR's channels).
     for name in [
         "file_format",
         "pixel_format",
@@ -243,17 +244,14 @@ fn film(node: &Node) -> Result<(u32, u32, PixelFilter, Option<[u32; 4]>)> {
         "sample_border",
         "compensate",
         "attach_log",
+        "channel_names",
     ] {
         p.get(name);
     }
     // An LDR film's tone mapping: our PNG output applies its own (sRGB, clamped).
     for name in ["tonemap_method", "gamma", "exposure", "key", "burn"] {
-        if p.get(name).is_some() {
-            eprintln!(
-                "warning: {}:{}: ldrfilm's {name} is not applied: sppm-gpu writes linear EXR or sRGB PNG",
-                node.file.display(),
-                node.line
-            );
+        if let Some(at) = p.get(name) {
+            at.warn(Some(name), format!("ldrfilm's {name} is not applied: sppm-gpu writes linear EXR or sRGB PNG"));
         }
     }
     let mut filter = PixelFilter::Gaussian { stddev: 0.5 };
@@ -276,7 +274,16 @@ fn rfilter(node: &Node) -> Result<PixelFilter> {
     node.allow_attrs(&["type", "id", "name"])?;
     let p = Props::new(node)?;
     let filter = match node.req_attr("type")? {
-        "box" => PixelFilter::Box,
+        "box" => {
+            // Mitsuba 0.6's box takes a radius, 0.5 by default as Mitsuba 3's fixed one.
+            if node.legacy() && p.float_or("radius", 0.5)? != 0.5 {
+                let at = p.get("radius").unwrap();
+                return Err(
+                    at.error(Some("radius"), "a box filter of a radius other than 0.5 pixels is not modelled by sppm-gpu")
+                );
+            }
+            PixelFilter::Box
+        }
         "tent" => PixelFilter::Tent { radius: positive(&p, "radius", 1.0)? },
         "gaussian" => PixelFilter::Gaussian { stddev: positive(&p, "stddev", 0.5)? },
         other => {
@@ -321,124 +328,6 @@ fn sampler(node: &Node) -> Result<(u32, u32, crate::sampler::Sampler)> {
     }
     p.finish()?;
     Ok((count as u32, seed, kind))
-}
-
-/// Our render settings from the sensor and the integrator element.
-pub(super) fn render_settings(sensor: &SensorSettings, integrator: Option<&Node>) -> Result<RenderSettings> {
-    let mut render = RenderSettings {
-        width: sensor.width,
-        height: sensor.height,
-        method: Method::Sppm,
-        iterations: sensor.sample_count,
-        spp: 1,
-        photons: 100_000,
-        radius: None,
-        alpha: 0.6667,
-        max_depth: UNBOUNDED_DEPTH,
-        seed: sensor.seed,
-        time_limit: None,
-        direct: DirectLight::Sampled,
-        direct_samples: None,
-        radius_schedule: RadiusSchedule::PerPoint,
-        radius_rule: crate::scene::RadiusRule::Shrink,
-        filter: sensor.filter,
-        sampler: sensor.sampler,
-    };
-    let Some(node) = integrator else { return Ok(render) };
-    node.allow_attrs(&["type", "id", "name"])?;
-    let kind = node.req_attr("type")?;
-    let p = Props::new(node)?;
-    match kind {
-        "path" | "volpath" | "sppm" => {
-            render.max_depth = max_depth(&p)?;
-            p.integer("rr_depth")?;
-            if p.boolean_or("hide_emitters", false)? {
-                return Err(p
-                    .get("hide_emitters")
-                    .unwrap()
-                    .error(Some("hide_emitters"), "hide_emitters is not modelled by sppm-gpu"));
-            }
-            if kind == "sppm" {
-                if let Some(n) = p.integer("photon_count")? {
-                    render.photons = u32::try_from(n).ok().filter(|&n| n > 0).ok_or_else(|| {
-                        p.get("photon_count").unwrap().error(Some("photon_count"), format!("photon_count {n} is not positive"))
-                    })?;
-                }
-                if let Some(r) = p.float("initial_radius")? {
-                    if r < 0.0 {
-                        return Err(p.get("initial_radius").unwrap().error(Some("initial_radius"), "initial_radius is negative"));
-                    }
-                    render.radius = (r > 0.0).then_some(r);
-                }
-                if let Some(a) = p.float("alpha")? {
-                    if !(a > 0.0 && a < 1.0) {
-                        return Err(p.get("alpha").unwrap().error(Some("alpha"), format!("alpha {a} is outside (0, 1)")));
-                    }
-                    render.alpha = a;
-                }
-                if let Some(n) = p.integer("max_passes")? {
-                    if n > 0 {
-                        render.iterations = n.min(u32::MAX as i64) as u32;
-                    }
-                }
-                // How Mitsuba 0.6 split its work: nothing the image depends on.
-                for name in ["granularity", "rr_start", "auto_cancel"] {
-                    p.get(name);
-                }
-            }
-            p.finish()?;
-        }
-        // Emission seen and direct light at the first hit, by light and BSDF samples with
-        // MIS: the paths `path` draws with max_depth 2, so ours with max_depth 1.
-        "direct" => {
-            render.max_depth = 1;
-            // How many samples of each strategy: the noise, not the image.
-            for name in ["emitter_samples", "bsdf_samples", "shading_samples"] {
-                p.integer(name)?;
-            }
-            if p.boolean_or("hide_emitters", false)? {
-                return Err(p
-                    .get("hide_emitters")
-                    .unwrap()
-                    .error(Some("hide_emitters"), "hide_emitters is not modelled by sppm-gpu"));
-            }
-            p.finish()?;
-        }
-        other => {
-            // A plugin of another project (a path guider, a bidirectional tracer) that says
-            // how long its paths are means light transport as Mitsuba's path counts it.
-            let depth = match p.get("max_depth").filter(|n| n.tag == "integer") {
-                Some(_) => {
-                    render.max_depth = max_depth(&p)?;
-                    format!(" its max_depth ({} scattering events),", render.max_depth)
-                }
-                None => String::new(),
-            };
-            eprintln!(
-                "warning: {}:{}: the `{other}` integrator is not one sppm-gpu has: rendering with SPPM at{depth} as Mitsuba's \
-                 path would (--method picks another)",
-                node.file.display(),
-                node.line
-            );
-        }
-    }
-    Ok(render)
-}
-
-/// Mitsuba's `max_depth` (path vertices after the camera; -1 unbounded) as ours (scattering
-/// events): one less.
-fn max_depth(p: &Props) -> Result<u32> {
-    match p.integer("max_depth")? {
-        None | Some(-1) => Ok(UNBOUNDED_DEPTH),
-        Some(d) if d >= 2 => Ok((d - 1).min(UNBOUNDED_DEPTH as i64) as u32),
-        Some(d) => Err(p.get("max_depth").unwrap().error(
-            Some("max_depth"),
-            format!(
-                "max_depth {d}: Mitsuba would render {} ; sppm-gpu needs 2 or more (or -1)",
-                if d == 1 { "only the emitters seen directly" } else { "nothing" }
-            ),
-        )),
-    }
 }
 
 /// A top-level `<emitter>`: point, directional, spot, constant or envmap (whose `filename`
@@ -553,7 +442,10 @@ pub(super) fn light(node: &Node, lights: &mut Vec<Light>, root: &[std::path::Pat
 /// An `envmap` emitter: `filename` (required; an equirectangular EXR or HDR, linear, or an 8-
 /// or 16-bit image, sRGB-decoded, as Mitsuba 3's `Bitmap` reads them), `scale` (1),
 /// `to_world` (a rotation; its translation is ignored, as the map lies at infinity), and
-/// `mis_compensation`, which changes Mitsuba's sampling only. Errors name the parameter.
+/// `mis_compensation`, which changes Mitsuba's sampling only. In a 0.x scene also Mitsuba
+/// 0.6's `gamma` ([`Props::legacy_gamma`]), `cache` (whether it kept its MIP map in a file:
+/// warned) and `intensity_scale` (refused there too: renamed `scale`). Errors name the
+/// parameter.
 fn envmap(p: &Props, to_world: Option<Mat4>, root: &[std::path::PathBuf]) -> Result<crate::scene::envmap::Envmap> {
     let name = p.string("filename")?.ok_or_else(|| p.node.error(Some("filename"), "an envmap needs a `filename`"))?;
     let at = p.get("filename").unwrap();
@@ -563,9 +455,15 @@ fn envmap(p: &Props, to_world: Option<Mat4>, root: &[std::path::PathBuf]) -> Res
         return Err(p.get("scale").unwrap().error(Some("scale"), format!("scale {scale}: an envmap's scale is at least 0")));
     }
     p.boolean_or("mis_compensation", false)?;
+    if p.node.legacy() && p.has("intensity_scale") {
+        let at = p.get("intensity_scale").unwrap();
+        return Err(at.error(Some("intensity_scale"), "intensity_scale is now `scale` (Mitsuba 0.6 refuses it too)"));
+    }
+    p.legacy_ignored(&["cache"], "it says whether Mitsuba 0.6 keeps the map's MIP map in a file, which changes the speed");
+    let raw = p.legacy_gamma(&path)?.unwrap_or(false);
     let linear = glam::Mat3::from_mat4(to_world.unwrap_or(Mat4::IDENTITY));
-    let image = crate::scene::mesh::read_image(&path, false)
-        .map_err(|e| at.error(Some("filename"), format!("{}: {e}", path.display())))?;
+    let image =
+        crate::scene::mesh::read_image(&path, raw).map_err(|e| at.error(Some("filename"), format!("{}: {e}", path.display())))?;
     crate::scene::envmap::Envmap::new(path, image.width, image.height, image.texels, scale, linear).map_err(|e| {
         let (node, key) = if e.contains("to_world") {
             (p.get("to_world").unwrap_or(p.node), "to_world")

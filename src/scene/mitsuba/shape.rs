@@ -12,6 +12,9 @@
 //! - `sphere`: `center` (0), `radius` (1), analytic; `to_world` must scale it uniformly.
 //! - `shapegroup` and `instance`: a group's shapes, copied under each instance's `to_world`.
 //!
+//! `max_smooth_angle` (Mitsuba 0.6's meshes) is refused. In a 0.x scene, Mitsuba 0.6's mesh
+//! parameters that Mitsuba 3 lacks are read as [`legacy_mesh`] says.
+//!
 //! Texture coordinates are Mitsuba 3's, v running down the image (texture.rs): a mesh's from
 //! its file, OBJ's `vt` read as (u, 1 - v) unless `flip_tex_coords` is false (its default is
 //! true), PLY's as stored unless `flip_tex_coords` (default false), `.serialized` ones as
@@ -102,6 +105,15 @@ impl<'a> SceneReader<'a> {
             "obj" | "ply" | "serialized" => {
                 let path = file_name(&p, node, &self.root)?;
                 let face_normals = p.boolean_or("face_normals", false)?;
+                if p.has("max_smooth_angle") {
+                    return Err(p.get("max_smooth_angle").unwrap().error(
+                        Some("max_smooth_angle"),
+                        "max_smooth_angle (splitting vertices at creases) is not modelled by sppm-gpu",
+                    ));
+                }
+                if node.legacy() {
+                    legacy_mesh(&p, kind, &path, bsdf.is_some())?;
+                }
                 let mut indexed = match kind {
                     "obj" => read_mesh(&p, &path, mesh::read_obj)?,
                     "ply" => read_mesh(&p, &path, ply::read_ply)?,
@@ -112,12 +124,6 @@ impl<'a> SceneReader<'a> {
                                 .unwrap()
                                 .error(Some("shape_index"), format!("shape_index {shape_index} is negative"))
                         })?;
-                        if p.has("max_smooth_angle") {
-                            return Err(p.get("max_smooth_angle").unwrap().error(
-                                Some("max_smooth_angle"),
-                                "max_smooth_angle (splitting vertices at creases) is not modelled by sppm-gpu",
-                            ));
-                        }
                         // Mitsuba 3 reads the file's face-normal flag but shades by the
                         // plugin's `face_normals` alone.
                         read_mesh(&p, &path, |path| serialized::read_serialized(path, shape_index))?
@@ -233,12 +239,7 @@ impl<'a> SceneReader<'a> {
             return Err(node.error(None, format!("all {skipped} triangles of {} have no area", path.display())));
         }
         if skipped > 0 {
-            eprintln!(
-                "warning: {}:{}: {skipped} triangles of {} have no area and are skipped",
-                node.file.display(),
-                node.line,
-                path.display()
-            );
+            node.warn(None, format!("{skipped} triangles of {} have no area and are skipped", path.display()));
         }
         self.triangles.extend(triangles);
         Ok(())
@@ -304,6 +305,43 @@ fn file_name(p: &Props, node: &Node, root: &[PathBuf]) -> Result<PathBuf> {
     let name =
         p.string("filename")?.ok_or_else(|| node.error(Some("filename"), format!("{} needs a `filename`", node.describe())))?;
     Ok(super::xml::resolve(name, &node.file, root))
+}
+
+/// The parameters of Mitsuba 0.6's mesh plugins that Mitsuba 3's lack, in a 0.x scene: OBJ's
+/// `shape_index` (-1, every group; one group alone is refused), `collapse` (one shape of all
+/// its groups: the speed, warned) and `load_materials` (true, refused for a shape without a
+/// BSDF whose file names materials: Mitsuba 0.6 would build them from its `.mtl`); PLY's `srgb`
+/// (how its vertex colours are decoded, which are not read: warned).
+fn legacy_mesh(p: &Props, kind: &str, path: &Path, has_bsdf: bool) -> Result<()> {
+    match kind {
+        "obj" => {
+            if let Some(index) = p.integer("shape_index")?.filter(|&i| i >= 0) {
+                let at = p.get("shape_index").unwrap();
+                return Err(at.error(
+                    Some("shape_index"),
+                    format!("shape_index {index} (one group of the OBJ file) is not modelled by sppm-gpu"),
+                ));
+            }
+            p.legacy_ignored(&["collapse"], "it merges the OBJ's groups into one shape, which changes the speed, not the image");
+            if p.boolean_or("load_materials", true)? && p.has("load_materials") && !has_bsdf {
+                let names_materials =
+                    std::fs::read_to_string(path).is_ok_and(|text| text.lines().any(|l| l.trim_start().starts_with("usemtl")));
+                if names_materials {
+                    let at = p.get("load_materials").unwrap();
+                    return Err(at.error(
+                        Some("load_materials"),
+                        "load_materials: the OBJ file's .mtl materials, which Mitsuba 0.6 would use for a shape without a \
+                         BSDF, are not read by sppm-gpu: give the shape a <bsdf>, or set load_materials false",
+                    ));
+                }
+            }
+        }
+        "ply" => {
+            p.legacy_ignored(&["srgb"], "it says how Mitsuba 0.6 decodes the PLY's vertex colours, which sppm-gpu does not read")
+        }
+        _ => {}
+    }
+    Ok(())
 }
 
 /// Reads a mesh file, with errors placed at the `filename` parameter.

@@ -16,12 +16,21 @@
 //!   It becomes a 2x2 texture sampled nearest with repeat, which switches colour at the same
 //!   x and y (at exactly 1/2 Mitsuba's test `> 1/2` keeps the lower colour, the texel the
 //!   upper: a set of no area).
+//!
+//! In a 0.x scene, Mitsuba 0.6's parameters too. Of every texture: `uscale`, `vscale` (each
+//! `uvscale`, 1), `uoffset`, `voffset` (0), its uv times the scales plus the offsets, after
+//! `to_uv`; `coordinates` (`uv`, the only kind). Of `bitmap`: `gamma`
+//! ([`Props::legacy_gamma`]); `wrap_mode_u` and `wrap_mode_v` (each `wrap_mode`), the same
+//! or refused, as ours wraps both alike; `filter_type` `ewa` and `trilinear` (filtering over
+//! a pixel's footprint, which the pixel's samples also average) read as `bilinear` with a
+//! warning, and `max_anisotropy` (EWA's) and `cache` (whether Mitsuba 0.6 keeps its MIP map
+//! in a file) warned; `channel` (one channel of the image, as grey) refused.
 
 use super::props::{Props, Spectrum};
 use super::xml::Node;
 use super::{Result, SceneReader};
 use crate::scene::{mesh, Texture, TextureFilter, TextureWrap};
-use glam::{Affine2, Mat2, Mat4, Vec2, Vec3};
+use glam::{Affine2, Mat2, Vec2, Vec3};
 
 impl<'a> SceneReader<'a> {
     /// The index in the scene's textures of texture element `node` (or the one a `<ref>`
@@ -54,23 +63,63 @@ impl<'a> SceneReader<'a> {
         let name = p.string("filename")?.ok_or_else(|| p.node.error(Some("filename"), "a bitmap texture needs a `filename`"))?;
         let path = super::xml::resolve(name, &p.node.file, &self.root);
         let raw = p.boolean_or("raw", false)?;
+        let raw = p.legacy_gamma(&path)?.unwrap_or(raw);
         let filter = match p.string("filter_type")?.map(str::trim).unwrap_or("bilinear") {
             "bilinear" => TextureFilter::Bilinear,
             "nearest" => TextureFilter::Nearest,
+            other @ ("ewa" | "trilinear") if p.node.legacy() => {
+                p.get("filter_type").unwrap().warn(
+                    Some("filter_type"),
+                    format!(
+                        "filter_type \"{other}\" is read as bilinear: Mitsuba 0.6 filters over the pixel's footprint, \
+                         which the pixel's samples average here"
+                    ),
+                );
+                TextureFilter::Bilinear
+            }
             other => {
                 let at = p.get("filter_type").unwrap();
                 return Err(at.error(Some("filter_type"), format!("filter_type \"{other}\" is not one of bilinear, nearest")));
             }
         };
-        let wrap = match p.string("wrap_mode")?.map(str::trim).unwrap_or("repeat") {
-            "repeat" => TextureWrap::Repeat,
-            "mirror" => TextureWrap::Mirror,
-            "clamp" => TextureWrap::Clamp,
-            other => {
-                let at = p.get("wrap_mode").unwrap();
-                return Err(at.error(Some("wrap_mode"), format!("wrap_mode \"{other}\" is not one of repeat, mirror, clamp")));
+        let wrap_mode = |name: &str, default: &str| -> Result<TextureWrap> {
+            match p.string(name)?.map(str::trim).unwrap_or(default) {
+                "repeat" => Ok(TextureWrap::Repeat),
+                "mirror" => Ok(TextureWrap::Mirror),
+                "clamp" => Ok(TextureWrap::Clamp),
+                other => {
+                    let at = p.get(name).unwrap();
+                    Err(at.error(Some(name), format!("{name} \"{other}\" is not one of repeat, mirror, clamp")))
+                }
             }
         };
+        let mut wrap = wrap_mode("wrap_mode", "repeat")?;
+        if p.node.legacy() {
+            // Mitsuba 0.6 wraps u and v each its own way, by default wrap_mode's.
+            let u = if p.has("wrap_mode_u") { wrap_mode("wrap_mode_u", "repeat")? } else { wrap };
+            let v = if p.has("wrap_mode_v") { wrap_mode("wrap_mode_v", "repeat")? } else { wrap };
+            if u != v {
+                let key = if p.has("wrap_mode_v") { "wrap_mode_v" } else { "wrap_mode_u" };
+                let name = |w: TextureWrap| format!("{w:?}").to_lowercase();
+                return Err(p
+                    .get(key)
+                    .unwrap()
+                    .error(Some(key), format!("u wraps by {}, v by {}: sppm-gpu wraps u and v alike", name(u), name(v))));
+            }
+            wrap = u;
+            if let Some(channel) = p.string("channel")?.filter(|c| !c.trim().is_empty()) {
+                let at = p.get("channel").unwrap();
+                return Err(at.error(
+                    Some("channel"),
+                    format!("channel \"{channel}\" (one channel of the image) is not modelled by sppm-gpu"),
+                ));
+            }
+            p.legacy_ignored(&["max_anisotropy"], "it bounds Mitsuba 0.6's EWA filtering, read as bilinear here");
+            p.legacy_ignored(
+                &["cache"],
+                "it says whether Mitsuba 0.6 keeps the texture's MIP map in a file, which changes the speed",
+            );
+        }
         match p.string("format")?.map(str::trim).unwrap_or("auto") {
             "auto" | "variant" | "float16" | "fp16" => {}
             "uint8" => {
@@ -124,11 +173,28 @@ fn checkerboard(p: &Props) -> Result<Texture> {
 
 /// A texture's `to_uv`: a `<transform>` read as Mitsuba's 3x3 affine map of (u, v, 1), the
 /// 4x4 matrix's upper-left 2x2 block and the first two entries of its translation (Mitsuba's
-/// `Transform4f::extract`); identity when left out.
+/// `Transform4f::extract`); identity when left out. In a 0.x scene followed by Mitsuba 0.6's
+/// scales and offsets of uv.
 fn to_uv(p: &Props) -> Result<Affine2> {
-    let Some(m): Option<Mat4> = p.transform("to_uv")? else { return Ok(Affine2::IDENTITY) };
-    Ok(Affine2::from_mat2_translation(
-        Mat2::from_cols(m.x_axis.truncate().truncate(), m.y_axis.truncate().truncate()),
-        Vec2::new(m.w_axis.x, m.w_axis.y),
-    ))
+    let to_uv = match p.transform("to_uv")? {
+        Some(m) => Affine2::from_mat2_translation(
+            Mat2::from_cols(m.x_axis.truncate().truncate(), m.y_axis.truncate().truncate()),
+            Vec2::new(m.w_axis.x, m.w_axis.y),
+        ),
+        None => Affine2::IDENTITY,
+    };
+    if !p.node.legacy() {
+        return Ok(to_uv);
+    }
+    match p.string("coordinates")?.map(str::trim) {
+        None | Some("uv") => {}
+        Some(other) => {
+            let at = p.get("coordinates").unwrap();
+            return Err(at.error(Some("coordinates"), format!("coordinates \"{other}\": textures are looked up by uv")));
+        }
+    }
+    let uvscale = p.float_or("uvscale", 1.0)?;
+    let scale = Vec2::new(p.float_or("uscale", uvscale)?, p.float_or("vscale", uvscale)?);
+    let offset = Vec2::new(p.float_or("uoffset", 0.0)?, p.float_or("voffset", 0.0)?);
+    Ok(Affine2::from_scale_angle_translation(scale, 0.0, offset) * to_uv)
 }

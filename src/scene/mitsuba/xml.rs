@@ -11,8 +11,12 @@
 //! - Version 0.x files name their parameters in camelCase (`toWorld`, `intIOR`); Mitsuba 3
 //!   reads them as snake_case (`to_world`, `int_ior`), and so do we. The names of `<default>`s
 //!   stay as written, as the `$name`s that use them.
+//! - The outermost file's version says which Mitsuba the scene is read as ([`Node::legacy`]):
+//!   a parameter that no plugin reads is a warning in a 0.x scene, as Mitsuba 0.5/0.6 warn and
+//!   render, and an error in a 2.x/3.x scene, as Mitsuba 3 refuses it (props.rs).
 
 use super::super::SceneError;
+use std::cell::{Cell, RefCell};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -32,6 +36,26 @@ pub struct Node {
     pub file: Rc<PathBuf>,
     /// Its 1-based line.
     pub line: usize,
+    /// What the scene's elements share: its version, its warnings.
+    pub reading: Rc<Reading>,
+}
+
+/// What every element of one scene shares.
+#[derive(Debug)]
+pub struct Reading {
+    /// Major version of the outermost file, which says whose Mitsuba reads the scene: 0 for
+    /// Mitsuba 0.5/0.6, whose plugins warn about a parameter they do not query and render, 2
+    /// or 3 for Mitsuba 3 (and 2), which refuses it.
+    version: Cell<u32>,
+    /// Warnings so far, in the order met.
+    warnings: RefCell<Vec<SceneError>>,
+}
+
+impl Reading {
+    /// The warnings so far, taken.
+    pub fn take_warnings(&self) -> Vec<SceneError> {
+        self.warnings.take()
+    }
 }
 
 impl Node {
@@ -58,6 +82,16 @@ impl Node {
         }
     }
 
+    /// Whether the scene is read as Mitsuba 0.5/0.6 read it (its outermost file is 0.x).
+    pub fn legacy(&self) -> bool {
+        self.reading.version.get() == 0
+    }
+
+    /// A warning at this element, about `key` when it names one.
+    pub fn warn(&self, key: Option<&str>, message: impl Into<String>) {
+        self.reading.warnings.borrow_mut().push(self.error(key, message));
+    }
+
     /// `<tag type="...">` or `<tag>` with its name, for messages.
     pub fn describe(&self) -> String {
         match (self.attr("type"), self.attr("name")) {
@@ -68,11 +102,12 @@ impl Node {
     }
 }
 
-/// The root `<scene>` of `path` with includes spliced in, its version's major number, and the
-/// directories files are looked for in ([`resolve`]).
-pub fn read_scene(path: &Path, defines: &[(String, String)]) -> Result<(Node, u32, Vec<PathBuf>)> {
+/// The root `<scene>` of `path` with includes spliced in (its [`Node::reading`] has the
+/// outermost file's version), and the directories files are looked for in ([`resolve`]).
+pub fn read_scene(path: &Path, defines: &[(String, String)]) -> Result<(Node, Vec<PathBuf>)> {
     let root = path.parent().unwrap_or(Path::new("")).to_path_buf();
-    let mut reader = Reader { params: HashMap::new(), stack: Vec::new(), version: None, dirs: vec![root] };
+    let reading = Rc::new(Reading { version: Cell::new(3), warnings: RefCell::new(Vec::new()) });
+    let mut reader = Reader { params: HashMap::new(), stack: Vec::new(), reading, dirs: vec![root] };
     for (name, value) in defines {
         if !is_param_name(name) {
             return Err(SceneError::new(path, None, Some(name), format!("-D {name}={value}: not a parameter name")));
@@ -80,17 +115,17 @@ pub fn read_scene(path: &Path, defines: &[(String, String)]) -> Result<(Node, u3
         reader.params.insert(name.clone(), value.clone());
     }
     let root = reader.file(path, None)?;
-    let version = reader.version.unwrap_or(3);
-    Ok((root, version, reader.dirs))
+    Ok((root, reader.dirs))
 }
 
-/// What reading the files keeps: parameters, the chain of includes, the version.
+/// What reading the files keeps: parameters, the chain of includes, what the elements share.
 struct Reader {
     params: HashMap<String, String>,
     /// The files being read, outermost first, canonicalized: an include cycle repeats one.
     stack: Vec<PathBuf>,
-    /// Major version of the outermost file.
-    version: Option<u32>,
+    /// The version of the outermost file (set as it is read, before any element) and the
+    /// warnings.
+    reading: Rc<Reading>,
     /// The directories `<path>` added, newest first, then the outermost file's.
     dirs: Vec<PathBuf>,
 }
@@ -150,7 +185,9 @@ impl Reader {
                 format!("version {version}: Mitsuba scene files are 0.x, 2.x or 3.x"),
             ));
         }
-        self.version.get_or_insert(major);
+        if self.stack.is_empty() {
+            self.reading.version.set(major);
+        }
         self.stack.push(canonical);
         let result = self.element(root, &document, &file, major);
         self.stack.pop();
@@ -166,8 +203,14 @@ impl Reader {
         major: u32,
     ) -> Result<Node> {
         let line = document.text_pos_at(element.range().start).row as usize;
-        let mut node =
-            Node { tag: element.tag_name().name().to_owned(), attrs: Vec::new(), children: Vec::new(), file: file.clone(), line };
+        let mut node = Node {
+            tag: element.tag_name().name().to_owned(),
+            attrs: Vec::new(),
+            children: Vec::new(),
+            file: file.clone(),
+            line,
+            reading: self.reading.clone(),
+        };
         if element.tag_name().namespace().is_some() {
             return Err(node.error(None, "XML namespaces are not part of Mitsuba's format"));
         }
