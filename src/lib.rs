@@ -32,6 +32,8 @@
 //! - [`image_io`]: [`image_io::Rgb32Image`] and reading and writing it as EXR or PNG.
 //! - [`metrics`]: relMSE, RMSE and other comparisons against a reference image.
 //! - [`error`]: [`Error`], everything the library can return.
+//! - [`pacing`]: how passes reach the device: at most two submissions in flight, short
+//!   passes grouped, time judged on completed passes.
 //! - [`experiments`]: equal-time comparisons and parameter sweeps behind the project's
 //!   reports.
 //!
@@ -59,7 +61,32 @@
 //! ```
 //!
 //! [`integrators::create`] gives the integrator the scene's `method` asks for, as a
-//! `Box<dyn Integrator>`.
+//! `Box<dyn Integrator>`. `run_pass` never has more than [`pacing::MAX_IN_FLIGHT`] of its
+//! passes queued on the device: it waits for the oldest first.
+//!
+//! # Rendering for a time, paced by the device
+//!
+//! A render loop that keeps a fast GPU busy, puts several short passes into one submission
+//! and judges a time limit (or progress, or an interrupt) on the passes the device has
+//! *completed* drives the integrator through a [`pacing::Pacer`], as the command line does:
+//!
+//! ```no_run
+//! # fn main() -> Result<(), sppm_gpu::Error> {
+//! use sppm_gpu::pacing::{DeviceQueue, Goal, Pacer};
+//! # let scene = sppm_gpu::scene::load(std::path::Path::new("scenes/cornell-box.toml"))?;
+//! let gpu = sppm_gpu::gpu::GpuContext::new()?;
+//! let mut integrator = sppm_gpu::integrators::create(&gpu.device, &gpu.queue, &scene)?;
+//! let queue = DeviceQueue::new(integrator.as_mut(), &gpu.device, &gpu.queue);
+//! // At most 10,000 passes, none started that would end past 5 s.
+//! let mut pacer = Pacer::new(queue, 0, Goal { end_pass: 10_000, time_limit: Some(5.0) });
+//! while let Some(done) = pacer.next_completion()? {
+//!     println!("{} passes done at {:.2} s", done.passes, done.seconds);
+//! }
+//! drop(pacer);
+//! let image = integrator.image()?;
+//! # Ok(())
+//! # }
+//! ```
 //!
 //! # Embedding in an application
 //!
@@ -130,6 +157,7 @@ pub mod gpu;
 pub mod image_io;
 pub mod integrators;
 pub mod metrics;
+pub mod pacing;
 pub mod sampler;
 pub mod scene;
 

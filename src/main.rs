@@ -7,6 +7,7 @@ use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 use sppm_gpu::gpu::GpuContext;
 use sppm_gpu::integrators::{self, Sppm};
+use sppm_gpu::pacing::{self, DeviceQueue, Goal, Pacer, PassQueue};
 use sppm_gpu::say;
 use sppm_gpu::scene::{self, DirectLight, Method, RadiusSchedule};
 use sppm_gpu::{experiments, image_io, Error};
@@ -754,7 +755,7 @@ fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> {
     }
     // The last checkpoint's state is also kept here: a lost device's render writes its image.
     let mut saved: Option<(u32, Vec<u8>)> = None;
-    let mut save = |integrator: &mut Box<dyn integrators::Integrator>| -> Result<(), Error> {
+    let mut save = |integrator: &mut dyn integrators::Integrator| -> Result<(), Error> {
         if let Some(path) = &cli.checkpoint {
             let state = integrator.state()?;
             sppm_gpu::checkpoint::write(path, &fingerprint, &state)?;
@@ -785,28 +786,48 @@ fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> {
     // GPU reset would (tests/checkpoint.rs).
     let lose_device_after: Option<u32> = std::env::var("SPPM_GPU_LOSE_DEVICE_AFTER").ok().and_then(|v| v.parse().ok());
     progress.set_position(first_pass as u64);
-    while integrator.passes() < end_pass {
-        if lose_device_after.is_some_and(|n| integrator.passes() - first_pass == n) {
-            gpu.device.destroy();
-        }
-        if let Err(e) = integrator.run_pass().and_then(|()| Ok(gpu.check()?)) {
-            progress.finish_and_clear();
-            let last = cli.checkpoint.as_deref().zip(saved.as_ref());
-            return Err(after_a_device_error(e, integrator.as_mut(), &gpu, output, last));
-        }
-        let seconds = start.elapsed().as_secs_f64();
-        let work = (integrator.passes() - first_pass) as u64 * integrator.work_per_pass();
-        progress.set_position(integrator.passes() as u64);
-        progress.set_message(format!("{:.2} M {unit}/s", work as f64 / seconds / 1e6));
-        if r.time_limit.is_some_and(|limit| seconds >= limit) || interrupt.received().is_some() {
-            break;
-        }
-        if cli.checkpoint.is_some() && last_checkpoint.elapsed().as_secs_f64() >= cli.checkpoint_every {
-            save(&mut integrator)?;
-            last_checkpoint = Instant::now();
-        }
+    // Passes are submitted through a pacer and everything is judged on completed passes and
+    // the time they completed (src/pacing.rs): the time limit, progress, Ctrl-C, checkpoints.
+    let goal = Goal { end_pass, time_limit: r.time_limit };
+    let mut pacer = Pacer::new(
+        Losing {
+            inner: DeviceQueue::new(integrator.as_mut(), &gpu.device, &gpu.queue),
+            at: lose_device_after.map(|n| first_pass + n),
+        },
+        first_pass,
+        goal,
+    );
+    if lose_device_after.is_some() {
+        pacer = pacer.with_max_group(1);
     }
-    save(&mut integrator)?;
+    let work_per_pass = pacer.queue().inner.integrator().work_per_pass();
+    let paced = (|| -> Result<(), Error> {
+        loop {
+            if interrupt.received().is_some() {
+                pacer.stop();
+            }
+            let Some(done) = pacer.next_completion()? else { break };
+            gpu.check()?;
+            let work = (done.passes - first_pass) as u64 * work_per_pass;
+            progress.set_position(done.passes as u64);
+            progress.set_message(format!("{:.2} M {unit}/s", work as f64 / done.seconds / 1e6));
+            if cli.checkpoint.is_some() && last_checkpoint.elapsed().as_secs_f64() >= cli.checkpoint_every {
+                pacer.drain()?;
+                gpu.check()?;
+                save(pacer.queue().inner.integrator())?;
+                last_checkpoint = Instant::now();
+            }
+        }
+        Ok(())
+    })();
+    let (most_in_flight, largest_group) = (pacer.most_passes_in_flight(), pacer.largest_group());
+    drop(pacer);
+    if let Err(e) = paced {
+        progress.finish_and_clear();
+        let last = cli.checkpoint.as_deref().zip(saved.as_ref());
+        return Err(after_a_device_error(e, integrator.as_mut(), &gpu, output, last));
+    }
+    save(integrator.as_mut())?;
     let image = integrator.image()?;
     gpu.check()?;
     let seconds = start.elapsed().as_secs_f64();
@@ -838,6 +859,10 @@ fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> {
         written.join(" and ")
     );
     if cli.stats {
+        say!(
+            "in flight: at most {most_in_flight} passes (at most {} submissions of up to {largest_group} passes)",
+            pacing::MAX_IN_FLIGHT
+        );
         print_memory(&integrator.gpu_memory());
     }
     let interrupted = interrupt.received();
@@ -850,6 +875,28 @@ fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> {
         );
     }
     Ok(interrupted.map(|(_, code)| code))
+}
+
+/// The render's queue, which loses the device before submitting pass `at` (a test hook).
+struct Losing<'a> {
+    inner: DeviceQueue<'a>,
+    at: Option<u32>,
+}
+
+impl PassQueue for Losing<'_> {
+    type Ticket = wgpu::SubmissionIndex;
+    fn submit(&mut self, count: u32) -> Result<wgpu::SubmissionIndex, Error> {
+        if self.at == Some(self.inner.integrator().passes()) {
+            self.inner.device().destroy();
+        }
+        self.inner.submit(count)
+    }
+    fn wait(&mut self, ticket: wgpu::SubmissionIndex) -> Result<(), Error> {
+        self.inner.wait(ticket)
+    }
+    fn now(&self) -> f64 {
+        self.inner.now()
+    }
 }
 
 /// The `--stats` table: every buffer, largest first, under its part.

@@ -493,3 +493,42 @@ fn passes_in_parts_match_whole_passes() {
         assert_bit_equal(&bands.image().unwrap_or_else(|e| panic!("{e}")), &whole, &format!("{method:?} bands in parts"));
     }
 }
+
+/// Several passes in one submission, as the pacer groups short passes
+/// (`sppm_gpu::pacing::DeviceQueue`), give the image of one pass a submission bit for bit,
+/// for SPPM, the path tracers and a banded image; and `run_pass`, which waits once two of its
+/// submissions are in flight, gives it too.
+#[test]
+fn passes_grouped_in_submissions_match_one_a_submission() {
+    use sppm_gpu::integrators::{self, Bands, Integrator};
+    use sppm_gpu::pacing::{DeviceQueue, PassQueue};
+    use sppm_gpu::scene::Method;
+    let Some((_adapter, device, queue)) = sppm_device() else { return };
+    const N: u32 = 6;
+    for method in [Method::Sppm, Method::PtNee, Method::Pt] {
+        let mut scene = small("cornell-spheres.toml", 9);
+        scene.render.method = method;
+        let render = |groups: &[u32], bands: bool| {
+            let mut r: Box<dyn Integrator> = if bands {
+                Box::new(Bands::new(&device, &queue, &scene, 11).unwrap_or_else(|e| panic!("{e}")))
+            } else {
+                integrators::create(&device, &queue, &scene).unwrap_or_else(|e| panic!("{e}"))
+            };
+            let mut q = DeviceQueue::new(r.as_mut(), &device, &queue);
+            let tickets: Vec<_> = groups.iter().map(|&n| q.submit(n).unwrap_or_else(|e| panic!("{e}"))).collect();
+            for t in tickets {
+                q.wait(t).unwrap_or_else(|e| panic!("{e}"));
+            }
+            assert_eq!(r.passes(), N);
+            r.image().unwrap_or_else(|e| panic!("{e}"))
+        };
+        let single = render(&[1; N as usize], false);
+        assert_bit_equal(&render(&[4, 2], false), &single, &format!("{method:?} in groups of 4 and 2"));
+        assert_bit_equal(&render(&[N], true), &single, &format!("{method:?} banded, one submission"));
+        let mut r = integrators::create(&device, &queue, &scene).unwrap_or_else(|e| panic!("{e}"));
+        for _ in 0..N {
+            r.run_pass().unwrap_or_else(|e| panic!("{e}"));
+        }
+        assert_bit_equal(&r.image().unwrap_or_else(|e| panic!("{e}")), &single, &format!("{method:?} run_pass"));
+    }
+}

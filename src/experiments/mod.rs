@@ -2,23 +2,24 @@
 //! (`compare`), parameter sweeps of SPPM (`sweep`), and images and timings over passes
 //! (`passes`). Each writes a CSV table and its figures (PNG) into one folder.
 //!
-//! Time is the wall time of the passes alone: the clock runs from just before a pass is
-//! submitted until the device has finished it (a blocking wait after every pass), and stops
-//! while a snapshot is read back and measured. Setting up an integrator (scene upload,
-//! kernel creation) is not counted.
+//! Time is the wall time of the passes alone: passes run through a [`Pacer`], which keeps the
+//! device busy (several passes a submission where they are short, the next submission queued
+//! while one runs), and the clock runs from a run's first submission until its last
+//! completion; it stops while a snapshot is read back and measured. Setting up an integrator
+//! (scene upload, kernel creation) is not counted.
 
 pub mod plot;
 
 use crate::error::Error;
-use crate::gpu::{GpuContext, GpuError};
+use crate::gpu::GpuContext;
 use crate::image_io::{self, Rgb32Image};
 use crate::integrators::{self, Integrator};
 use crate::metrics;
+use crate::pacing::{DeviceQueue, Goal, Pacer};
 use crate::scene::{DirectLight, Method, RadiusRule, RadiusSchedule, RenderSettings, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use plot::{Chart, Series, Tile};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 /// The name of a method as the scene format spells it.
 pub fn method_name(method: Method) -> &'static str {
@@ -126,34 +127,53 @@ pub fn snapshot_times(first: f64, limit: f64) -> Vec<f64> {
     times
 }
 
-/// Wait until the device has finished all submitted work.
-fn wait(device: &wgpu::Device) -> Result<(), Error> {
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| Error::Gpu(GpuError(format!("waiting for the GPU failed: {e}"))))?;
-    Ok(())
-}
+/// Seconds of passes a method runs before [`compare`] turns to the method furthest behind
+/// (a slice ends early at a snapshot's time).
+const SLICE: f64 = 0.25;
 
 /// An integrator with a clock that counts only its passes.
 struct Timed {
     integrator: Box<dyn Integrator>,
     device: wgpu::Device,
+    queue: wgpu::Queue,
+    seconds: f64,
+}
+
+/// Passes done, and the [`Timed`] clock when they completed.
+#[derive(Clone, Copy, Debug)]
+struct Done {
+    passes: u32,
+    /// Passes the completion added.
+    new_passes: u32,
     seconds: f64,
 }
 
 impl Timed {
     fn new(gpu: &GpuContext, scene: &Scene) -> Result<Self, Error> {
-        Ok(Self { integrator: integrators::create(&gpu.device, &gpu.queue, scene)?, device: gpu.device.clone(), seconds: 0.0 })
+        Ok(Self {
+            integrator: integrators::create(&gpu.device, &gpu.queue, scene)?,
+            device: gpu.device.clone(),
+            queue: gpu.queue.clone(),
+            seconds: 0.0,
+        })
     }
 
-    /// Run one pass to completion; its wall time.
-    fn pass(&mut self) -> Result<f64, Error> {
-        let start = Instant::now();
-        self.integrator.run_pass()?;
-        wait(&self.device)?;
-        let seconds = start.elapsed().as_secs_f64();
-        self.seconds += seconds;
-        Ok(seconds)
+    /// Run passes through a [`Pacer`] (the device kept busy, several passes a submission
+    /// where they are short) until pass `end_pass`, or for about `budget` seconds (at least
+    /// one pass); the clock advances by the run's wall time, from its first submission to
+    /// its last completion. Each completion, on the clock.
+    fn run(&mut self, end_pass: u32, budget: Option<f64>) -> Result<Vec<Done>, Error> {
+        let passes = self.integrator.passes();
+        let queue = DeviceQueue::new(self.integrator.as_mut(), &self.device, &self.queue);
+        let mut pacer = Pacer::new(queue, passes, Goal { end_pass, time_limit: budget });
+        let mut done = Vec::new();
+        while let Some(c) = pacer.next_completion()? {
+            done.push(Done { passes: c.passes, new_passes: c.new_passes, seconds: self.seconds + c.seconds });
+        }
+        if let Some(last) = done.last() {
+            self.seconds = last.seconds;
+        }
+        Ok(done)
     }
 
     fn passes(&self) -> u32 {
@@ -170,7 +190,7 @@ impl Timed {
 /// throwaway integrator first, so that no method's clock includes that.
 fn warm_up(gpu: &GpuContext, scene: &Scene) -> Result<(), Error> {
     let mut t = Timed::new(gpu, scene)?;
-    t.pass()?;
+    t.run(1, None)?;
     Ok(())
 }
 
@@ -332,9 +352,10 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
     let limit_ms = (opts.time_limit * 1e3) as u64;
     let bar = progress_bar(opts.methods.len() as u64 * limit_ms, "{bar:40} {msg}  {elapsed_precise}");
 
-    // Every method's integrator lives for the whole run, and the next pass always goes to the
-    // method whose clock is furthest behind: a change in the machine's load (it may be
-    // shared) then falls on all methods alike instead of on whichever runs at that moment.
+    // Every method's integrator lives for the whole run, and the next slice of passes always
+    // goes to the method whose clock is furthest behind: a change in the machine's load (it
+    // may be shared) then falls on all methods alike instead of on whichever runs at that
+    // moment.
     struct Run {
         label: &'static str,
         timed: Timed,
@@ -360,7 +381,9 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
     while let Some(run) =
         runs.iter_mut().filter(|r| r.next < times.len()).min_by(|a, b| a.timed.seconds.total_cmp(&b.timed.seconds))
     {
-        run.timed.pass()?;
+        // Up to the next snapshot, in slices of at most SLICE seconds.
+        let budget = (times[run.next] - run.timed.seconds).min(SLICE);
+        run.timed.run(run.max_passes, Some(budget))?;
         let capped = run.timed.passes() >= run.max_passes;
         let seconds = run.timed.seconds;
         if seconds >= times[run.next] || capped {
@@ -529,8 +552,11 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
         let label = value.to_string();
         let mut run = Timed::new(&gpu, s)?;
         let mut img = None;
+        // Snapshots after 1, 2, 4, ... passes and the last; the passes between run paced.
         while run.passes() < passes {
-            run.pass()?;
+            let end = (2 * run.passes()).clamp(1, passes);
+            let before = run.passes();
+            run.run(end, None)?;
             let i = run.image()?;
             let c = metrics::compare(&i, &reference, opts.downsample).map_err(Error::Setting)?;
             let snap =
@@ -543,7 +569,7 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
                 format!("{:.6e}", snap.rel_mse),
                 format!("{:.6e}", snap.rmse),
             ]);
-            bar.inc(1);
+            bar.inc((run.passes() - before) as u64);
             bar.set_message(format!("{}: relMSE {}", opts.param.label(value), sci(c.rel_mse)));
             snapshots.push(snap);
             img = Some(i);
@@ -650,23 +676,29 @@ pub fn passes(scene: &Scene, name: &str, opts: &PassesOptions) -> Result<Vec<Pas
     let mut times = Vec::new();
     let mut tiles = Vec::new();
     let mut rows = Vec::new();
-    while run.passes() < last {
-        let t = run.pass()?;
-        times.push(PassTime { pass: run.passes(), seconds: t });
-        rows.push(vec![run.passes().to_string(), format!("{t:.4}"), format!("{:.3}", run.seconds)]);
-        bar.inc(1);
-        bar.set_message(format!("{:.0} ms/pass", t * 1e3));
-        if snaps.contains(&run.passes()) {
-            let img = run.image()?;
-            let n = run.passes();
-            let mut caption = vec![format!("{n} pass{}, {:.1} s", if n == 1 { "" } else { "es" }, run.seconds)];
-            if let Some(r) = &reference {
-                let c = metrics::compare(&img, r, opts.downsample).map_err(Error::Setting)?;
-                caption.push(format!("relMSE {}", sci(c.rel_mse)));
+    // The passes up to each snapshot run paced; a pass's time is its submission's wall time
+    // (from the completion before it) shared among the submission's passes.
+    for &snap in &snaps {
+        let mut since = run.seconds;
+        for done in run.run(snap, None)? {
+            let t = (done.seconds - since) / done.new_passes as f64;
+            since = done.seconds;
+            for pass in done.passes - done.new_passes + 1..=done.passes {
+                times.push(PassTime { pass, seconds: t });
+                rows.push(vec![pass.to_string(), format!("{t:.4}"), format!("{:.3}", since - t * (done.passes - pass) as f64)]);
             }
-            note(&bar, caption.join(", "));
-            tiles.push(Tile::render(&img, caption));
+            bar.inc(done.new_passes as u64);
+            bar.set_message(format!("{:.1} ms/pass", t * 1e3));
         }
+        let img = run.image()?;
+        let n = run.passes();
+        let mut caption = vec![format!("{n} pass{}, {:.1} s", if n == 1 { "" } else { "es" }, run.seconds)];
+        if let Some(r) = &reference {
+            let c = metrics::compare(&img, r, opts.downsample).map_err(Error::Setting)?;
+            caption.push(format!("relMSE {}", sci(c.rel_mse)));
+        }
+        note(&bar, caption.join(", "));
+        tiles.push(Tile::render(&img, caption));
     }
     bar.finish_and_clear();
 

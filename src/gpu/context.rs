@@ -86,35 +86,26 @@ impl GpuContext {
     /// [`GpuContext::new`] with the device's limits passed through `adjust` first: lower
     /// ones make a device that behaves like a smaller GPU (tests use this to make large
     /// images go in bands).
+    /// Where the environment variable `SPPM_GPU_ADAPTER` is set, its adapter
+    /// ([`GpuContext::with_adapter`]'s selector): a machine with both lavapipe and a GPU runs
+    /// its tests on the one it names.
     pub fn with_limits(adjust: impl FnOnce(wgpu::Limits) -> wgpu::Limits) -> Result<Self, GpuError> {
-        Self::on_instance(&Self::instance(), None, adjust)
+        let instance = Self::instance();
+        match std::env::var(ADAPTER_VARIABLE) {
+            Ok(selector) if !selector.trim().is_empty() => {
+                let adapter = select_adapter(&instance, &selector)
+                    .map_err(|GpuError(e)| GpuError(format!("{ADAPTER_VARIABLE}={selector}: {e}")))?;
+                Self::on_adapter(adapter, adjust)
+            }
+            _ => Self::on_instance(&instance, None, adjust),
+        }
     }
 
     /// [`GpuContext::new`] on the adapter `selector` names: its index in [`adapters`], or a
     /// part of its name (case-insensitive) that no other adapter's name has. One process per
     /// GPU of a machine picks its GPU this way (Vulkan does not see `CUDA_VISIBLE_DEVICES`).
     pub fn with_adapter(selector: &str) -> Result<Self, GpuError> {
-        let instance = Self::instance();
-        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::PRIMARY));
-        let list =
-            || adapters.iter().enumerate().map(|(i, a)| format!("{i}: {}", a.get_info().name)).collect::<Vec<_>>().join(", ");
-        let chosen = match selector.trim().parse::<usize>() {
-            Ok(i) => adapters.get(i).ok_or_else(|| GpuError(format!("no adapter {i}; the adapters are {}", list())))?,
-            Err(_) => {
-                let want = selector.to_lowercase();
-                let mut found = adapters.iter().filter(|a| a.get_info().name.to_lowercase().contains(&want));
-                match (found.next(), found.next()) {
-                    (Some(a), None) => a,
-                    (None, _) => {
-                        return Err(GpuError(format!("no adapter's name contains `{selector}`; the adapters are {}", list())))
-                    }
-                    (Some(_), Some(_)) => {
-                        return Err(GpuError(format!("several adapters' names contain `{selector}`: {}; give an index", list())))
-                    }
-                }
-            }
-        };
-        Self::on_adapter(chosen.clone(), |limits| limits)
+        Self::on_adapter(select_adapter(&Self::instance(), selector)?, |limits| limits)
     }
 
     /// The instance [`GpuContext::new`] makes its device on: Vulkan, Metal or DX12. An
@@ -193,4 +184,32 @@ impl GpuContext {
             None => Ok(()),
         }
     }
+}
+
+/// The environment variable that picks the adapter of [`GpuContext::new`] (an index or a
+/// part of a name, as `--adapter`).
+pub const ADAPTER_VARIABLE: &str = "SPPM_GPU_ADAPTER";
+
+/// The adapter of `instance` that `selector` names: its index in [`adapters`], or a part of
+/// its name (case-insensitive) that no other adapter's name has.
+pub fn select_adapter(instance: &wgpu::Instance, selector: &str) -> Result<wgpu::Adapter, GpuError> {
+    let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::PRIMARY));
+    let list = || adapters.iter().enumerate().map(|(i, a)| format!("{i}: {}", a.get_info().name)).collect::<Vec<_>>().join(", ");
+    let chosen = match selector.trim().parse::<usize>() {
+        Ok(i) => adapters.get(i).ok_or_else(|| GpuError(format!("no adapter {i}; the adapters are {}", list())))?,
+        Err(_) => {
+            let want = selector.to_lowercase();
+            let mut found = adapters.iter().filter(|a| a.get_info().name.to_lowercase().contains(&want));
+            match (found.next(), found.next()) {
+                (Some(a), None) => a,
+                (None, _) => {
+                    return Err(GpuError(format!("no adapter's name contains `{selector}`; the adapters are {}", list())))
+                }
+                (Some(_), Some(_)) => {
+                    return Err(GpuError(format!("several adapters' names contain `{selector}`: {}; give an index", list())))
+                }
+            }
+        }
+    };
+    Ok(chosen.clone())
 }

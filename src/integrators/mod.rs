@@ -62,9 +62,14 @@ impl PartSize {
 /// the estimate into their own texture ([`Integrator::record_resolve_to_texture`]); nothing
 /// is submitted but by them. [`Integrator::set_camera`] and [`Integrator::reset`] start over.
 pub trait Integrator {
-    /// Run one more pass to completion (submitted; `image` waits for it).
+    /// Record one more pass and submit it, first waiting for the oldest of this integrator's
+    /// submissions if [`crate::pacing::MAX_IN_FLIGHT`] are in flight, so that a loop of
+    /// `run_pass` never queues more than that on the device. [`Integrator::image`] waits for
+    /// it. A render loop that keeps a fast device busy and judges time on completed passes
+    /// drives [`Integrator::record_pass`] through a [`crate::pacing::Pacer`] instead.
     fn run_pass(&mut self) -> Result<(), Error>;
-    /// Passes completed.
+    /// Passes recorded: once [`Integrator::image`] or [`Integrator::state`] has waited for
+    /// them, passes completed.
     fn passes(&self) -> u32;
     /// What one pass adds, for progress and reports: photons for SPPM, camera samples (one
     /// per pixel) for the path tracers.

@@ -34,6 +34,8 @@ pub struct PathTracer {
     frame_buffer: wgpu::Buffer,
     radiance: wgpu::Buffer,
     radiance_staging: wgpu::Buffer,
+    /// [`Integrator::run_pass`]'s submissions in flight.
+    submissions: crate::pacing::Submissions,
     // Kept alive for the bind group.
     _scene: Arc<SceneBuffers>,
 }
@@ -116,6 +118,7 @@ impl PathTracer {
             frame_buffer,
             radiance_staging: staging_buffer(device, "radiance_staging", bytes),
             radiance,
+            submissions: crate::pacing::Submissions::new(),
             _scene: scene_buffers,
         })
     }
@@ -125,8 +128,7 @@ impl Integrator for PathTracer {
     fn run_pass(&mut self) -> Result<(), Error> {
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("path_trace") });
         self.record_pass(&mut encoder);
-        self.queue.submit([encoder.finish()]);
-        Ok(())
+        self.submissions.submit(&self.device, &self.queue, encoder.finish())
     }
 
     /// Pixels `next_pixel..` of this pass, at most `size.points` of them.

@@ -278,6 +278,8 @@ pub struct Sppm {
 
     buffers: Buffers,
     image_staging: wgpu::Buffer,
+    /// [`Sppm::run_pass`]'s submissions in flight.
+    submissions: crate::pacing::Submissions,
 }
 
 /// Every buffer the kernels bind, each under the name of its WGSL global.
@@ -554,6 +556,7 @@ impl Sppm {
             resolve_texture: [None, None],
             image_staging: staging_buffer(device, "image_staging", pixel_count as u64 * 16),
             buffers,
+            submissions: crate::pacing::Submissions::new(),
         })
     }
 
@@ -572,12 +575,12 @@ impl Sppm {
         self.initial_radius
     }
 
-    /// Run one SPPM pass: record it (the four stages below) and submit it.
+    /// Run one SPPM pass: record it (the four stages below) and submit it, first waiting for
+    /// the oldest pass in flight if [`crate::pacing::MAX_IN_FLIGHT`] are.
     pub fn run_pass(&mut self) -> Result<(), Error> {
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("sppm pass") });
         Integrator::record_pass(self, &mut encoder);
-        self.queue.submit([encoder.finish()]);
-        Ok(())
+        self.submissions.submit(&self.device, &self.queue, encoder.finish())
     }
 
     /// Bytes of [`Integrator::state`]'s buffers: the statistics and, under the adaptive radius
