@@ -385,9 +385,11 @@ fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Resul
     }
     positive("iterations", cli.iterations, u32::MAX, &mut render.iterations)?;
     positive("photons", cli.photons, u32::MAX, &mut render.photons)?;
+    render.work_given.photons |= cli.photons.is_some();
     positive("width", cli.width, 16384, &mut render.width)?;
     positive("height", cli.height, 16384, &mut render.height)?;
     positive("spp", cli.spp, 1024, &mut render.spp)?;
+    render.work_given.spp |= cli.spp.is_some();
     positive("max-depth", cli.max_depth, 1024, &mut render.max_depth)?;
     if cli.direct_samples.is_some() {
         let mut n = 1;
@@ -725,11 +727,12 @@ fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> {
     if cli.passes.is_some() && (cli.checkpoint.is_some() || cli.resume.is_some()) {
         return Err(Error::Setting("--passes renders a batch: it takes no --checkpoint or --resume".into()));
     }
-    let (scene, _) = load_scene(scene_path, &cli.overrides)?;
+    let (mut scene, _) = load_scene(scene_path, &cli.overrides)?;
     let gpu = match &cli.adapter {
         Some(selector) => GpuContext::with_adapter(selector)?,
         None => GpuContext::new()?,
     };
+    scene.render.fit_pass_work(gpu.pass_work());
     check_memory(&gpu, &scene, cli.memory_limit)?;
     for warning in integrators::limitations(&scene) {
         eprintln!("warning: {}: {warning}", scene.path.display());
@@ -920,8 +923,9 @@ fn print_memory(memory: &integrators::GpuMemory) {
 
 /// Run the scene's passes with a wait after each stage and print where the time goes.
 fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
-    let (scene, _) = load_scene(scene_path, overrides)?;
+    let (mut scene, _) = load_scene(scene_path, overrides)?;
     let gpu = GpuContext::new()?;
+    scene.render.fit_pass_work(gpu.pass_work());
     let mut sppm = Sppm::new(&gpu.device, &gpu.queue, &scene)?;
     let r = &scene.render;
     // One untimed pass first: the driver may compile kernels at their first dispatch.

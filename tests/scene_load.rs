@@ -822,3 +822,32 @@ fn materials_lights_and_crop_beyond_v1() {
     assert_eq!(crop.camera.crop, Some(CropWindow { min: Vec2::new(0.25, 0.0), max: Vec2::new(0.75, 0.5) }));
     assert_error(&edit("fov = 40\n", "fov = 40\ncrop = [0.5, 0, 0.25, 1]\n"), 10, "camera.crop", &["x0 < x1"]);
 }
+
+/// Photons and samples a pass that the scene leaves out follow the device
+/// (`RenderSettings::fit_pass_work` with `GpuContext::pass_work`); those it gives, or that the
+/// builder sets, stay.
+#[test]
+fn pass_work_left_out_follows_the_device() {
+    use sppm_gpu::scene::{PassWork, WorkGiven};
+    let device = PassWork { photons: 7_000, spp: 3 };
+    let mut r = load_ok(&edit("iterations = 1", "iterations = 1")).render;
+    assert_eq!(r.work_given, WorkGiven::default());
+    assert_eq!((r.photons, r.spp), (PassWork::DEFAULT.photons, PassWork::DEFAULT.spp));
+    r.fit_pass_work(device);
+    assert_eq!((r.photons, r.spp), (7_000, 3));
+    let mut r = load_ok(&edit("iterations = 1", "iterations = 1\nphotons = 5000")).render;
+    assert_eq!(r.work_given, WorkGiven { photons: true, spp: false });
+    r.fit_pass_work(device);
+    assert_eq!((r.photons, r.spp), (5_000, 3));
+    let mut r = sppm_gpu::scene::SceneBuilder::new(8, 8)
+        .camera(Vec3::Z, Vec3::ZERO, Vec3::Y, 40.0)
+        .point_light(Vec3::Y, [1.0; 3])
+        .spp(2)
+        .photons(100)
+        .build()
+        .unwrap()
+        .render;
+    assert_eq!(r.work_given, WorkGiven::ALL);
+    r.fit_pass_work(device);
+    assert_eq!((r.photons, r.spp), (100, 2));
+}

@@ -348,6 +348,9 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
     let reference = load_reference(&opts.reference, scene, opts.downsample)?;
     create_dir(&opts.out)?;
     let gpu = GpuContext::new()?;
+    let mut fitted = scene.clone();
+    fitted.render.fit_pass_work(gpu.pass_work());
+    let scene = &fitted;
     let times = snapshot_times(opts.first_snapshot, opts.time_limit);
     let limit_ms = (opts.time_limit * 1e3) as u64;
     let bar = progress_bar(opts.methods.len() as u64 * limit_ms, "{bar:40} {msg}  {elapsed_precise}");
@@ -497,7 +500,10 @@ impl SweepParam {
         match self {
             Self::Radius if value > 0.0 && value.is_finite() => render.radius = Some(value as f32),
             Self::Alpha if value > 0.0 && value < 1.0 => render.alpha = value as f32,
-            Self::Photons if value >= 1.0 && value <= u32::MAX as f64 && value.fract() == 0.0 => render.photons = value as u32,
+            Self::Photons if value >= 1.0 && value <= u32::MAX as f64 && value.fract() == 0.0 => {
+                render.photons = value as u32;
+                render.work_given.photons = true;
+            }
             Self::RadiusSchedule if value == 0.0 || value == 1.0 => {
                 render.radius_schedule = if value == 1.0 { RadiusSchedule::Global } else { RadiusSchedule::PerPoint }
             }
@@ -540,6 +546,9 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
     let reference = load_reference(&opts.reference, scene, opts.downsample)?;
     create_dir(&opts.out)?;
     let gpu = GpuContext::new()?;
+    for s in &mut settings {
+        s.render.fit_pass_work(gpu.pass_work());
+    }
     let passes = scene.render.iterations;
     let bar = progress_bar(opts.values.len() as u64 * passes as u64, "{bar:40} {pos}/{len} passes  {msg}  {elapsed_precise}");
     warm_up(&gpu, &settings[0])?;
@@ -670,6 +679,7 @@ pub fn passes(scene: &Scene, name: &str, opts: &PassesOptions) -> Result<Vec<Pas
     create_dir(&opts.out)?;
     let gpu = GpuContext::new()?;
     let mut s = scene.clone();
+    s.render.fit_pass_work(gpu.pass_work());
     s.render.iterations = last;
     let bar = progress_bar(last as u64, "{bar:40} {pos}/{len} passes  {msg}  {elapsed_precise}");
     let mut run = Timed::new(&gpu, &s)?;

@@ -175,6 +175,19 @@ impl GpuContext {
         Ok(Self { device, queue, adapter_info: adapter.get_info(), adapter, errors })
     }
 
+    /// The work of an SPPM pass where the scene does not set it, by kind of device: a CPU
+    /// device (lavapipe) or a GPU. Chosen from the adapter, never from timings, so that one
+    /// scene and seed give one image on one machine. Today both are the values chosen on
+    /// lavapipe ([`crate::scene::PassWork::DEFAULT`]): the GPU's own are owed a measurement of
+    /// equal-time error against photons and samples a pass on a GPU (BENCHMARKS.md, "Pacing:
+    /// time limit, Ctrl-C and throughput").
+    pub fn pass_work(&self) -> crate::scene::PassWork {
+        match self.adapter_info.device_type {
+            wgpu::DeviceType::Cpu => crate::scene::PassWork::DEFAULT,
+            _ => crate::scene::PassWork::DEFAULT,
+        }
+    }
+
     /// The first error the device has reported since it was made, as an `Err`: callers check
     /// after submitting work, so a lost device or an exhausted GPU ends the run with a message
     /// rather than a panic or a hang.

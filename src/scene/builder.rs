@@ -111,8 +111,8 @@ impl SceneBuilder {
                 height,
                 method: Method::Sppm,
                 iterations: 1,
-                spp: 1,
-                photons: 100_000,
+                spp: super::PassWork::DEFAULT.spp,
+                photons: super::PassWork::DEFAULT.photons,
                 radius: None,
                 alpha: 0.6667,
                 max_depth: 64,
@@ -124,6 +124,7 @@ impl SceneBuilder {
                 radius_rule: super::RadiusRule::Shrink,
                 filter: super::PixelFilter::Box,
                 sampler: crate::sampler::Sampler::DEFAULT,
+                work_given: super::WorkGiven::default(),
             },
             camera: None,
             lens: None,
@@ -183,12 +184,14 @@ impl SceneBuilder {
     /// Camera samples per pixel in each pass (`render.spp`, >= 1).
     pub fn spp(mut self, spp: u32) -> Self {
         self.render.spp = spp;
+        self.render.work_given.spp = true;
         self
     }
 
     /// Photons per pass (`render.photons`, >= 1).
     pub fn photons(mut self, photons: u32) -> Self {
         self.render.photons = photons;
+        self.render.work_given.photons = true;
         self
     }
 

@@ -198,8 +198,8 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         height: t.req("height", |v| v.u32_in(1, MAX_RESOLUTION))?,
         method: t.or("method", Method::Sppm, |v| v.choice("method", &methods))?,
         iterations: t.req("iterations", Value::count)?,
-        spp: t.or("spp", 1, Value::count)?,
-        photons: t.or("photons", 100_000, Value::count)?,
+        spp: t.or("spp", super::PassWork::DEFAULT.spp, Value::count)?,
+        photons: t.or("photons", super::PassWork::DEFAULT.photons, Value::count)?,
         radius: t.opt("radius", |v| v.f32_in(Bound::Positive))?,
         alpha: t.or("alpha", 0.6667, |v| v.f32_in(Bound::Open(0.0, 1.0)))?,
         max_depth: t.or("max_depth", 64, Value::count)?,
@@ -211,6 +211,7 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         radius_rule: read_radius_rule(t, &rules)?,
         filter: read_filter(t)?,
         sampler: t.or("sampler", crate::sampler::Sampler::DEFAULT, |v| v.choice("sampler", &samplers))?,
+        work_given: super::WorkGiven { photons: t.get("photons").is_some(), spp: t.get("spp").is_some() },
     })
 }
 

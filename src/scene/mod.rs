@@ -175,6 +175,53 @@ pub struct RenderSettings {
     /// Where the kernels' random numbers come from (`sampler`: `"independent"` or
     /// `"sobol"`; default [`crate::sampler::Sampler::DEFAULT`]).
     pub sampler: crate::sampler::Sampler,
+    /// Which of a pass's work settings (`photons`, `spp`) the scene or the command line gave:
+    /// the others are the loader's defaults until [`RenderSettings::fit_pass_work`] sets them
+    /// for the device.
+    pub work_given: WorkGiven,
+}
+
+/// Which of [`PassWork`]'s settings a scene gave.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WorkGiven {
+    /// `photons` was given.
+    pub photons: bool,
+    /// `spp` was given.
+    pub spp: bool,
+}
+
+impl WorkGiven {
+    /// Both given: nothing follows the device.
+    pub const ALL: WorkGiven = WorkGiven { photons: true, spp: true };
+}
+
+/// The work of one SPPM pass: photons, and camera samples per pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PassWork {
+    /// Photons a pass.
+    pub photons: u32,
+    /// Camera samples per pixel a pass.
+    pub spp: u32,
+}
+
+impl PassWork {
+    /// The loader's defaults, chosen on a CPU device (lavapipe) and today also those of GPUs
+    /// (`gpu::GpuContext::pass_work`): 100,000 photons and one camera sample a pass.
+    pub const DEFAULT: PassWork = PassWork { photons: 100_000, spp: 1 };
+}
+
+impl RenderSettings {
+    /// Give the work settings the scene did not give ([`RenderSettings::work_given`]) the
+    /// values of `work`: the device's defaults, chosen from its kind, never from timings, so
+    /// one scene and seed give one image on one machine.
+    pub fn fit_pass_work(&mut self, work: PassWork) {
+        if !self.work_given.photons {
+            self.photons = work.photons;
+        }
+        if !self.work_given.spp {
+            self.spp = work.spp;
+        }
+    }
 }
 
 /// The `[camera]` table.

@@ -286,7 +286,9 @@ impl App {
         let mut display = DisplayParams::fit([w, h], [config.width, config.height]);
         display.exposure = 2f32.powf(self.options.exposure);
         display.surface_srgb = format.is_srgb() as u32;
-        let renderer = integrators::create(&gpu.device, &gpu.queue, scene)?;
+        let mut scene = scene.clone();
+        scene.render.fit_pass_work(gpu.pass_work());
+        let renderer = integrators::create(&gpu.device, &gpu.queue, &scene)?;
         let blit = Blit::new(&gpu.device, format);
         let now = Instant::now();
         Ok(View {
@@ -533,6 +535,7 @@ impl View {
         if !self.renderers.iter().any(|(m, _)| *m == self.method) {
             let mut scene = scene.clone();
             scene.render.method = self.method;
+            scene.render.fit_pass_work(self.gpu.pass_work());
             scene.camera = self.camera.clone();
             let renderer = integrators::create(&self.gpu.device, &self.gpu.queue, &scene)?;
             self.renderers.push((self.method, renderer));

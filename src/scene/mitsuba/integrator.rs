@@ -54,8 +54,8 @@ pub(super) fn render_settings(
         height: sensor.height,
         method: Method::Sppm,
         iterations: sensor.sample_count,
-        spp: 1,
-        photons: 100_000,
+        spp: crate::scene::PassWork::DEFAULT.spp,
+        photons: crate::scene::PassWork::DEFAULT.photons,
         radius: None,
         alpha: 0.6667,
         max_depth: UNBOUNDED_DEPTH,
@@ -67,6 +67,7 @@ pub(super) fn render_settings(
         radius_rule: crate::scene::RadiusRule::Shrink,
         filter: sensor.filter,
         sampler: sensor.sampler,
+        work_given: crate::scene::WorkGiven::default(),
     };
     if let Some(node) = integrator {
         read_integrator(node, &mut render, shading_normals)?;
@@ -99,7 +100,9 @@ fn read_integrator(node: &Node, render: &mut RenderSettings, shading_normals: bo
         }
         "sppm" | "ppm" => {
             render.max_depth = max_depth(&p, -1)?;
+            // Mitsuba 0.6's default is the file's meaning: given.
             render.photons = 250_000;
+            render.work_given.photons = true;
             if let Some(n) = p.integer("photon_count")? {
                 render.photons = u32::try_from(n).ok().filter(|&n| n > 0).ok_or_else(|| {
                     p.get("photon_count").unwrap().error(Some("photon_count"), format!("photon_count {n} is not positive"))
