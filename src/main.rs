@@ -85,7 +85,7 @@ struct Overrides {
     /// Random seed (overrides render.seed).
     #[arg(long)]
     seed: Option<u32>,
-    /// Stop after the pass that crosses this many seconds (overrides render.time_limit).
+    /// Stop at the pass boundary nearest this many seconds of completed passes (overrides render.time_limit).
     #[arg(long)]
     time_limit: Option<f64>,
     /// Image width in pixels (overrides render.width).
@@ -671,8 +671,8 @@ fn check_memory(gpu: &GpuContext, scene: &scene::Scene, limit: Option<u64>) -> R
     )))
 }
 
-/// SIGINT and SIGTERM during a render: the first ends it after the pass under way, and the
-/// image of the passes done is written; a second exits at once (130 or 143, as a shell
+/// SIGINT and SIGTERM during a render: the first ends it after the passes in flight (nothing
+/// more is submitted), and the image of the passes done is written; a second exits at once (130 or 143, as a shell
 /// reports a process killed by the signal).
 struct Interrupt {
     /// Set by the first signal.

@@ -158,7 +158,8 @@ pub struct RenderSettings {
     pub max_depth: u32,
     /// Seed of every random stream: the same seed gives the same image (default 0).
     pub seed: u32,
-    /// Stop after the pass that crosses this many seconds; `None` runs every iteration.
+    /// Stop at the pass boundary nearest this many seconds, judged on passes the device has
+    /// completed (`pacing`); at least one pass runs. `None` runs every iteration.
     pub time_limit: Option<f64>,
     /// SPPM's source of direct light (`direct`: `"sampled"`, the default, or `"photons"`).
     pub direct: DirectLight,
