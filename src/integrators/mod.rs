@@ -256,6 +256,58 @@ pub fn memory_need(device: &wgpu::Device, scene: &Scene) -> MemoryNeed {
     MemoryNeed { scene: scene_bytes, renderer, host: r.width as u64 * r.height as u64 * 40 }
 }
 
+/// Bytes of memory the host can still give: `MemAvailable` in /proc/meminfo (Linux).
+fn available_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Refuse at once a render of `scene` on `device` (of `adapter`) that needs more memory than
+/// it can have: `limit` when given (device buffers and host image together), else on a CPU
+/// device (whose buffers are host memory) the host's available memory. A render that does not fit would otherwise grow
+/// until the system kills it, with nothing written.
+pub fn check_memory(device: &wgpu::Device, adapter: &wgpu::AdapterInfo, scene: &Scene, limit: Option<u64>) -> Result<(), Error> {
+    let need = memory_need(device, scene);
+    let cpu_device = adapter.device_type == wgpu::DeviceType::Cpu;
+    let (total, have, source) = match limit {
+        Some(limit) => (need.gpu() + need.host, limit, "the --memory-limit"),
+        None if cpu_device => match available_memory() {
+            Some(available) => {
+                (need.gpu() + need.host, available, "the host's available memory (a CPU device's buffers are host memory)")
+            }
+            None => return Ok(()),
+        },
+        None => match available_memory() {
+            Some(available) => (need.host, available, "the host's available memory"),
+            None => return Ok(()),
+        },
+    };
+    if total <= have {
+        return Ok(());
+    }
+    let r = &scene.render;
+    let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+    let pixels = (r.width as u64 * r.height as u64).max(1);
+    Err(Error::Setting(format!(
+        "{}: a {}x{} image (spp {}) needs about {:.1} GiB: {:.1} GiB of device buffers ({} bytes a pixel, the scene's {:.2} GiB \
+         included) and {:.1} GiB for the image on the host; that is more than {} ({:.1} GiB). Render it smaller, or raise \
+         --memory-limit",
+        scene.path.display(),
+        r.width,
+        r.height,
+        r.spp,
+        gib(total),
+        gib(need.gpu()),
+        need.renderer / pixels,
+        gib(need.scene),
+        gib(need.host),
+        source,
+        gib(have)
+    )))
+}
+
 /// Rows of `scene`'s image that one integrator of `scene.render.method` holds on `device`;
 /// [`create`] splits taller images into [`Bands`] of this many rows.
 pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {

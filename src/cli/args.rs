@@ -1,0 +1,234 @@
+//! What the subcommands share: the overrides of a scene's `[render]` table, loading a scene
+//! with them, and the checks and parsers of their arguments (cargo's `command_prelude.rs`).
+
+use sppm_gpu::scene::{self, DirectLight, Method, RadiusSchedule};
+use sppm_gpu::Error;
+use std::path::Path;
+
+/// Settings that override the scene's `[render]` table.
+#[derive(clap::Args, Debug, Default)]
+pub(crate) struct Overrides {
+    /// SPPM passes (overrides render.iterations).
+    #[arg(long)]
+    pub(crate) iterations: Option<u32>,
+    /// Photons per pass (overrides render.photons).
+    #[arg(long)]
+    pub(crate) photons: Option<u32>,
+    /// Initial gather radius in scene units (overrides render.radius).
+    #[arg(long)]
+    pub(crate) radius: Option<f32>,
+    /// Radius reduction parameter, 0 < alpha < 1 (overrides render.alpha).
+    #[arg(long)]
+    pub(crate) alpha: Option<f32>,
+    /// Random seed (overrides render.seed).
+    #[arg(long)]
+    pub(crate) seed: Option<u32>,
+    /// Stop at the pass boundary nearest this many seconds of completed passes (overrides render.time_limit).
+    #[arg(long)]
+    pub(crate) time_limit: Option<f64>,
+    /// Image width in pixels (overrides render.width).
+    #[arg(long)]
+    pub(crate) width: Option<u32>,
+    /// Image height in pixels (overrides render.height).
+    #[arg(long)]
+    pub(crate) height: Option<u32>,
+    /// Rendering method: sppm, pt (naive path tracing) or pt-nee (next-event estimation with
+    /// MIS) (overrides render.method).
+    #[arg(long, value_parser = ["sppm", "pt", "pt-nee"])]
+    pub(crate) method: Option<String>,
+    /// Camera samples per pixel in each pass (overrides render.spp).
+    #[arg(long)]
+    pub(crate) spp: Option<u32>,
+    /// Most scattering events on a path (overrides render.max_depth).
+    #[arg(long)]
+    pub(crate) max_depth: Option<u32>,
+    /// SPPM's direct light: sampled in the camera pass (default) or from photons alone, as
+    /// in the original algorithm (overrides render.direct).
+    #[arg(long, value_parser = ["sampled", "photons"])]
+    pub(crate) direct: Option<String>,
+    /// SPPM with sampled direct light: camera paths per visible point per pass that gather
+    /// direct light (overrides render.direct_samples; default automatic).
+    #[arg(long)]
+    pub(crate) direct_samples: Option<u32>,
+    /// SPPM's radius schedule: per-point (each visible point's radius shrinks with its
+    /// photons; default) or global (the radius of pass i depends on i alone, so passes can
+    /// run in batches; Knaus & Zwicker 2011) (overrides render.radius_schedule).
+    #[arg(long, value_parser = ["per-point", "global"])]
+    pub(crate) radius_schedule: Option<String>,
+    /// How each SPPM visible point's radius shrinks (per-point schedule): shrink (by alpha of
+    /// each pass's photons; default) or adaptive (by alpha only where its photons stop looking
+    /// uniform over its disc, by a chi-square test) (overrides render.radius_rule).
+    #[arg(long, value_parser = ["shrink", "adaptive"])]
+    pub(crate) radius_rule: Option<String>,
+    /// Where the kernels' random numbers come from: independent (PCG streams) or sobol
+    /// (Owen-scrambled Sobol points) (overrides render.sampler).
+    #[arg(long, value_parser = ["independent", "sobol"])]
+    pub(crate) sampler: Option<String>,
+    /// Set a Mitsuba XML scene's parameter `$name`, as Mitsuba's own `-D name=value` (over the
+    /// file's `<default>`); repeatable.
+    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
+    pub(crate) defines: Vec<(String, String)>,
+}
+
+/// `NAME=VALUE` of `-D`.
+pub(crate) fn parse_define(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((name, value)) if !name.is_empty() => Ok((name.to_owned(), value.to_owned())),
+        _ => Err(format!("\"{text}\" is not NAME=VALUE")),
+    }
+}
+
+/// Load a scene and apply the command line's overrides; also its name (the file stem).
+pub(crate) fn load_scene(path: &Path, overrides: &Overrides) -> Result<(scene::Scene, String), Error> {
+    let mut scene = scene::load_with(path, &overrides.defines)?;
+    // A Mitsuba film's size sets its field of view along one axis: one of --width and
+    // --height alone keeps the file's aspect ratio, and so the framing.
+    if scene::is_mitsuba_xml(path) {
+        let (w, h) = (scene.render.width as f64, scene.render.height as f64);
+        match (overrides.width, overrides.height) {
+            (Some(width), None) => scene.render.height = ((width as f64 * h / w).round() as u32).max(1),
+            (None, Some(height)) => scene.render.width = ((height as f64 * w / h).round() as u32).max(1),
+            _ => {}
+        }
+    }
+    apply_overrides(overrides, &mut scene.render)?;
+    let name = path.file_stem().map_or_else(|| path.display().to_string(), |s| s.to_string_lossy().into_owned());
+    Ok((scene, name))
+}
+
+/// Apply the command line's overrides to the scene's `[render]` table, checking each.
+pub(crate) fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Result<(), Error> {
+    fn positive(flag: &str, v: Option<u32>, max: u32, dst: &mut u32) -> Result<(), Error> {
+        if let Some(v) = v {
+            if v == 0 || v > max {
+                return Err(Error::Setting(format!("--{flag} must be between 1 and {max}, got {v}")));
+            }
+            *dst = v;
+        }
+        Ok(())
+    }
+    positive("iterations", cli.iterations, u32::MAX, &mut render.iterations)?;
+    positive("photons", cli.photons, u32::MAX, &mut render.photons)?;
+    render.work_given.photons |= cli.photons.is_some();
+    positive("width", cli.width, 16384, &mut render.width)?;
+    positive("height", cli.height, 16384, &mut render.height)?;
+    positive("spp", cli.spp, 1024, &mut render.spp)?;
+    render.work_given.spp |= cli.spp.is_some();
+    positive("max-depth", cli.max_depth, 1024, &mut render.max_depth)?;
+    if cli.direct_samples.is_some() {
+        let mut n = 1;
+        positive("direct-samples", cli.direct_samples, scene::MAX_DIRECT_SAMPLES, &mut n)?;
+        render.direct_samples = Some(n);
+    }
+    if let Some(r) = cli.radius {
+        if !(r > 0.0 && r.is_finite()) {
+            return Err(Error::Setting(format!("--radius must be a positive number, got {r}")));
+        }
+        render.radius = Some(r);
+    }
+    if let Some(a) = cli.alpha {
+        if !(a > 0.0 && a < 1.0) {
+            return Err(Error::Setting(format!("--alpha must be between 0 and 1 (exclusive), got {a}")));
+        }
+        render.alpha = a;
+    }
+    if let Some(t) = cli.time_limit {
+        if !(t > 0.0 && t.is_finite()) {
+            return Err(Error::Setting(format!("--time-limit must be a positive number of seconds, got {t}")));
+        }
+        render.time_limit = Some(t);
+    }
+    if let Some(s) = cli.seed {
+        render.seed = s;
+    }
+    if let Some(m) = &cli.method {
+        render.method = match m.as_str() {
+            "pt" => Method::Pt,
+            "pt-nee" => Method::PtNee,
+            _ => Method::Sppm,
+        };
+    }
+    if let Some(d) = &cli.direct {
+        render.direct = if d == "photons" { DirectLight::Photons } else { DirectLight::Sampled };
+    }
+    if let Some(s) = &cli.radius_schedule {
+        render.radius_schedule = if s == "global" { RadiusSchedule::Global } else { RadiusSchedule::PerPoint };
+    }
+    if let Some(s) = &cli.radius_rule {
+        render.radius_rule = if s == "adaptive" { scene::RadiusRule::Adaptive } else { scene::RadiusRule::Shrink };
+    }
+    if let Some(s) = &cli.sampler {
+        render.sampler = if s == "sobol" { sppm_gpu::sampler::Sampler::Sobol } else { sppm_gpu::sampler::Sampler::Independent };
+    }
+    Ok(())
+}
+
+/// Refuse, before anything is loaded or rendered, outputs that would replace their input (the
+/// scene, or a part to merge) or cannot be written as an image: a wrong extension, a
+/// directory that does not exist, a directory or file that cannot be written.
+pub(crate) fn check_output(output: &Path, input: &Path) -> Result<(), Error> {
+    let ext = output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if !matches!(ext.as_deref(), Some("png") | Some("exr")) {
+        return Err(Error::Setting(format!("{}: the output must end in .png or .exr", output.display())));
+    }
+    let dir = match output.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(Error::Setting(format!("{}: the output's directory {} does not exist", output.display(), dir.display())));
+    }
+    if output.is_dir() {
+        return Err(Error::Setting(format!("{}: the output is a directory", output.display())));
+    }
+    let cannot = |e: std::io::Error| Error::Setting(format!("{}: the output cannot be written: {e}", output.display()));
+    if output.exists() {
+        // Opened for writing without truncating: the file is left as it is.
+        std::fs::OpenOptions::new().write(true).open(output).map_err(cannot)?;
+    } else {
+        // A file made and removed beside it: the directory takes new files.
+        let name = output.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let probe = dir.join(format!(".{name}.{}.sppm-gpu-probe", std::process::id()));
+        std::fs::File::create_new(&probe).map_err(cannot)?;
+        let _ = std::fs::remove_file(&probe);
+    }
+    if let (Ok(a), Ok(b)) = (output.canonicalize(), input.canonicalize()) {
+        if a == b {
+            return Err(Error::Setting(format!(
+                "{}: the output would overwrite its input {}",
+                output.display(),
+                input.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// `A..B` (passes A to B-1, B > A) as `(A, B)`.
+pub(crate) fn parse_pass_range(text: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("`{text}`: a range of passes A..B (A from 0, B > A), such as 0..16");
+    let (a, b) = text.split_once("..").ok_or_else(bad)?;
+    let (a, b): (u32, u32) = (a.trim().parse().map_err(|_| bad())?, b.trim().parse().map_err(|_| bad())?);
+    if b <= a {
+        return Err(bad());
+    }
+    Ok((a, b))
+}
+
+/// `1000000`, `512K`, `64M`, `8G` (powers of 1024) as bytes.
+pub(crate) fn parse_bytes(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let (digits, unit) = match t.char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => (&t[..i], c.to_ascii_uppercase()),
+        _ => (t, 'B'),
+    };
+    let shift = match unit {
+        'B' => 0,
+        'K' => 10,
+        'M' => 20,
+        'G' => 30,
+        _ => return Err(format!("`{text}`: a number of bytes, with K, M or G for powers of 1024")),
+    };
+    let n: u64 = digits.trim().parse().map_err(|_| format!("`{text}`: a number of bytes, with K, M or G for powers of 1024"))?;
+    n.checked_mul(1 << shift).filter(|&b| b > 0).ok_or_else(|| format!("`{text}`: out of range"))
+}
