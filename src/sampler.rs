@@ -32,14 +32,6 @@ impl Sampler {
     /// whose error is mostly fireflies, at about 5-10% more time per pass.
     pub const DEFAULT: Sampler = Sampler::Sobol;
 
-    /// The name in `[render]`'s `sampler`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Sampler::Independent => "independent",
-            Sampler::Sobol => "sobol",
-        }
-    }
-
     /// The kernels' `SAMPLER_SOBOL` override constant: the Sobol code is compiled in only
     /// for the Sobol sampler.
     pub fn constants(self) -> [(&'static str, f64); 1] {

@@ -4,6 +4,7 @@
 
 mod common;
 
+use sppm_gpu::scene::Named;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

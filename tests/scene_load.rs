@@ -851,3 +851,27 @@ fn pass_work_left_out_follows_the_device() {
     r.fit_pass_work(device);
     assert_eq!((r.photons, r.spp), (100, 2));
 }
+
+/// Each mode's one name table ([`sppm_gpu::scene::Named`]) reads back what it writes, and the
+/// TOML reader takes exactly its names.
+#[test]
+fn mode_names_come_from_one_table() {
+    use sppm_gpu::scene::{DirectLight, Named, RadiusRule, RadiusSchedule};
+    fn round_trip<T: Named + std::fmt::Debug>() {
+        for &(name, value) in T::NAMES {
+            assert_eq!(value.name(), name);
+            assert_eq!(T::from_name(name), Ok(value));
+        }
+        let e = T::from_name("nonesuch").unwrap_err();
+        assert!(e.contains(&T::names().join(", ")), "{e}");
+    }
+    round_trip::<Method>();
+    round_trip::<DirectLight>();
+    round_trip::<RadiusSchedule>();
+    round_trip::<RadiusRule>();
+    round_trip::<sppm_gpu::sampler::Sampler>();
+    for &(name, method) in Method::NAMES {
+        let text = edit("iterations = 1", &format!("iterations = 1\nmethod = \"{name}\""));
+        assert_eq!(load_ok(&text).render.method, method);
+    }
+}

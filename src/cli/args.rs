@@ -1,7 +1,7 @@
 //! What the subcommands share: the overrides of a scene's `[render]` table, loading a scene
 //! with them, and the checks and parsers of their arguments (cargo's `command_prelude.rs`).
 
-use sppm_gpu::scene::{self, DirectLight, Method, RadiusSchedule};
+use sppm_gpu::scene::{self, DirectLight, Method, Named, RadiusSchedule};
 use sppm_gpu::Error;
 use std::path::Path;
 
@@ -34,8 +34,8 @@ pub(crate) struct Overrides {
     pub(crate) height: Option<u32>,
     /// Rendering method: sppm, pt (naive path tracing) or pt-nee (next-event estimation with
     /// MIS) (overrides render.method).
-    #[arg(long, value_parser = ["sppm", "pt", "pt-nee"])]
-    pub(crate) method: Option<String>,
+    #[arg(long, value_parser = named::<Method>())]
+    pub(crate) method: Option<Method>,
     /// Camera samples per pixel in each pass (overrides render.spp).
     #[arg(long)]
     pub(crate) spp: Option<u32>,
@@ -44,8 +44,8 @@ pub(crate) struct Overrides {
     pub(crate) max_depth: Option<u32>,
     /// SPPM's direct light: sampled in the camera pass (default) or from photons alone, as
     /// in the original algorithm (overrides render.direct).
-    #[arg(long, value_parser = ["sampled", "photons"])]
-    pub(crate) direct: Option<String>,
+    #[arg(long, value_parser = named::<DirectLight>())]
+    pub(crate) direct: Option<DirectLight>,
     /// SPPM with sampled direct light: camera paths per visible point per pass that gather
     /// direct light (overrides render.direct_samples; default automatic).
     #[arg(long)]
@@ -53,21 +53,27 @@ pub(crate) struct Overrides {
     /// SPPM's radius schedule: per-point (each visible point's radius shrinks with its
     /// photons; default) or global (the radius of pass i depends on i alone, so passes can
     /// run in batches; Knaus & Zwicker 2011) (overrides render.radius_schedule).
-    #[arg(long, value_parser = ["per-point", "global"])]
-    pub(crate) radius_schedule: Option<String>,
+    #[arg(long, value_parser = named::<RadiusSchedule>())]
+    pub(crate) radius_schedule: Option<RadiusSchedule>,
     /// How each SPPM visible point's radius shrinks (per-point schedule): shrink (by alpha of
     /// each pass's photons; default) or adaptive (by alpha only where its photons stop looking
     /// uniform over its disc, by a chi-square test) (overrides render.radius_rule).
-    #[arg(long, value_parser = ["shrink", "adaptive"])]
-    pub(crate) radius_rule: Option<String>,
+    #[arg(long, value_parser = named::<scene::RadiusRule>())]
+    pub(crate) radius_rule: Option<scene::RadiusRule>,
     /// Where the kernels' random numbers come from: independent (PCG streams) or sobol
     /// (Owen-scrambled Sobol points) (overrides render.sampler).
-    #[arg(long, value_parser = ["independent", "sobol"])]
-    pub(crate) sampler: Option<String>,
+    #[arg(long, value_parser = named::<sppm_gpu::sampler::Sampler>())]
+    pub(crate) sampler: Option<sppm_gpu::sampler::Sampler>,
     /// Set a Mitsuba XML scene's parameter `$name`, as Mitsuba's own `-D name=value` (over the
     /// file's `<default>`); repeatable.
     #[arg(short = 'D', long = "define", value_name = "NAME=VALUE", value_parser = parse_define)]
     pub(crate) defines: Vec<(String, String)>,
+}
+
+/// A [`Named`] setting's value parser: its names listed in `--help` and checked by clap.
+pub(crate) fn named<T: Named + Send + Sync>() -> impl clap::builder::TypedValueParser<Value = T> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(T::names()).map(|name| T::from_name(&name).expect("a name of the table"))
 }
 
 /// `NAME=VALUE` of `-D`.
@@ -141,25 +147,11 @@ pub(crate) fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSetting
     if let Some(s) = cli.seed {
         render.seed = s;
     }
-    if let Some(m) = &cli.method {
-        render.method = match m.as_str() {
-            "pt" => Method::Pt,
-            "pt-nee" => Method::PtNee,
-            _ => Method::Sppm,
-        };
-    }
-    if let Some(d) = &cli.direct {
-        render.direct = if d == "photons" { DirectLight::Photons } else { DirectLight::Sampled };
-    }
-    if let Some(s) = &cli.radius_schedule {
-        render.radius_schedule = if s == "global" { RadiusSchedule::Global } else { RadiusSchedule::PerPoint };
-    }
-    if let Some(s) = &cli.radius_rule {
-        render.radius_rule = if s == "adaptive" { scene::RadiusRule::Adaptive } else { scene::RadiusRule::Shrink };
-    }
-    if let Some(s) = &cli.sampler {
-        render.sampler = if s == "sobol" { sppm_gpu::sampler::Sampler::Sobol } else { sppm_gpu::sampler::Sampler::Independent };
-    }
+    render.method = cli.method.unwrap_or(render.method);
+    render.direct = cli.direct.unwrap_or(render.direct);
+    render.radius_schedule = cli.radius_schedule.unwrap_or(render.radius_schedule);
+    render.radius_rule = cli.radius_rule.unwrap_or(render.radius_rule);
+    render.sampler = cli.sampler.unwrap_or(render.sampler);
     Ok(())
 }
 

@@ -9,8 +9,7 @@
 
 use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::scene::{
-    ComplexIor, DirectLight, LightKind, MaterialKind, Method, Microfacet, PixelFilter, RadiusSchedule, Scene, Texture,
-    TextureFilter, TextureWrap, Triangle,
+    ComplexIor, LightKind, MaterialKind, Microfacet, Named, PixelFilter, Scene, Texture, TextureFilter, TextureWrap, Triangle,
 };
 use sppm_gpu::Error;
 use std::collections::HashSet;
@@ -105,15 +104,15 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
     let int = |v: u32| Value::Integer(v as i64);
     render.insert("width".into(), int(r.width));
     render.insert("height".into(), int(r.height));
-    let method = match r.method {
-        Method::Sppm => "sppm",
-        Method::Pt => "pt",
-        Method::PtNee => "pt-nee",
-    };
-    render.insert("method".into(), Value::String(method.into()));
+    render.insert("method".into(), Value::String(r.method.name().into()));
     render.insert("iterations".into(), int(r.iterations));
-    render.insert("spp".into(), int(r.spp));
-    render.insert("photons".into(), int(r.photons));
+    // Work per pass the scene left to the device stays left to it.
+    if r.work_given.spp {
+        render.insert("spp".into(), int(r.spp));
+    }
+    if r.work_given.photons {
+        render.insert("photons".into(), int(r.photons));
+    }
     if let Some(radius) = r.radius {
         render.insert("radius".into(), float(radius));
     }
@@ -123,13 +122,11 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
     if let Some(t) = r.time_limit {
         render.insert("time_limit".into(), Value::Float(t));
     }
-    let direct = if r.direct == DirectLight::Photons { "photons" } else { "sampled" };
-    render.insert("direct".into(), Value::String(direct.into()));
+    render.insert("direct".into(), Value::String(r.direct.name().into()));
     if let Some(n) = r.direct_samples {
         render.insert("direct_samples".into(), int(n));
     }
-    let schedule = if r.radius_schedule == RadiusSchedule::Global { "global" } else { "per-point" };
-    render.insert("radius_schedule".into(), Value::String(schedule.into()));
+    render.insert("radius_schedule".into(), Value::String(r.radius_schedule.name().into()));
     render.insert("radius_rule".into(), Value::String(r.radius_rule.name().into()));
     render.insert("sampler".into(), Value::String(r.sampler.name().into()));
     match r.filter {

@@ -12,7 +12,7 @@ pub(crate) fn experiment(command: &Command) -> Result<(), Error> {
             let Some(time_limit) = scene.render.time_limit else {
                 return Err(Error::Setting("compare needs --time-limit SECS".into()));
             };
-            let methods = methods.iter().map(|m| experiments::Variant::parse(m)).collect::<Result<_, _>>()?;
+            let methods = methods.clone();
             let opts = experiments::CompareOptions {
                 reference: reference.clone(),
                 methods,

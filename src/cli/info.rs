@@ -4,7 +4,7 @@
 
 use sppm_gpu::gpu::scene_buffers::SceneData;
 use sppm_gpu::gpu::Features;
-use sppm_gpu::scene::{LightKind, MaterialKind, Method, PixelFilter, Scene, ShapeKind};
+use sppm_gpu::scene::{LightKind, MaterialKind, Named, PixelFilter, Scene, ShapeKind};
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
@@ -20,11 +20,7 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
         PixelFilter::Gaussian { stddev } => format!("gaussian, stddev {stddev} px"),
     };
     let _ = writeln!(out, "image:      {} x {}, {filter} filter", r.width, r.height);
-    let method = match r.method {
-        Method::Sppm => "sppm",
-        Method::Pt => "pt",
-        Method::PtNee => "pt-nee",
-    };
+    let method = r.method.name();
     let radius = r.radius.map_or_else(|| "automatic".to_string(), |x| x.to_string());
     let _ = writeln!(
         out,

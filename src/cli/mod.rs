@@ -102,14 +102,8 @@ pub(crate) enum Command {
         /// SPPM with direct light from photons alone; `/independent` or `/sobol` after a
         /// method sets its sampler (`pt-nee/sobol`); sppm-adaptive is SPPM with
         /// radius_rule = "adaptive", sppm-shrink with "shrink".
-        #[arg(long, value_delimiter = ',', default_value = "sppm,pt,pt-nee", value_parser = [
-            "sppm", "sppm-photons", "pt", "pt-nee",
-            "sppm/independent", "sppm-photons/independent", "pt/independent", "pt-nee/independent",
-            "sppm/sobol", "sppm-photons/sobol", "pt/sobol", "pt-nee/sobol",
-            "sppm-shrink", "sppm-adaptive", "sppm-shrink/independent", "sppm-adaptive/independent",
-            "sppm-shrink/sobol", "sppm-adaptive/sobol",
-        ])]
-        methods: Vec<String>,
+        #[arg(long, value_delimiter = ',', default_value = "sppm,pt,pt-nee", value_parser = variant())]
+        methods: Vec<sppm_gpu::experiments::Variant>,
         /// Box-downsample before measuring the error.
         #[arg(long, default_value_t = 1)]
         downsample: u32,
@@ -208,6 +202,13 @@ pub(crate) enum Command {
         #[command(flatten)]
         overrides: Overrides,
     },
+}
+
+/// `compare --methods`: the names of [`sppm_gpu::experiments::Variant`], listed in `--help`.
+fn variant() -> impl clap::builder::TypedValueParser<Value = sppm_gpu::experiments::Variant> {
+    use clap::builder::TypedValueParser;
+    use sppm_gpu::experiments::Variant;
+    clap::builder::PossibleValuesParser::new(Variant::names()).map(|name| Variant::parse(&name).expect("a variant's name"))
 }
 
 /// Run the parsed command line: one arm a subcommand, the render without one.

@@ -16,18 +16,14 @@ use crate::image_io::{self, Rgb32Image};
 use crate::integrators::{self, Integrator};
 use crate::metrics;
 use crate::pacing::{DeviceQueue, Goal, Pacer};
-use crate::scene::{DirectLight, Method, RadiusRule, RadiusSchedule, RenderSettings, Scene};
+use crate::scene::{DirectLight, Method, Named, RadiusRule, RadiusSchedule, RenderSettings, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 use plot::{Chart, Series, Tile};
 use std::path::{Path, PathBuf};
 
-/// The name of a method as the scene format spells it.
+/// The name of a method as the scene format spells it ([`Named`]).
 pub fn method_name(method: Method) -> &'static str {
-    match method {
-        Method::Sppm => "sppm",
-        Method::Pt => "pt",
-        Method::PtNee => "pt-nee",
-    }
+    method.name()
 }
 
 /// A method as [`compare`] runs it: the integrator, for SPPM where its direct light comes
@@ -84,6 +80,12 @@ impl Variant {
                      optionally with /independent or /sobol"
                 ))
             })
+    }
+
+    /// Every name [`Variant::parse`] reads: each variant with the scene's sampler, then
+    /// with `/independent`, then with `/sobol`.
+    pub fn names() -> Vec<&'static str> {
+        (0..3).flat_map(|column| VARIANT_NAMES.iter().map(move |row| row[column])).collect()
     }
 
     /// Its name, as [`Variant::parse`] reads it.

@@ -188,15 +188,10 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         "filter_stddev",
         "sampler",
     ])?;
-    let schedules = [("per-point", RadiusSchedule::PerPoint), ("global", RadiusSchedule::Global)];
-    let rules = [("shrink", RadiusRule::Shrink), ("adaptive", RadiusRule::Adaptive)];
-    let directs = [("sampled", DirectLight::Sampled), ("photons", DirectLight::Photons)];
-    let methods = [("sppm", Method::Sppm), ("pt", Method::Pt), ("pt-nee", Method::PtNee)];
-    let samplers = [("independent", crate::sampler::Sampler::Independent), ("sobol", crate::sampler::Sampler::Sobol)];
     Ok(RenderSettings {
         width: t.req("width", |v| v.u32_in(1, MAX_RESOLUTION))?,
         height: t.req("height", |v| v.u32_in(1, MAX_RESOLUTION))?,
-        method: t.or("method", Method::Sppm, |v| v.choice("method", &methods))?,
+        method: t.or("method", Method::Sppm, Value::named)?,
         iterations: t.req("iterations", Value::count)?,
         spp: t.or("spp", super::PassWork::DEFAULT.spp, Value::count)?,
         photons: t.or("photons", super::PassWork::DEFAULT.photons, Value::count)?,
@@ -205,21 +200,20 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         max_depth: t.or("max_depth", 64, Value::count)?,
         seed: t.or("seed", 0, |v| v.u32_in(0, u32::MAX))?,
         time_limit: t.opt("time_limit", |v| v.f64_in(Bound::Positive))?,
-        direct: t.or("direct", DirectLight::Sampled, |v| v.choice("direct", &directs))?,
+        direct: t.or("direct", DirectLight::Sampled, Value::named)?,
         direct_samples: t.opt("direct_samples", |v| v.u32_in(1, MAX_DIRECT_SAMPLES))?,
-        radius_schedule: t.or("radius_schedule", RadiusSchedule::PerPoint, |v| v.choice("radius_schedule", &schedules))?,
-        radius_rule: read_radius_rule(t, &rules)?,
+        radius_schedule: t.or("radius_schedule", RadiusSchedule::PerPoint, Value::named)?,
+        radius_rule: read_radius_rule(t)?,
         filter: read_filter(t)?,
-        sampler: t.or("sampler", crate::sampler::Sampler::DEFAULT, |v| v.choice("sampler", &samplers))?,
+        sampler: t.or("sampler", crate::sampler::Sampler::DEFAULT, Value::named)?,
         work_given: super::WorkGiven { photons: t.get("photons").is_some(), spp: t.get("spp").is_some() },
     })
 }
 
 /// `radius_rule`; `"adaptive"` belongs to the per-point radius schedule.
-fn read_radius_rule(t: &Table, rules: &[(&str, RadiusRule)]) -> Result<RadiusRule> {
-    let rule = t.or("radius_rule", RadiusRule::Shrink, |v| v.choice("radius_rule", rules))?;
-    let schedules = [("per-point", RadiusSchedule::PerPoint), ("global", RadiusSchedule::Global)];
-    let schedule = t.or("radius_schedule", RadiusSchedule::PerPoint, |v| v.choice("radius_schedule", &schedules))?;
+fn read_radius_rule(t: &Table) -> Result<RadiusRule> {
+    let rule = t.or("radius_rule", RadiusRule::Shrink, Value::named)?;
+    let schedule = t.or("radius_schedule", RadiusSchedule::PerPoint, Value::named)?;
     if rule == RadiusRule::Adaptive && schedule == RadiusSchedule::Global {
         return Err(t.error_at("radius_rule", "radius_rule = \"adaptive\" needs radius_schedule = \"per-point\""));
     }
@@ -837,6 +831,11 @@ impl<'a, 'i> Value<'a, 'i> {
     }
 
     /// A string that must name one of `options`; `what` names it in errors.
+    /// A setting's name, from its [`Named`] table.
+    fn named<T: super::Named>(&self) -> Result<T> {
+        T::from_name(self.string()?).map_err(|e| self.error(e))
+    }
+
     fn choice<T: Copy>(&self, what: &str, options: &[(&str, T)]) -> Result<T> {
         let name = self.string()?;
         match options.iter().find(|(option, _)| *option == name) {

@@ -44,6 +44,59 @@ pub fn is_mitsuba_xml(path: &std::path::Path) -> bool {
 use glam::{Vec2, Vec3};
 use std::path::PathBuf;
 
+/// A setting chosen by name (`method = "pt-nee"`): the one table of its names, which the TOML
+/// and Mitsuba readers, the command line, `convert`, `info` and `compare` all read.
+pub trait Named: Copy + PartialEq + Sized + 'static {
+    /// What the setting is called (`method`), for messages.
+    const WHAT: &'static str;
+    /// Every value with its name.
+    const NAMES: &'static [(&'static str, Self)];
+
+    /// Its name.
+    fn name(self) -> &'static str {
+        Self::NAMES.iter().find(|(_, v)| *v == self).map(|(n, _)| *n).expect("every value is named")
+    }
+
+    /// The value of `name`, or an error that lists the names.
+    fn from_name(name: &str) -> Result<Self, String> {
+        Self::NAMES.iter().find(|(n, _)| *n == name).map(|(_, v)| *v).ok_or_else(|| {
+            let names: Vec<&str> = Self::NAMES.iter().map(|(n, _)| *n).collect();
+            format!("unknown {} `{name}`; expected one of: {}", Self::WHAT, names.join(", "))
+        })
+    }
+
+    /// The names, in [`Named::NAMES`]'s order.
+    fn names() -> Vec<&'static str> {
+        Self::NAMES.iter().map(|(n, _)| *n).collect()
+    }
+}
+
+impl Named for Method {
+    const WHAT: &'static str = "method";
+    const NAMES: &'static [(&'static str, Self)] = &[("sppm", Method::Sppm), ("pt", Method::Pt), ("pt-nee", Method::PtNee)];
+}
+
+impl Named for DirectLight {
+    const WHAT: &'static str = "direct";
+    const NAMES: &'static [(&'static str, Self)] = &[("sampled", DirectLight::Sampled), ("photons", DirectLight::Photons)];
+}
+
+impl Named for RadiusSchedule {
+    const WHAT: &'static str = "radius_schedule";
+    const NAMES: &'static [(&'static str, Self)] = &[("per-point", RadiusSchedule::PerPoint), ("global", RadiusSchedule::Global)];
+}
+
+impl Named for RadiusRule {
+    const WHAT: &'static str = "radius_rule";
+    const NAMES: &'static [(&'static str, Self)] = &[("shrink", RadiusRule::Shrink), ("adaptive", RadiusRule::Adaptive)];
+}
+
+impl Named for crate::sampler::Sampler {
+    const WHAT: &'static str = "sampler";
+    const NAMES: &'static [(&'static str, Self)] =
+        &[("independent", crate::sampler::Sampler::Independent), ("sobol", crate::sampler::Sampler::Sobol)];
+}
+
 /// Which integrator renders the scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
@@ -97,14 +150,6 @@ pub enum RadiusRule {
 }
 
 impl RadiusRule {
-    /// The name in `[render]`'s `radius_rule`.
-    pub fn name(self) -> &'static str {
-        match self {
-            RadiusRule::Shrink => "shrink",
-            RadiusRule::Adaptive => "adaptive",
-        }
-    }
-
     /// The kernels' `ADAPTIVE_RADIUS` override constant: the offsets' moments are summed and
     /// tested only under the adaptive rule.
     pub fn constants(self) -> [(&'static str, f64); 1] {
