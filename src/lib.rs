@@ -90,6 +90,11 @@
 //!
 //! # Embedding in an application
 //!
+//! The command line's crates (clap, indicatif, plotters, signal-hook, winit) and the
+//! `experiments` module come with the default cargo feature `cli`; an application depends on
+//! `sppm-gpu = { ..., default-features = false }` and builds only what the kernels need
+//! (wgpu, naga, the scene readers).
+//!
 //! Every integrator ([`integrators::Sppm`], [`integrators::PathTracer`]) works on the
 //! caller's device and records into the caller's command encoder through
 //! [`Integrator`](integrators::Integrator):
@@ -105,7 +110,7 @@
 //!
 //! Device requirements: no features (subgroups and 64-bit atomics are used where the device
 //! has them, [`gpu::DeviceCaps`]), and the limits of
-//! [`gpu::required_limits`]`(&adapter.limits())` (14 storage buffers per shader stage, the
+//! [`gpu::required_limits`]`(&adapter.limits())` ([`gpu::STORAGE_BUFFERS_NEEDED`] storage buffers per shader stage, the
 //! adapter's largest storage buffer binding and buffer size, wgpu's defaults otherwise).
 //! [`Sppm::new`](integrators::Sppm::new) checks the device ([`gpu::check_device`]) and returns
 //! an error rather than failing validation later.
@@ -152,6 +157,7 @@ pub mod accel;
 pub mod batch;
 pub mod checkpoint;
 pub mod error;
+#[cfg(feature = "cli")]
 pub mod experiments;
 pub mod gpu;
 pub mod image_io;
