@@ -12,6 +12,6 @@ cargo fmt --all -- --check
 cargo clippy --release --all-targets --workspace -- -D warnings
 # The API docs build without a warning (broken or redundant links, private items linked).
 # In the release profile, so that rustdoc reads the dependencies' metadata clippy just built
-# (the dev profile would check every dependency again: 3 of CI's 21 minutes, session 14).
+# (the dev profile would check every dependency again: 3 of CI's 21 minutes, BENCHMARKS.md "CI's time on two cores").
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --workspace
 cargo test --release --workspace

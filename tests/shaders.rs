@@ -59,3 +59,33 @@ fn storage_buffers_needed_is_the_largest_kernels_count() {
     let most = counts.iter().map(|(_, n)| *n).max().unwrap();
     assert_eq!(sppm_gpu::gpu::STORAGE_BUFFERS_NEEDED, most, "storage buffers per kernel: {counts:?}");
 }
+
+/// The kernel table (`gpu::KERNELS`) names exactly the kernels in `shaders/` (one file each,
+/// shared WGSL in `shaders/shared/`), so that a kernel is added in one place the test checks.
+#[test]
+fn the_kernel_table_is_the_shader_folder() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.unwrap().file_name().to_str()?.strip_suffix(".wgsl").map(str::to_owned))
+        .collect();
+    files.sort();
+    let mut kernels: Vec<String> = sppm_gpu::gpu::KERNELS.iter().map(|k| k.to_string()).collect();
+    kernels.sort();
+    assert_eq!(kernels, files);
+}
+
+/// Constants declared once on the host and once in WGSL hold the same value.
+#[test]
+fn host_and_kernel_constants_agree() {
+    let source = |kernel: &str| {
+        std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders").join(format!("{kernel}.wgsl")))
+            .unwrap()
+    };
+    let wgsl_u32 = |text: &str, name: &str| -> u32 {
+        let at = text.find(&format!("const {name}: u32 = ")).unwrap_or_else(|| panic!("no const {name}"));
+        let rest = &text[at + format!("const {name}: u32 = ").len()..];
+        rest[..rest.find('u').unwrap()].trim().parse().unwrap()
+    };
+    assert_eq!(wgsl_u32(&source("photon_pass"), "PHOTONS_PER_THREAD"), sppm_gpu::integrators::sppm::PHOTONS_PER_THREAD);
+}
