@@ -2,7 +2,8 @@
 // within its radius (photon_pass.wgsl) to its accumulator. It walks the lists of the buckets
 // of the cells its disc overlaps (at most two per axis, each bucket once), so every hit within
 // the radius is met exactly once; the tests are those of a direct deposit (distance below the
-// radius, arriving from the side the point faces). The sums are kept in registers in the
+// radius, arriving from the side the point faces, not too long a joined path, on the point's
+// side of its surface: same_side in shared/grid.wgsl). The sums are kept in registers in the
 // 32.32 fixed point of shared/flux.wgsl and added once, without atomics: only this thread
 // writes its point's words in this dispatch (the direct deposits of resumed photon threads,
 // with atomics, are dispatches of their own). Integer sums do not
@@ -37,6 +38,7 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
     let q = visible_points[index];
     let b = point_buckets(grid, q.p, q.radius);
     let n = decode_normal(q.normal);
+    let n_unit = normalize(n);
     let depth = vp_depth(q.normal);
     var flux = array<vec2u, 3>(vec2u(0u), vec2u(0u), vec2u(0u));
     var count = 0u;
@@ -57,10 +59,15 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
             if !lights_side(n, bitcast<vec3f>(arrival.xyz)) || !within_depth(depth, arrival.w, frame.max_depth) {
                 continue;
             }
+            // The flux, and the normal of the surface the photon hit.
+            let carried = photon_hits[i + 2u];
+            if !same_side(n_unit, decode_normal(carried.w), bitcast<vec3f>(head.xyz) - q.p) {
+                continue;
+            }
             if ADAPTIVE_RADIUS {
                 moments += offset_moments((bitcast<vec3f>(head.xyz) - q.p) / q.radius);
             }
-            let beta = bitcast<vec3f>(photon_hits[i + 2u].xyz);
+            let beta = bitcast<vec3f>(carried.xyz);
             flux[0] = add_fixed(flux[0], fixed_point_words(beta.x));
             flux[1] = add_fixed(flux[1], fixed_point_words(beta.y));
             flux[2] = add_fixed(flux[2], fixed_point_words(beta.z));

@@ -47,12 +47,15 @@ struct PhotonGrid {
 
 const STREAM_PHOTON: u32 = 1u;
 
-// Add the photon's flux to visible point v if it lies within v's radius of p, on its side,
-// and the joined path is not too long.
-fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f, depth: u32) {
+// Add the photon's flux to visible point v if it lies within v's radius of p, arrives on its
+// side, the joined path is not too long, and it lies on v's side of v's surface (`normal`,
+// encode_normal's, of the surface the photon hit, turned to the side it arrived from:
+// same_side in shared/grid.wgsl).
+fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f, depth: u32, normal: u32) {
     let q = visible_points[v];
-    if within_radius(q.p, q.radius, p) && lights_side(decode_normal(q.normal), d)
-        && within_depth(vp_depth(q.normal), depth, frame.max_depth) {
+    let n = decode_normal(q.normal);
+    if within_radius(q.p, q.radius, p) && lights_side(n, d) && within_depth(vp_depth(q.normal), depth, frame.max_depth)
+        && same_side(normalize(n), decode_normal(normal), p - q.p) {
         accumulate_flux(v, beta);
         if ADAPTIVE_RADIUS {
             accumulate_moments(v, offset_moments((p - q.p) / q.radius));
@@ -61,7 +64,7 @@ fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f, depth: u32) {
 }
 
 // Put a hit in bucket h's list for photon_gather; false when the pass's hits are full.
-fn store_hit(h: u32, p: vec3f, d: vec3f, beta: vec3f, depth: u32) -> bool {
+fn store_hit(h: u32, p: vec3f, d: vec3f, beta: vec3f, depth: u32, normal: u32) -> bool {
     // Looked at first, so that the count stops near the capacity and cannot wrap.
     if atomicLoad(&photon_hit_lists[0]) >= frame.hit_capacity {
         return false;
@@ -73,7 +76,7 @@ fn store_hit(h: u32, p: vec3f, d: vec3f, beta: vec3f, depth: u32) -> bool {
     let next = atomicExchange(&photon_hit_lists[2u + h], i + 1u);
     photon_hits[3u * i] = vec4u(bitcast<vec3u>(p), next);
     photon_hits[3u * i + 1u] = vec4u(bitcast<vec3u>(d), depth);
-    photon_hits[3u * i + 2u] = vec4u(bitcast<vec3u>(beta), 0u);
+    photon_hits[3u * i + 2u] = vec4u(bitcast<vec3u>(beta), normal);
     return true;
 }
 
@@ -83,7 +86,7 @@ fn store_hit(h: u32, p: vec3f, d: vec3f, beta: vec3f, depth: u32) -> bool {
 // (shared/lanes.wgsl): one photon's bucket at a time, each lane taking every n-th entry, so
 // that no lane idles while another walks a long bucket. Flux is added in fixed point, so who
 // adds what does not change the sums.
-fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f, depth: u32) -> bool {
+fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f, depth: u32, normal: u32) -> bool {
     var range = vec2u(0u);
     var stored = true;
     if deposits {
@@ -92,7 +95,7 @@ fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f, depth: u32) -> bool 
         let h = bucket_of(grid.params, p);
         if h != NO_BUCKET {
             if frame.at_once == 0u {
-                stored = store_hit(h, p, d, beta, depth);
+                stored = store_hit(h, p, d, beta, depth, normal);
             } else {
                 range = vec2u(grid_cell_start[h], grid_cell_start[h + 1u]);
             }
@@ -111,8 +114,9 @@ fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f, depth: u32) -> bool 
             let d_lane = lane_shuffle_f3(d, lane);
             let beta_lane = lane_shuffle_f3(beta, lane);
             let depth_lane = lane_shuffle_u(depth, lane);
+            let normal_lane = lane_shuffle_u(normal, lane);
             for (var i = r.x + rank; i < r.y; i += lanes) {
-                deposit_at(grid_entries[i], p_lane, d_lane, beta_lane, depth_lane);
+                deposit_at(grid_entries[i], p_lane, d_lane, beta_lane, depth_lane, normal_lane);
             }
         }
     }
@@ -265,7 +269,10 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
         deposited *= plastic_deposit(m, s, d);
     }
     let receives = m.kind == MATERIAL_DIFFUSE || is_plastic(m);
-    if !deposit(receives && (frame.direct == 0u || (*ph).depth > 0u) && finite && !behind, s.p, d, deposited, (*ph).depth) {
+    // The surface's side the photon arrived on, as a visible point's normal is stored: only
+    // points on the same side of their own surface gather it (same_side in shared/grid.wgsl).
+    let normal = encode_normal(select(-s.ng, s.ng, dot(d, s.ng) < 0.0), 0u);
+    if !deposit(receives && (frame.direct == 0u || (*ph).depth > 0u) && finite && !behind, s.p, d, deposited, (*ph).depth, normal) {
         return PHOTON_NO_ROOM;
     }
     if behind {

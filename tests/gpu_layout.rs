@@ -101,7 +101,7 @@ fn gpu_structs_match_wgsl() {
     check!(module, GpuShape, "Shape", [emission, emits, velocity, _pad]);
     check!(module, Emitter, "Emitter", [kind, prim_ref, cdf, pmf, position, area, radiance, radius, direction, width]);
     check!(module, VisiblePoint, "VisiblePoint", [p, radius, weight, normal]);
-    check!(module, PhotonHit, "PhotonHit", [p, next, d, depth, beta, _pad1]);
+    check!(module, PhotonHit, "PhotonHit", [p, next, d, depth, beta, normal]);
     check!(module, VpStats, "VpStats", [tau, n, ld, radius]);
     check!(module, RadiusTest, "RadiusTest", [offset_sum, tested, spread_sum, shrinking, tests, rejections]);
     check!(module, GridParams, "GridParams", [origin, cell_size, res, table_mask]);

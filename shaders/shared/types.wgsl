@@ -248,14 +248,17 @@ struct GridScene {
 // A photon's diffuse hit that deposits, stored by photon_pass and gathered by the visible
 // points around it (photon_gather): where it hit, the next hit of its bucket's list (index
 // plus one; 0 ends the list), the direction it arrived along, its scattering events before
-// the hit and its flux. The kernels read it as three vec4u, one load each.
+// the hit, its flux, and the geometric normal of the surface it hit, turned to the side it
+// arrived from, as encode_normal stores it (depth 0): only visible points on the same side of
+// their own surface gather it (same_side in shared/grid.wgsl). The kernels read it as three
+// vec4u, one load each.
 struct PhotonHit {
     p: vec3f,
     next: u32,
     d: vec3f,
     depth: u32,
     beta: vec3f,
-    _pad1: u32,
+    normal: u32,
 }
 
 struct GridParams {

@@ -310,8 +310,13 @@ pub struct PhotonHit {
     pub depth: u32,
     /// The photon's flux, relative to [`Frame::power_total`].
     pub beta: [f32; 3],
-    /// Padding; always 0.
-    pub _pad1: u32,
+    /// The geometric normal of the surface hit, turned to the side the photon arrived from,
+    /// octahedral in bits 0-23 as [`VisiblePoint::normal`] stores it (bits 24-31 are 0): a
+    /// visible point gathers the hit only where it faces alike (within the angle of cosine
+    /// 0.1, as Mitsuba 0.6's photon map requires), or across a crease where the two surfaces
+    /// face each other or turn away from each other (`same_side` in
+    /// `shaders/shared/grid.wgsl`), so that light inside a thin shell stays off its outside.
+    pub normal: u32,
 }
 
 /// Where a camera path of the current pass ended on a diffuse surface (Hachisuka & Jensen
