@@ -1675,3 +1675,92 @@ fn mitsuba_0_6_plugins_map_warn_or_refuse_each_parameter() {
         "<float> is not an element of a Mitsuba <scene>",
     );
 }
+
+/// A file of a photon-mapping paper's data set in Mitsuba 0.6's form (hchoi405/dppm-scenes;
+/// tests/scenes/mitsuba-era/dppm-0.6.xml has its elements in a small box) loads as Mitsuba 0.6
+/// read it: the fork's integrator parameters (`stepSnapshot`, `kNN`, `dualBuffer`) and the
+/// ldrfilm's `gamma` are warnings naming file, line and parameter, and nothing else is; the
+/// point light's `<spectrum>` of three numbers is its RGB value (Mitsuba 0.6's RGB build reads
+/// them as its three spectral samples; the reader refused it, and the paper's cbox-caustics
+/// scenes with it), and the area light's `<spectrum>` of one number is grey, as Mitsuba 0.6
+/// made it (D65 times the value, and D65 is 1 in its RGB build), not the colour of a flat
+/// spectrum that Mitsuba 3 makes of it.
+#[test]
+fn a_photon_mapping_papers_0_6_file_reads_as_mitsuba_0_6_read_it() {
+    let path = era_path("dppm-0.6.xml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (s, warnings) = scene::mitsuba::load_with_warnings(&path, &[]);
+    let s = s.unwrap_or_else(|e| panic!("{e}"));
+    let mut keys = warned_keys(&warnings, "dppm-0.6.xml");
+    keys.sort();
+    let mut expected = vec![("gamma".to_string(), line_of(&text, "name=\"gamma\""))];
+    for (key, written) in [("dual_buffer", "dualBuffer"), ("k_nn", "kNN"), ("step_snapshot", "stepSnapshot")] {
+        expected.push((key.to_string(), line_of(&text, &format!("name=\"{written}\" value=\"$"))));
+    }
+    expected.sort();
+    assert_eq!(keys, expected, "{warnings:#?}");
+    let r = &s.render;
+    assert_eq!((r.method, r.photons, r.iterations, r.max_depth), (Method::Sppm, 20_000, 4, 8));
+    assert_eq!(s.lights.len(), 1);
+    let LightKind::Point { intensity, .. } = s.lights[0].kind else { panic!("{:?}", s.lights[0].kind) };
+    assert_eq!(intensity, Vec3::new(2.89819, 2.510712, 1.679917));
+    let emission: Vec<Vec3> = s.shapes.iter().filter_map(|shape| shape.emission).collect();
+    assert_eq!(emission, [Vec3::splat(31250.0)], "a flat spectrum on a 0.6 emitter is grey");
+}
+
+/// `<spectrum>` in a 0.x file, as Mitsuba 0.5/0.6's RGB build reads it, against a 3.0 file,
+/// as Mitsuba 3 does: three numbers are the RGB value (Mitsuba 3 refuses them); one number on
+/// an emitter is grey, whatever its `intent` (Mitsuba 3: the colour of a flat spectrum, and no
+/// `intent`); wavelengths are integrated without an illuminant on a reflectance too (Mitsuba
+/// 3.9.1's `spectrum_list_to_srgb` without D65: Mitsuba 3 puts a reflectance under D65), and
+/// a reflectance above 1 is clamped with a warning that says Mitsuba 0.6 keeps it. Other
+/// counts are refused in both.
+#[test]
+fn legacy_spectra_are_read_as_mitsuba_0_6_read_them() {
+    let spectrum = "400:0.2, 500:0.5, 600:0.8, 700:0.3";
+    let body = format!(
+        r#"    <shape type="sphere"><bsdf type="diffuse"><spectrum name="reflectance" value="{spectrum}"/></bsdf></shape>
+    <shape type="sphere"><bsdf type="diffuse"><spectrum name="reflectance" value="0.1, 0.2, 0.3"/></bsdf></shape>
+    <shape type="sphere"><emitter type="area"><spectrum name="radiance" value="2"/></emitter></shape>
+    <shape type="sphere"><emitter type="area"><spectrum name="radiance" intent="illuminant" value="3"/></emitter></shape>
+    <shape type="sphere"><bsdf type="diffuse"><spectrum name="reflectance" value="400:1, 700:1"/></bsdf></shape>"#
+    );
+    let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() < 2e-5;
+    let albedo = |s: &Scene, shape: usize| match s.materials[s.shapes[shape].material as usize].kind {
+        MaterialKind::Diffuse { albedo, .. } => albedo,
+        ref k => panic!("{k:?}"),
+    };
+    let (s, keys, text) = legacy_load("legacy-spectra", &body, &[]);
+    let s = s.unwrap_or_else(|e| panic!("{e}"));
+    assert!(close(albedo(&s, 1), Vec3::new(0.886932, 0.614419, 0.285147)), "{:?}", albedo(&s, 1));
+    assert_eq!(albedo(&s, 2), Vec3::new(0.1, 0.2, 0.3));
+    assert_eq!((s.shapes[3].emission, s.shapes[4].emission), (Some(Vec3::splat(2.0)), Some(Vec3::splat(3.0))));
+    // A flat reflectance 1 is 1.19969 0.949521 0.903443: red clamped, with a warning.
+    assert!(close(albedo(&s, 5), Vec3::new(1.0, 0.949521, 0.903443)), "{:?}", albedo(&s, 5));
+    assert_eq!(keys, [("reflectance".to_string(), line_of(&text, "400:1, 700:1"))]);
+
+    // The same elements in a 3.0 file, as Mitsuba 3 reads them.
+    let modern = scene_with(&format!(
+        r#"    <shape type="sphere"><bsdf type="diffuse"><spectrum name="reflectance" value="{spectrum}"/></bsdf></shape>
+    <shape type="sphere"><emitter type="area"><spectrum name="radiance" value="2"/></emitter></shape>"#
+    ));
+    let s = load_files("modern-spectra", &[("s.xml", &modern)], &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert!(close(albedo(&s, 1), Vec3::new(0.755029, 0.641416, 0.323239)), "{:?}", albedo(&s, 1));
+    assert!(close(s.shapes[2].emission.unwrap(), Vec3::new(2.40959, 1.89658, 1.81783)), "{:?}", s.shapes[2].emission);
+    for (test, element, needle) in [
+        ("three", r#"<spectrum name="reflectance" value="0.1, 0.2, 0.3"/>"#, "a <spectrum> without wavelengths is one number"),
+        ("intent", r#"<spectrum name="reflectance" intent="reflectance" value="0.5"/>"#, "takes no attribute `intent`"),
+    ] {
+        let text = scene_with(&format!("    <shape type=\"sphere\"><bsdf type=\"diffuse\">{element}</bsdf></shape>"));
+        expect_error(test, &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, element)), needle);
+    }
+    // Refused in a 0.x file too.
+    for (test, element, needle) in [
+        ("two", r#"<spectrum name="reflectance" value="0.1, 0.2"/>"#, "one number or three"),
+        ("intent-three", r#"<spectrum name="reflectance" intent="reflectance" value="0.1 0.2 0.3"/>"#, "single value only"),
+        ("intent-bad", r#"<spectrum name="reflectance" intent="paint" value="0.5"/>"#, "\"reflectance\" or \"illuminant\""),
+    ] {
+        let text = legacy_scene_with(&format!("    <shape type=\"sphere\"><bsdf type=\"diffuse\">{element}</bsdf></shape>"));
+        expect_error(test, &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, element)), needle);
+    }
+}

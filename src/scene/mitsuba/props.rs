@@ -262,7 +262,8 @@ impl<'a> Props<'a> {
     /// a constant `<spectrum>` is the colour of that flat spectrum in linear sRGB, its
     /// CIE XYZ (1, 1, 1) times the value: XYZ_TO_SRGB's rows summed, a purple-ish
     /// (1.205, 0.948, 0.909), so that RGB renders match spectral ones; one given by
-    /// wavelengths is integrated without an illuminant.
+    /// wavelengths is integrated without an illuminant. In a 0.x scene a constant is grey, as
+    /// Mitsuba 0.5/0.6 read it ([`legacy_spectrum`]).
     pub fn emitter_spectrum(&self, name: &str) -> Result<Option<Spectrum<'a>>> {
         let Some(node) = self.get(name) else { return Ok(None) };
         spectrum_of(node, name, SpectrumUse::Emitter).map(Some)
@@ -302,12 +303,19 @@ pub fn spectrum_of<'a>(node: &'a Node, name: &str, used: SpectrumUse) -> Result<
             Ok(Spectrum::Rgb(if node.tag == "srgb" { rgb.map(crate::scene::mesh::srgb_to_linear) } else { rgb }))
         }
         "spectrum" => {
-            node.allow_attrs(&["name", "value"])?;
+            let legacy = node.legacy();
+            node.allow_attrs(if legacy { &["name", "value", "intent"] } else { &["name", "value"] })?;
             let text = node.req_attr("value")?;
             if text.contains(':') {
+                if node.attr("intent").is_some() {
+                    return Err(node.error(Some(name), "a <spectrum>'s `intent` goes with a single value only (Mitsuba 0.6)"));
+                }
                 return wavelengths(node, text, name, used).map(Spectrum::Rgb);
             }
             let v = numbers(node, text, name)?;
+            if legacy {
+                return legacy_spectrum(node, &v, name).map(Spectrum::Rgb);
+            }
             if v.len() != 1 {
                 return Err(node.error(Some(name), "a <spectrum> without wavelengths is one number"));
             }
@@ -326,8 +334,36 @@ pub fn spectrum_of<'a>(node: &'a Node, name: &str, used: SpectrumUse) -> Result<
     }
 }
 
+/// A `<spectrum>` of numbers `v` in a 0.x scene, as Mitsuba 0.5/0.6's RGB build (the default:
+/// three spectral samples, the linear RGB values) reads it: one number is grey, on an emitter
+/// too (Mitsuba 0.6 makes it D65 times the value, and D65 is 1 in its RGB build; Mitsuba 3 makes
+/// it the colour of a flat spectrum, 1.2, 0.95, 0.91 per unit), and so whatever its `intent`;
+/// three are the RGB values themselves. Any other count is refused, as Mitsuba 0.6 refuses it.
+fn legacy_spectrum(node: &Node, v: &[f32], name: &str) -> Result<Vec3> {
+    match node.attr("intent") {
+        None => {}
+        Some(intent) if v.len() == 1 && ["reflectance", "illuminant"].contains(&intent.to_ascii_lowercase().as_str()) => {}
+        Some(intent) if v.len() == 1 => {
+            return Err(node.error(Some(name), format!("intent \"{intent}\": \"reflectance\" or \"illuminant\"")))
+        }
+        Some(_) => return Err(node.error(Some(name), "a <spectrum>'s `intent` goes with a single value only (Mitsuba 0.6)")),
+    }
+    match *v {
+        [x] => Ok(Vec3::splat(x)),
+        [r, g, b] => Ok(Vec3::new(r, g, b)),
+        _ => Err(node.error(
+            Some(name),
+            format!(
+                "a <spectrum> without wavelengths has one number or three (Mitsuba 0.5/0.6's RGB build reads three as \
+                 its spectral samples, the RGB values), not {}",
+                v.len()
+            ),
+        )),
+    }
+}
+
 /// A `<spectrum>` of `wavelength:value` pairs (nm, increasing) as linear sRGB
-/// ([`spectrum_to_srgb`]).
+/// ([`spectrum_to_srgb`]; in a 0.x scene as Mitsuba 0.5/0.6 read it, without an illuminant).
 fn wavelengths(node: &Node, text: &str, name: &str, used: SpectrumUse) -> Result<Vec3> {
     let bad = |why: String| node.error(Some(name), why);
     let mut points: Vec<(f32, f32)> = Vec::new();
@@ -342,8 +378,17 @@ fn wavelengths(node: &Node, text: &str, name: &str, used: SpectrumUse) -> Result
     if points.len() < 2 {
         return Err(bad("a spectrum given by wavelengths needs two wavelength:value pairs or more".into()));
     }
-    let (rgb, clamped) = spectrum_to_srgb(&points, used);
-    if clamped {
+    let legacy = node.legacy();
+    let (rgb, clamped) = spectrum_to_srgb(&points, used, legacy);
+    if clamped && legacy {
+        node.warn(
+            Some(name),
+            format!(
+                "the spectrum of `{name}` lies outside the sRGB gamut: clamped to {rgb} (Mitsuba 0.5/0.6 clamp only \
+                 negative values, and keep a reflectance above 1)"
+            ),
+        );
+    } else if clamped {
         node.warn(Some(name), format!("the spectrum of `{name}` lies outside the sRGB gamut: clamped to {rgb}, as Mitsuba does"));
     }
     Ok(rgb)

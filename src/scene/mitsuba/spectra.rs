@@ -5,6 +5,20 @@
 //! the D65 illuminant for a reflectance and without it for an emitter, and the CIE XYZ taken
 //! to linear sRGB. A reflectance's colour is clamped to [0, 1], any other's to >= 0, with a
 //! warning, as Mitsuba does.
+//!
+//! A scene of version 0.5/0.6 is read as Mitsuba 0.5/0.6 read it (`Spectrum::
+//! fromContinuousSpectrum` of their RGB build, the default and the papers' builds): the same
+//! integral, but without an illuminant whatever the spectrum is, so that a flat reflectance is
+//! the colour of a flat spectrum (1.2, 0.95, 0.90 per unit), not white. Their images show it:
+//! the Cornell box of Mueller et al.'s path-guiding repository (reflectances and light given by
+//! wavelengths), as its authors rendered it with their Mitsuba 0.6 fork, is 1.32, 0.92, 0.84
+//! times Mitsuba 3's render of the same file in its channel means, and ours is within 0.5% of
+//! it once its light is corrected for a fault of Mitsuba 0.5.0 and 0.6.0 as released: they
+//! interpolated a spectrum's values backwards between two given wavelengths
+//! (`InterpolatedSpectrum::eval`, fixed in Mitsuba 0.6's source in 2020, cfeb7766). We read a
+//! spectrum as written, as that source does now; the releases' renders differ where the given
+//! wavelengths are far apart (that box's light, given every 100 nm, is 1.129, 0.988, 1.005
+//! times theirs in ours; its reflectances, given every 4 nm, within 1%).
 
 use glam::{Mat3, Vec3};
 
@@ -27,8 +41,9 @@ pub enum SpectrumUse {
 }
 
 /// The linear sRGB colour of the spectrum through (wavelength nm, value) points in increasing
-/// wavelength, and whether it had to be clamped (out of the sRGB gamut).
-pub fn spectrum_to_srgb(points: &[(f32, f32)], used: SpectrumUse) -> (Vec3, bool) {
+/// wavelength, and whether it had to be clamped (out of the sRGB gamut). `legacy`: as Mitsuba
+/// 0.5/0.6 read it, without an illuminant whatever `used` is.
+pub fn spectrum_to_srgb(points: &[(f32, f32)], used: SpectrumUse, legacy: bool) -> (Vec3, bool) {
     const STEPS: usize = 1000;
     let (lo, hi) = (CIE_1931[0].0 as f64, CIE_1931[CIE_1931.len() - 1].0 as f64);
     let mut xyz = [0.0f64; 3];
@@ -43,7 +58,7 @@ pub fn spectrum_to_srgb(points: &[(f32, f32)], used: SpectrumUse) -> (Vec3, bool
         let t = if w1 > w0 { (w - w0 as f64) / (w1 - w0) as f64 } else { 0.0 };
         let v = v0 as f64 + t * (v1 - v0) as f64;
         let (cmf, d65) = cie_at(w);
-        let illuminant = if used == SpectrumUse::Emitter { 1.0 } else { d65 * D65_NORMALIZATION };
+        let illuminant = if used == SpectrumUse::Emitter || legacy { 1.0 } else { d65 * D65_NORMALIZATION };
         for c in 0..3 {
             xyz[c] += cmf[c] * v * illuminant;
         }
@@ -189,12 +204,19 @@ mod tests {
     fn wavelengths_give_mitsubas_srgb() {
         let points = [(400.0, 0.2), (500.0, 0.5), (600.0, 0.8), (700.0, 0.3)];
         let close = |a: Vec3, b: Vec3| (a - b).abs().max_element() < 2e-5;
-        let (rgb, clamped) = spectrum_to_srgb(&points, SpectrumUse::Reflectance);
+        let (rgb, clamped) = spectrum_to_srgb(&points, SpectrumUse::Reflectance, false);
         assert!(close(rgb, Vec3::new(0.755029, 0.641416, 0.323239)) && !clamped, "{rgb}");
-        let (rgb, _) = spectrum_to_srgb(&points, SpectrumUse::Emitter);
+        let (rgb, _) = spectrum_to_srgb(&points, SpectrumUse::Emitter, false);
         assert!(close(rgb, Vec3::new(0.886932, 0.614419, 0.285147)), "{rgb}");
         // A flat reflectance 1 over the whole range is white under D65.
-        let (rgb, _) = spectrum_to_srgb(&[(360.0, 1.0), (830.0, 1.0)], SpectrumUse::Reflectance);
+        let (rgb, _) = spectrum_to_srgb(&[(360.0, 1.0), (830.0, 1.0)], SpectrumUse::Reflectance, false);
         assert!((rgb - Vec3::ONE).abs().max_element() < 2e-3, "{rgb}");
+        // As Mitsuba 0.5/0.6 read it, a reflectance is integrated as an emitter is, and a flat
+        // one is the colour of a flat spectrum (Mitsuba 3.9.1's spectrum_list_to_srgb of
+        // 400:1, 700:1 without D65: 1.19969 0.949521 0.903443).
+        let (rgb, clamped) = spectrum_to_srgb(&points, SpectrumUse::Reflectance, true);
+        assert!(close(rgb, Vec3::new(0.886932, 0.614419, 0.285147)) && !clamped, "{rgb}");
+        let (rgb, _) = spectrum_to_srgb(&[(400.0, 0.5), (700.0, 0.5)], SpectrumUse::Reflectance, true);
+        assert!(close(rgb, Vec3::new(1.19969, 0.949521, 0.903443) * 0.5), "{rgb}");
     }
 }

@@ -88,8 +88,14 @@ impl Node {
     }
 
     /// A warning at this element, about `key` when it names one.
+    /// The same warning twice (a parameter read twice, as a diffuse reflectance is: once to
+    /// see whether it is a texture) is given once.
     pub fn warn(&self, key: Option<&str>, message: impl Into<String>) {
-        self.reading.warnings.borrow_mut().push(self.error(key, message));
+        let warning = self.error(key, message);
+        let mut warnings = self.reading.warnings.borrow_mut();
+        if !warnings.contains(&warning) {
+            warnings.push(warning);
+        }
     }
 
     /// `<tag type="...">` or `<tag>` with its name, for messages.
