@@ -22,7 +22,9 @@
 # --adapter to the first adapter that is not a CPU device (an index or a part of its name, as
 # --list-adapters shows them). Feeds BENCHMARKS.md "Pacing: time limit, Ctrl-C and
 # throughput". With --tests DIR the test binaries read scenes and references through the
-# checkout path they were built in: ../shared/tools/gpu-kit/run.sh recreates it.
+# checkout path they were built in: ../shared/tools/gpu-kit/run.sh recreates it. The
+# integration tests are one binary, `suite` (tests/suite/main.rs; pack it with
+# TESTS="suite mitsuba_xml sppm_gpu"), whose modules run alone as `suite sppm::`.
 set -u
 cd "$(dirname "$0")/.."
 bin=target/release/sppm-gpu tests= tools= out=gpu-check-out adapter= skip=

@@ -10,7 +10,7 @@
 //! Against one process rendering all the passes, a pixel differs by the rounding of those
 //! products and of the GPU's f32 sums in another order: a few f32 ulps per batch and per
 //! pass summed, within `1e-5` relative for renders of up to hundreds of passes
-//! (`tests/batch.rs` checks it).
+//! (`tests/suite/batch.rs` checks it).
 
 use crate::checkpoint::Fingerprint;
 use crate::error::Error;

@@ -23,7 +23,7 @@
 #      by block (the same camera paths and photons: only the skipped photons differ);
 #   4. equal time: cornell-box for 20 s, old and new alternating, ROUNDS rounds (default 2):
 #      the passes done and the diff against the reference;
-#   5. the test: cargo test --release --test sppm thin_shell (in this checkout; set
+#   5. the test: cargo test --release --test suite sppm::thin_shell (in this checkout; set
 #      CARGO_TARGET_DIR as for any build).
 #
 #   bash scripts/measure/thin-shell.sh OUT OLD_BINARY NEW_BINARY SCENE_XML REF_EXR
@@ -192,5 +192,5 @@ for round in $(seq "$rounds"); do
     done
 done
 
-say "# 5. cargo test --release --test sppm thin_shell"
-cargo test --release --test sppm thin_shell 2>&1 | grep -E "^test |test result" | tee -a "$report"
+say "# 5. cargo test --release --test suite sppm::thin_shell"
+cargo test --release --test suite sppm::thin_shell 2>&1 | grep -E "^test |test result" | tee -a "$report"

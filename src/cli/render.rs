@@ -166,7 +166,7 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     );
     let start = Instant::now();
     // Test hook: lose the device after this many passes of this run, as a driver crash or a
-    // GPU reset would (tests/checkpoint.rs).
+    // GPU reset would (tests/suite/checkpoint.rs).
     let lose_device_after: Option<u32> = std::env::var("SPPM_GPU_LOSE_DEVICE_AFTER").ok().and_then(|v| v.parse().ok());
     progress.set_position(first_pass as u64);
     // Passes are submitted through a pacer and everything is judged on completed passes and

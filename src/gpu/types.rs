@@ -1,5 +1,5 @@
 //! Structs that cross to the GPU. Each is declared once here and once in
-//! `shaders/shared/types.wgsl`; `tests/gpu_layout.rs` checks every offset and size with naga.
+//! `shaders/shared/types.wgsl`; `tests/suite/gpu_layout.rs` checks every offset and size with naga.
 
 use bytemuck::{Pod, Zeroable};
 

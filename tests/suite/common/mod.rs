@@ -1,0 +1,107 @@
+//! Shared by the GPU tests: a device, or a clear reason there is none.
+#![allow(dead_code)]
+
+mod rng;
+pub mod scene_text;
+pub mod serialized_writer;
+#[allow(unused_imports)]
+pub use rng::Rng;
+
+use sppm_gpu::gpu::GpuContext;
+use sppm_gpu::image_io::Rgb32Image;
+use sppm_gpu::integrators::{Integrator, Sppm};
+use sppm_gpu::metrics::{count_negative, count_non_finite};
+use sppm_gpu::scene::Scene;
+use std::path::PathBuf;
+
+/// A device for a GPU test. Without one the test is skipped with a message, except under CI
+/// (`CI=true`), where a missing adapter fails the test.
+pub fn gpu() -> Option<GpuContext> {
+    match GpuContext::new() {
+        Ok(ctx) => Some(ctx),
+        Err(e) => {
+            if std::env::var("CI").is_ok_and(|v| v == "true") {
+                panic!("CI=true and no GPU adapter: {e}");
+            }
+            eprintln!("skipping GPU test: {e}");
+            None
+        }
+    }
+}
+
+pub fn scene_path(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name)
+}
+
+pub fn load_scene(name: &str) -> Scene {
+    sppm_gpu::scene::load(&scene_path(name)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+pub fn reference(name: &str) -> sppm_gpu::image_io::Rgb32Image {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/references").join(name);
+    sppm_gpu::image_io::read_exr(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Closest hits of `rays` (origin and t_max, then direction, per ray) through `data` with the
+/// `trace_rays` kernel compiled for `constants`: per ray (t, prim_ref as bits, b1, b2).
+pub fn trace_rays(
+    gpu: &GpuContext,
+    data: &sppm_gpu::gpu::scene_buffers::SceneData,
+    rays: &[[f32; 4]],
+    constants: &[(&str, f64)],
+) -> Vec<[f32; 4]> {
+    trace_rays_with(gpu, data, rays, constants, &[])
+}
+
+/// [`trace_rays`] with source replacements (the baked traversal of `gpu::baked_bvh`).
+pub fn trace_rays_with(
+    gpu: &GpuContext,
+    data: &sppm_gpu::gpu::scene_buffers::SceneData,
+    rays: &[[f32; 4]],
+    constants: &[(&str, f64)],
+    replace: &[(&str, &str)],
+) -> Vec<[f32; 4]> {
+    use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
+    use sppm_gpu::gpu::scene_buffers::{storage_buffer, SceneBuffers};
+    use sppm_gpu::gpu::{Kernel, Resource};
+    use wgpu::util::DeviceExt;
+    let kernel = Kernel::specialized(&gpu.device, "trace_rays", replace, constants).unwrap();
+    let buffers = SceneBuffers::new(&gpu.device, data);
+    let n = rays.len() / 2;
+    let ray_buffer = storage_buffer(&gpu.device, "rays", rays);
+    let hits = storage_buffer(&gpu.device, "hits", &vec![[0f32; 4]; n]);
+    // The traversal reads the ray offset and shutter time from the frame: a still scene at time 0.
+    let frame = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("frame"),
+        contents: bytemuck::bytes_of(&sppm_gpu::gpu::types::Frame::default()),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let mut resources = buffers.resources();
+    resources.push(Resource { name: "frame", buffer: &frame });
+    resources.push(Resource { name: "rays", buffer: &ray_buffer });
+    resources.push(Resource { name: "hits", buffer: &hits });
+    let group = kernel.bind_group(&gpu.device, &resources).unwrap();
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    kernel.dispatch(&mut encoder, &group, n as u32);
+    gpu.queue.submit([encoder.finish()]);
+    let staging = staging_buffer(&gpu.device, "hits_staging", hits.size());
+    read_buffer(&gpu.device, &gpu.queue, &hits, &staging, hits.size()).unwrap()
+}
+
+/// Run `passes` passes of `integrator` and read its image, every pixel finite and not
+/// negative.
+pub fn run_passes(integrator: &mut dyn Integrator, passes: u32) -> Rgb32Image {
+    for _ in 0..passes {
+        integrator.run_pass().unwrap();
+    }
+    let img = integrator.image().unwrap();
+    assert_eq!(count_non_finite(&img), 0, "NaN or infinite pixels");
+    assert_eq!(count_negative(&img), 0, "negative pixels");
+    img
+}
+
+/// SPPM on `scene` for its `iterations` passes ([`run_passes`]).
+pub fn render_sppm(gpu: &GpuContext, scene: &Scene) -> Rgb32Image {
+    let mut sppm = Sppm::new(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
+    run_passes(&mut sppm, scene.render.iterations)
+}

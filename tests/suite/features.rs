@@ -1,0 +1,146 @@
+//! Kernels compiled per scene: `Features::of` says what each scene has, every kernel compiles
+//! with any feature switched off, and a specialized traversal finds exactly the hits of the
+//! general one.
+
+use crate::common;
+
+use crate::common::Rng;
+use glam::Vec3;
+use sppm_gpu::gpu::scene_buffers::SceneData;
+use sppm_gpu::gpu::{Features, Kernel};
+use sppm_gpu::scene::{self, Sphere, Triangle};
+
+fn features(name: &str) -> Features {
+    Features::of(&SceneData::new(&common::load_scene(name)).unwrap())
+}
+
+#[test]
+fn features_of_the_canonical_scenes() {
+    let f = features("cornell-spheres.toml");
+    assert!(f.triangles && f.spheres && f.mirror && f.smooth_dielectric && f.triangle_lights);
+    assert!(!(f.glossy || f.rough_dielectric || f.textures || f.uvs || f.shading_normals || f.motion));
+    assert!(!(f.sphere_lights || f.point_lights || f.directional_lights));
+    let f = features("cornell-box.toml");
+    assert!(f.triangles && !f.spheres && !f.mirror && !f.smooth_dielectric);
+    let f = features("textured.toml");
+    assert!(f.textures && f.uvs);
+    let f = features("point-light.toml");
+    assert!(f.point_lights);
+    let f = features("cornell-glossy.toml");
+    assert!(f.glossy);
+    let f = features("motion-blur.toml");
+    assert!(f.motion);
+    // Conductor Fresnel terms and Beckmann microfacets come from Mitsuba scenes only.
+    for name in ["cornell-spheres.toml", "cornell-glossy.toml", "cornell-box.toml"] {
+        let f = features(name);
+        assert!(!(f.conductor_fresnel || f.beckmann), "{name}");
+    }
+    let metals = scene::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/metals.xml")).unwrap();
+    let f = Features::of(&SceneData::new(&metals).unwrap());
+    assert!(f.conductor_fresnel && f.beckmann && f.mirror && f.glossy && f.rough_dielectric);
+    let box_xml = scene::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/box.xml")).unwrap();
+    let f = Features::of(&SceneData::new(&box_xml).unwrap());
+    assert!(f.mirror && f.glossy && !f.conductor_fresnel && !f.beckmann, "material none, ggx: {f:?}");
+    assert_eq!(Features::ALL.constants().len(), 23);
+    assert!(Features::ALL.constants().iter().all(|(_, v)| *v == 1.0));
+}
+
+/// A constant environment switches USES_ENVIRONMENT on, and nothing else does: scenes
+/// without one compile their kernels as before it existed.
+#[test]
+fn the_environment_is_a_feature_of_its_own() {
+    for name in ["cornell-box.toml", "cornell-spheres.toml", "point-light.toml", "textured.toml", "motion-blur.toml"] {
+        let f = features(name);
+        assert!(!f.environment, "{name}");
+        assert!(f.constants().contains(&("USES_ENVIRONMENT", 0.0)), "{name}");
+    }
+    let f = features("furnace-environment.toml");
+    assert!(f.environment && !(f.point_lights || f.directional_lights || f.spot_lights || f.triangle_lights), "{f:?}");
+    assert!(f.constants().contains(&("USES_ENVIRONMENT", 1.0)));
+    // A constant environment leaves the envmap's code out; an envmap puts it in.
+    assert!(f.constants().contains(&("USES_ENVMAP", 0.0)));
+    let envmap = scene::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/envmap.xml")).unwrap();
+    let f = Features::of(&SceneData::new(&envmap).unwrap());
+    assert!(f.environment && f.envmap && !f.triangle_lights, "{f:?}");
+}
+
+/// Spot lights switch USES_SPOT_LIGHTS on, and nothing else does: scenes without them
+/// compile their kernels without the spot light's code.
+#[test]
+fn spot_lights_are_a_feature_of_their_own() {
+    for name in ["cornell-box.toml", "cornell-spheres.toml", "point-light.toml", "textured.toml", "motion-blur.toml"] {
+        let f = features(name);
+        assert!(!f.spot_lights, "{name}");
+        assert!(f.constants().contains(&("USES_SPOT_LIGHTS", 0.0)), "{name}");
+    }
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/spot.xml");
+    let f = Features::of(&SceneData::new(&sppm_gpu::scene::load(&path).unwrap()).unwrap());
+    assert!(f.spot_lights && !(f.point_lights || f.directional_lights || f.triangle_lights || f.sphere_lights), "{f:?}");
+    assert!(f.constants().contains(&("USES_SPOT_LIGHTS", 1.0)));
+}
+
+/// Each tracing kernel with each feature off in turn, and with all off: the driver compiles
+/// every variant without an error.
+#[test]
+fn every_variant_compiles() {
+    let Some(gpu) = common::gpu() else { return };
+    let all = Features::ALL.constants();
+    let mut variants: Vec<Vec<(&str, f64)>> =
+        (0..all.len()).map(|i| all.iter().enumerate().map(|(j, &(n, v))| (n, if i == j { 0.0 } else { v })).collect()).collect();
+    variants.push(all.iter().map(|&(n, _)| (n, 0.0)).collect());
+    for kernel in ["camera_pass", "photon_pass", "path_trace", "trace_rays"] {
+        for constants in &variants {
+            Kernel::specialized(&gpu.device, kernel, &[], constants).unwrap_or_else(|e| panic!("{kernel}: {e}"));
+        }
+    }
+    let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
+    gpu.check().unwrap();
+}
+
+/// A scene of only spheres and one of only triangles (each lit by one of its primitives):
+/// the traversal specialized for each finds the same hits as the general one, bit for bit.
+#[test]
+fn specialized_traversal_finds_the_general_ones_hits() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut rand = Rng(99);
+    let mut base = common::load_scene("cornell-box.toml");
+    base.shapes.truncate(1);
+    base.shapes[0].emission = Some(Vec3::ONE);
+    base.lights.clear();
+    let mut spheres_only = base.clone();
+    spheres_only.triangles.clear();
+    spheres_only.spheres =
+        (0..40).map(|_| Sphere { center: rand.vec3(-1.0, 1.0), radius: 0.05 + 0.2 * rand.f32(), shape: 0 }).collect();
+    let mut triangles_only = base.clone();
+    triangles_only.spheres.clear();
+    triangles_only.triangles = (0..300)
+        .map(|_| {
+            let c = rand.vec3(-1.0, 1.0);
+            Triangle { p: [c, c + rand.vec3(-0.3, 0.3), c + rand.vec3(-0.3, 0.3)], n: None, uv: None, shape: 0 }
+        })
+        .collect();
+    let rays: Vec<[f32; 4]> = (0..2048)
+        .flat_map(|_| {
+            let o = rand.vec3(-1.5, 1.5);
+            let d = rand.vec3(-1.0, 1.0);
+            [[o.x, o.y, o.z, 1.0e30], [d.x, d.y, d.z, 0.0]]
+        })
+        .collect();
+    for scene in [&spheres_only, &triangles_only] {
+        let data = SceneData::new(scene).unwrap();
+        let own = Features::of(&data);
+        assert!(own.spheres != own.triangles, "one kind of primitive");
+        let general = common::trace_rays(&gpu, &data, &rays, &Features::ALL.constants());
+        let specialized = common::trace_rays(&gpu, &data, &rays, &own.constants());
+        let hits = general.iter().filter(|h| h[1].to_bits() != u32::MAX).count();
+        assert!(hits > 200, "{hits} of 2048 rays hit");
+        // By bits: a miss's primitive reference 0xffffffff reads as a NaN.
+        let bits = |h: &[f32; 4]| h.map(f32::to_bits);
+        let differ: Vec<_> = general.iter().zip(&specialized).enumerate().filter(|(_, (a, b))| bits(a) != bits(b)).collect();
+        for (i, (a, b)) in differ.iter().take(5) {
+            eprintln!("ray {i}: general {a:?} ({:#x}) specialized {b:?} ({:#x})", a[1].to_bits(), b[1].to_bits());
+        }
+        assert!(differ.is_empty(), "specialized traversal differs on {} rays", differ.len());
+    }
+    gpu.check().unwrap();
+}

@@ -1,0 +1,43 @@
+//! The integration tests, one binary (as cargo's own `tests/testsuite/`): each file a module,
+//! the shared helpers in `common`. One binary links wgpu, naga and the crate once, where one a
+//! file linked them 34 times. Run one module's tests with `cargo test --release --test suite
+//! <module>::`.
+//!
+//! Like every GPU test, those that need an adapter are skipped without one, except under
+//! `CI=true`, where they fail; `SPPM_GPU_ADAPTER` picks the adapter (an index or a part of a
+//! name, as `--adapter`).
+
+mod accel;
+mod adaptive_radius;
+mod bad_input;
+mod bands;
+mod batch;
+mod builder;
+mod checkpoint;
+mod chi_square;
+mod common;
+mod compare;
+mod convert;
+mod cwbvh;
+mod device_errors;
+mod direct_light;
+mod embed;
+mod environment;
+mod features;
+mod fuzz;
+mod gpu_layout;
+mod gpu_trace;
+mod image_metrics;
+mod limits;
+mod memory;
+mod mesh_formats;
+mod one_sided;
+mod oracles;
+mod path;
+mod pixel_filter;
+mod scene_load;
+mod shaders;
+mod sobol;
+mod sppm;
+mod stability;
+mod view;
