@@ -41,15 +41,15 @@
 #   written as <rgb> of 0.6's colours. Every sampler becomes `independent`: Mitsuba 3's
 #   `ldsampler` (the dppm box's), rendered in mitsuba_xml.py's 16-spp chunks, left a structured
 #   error in its ptracer image (8x8 blocks 0.8 to 1.3 times the independent sampler's, the
-#   same at any sample count and seed).
-#   Then Mitsuba 3's `path` at SPP (default 4096; 8192 for ppg-cbox) with the file's max depth,
+#   same at 1024 spp from seed 0 and at 3040 spp from seed 10^6). Then Mitsuba 3's `path` at SPP (default 4096; 8192 for ppg-cbox) with the file's max depth,
 #   and for the dppm scenes `ptracer` too, which holds the caustics of the point light and the
 #   tiny area lights that `path` cannot, but nothing the camera sees through glass or in a
 #   mirror: a mask of those pixels (Mitsuba 3's first hits with a delta BSDF) splits the
 #   image, and the composite reference takes ptracer in the 8x8 blocks that see none and path
 #   in the others. For the dppm box, whose path render is fireflies, also long runs of our own
-#   SPPM (LONG seconds, default 600) at the automatic radius and at half of it (RADIUS: the
-#   automatic radius at 256x192): their difference bounds the bias.
+#   SPPM (LONG seconds, default 600) at the automatic radius and at half of it (RADIUS, default
+#   0.0241: the automatic radius at 256x192, 3 pixel footprints at the look-at distance 2.446,
+#   as src/integrators/sppm.rs auto_radius computes it): their difference bounds the bias.
 #   A render whose image exists is not done again (delete it to render it anew).
 # - compare: `sppm-gpu diff --downsample 8` of each render against its references, and the
 #   same figures over the blocks that see glass or mirrors and over the rest.
@@ -320,6 +320,8 @@ reference)
     tool=$(realpath "${4:?$usage}")
     for s in "${scenes[@]}"; do
         helper m3 "$dest/$s/$(file_of $s)" "$dest/$s/$(m3_of $s)"
+        grep -q '^m3:' "$dest/$s/SOURCE.txt" ||
+            echo "m3:      $(m3_of $s), written by era-scenes.sh reference, is the file for Mitsuba 3.9.1 (its header says how); ours reads $(file_of $s)" >> "$dest/$s/SOURCE.txt"
     done
     # The path-guiding Cornell box: Mitsuba 3's path; its authors' own render (512 pixels
     # square, their Mitsuba 0.6 fork and guided path tracer, 128 spp), halved.
@@ -342,7 +344,7 @@ reference)
     done
     # The dppm box: long runs of our own SPPM at the automatic radius and at half of it.
     d="$dest/dppm-box"
-    radius=${RADIUS:?RADIUS: the automatic radius of dppm-box at 256x192}
+    radius=${RADIUS:-0.0241}
     [ -f "$d/long-sppm.exr" ] || echo "dppm-box long sppm: $(run "$d/long-sppm.log" "$bin" \
         "$d/$(file_of dppm-box)" -o "$d/long-sppm.exr" $(size dppm-box) --time-limit "$long" --iterations 1000000)"
     [ -f "$d/long-sppm-half.exr" ] || echo "dppm-box long sppm, half radius: $(run "$d/long-sppm-half.log" "$bin" \
@@ -363,7 +365,7 @@ compare)
             grep -h '^warning' "$d/ours-sppm.log" || true
             for r in "${refs[@]}"; do
                 [ -f "$d/$r.exr" ] || continue
-                for o in ours-sppm ours-pt-nee long-sppm-half ref-authors-fixed; do
+                for o in ours-sppm ours-pt-nee long-sppm long-sppm-half ref-authors-fixed; do
                     [ -f "$d/$o.exr" ] && [ "$o" != "$r" ] || continue
                     echo "$s $o vs $r: $("$bin" diff "$d/$o.exr" "$d/$r.exr" --downsample 8 2>&1 | tr '\n' ' ')"
                     if [ -f "$d/mask.exr" ]; then helper split "$d/$o.exr" "$d/$r.exr" "$d/mask.exr" "$s $o vs $r"; fi
