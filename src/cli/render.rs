@@ -6,7 +6,7 @@ use super::Cli;
 use indicatif::{ProgressBar, ProgressStyle};
 use sppm_gpu::gpu::GpuContext;
 use sppm_gpu::integrators;
-use sppm_gpu::pacing::{self, DeviceQueue, Goal, Pacer, PassQueue};
+use sppm_gpu::pacing::{DeviceQueue, Goal, Pacer, PassQueue};
 use sppm_gpu::scene::Method;
 use sppm_gpu::{experiments, image_io, say, Error};
 use std::path::Path;
@@ -203,7 +203,8 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         }
         Ok(())
     })();
-    let (most_in_flight, largest_group) = (pacer.most_passes_in_flight(), pacer.largest_group());
+    let (most_in_flight, most_submissions, largest_group) =
+        (pacer.most_passes_in_flight(), pacer.most_submissions_in_flight(), pacer.largest_group());
     drop(pacer);
     if let Err(e) = paced {
         progress.finish_and_clear();
@@ -243,8 +244,7 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     );
     if cli.stats {
         say!(
-            "in flight: at most {most_in_flight} passes (at most {} submissions of up to {largest_group} passes)",
-            pacing::MAX_IN_FLIGHT
+            "in flight: at most {most_in_flight} passes (at most {most_submissions} submissions of up to {largest_group} passes)"
         );
         print_memory(&integrator.gpu_memory());
     }
