@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Install what sppm-gpu needs on Debian or Ubuntu: Mesa's software Vulkan driver (lavapipe),
 # which also serves machines without a GPU, when no Vulkan driver is present; and for
-# `sppm-gpu view`, its test (tests/suite/view.rs) and scripts/view-screenshot.sh, the X libraries
+# `sppm-gpu view`, its test (tests/suite/view.rs) and scripts/regen/view-screenshot.sh, the X libraries
 # winit loads at run time, Xvfb, xdotool and xwd (x11-apps). Installs only what is missing,
 # with one `apt-get update`; does nothing when all of it is present.
 #

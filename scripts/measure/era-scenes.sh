@@ -11,7 +11,7 @@
 #
 # Inputs, all given as arguments (nothing else outside the repository is read):
 # - MIRRORS: one clone per repository, OWNER+NAME/repo, bare or not (the layout the session's
-#   `fetch` tool writes; scripts/public-scenes.sh reads the same): Tom94/practical-path-guiding
+#   `fetch` tool writes; scripts/measure/public-scenes.sh reads the same): Tom94/practical-path-guiding
 #   and hchoi405/dppm-scenes.
 # - DEST: receives one folder per scene (the scene's files at their paths in the source
 #   repository, SOURCE.txt with repository, commit, paths and license), and in it the renders
@@ -81,44 +81,8 @@ size() {
     esac
 }
 
-gitdir() { # MIRRORS OWNER+NAME -> git dir
-    local d="$1/$2/repo"
-    [ -d "$d/.git" ] && d="$d/.git"
-    [ -d "$d" ] || { echo "missing mirror $2 (fetch github:${2/+//})" >&2; return 1; }
-    echo "$d"
-}
-
-# stage_one MIRRORS DEST NAME MIRROR LICENSE SCENE PATH...: copy PATHs of MIRROR's HEAD.
-stage_one() {
-    local mirrors=$1 dest=$2 name=$3 mirror=$4 license=$5 scene=$6
-    shift 6
-    local paths=("$@") g out commit missing=0 mode type hash path
-    g=$(gitdir "$mirrors" "$mirror")
-    out="$dest/$name"
-    mkdir -p "$out"
-    commit=$(git -C "$g" rev-parse HEAD)
-    for p in "$scene" "${paths[@]}"; do
-        while IFS=$' \t' read -r mode type hash path; do
-            [ "$type" = blob ] || continue
-            mkdir -p "$out/$(dirname "$path")"
-            if git -C "$g" cat-file -e "$hash" 2>/dev/null; then
-                git -C "$g" cat-file blob "$hash" > "$out/$path"
-            else
-                echo "  $name: $path is not in the mirror (large file left out)" >&2
-                missing=$((missing + 1))
-            fi
-        done < <(git -C "$g" ls-tree -r HEAD -- "$p")
-    done
-    {
-        echo "scene:   $scene"
-        echo "repo:    https://github.com/${mirror/+//}"
-        echo "commit:  $commit"
-        echo "paths:   $scene ${paths[*]}"
-        echo "license: $license"
-        echo "missing: $missing file(s)"
-    } > "$out/SOURCE.txt"
-    echo "$name: $out/$scene ($missing missing)"
-}
+# gitdir and stage_one: shared with public-scenes.sh.
+. "$(dirname "$0")/lib.sh"
 
 # helper COMMAND ARGS...: image and scene helpers in python3 (numpy, OpenEXR; `m3` and `mask`
 # also import mitsuba).

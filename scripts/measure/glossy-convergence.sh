@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
+# Feeds BENCHMARKS.md "Glossy surfaces converge" (docs/journal/sessions-01-02.md).
+# Inputs: the repository's scenes and references.
 # SPPM on cornell-glossy at its own settings, stopped after 4, 8, 16, 32 and 64 passes:
 # relMSE against the reference (8x8 downsampled) should fall as passes grow.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 cargo build --release -q
 mkdir -p out
 for n in 4 8 16 32 64; do

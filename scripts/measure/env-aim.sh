@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
+# Feeds BENCHMARKS.md "Environment photons (issue 25)" (docs/journal/session-12.md).
+# Inputs: PUBLIC_SCENES (staged by public-scenes.sh), OUTDIR.
 # Environment photons aimed at the visible points (issue 25, BENCHMARKS.md "Session 12",
 # "Environment photons"): SPPM at equal time with SPPM_ENV_AIM=0 (the whole disk) and 0.9,
 # alternating, against long references, relMSE of 8x8 blocks (4x4 for the 240x180 preview).
-#   bash scripts/env-aim.sh [SECONDS] [OUTDIR]
+#   bash scripts/measure/env-aim.sh [SECONDS] [OUTDIR]
 # The references: scenes/mitsuba/sky.xml at 256x192 by Mitsuba 3.9.1's path (8192 spp, 1025 s) in
-# OUTDIR/sky-mi-path.exr (../shared/tools/mitsuba_xml.py scenes/mitsuba/sky.xml
+# OUTDIR/sky-mi-path.exr (the study's mitsuba_xml.py scenes/mitsuba/sky.xml
 # OUTDIR/sky-mi-path.exr --spp 8192 --chunk 128 --width 256 --height 192);
-# the material previews' (scripts/public-scenes.sh) ref.exr beside them.
+# the material previews' (scripts/measure/public-scenes.sh) ref.exr beside them.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 secs="${1:-60}"
 out="${2:-out/env-aim}"
 bin="${SPPM_GPU:-target/release/sppm-gpu}"

@@ -2,8 +2,8 @@
 # A screenshot of `sppm-gpu view` for the docs: runs the view in Xvfb on a free display, waits
 # for its title to say it has paused, captures its window with xwd and writes it as a PNG.
 #
-#   scripts/view-screenshot.sh SCENE [VIEW OPTIONS] [-o OUT.png]
-#   scripts/view-screenshot.sh scenes/cornell-box.toml --passes-then-pause 8 -o docs/view.png
+#   scripts/regen/view-screenshot.sh SCENE [VIEW OPTIONS] [-o OUT.png]
+#   scripts/regen/view-screenshot.sh scenes/cornell-box.toml --passes-then-pause 8 -o docs/view.png
 #
 # Every option but -o (default docs/view.png) goes to `sppm-gpu view`; without
 # --passes-then-pause it gets --passes-then-pause 8, so that the view pauses. Needs
@@ -11,7 +11,7 @@
 # SPPM_VIEW_TIMEOUT: seconds to wait for the pause (default 300: kernels compile on first use);
 # SPPM_XVFB_SCREEN: Xvfb's screen (default 2560x1600x24); SPPM_GPU: another binary.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 binary="${SPPM_GPU:-target/release/sppm-gpu}"
 timeout="${SPPM_VIEW_TIMEOUT:-300}"
 

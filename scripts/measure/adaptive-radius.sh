@@ -1,4 +1,6 @@
 #!/bin/sh
+# Feeds BENCHMARKS.md "Adaptive SPPM radius (issue 26)" (docs/journal/session-12.md).
+# Inputs: BIN (default target/release/sppm-gpu), tests/references; writes OUT (default out/adaptive).
 # Adaptive SPPM radius (issue 26): the plain per-point rule (radius_rule = "shrink") against
 # the adaptive one, at equal time.
 #   reference: two long renders of scenes/gallery/water.toml at 128x128 (plain rule, seeds
@@ -7,8 +9,8 @@
 #   water: 60 s of each rule against the first reference, one `compare` run (passes go to
 #     whichever is furthest behind, so a change in the machine's load falls on both alike).
 #   canonical: 30 s of each on the three canonical scenes at full resolution against
-#     ../shared/references.
-# usage: scripts/adaptive-radius.sh reference|water|canonical [OUT] [SECONDS]
+#     tests/references (the same files as the study's shared references).
+# usage: scripts/measure/adaptive-radius.sh reference|water|canonical [OUT] [SECONDS]
 set -e
 what=$1
 out=${2:-out/adaptive}
@@ -35,7 +37,7 @@ canonical)
     seconds=${3:-30}
     for scene in cornell-box cornell-glossy cornell-spheres; do
         echo "$scene: load $(cut -d' ' -f1-3 /proc/loadavg) at $(date +%T)"
-        $bin compare "scenes/$scene.toml" --reference "../shared/references/$scene.exr" \
+        $bin compare "scenes/$scene.toml" --reference "tests/references/$scene.exr" \
             --methods sppm-shrink,sppm-adaptive --time-limit "$seconds" --iterations 1000000 --downsample 1 \
             --out "$out/$scene" > "$out/$scene.log" 2>&1
         grep -E "^sppm" "$out/$scene.log" | awk -v t="$seconds" '$2 >= t'

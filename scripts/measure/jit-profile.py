@@ -1,4 +1,6 @@
 #!/usr/bin/env python3
+# Feeds BENCHMARKS.md "A profile of the JIT code, block by block" (docs/journal/session-07.md).
+# Inputs: the arguments (a binary, a scene).
 """Where lavapipe's JIT code spends the time, kernel by kernel and block by block.
 
 Lavapipe compiles each kernel with LLVM at run time, so `perf` sees only anonymous
@@ -12,7 +14,7 @@ the buffers (descriptor slots) and notable instructions in it.
         target/release/sppm-gpu bench SCENE.toml ... 2> /tmp/asm.txt
     perf script -i /tmp/p.data -F ip,dso | grep -v '\\.so\\|kallsyms\\|sppm-gpu' \\
         | awk '{print $1}' > /tmp/ips.txt
-    python3 scripts/jit-profile.py /tmp/asm.txt /tmp/ips.txt [BLOCK_BYTES]
+    python3 scripts/measure/jit-profile.py /tmp/asm.txt /tmp/ips.txt [BLOCK_BYTES]
 
 Each kernel's annotated listing (percent of its samples per instruction) is written to
 /tmp/jit-profile-N.txt. Samples land on the instruction after a slow one (a cache miss shows

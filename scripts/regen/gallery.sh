@@ -2,7 +2,7 @@
 # Render the gallery (scenes/gallery/*.toml) at their own settings into docs/gallery/, and
 # print each render's summary line (passes, photons, seconds) for the README's table.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 cargo build --release -q
 for scene in scenes/gallery/*.toml; do
     name=$(basename "$scene" .toml)

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
+# Feeds BENCHMARKS.md "Ten public scenes: SPPM against Mitsuba 3, and equal time (60 s)" (docs/journal/session-11.md).
+# Inputs: MIRRORS and DEST, as arguments.
 # Stage public Mitsuba scenes (issue 23) outside the repository, from local git mirrors.
 #
-#   bash scripts/public-scenes.sh [MIRRORS [DEST]]
+#   bash scripts/measure/public-scenes.sh [MIRRORS [DEST]]
 #
 # MIRRORS (default /work/.mirror) holds one bare or ordinary clone per repository, named
 # OWNER+NAME/repo (the layout the session's `fetch` tool writes); DEST (default
@@ -17,43 +19,14 @@ MIRRORS=${1:-/work/.mirror}
 DEST=${2:-/work/public-scenes}
 mkdir -p "$DEST"
 
-gitdir() { # OWNER+NAME -> git dir
-    local d="$MIRRORS/$1/repo"
-    [ -d "$d/.git" ] && d="$d/.git"
-    [ -d "$d" ] || { echo "missing mirror $1 (fetch github:${1/+//})" >&2; return 1; }
-    echo "$d"
-}
+# gitdir and stage_one (lib.sh, shared with era-scenes.sh).
+. "$(dirname "$0")/lib.sh"
 
-# stage NAME MIRROR LICENSE SCENE PATH...: copy PATHs (files or folders) of MIRROR's HEAD.
+# stage NAME MIRROR LICENSE SCENE PATH...: copy PATHs (files or folders) of MIRROR's HEAD; a
+# mirror that is not there is reported and skipped.
 stage() {
-    local name=$1 mirror=$2 license=$3 scene=$4; shift 4
-    local g out commit missing=0
-    g=$(gitdir "$mirror") || return 0
-    out="$DEST/$name"
-    mkdir -p "$out"   # results (ref.exr, ...) beside the scene's tree are kept
-    commit=$(git -C "$g" rev-parse HEAD)
-    for p in "$scene" "$@"; do
-        while IFS=$'\t' read -r meta path; do
-            set -- $meta
-            [ "$2" = blob ] || continue
-            mkdir -p "$out/$(dirname "$path")"
-            if git -C "$g" cat-file -e "$3" 2>/dev/null; then
-                git -C "$g" cat-file blob "$3" > "$out/$path"
-            else
-                echo "  $name: $path is not in the mirror (large file left out)" >&2
-                missing=$((missing + 1))
-            fi
-        done < <(git -C "$g" ls-tree -r HEAD -- "$p")
-    done
-    {
-        echo "scene:   $scene"
-        echo "repo:    https://github.com/${mirror/+//}"
-        echo "commit:  $commit"
-        echo "paths:   $scene $*"
-        echo "license: $license"
-        echo "missing: $missing file(s)"
-    } > "$out/SOURCE.txt"
-    echo "$name: $out/$scene ($missing missing)"
+    gitdir "$MIRRORS" "$2" > /dev/null || return 0
+    stage_one "$MIRRORS" "$DEST" "$@"
 }
 
 # copy_scene NAME FROM: FROM's scene tree and SOURCE.txt (not its results) into NAME.

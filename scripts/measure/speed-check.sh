@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
+# Feeds BENCHMARKS.md "The canonical scenes keep their speed (issue 23's last item)" (docs/journal/session-13.md).
+# Inputs: OLD and NEW binaries, as arguments.
 # Do the canonical scenes keep their speed? An old binary against a new one (with the
 # independent and the Sobol sampler), alternating, ROUNDS rounds (default 2): sppm 32 passes
 # and pt-nee 128 spp of each canonical scene at its own size; prints each run's summary line.
-#   bash scripts/speed-check.sh OLD_BINARY NEW_BINARY [ROUNDS]
+#   bash scripts/measure/speed-check.sh OLD_BINARY NEW_BINARY [ROUNDS]
 # (An old binary from before the `--sampler` option runs without it.)
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 old=${1:?usage: speed-check.sh OLD_BINARY NEW_BINARY [ROUNDS]}
 new=${2:?usage: speed-check.sh OLD_BINARY NEW_BINARY [ROUNDS]}
 rounds=${3:-2}

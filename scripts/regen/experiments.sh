@@ -2,14 +2,14 @@
 # Regenerate the figures of docs/experiments.md into docs/experiments/, one folder per
 # experiment (CSV, PNG figures and the command's printed summary in summary.txt).
 #
-#   bash scripts/experiments.sh                 # all of them (about 17 minutes on 2 cores)
-#   bash scripts/experiments.sh radius compare-box   # only those named
+#   bash scripts/regen/experiments.sh                 # all of them (about 17 minutes on 2 cores)
+#   bash scripts/regen/experiments.sh radius compare-box   # only those named
 #
 # Names: radius, alpha, alpha-large-radius, passes, compare-box, compare-spheres, direct,
 # radius-schedule.
 # Timings depend on the machine and on whatever else runs on it.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
 cargo build --release -q
 bin=./target/release/sppm-gpu

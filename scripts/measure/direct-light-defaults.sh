@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
+# Feeds BENCHMARKS.md "The defaults: direct_samples and the radius" (docs/journal/session-04.md).
+# Inputs: the repository's scenes and references.
 # The measurements behind SPPM's automatic direct_samples and radius (README, "Direct light";
 # BENCHMARKS.md): each setting renders a canonical scene for the same wall time and prints
 # its full-resolution relMSE against the reference.
 #
-#   bash scripts/direct-light-defaults.sh [SECONDS] [SCENE ...]
+#   bash scripts/measure/direct-light-defaults.sh [SECONDS] [SCENE ...]
 #
 # Default: 10 s each, cornell-box and cornell-glossy. Run it on an otherwise idle machine.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 seconds=${1:-10}
 shift || true
 scenes=("${@:-cornell-box cornell-glossy}")

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
+# Feeds BENCHMARKS.md "Accuracy" (journal: "Accuracy at the scenes' own settings (issue 2)", docs/journal/sessions-01-02.md).
+# Inputs: the repository's scenes and tests/references; writes out/.
 # The figures in BENCHMARKS.md: each canonical scene at its own settings against its
 # reference (8x8 box-downsampled), and the 512x512 speed run. Writes images to out/.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 cargo build --release -q
 bin=./target/release/sppm-gpu
 mkdir -p out

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Feeds BENCHMARKS.md "Issue 24 on a quiet machine, in one run" (docs/journal/session-14.md).
+# Inputs: NEW and OLD binaries, STAGED, REF, MESHES, MITSUBA_TOOLS, MITSUBA_PYTHON.
 # Issue 24's figures in one run, on a quiet machine, a binary before and after alternating:
 #  A. pt-nee samples in 20 s on the bunny box at 128x128 (the gallery's bunny-cube.toml; Sobol
 #     and independent samplers, the binary tree in the same binary), beside Mitsuba 3's `path`
@@ -8,20 +10,21 @@
 #  C. `sppm-gpu bench` stage times on the 871k dragon, CWBVH and binary tree alternating;
 #  D. SPPM's equal-time error (30 s) on the bunny box at 256x256 against REF (a Mitsuba
 #     reference of that scene, e.g. `mitsuba_reference.py SCENE REF --spp 1024`), OLD then NEW;
-#  E. pt-nee on a material preview (STAGED/matpreview-diffuse_plain, scripts/public-scenes.sh)
+#  E. pt-nee on a material preview (STAGED/matpreview-diffuse_plain, scripts/measure/public-scenes.sh)
 #     under its environment map and under a constant environment.
 #
-#   REF=bunny256-ref.exr bash scripts/mesh-speed.sh NEW_BINARY OLD_BINARY [STAGED]
+#   REF=bunny256-ref.exr MESHES=DIR MITSUBA_TOOLS=DIR bash scripts/measure/mesh-speed.sh NEW_BINARY OLD_BINARY [STAGED]
 #
 # Parts whose inputs are missing (REF, the staged preview, the meshes) are skipped.
 set -uo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 new=$(realpath "${1:?usage: mesh-speed.sh NEW_BINARY OLD_BINARY [STAGED]}")
 old=$(realpath "${2:?usage: mesh-speed.sh NEW_BINARY OLD_BINARY [STAGED]}")
 staged=${3:-/work/public-scenes}
 python=${MITSUBA_PYTHON:-/work/.venv-mi/bin/python}
-tools=${MITSUBA_TOOLS:-../shared/tools}
-meshes=$(realpath ../shared/meshes)
+tools=${MITSUBA_TOOLS:-}   # the folder holding mitsuba_timed.py (the study's shared tools); part A's Mitsuba run is skipped without it
+meshes=${MESHES:-}          # the folder holding dragon_48k.obj and dragon_871k.obj (the study's shared meshes); skipped without it
+[ -n "$meshes" ] && meshes=$(realpath "$meshes")
 dir=$(mktemp -d)
 la() { cut -d' ' -f1-3 /proc/loadavg; }
 summary() { grep -E " in [0-9.]+ s" | tail -1; }

@@ -5,7 +5,7 @@ coloured quadrants (warm and blue above the horizon, green and grey below), each
 from left to right, a bright 3x3 "sun" at texels x 39..41, y 9..11, and a pale top row. Every
 feature is asymmetric, so a map turned or mirrored the wrong way shows.
 
-    /work/.venv-mi/bin/python scripts/mitsuba-test-envmap.py   # a venv with mitsuba and numpy
+    /work/.venv-mi/bin/python scripts/regen/mitsuba-test-envmap.py   # a venv with mitsuba and numpy
 """
 import os
 
@@ -26,4 +26,4 @@ for y in range(H):
         img[y, x] = c * (0.5 + 0.8 * u)
 img[9:12, 39:42] = np.array([60.0, 55.0, 45.0])
 img[0, :] = np.array([0.8, 0.8, 0.9])
-mi.Bitmap(img).write(os.path.join(here, "..", "scenes", "mitsuba", "textures", "envmap-test.exr"))
+mi.Bitmap(img).write(os.path.join(here, "..", "..", "scenes", "mitsuba", "textures", "envmap-test.exr"))

@@ -7,7 +7,7 @@ a disk of 2.5 degrees radius at 35 degrees elevation (u = 0.06, just right of -z
 600 (about 3/4 of the light on the ground comes from it, so that glass casts a sharp
 caustic). Each texel is the mean of 4x4 samples across it, so the disk's edge is smooth.
 
-    /work/.venv-mi/bin/python scripts/sky-envmap.py   # a venv with mitsuba and numpy
+    /work/.venv-mi/bin/python scripts/regen/sky-envmap.py   # a venv with mitsuba and numpy
 """
 import os
 
@@ -39,6 +39,6 @@ in_sun = (d @ sun) > np.cos(SUN_RADIUS)
 img = np.where(in_sun[..., None], np.array([1.0, 0.95, 0.85]) * SUN_L, img)
 
 img = img.reshape(H, S, W, S, 3).mean(axis=(1, 3)).astype(np.float16)
-out = os.path.join(here, "..", "scenes", "mitsuba", "textures", "sky.exr")
+out = os.path.join(here, "..", "..", "scenes", "mitsuba", "textures", "sky.exr")
 mi.Bitmap(img).write(out)
 print(out, os.path.getsize(out), "bytes; sun direction", sun)

@@ -1,4 +1,6 @@
 #!/usr/bin/env bash
+# Feeds BENCHMARKS.md "The material previews converge to Mitsuba's references (issue 25)" (docs/journal/session-14.md).
+# Inputs: BINARY and DEST (previews staged by public-scenes.sh, their ref.exr).
 # Convergence on Mitsuba's material previews (issue 25): relMSE against each preview's
 # reference (DEST/NAME/ref.exr, Mitsuba `path`) after growing numbers of sppm passes and
 # pt-nee samples, in 6x6 blocks (the previews are 240x180, which 8 does not divide; 6x6 gives
@@ -6,7 +8,7 @@
 # keeps more noise, so the figure is the stricter one). Noise falls as 1/N and bias does not:
 # a figure that stops falling before the reference's own noise floor is a bias.
 #
-#   bash scripts/matpreview-convergence.sh BINARY [DEST [NAME ...]]
+#   bash scripts/measure/matpreview-convergence.sh BINARY [DEST [NAME ...]]
 #
 # SNAPS_SPPM and SNAPS_PT (comma-separated pass counts) replace the default snapshots.
 # Writes DEST/NAME/conv-{sppm,ptnee}/ (`sppm-gpu passes`: passes.csv and the snapshots).

@@ -1,13 +1,15 @@
 #!/usr/bin/env bash
+# Feeds BENCHMARKS.md "Session 6: the preview window (issue 14)" (docs/journal/session-06.md).
+# Inputs: the repository's scenes; Xvfb and xdotool (scripts/install-deps.sh).
 # Frame rate and input latency of `sppm-gpu view` while it renders (BENCHMARKS.md): runs the
 # view in Xvfb, lets it render, sends a camera move every 2 seconds and a method switch with
 # xdotool, quits, and prints the view's own `frames:` line.
 #
-#   bash scripts/view-latency.sh [SCENE] [VIEW OPTIONS]     (default scenes/cornell-box.toml)
+#   bash scripts/measure/view-latency.sh [SCENE] [VIEW OPTIONS]     (default scenes/cornell-box.toml)
 #
 # Needs `cargo build --release`, Xvfb and xdotool (scripts/install-deps.sh).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 scene="${1:-scenes/cornell-box.toml}"
 shift || true
 for tool in Xvfb xdotool; do

@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
+# Feeds BENCHMARKS.md "The Sobol sampler against Mitsuba's samplers (issue 26)" (docs/journal/session-13.md).
+# Inputs: MITSUBA_TOOLS (mitsuba_timed.py) and the arguments.
 """Mitsuba 3's `path` with each of its samplers on a v1 scene at equal time (issue 26): the
 anchor our Sobol sampler is to beat is Mitsuba's best sampler, not its default.
 
-    .venv-mi/bin/python scripts/mitsuba-samplers.py SCENE.toml OUTDIR [--seconds 30]
+    .venv-mi/bin/python scripts/measure/mitsuba-samplers.py SCENE.toml OUTDIR [--seconds 30]
         [--chunk 64] [--samplers independent,stratified,multijitter,ldsampler]
 
 Each sampler as `../shared/tools/mitsuba_timed.py` runs the independent one: an untimed
@@ -20,7 +22,7 @@ its slowest and median chunk (a chunk far slower than the median would be a reco
 """
 import argparse, os, sys, time
 
-TOOLS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "shared", "tools")
+TOOLS = os.environ.get("MITSUBA_TOOLS") or sys.exit("set MITSUBA_TOOLS to the folder holding mitsuba_timed.py (the study's shared tools)")
 sys.path.insert(0, os.path.abspath(TOOLS))
 import mitsuba as mi
 

@@ -1,15 +1,15 @@
 #!/usr/bin/env python3
 """Write the mesh files of scenes/mitsuba/ (the Mitsuba XML test scenes): the Stanford bunny
-(../shared/meshes/bunny.obj) as binary little-endian PLY, a square pyramid as ASCII PLY, and
+(an OBJ given as the argument: the study's shared meshes/bunny.obj) as binary little-endian PLY, a square pyramid as ASCII PLY, and
 two shapes in Mitsuba's .serialized format (version 4: a zlib stream per shape, then the
 shapes' offsets and count), all from this script alone so that the files can be remade.
 
-    python3 scripts/mitsuba-test-meshes.py
+    python3 scripts/regen/mitsuba-test-meshes.py BUNNY_OBJ
 """
-import math, os, struct, zlib
+import math, os, struct, sys, zlib
 
 here = os.path.dirname(os.path.abspath(__file__))
-out = os.path.join(here, "..", "scenes", "mitsuba", "meshes")
+out = os.path.join(here, "..", "..", "scenes", "mitsuba", "meshes")
 os.makedirs(out, exist_ok=True)
 
 
@@ -29,7 +29,7 @@ def read_obj(path):
 
 
 # The bunny, binary little-endian PLY, positions only (Mitsuba computes its normals).
-v, f = read_obj(os.path.join(here, "..", "..", "shared", "meshes", "bunny.obj"))
+v, f = read_obj(sys.argv[1] if len(sys.argv) > 1 else sys.exit("usage: mitsuba-test-meshes.py BUNNY_OBJ"))
 with open(os.path.join(out, "bunny.ply"), "wb") as o:
     o.write(("ply\nformat binary_little_endian 1.0\ncomment Stanford bunny (Stanford 3D Scanning Repository)\n"
              f"element vertex {len(v)}\nproperty float x\nproperty float y\nproperty float z\n"

@@ -1,15 +1,18 @@
 #!/usr/bin/env bash
+# Feeds BENCHMARKS.md "Issue 12's figures, in one run" (docs/journal/session-07.md).
+# Inputs: OLD_BINARY, DRAGON_871K, MITSUBA_PYTHON and MITSUBA_TOOLS.
 # Issue 12's throughput figures in one run, one command after another on an idle machine:
 # pt-nee samples/s on cornell-box (256x256) beside Mitsuba 3's samples/s for the same wall time,
 # the study's SPPM run (wall time, and photons/s and camera paths/s per stage from `bench`),
-# and the 871k-triangle dragon (scripts/big-dragon.sh).
+# and the 871k-triangle dragon (scripts/measure/big-dragon.sh).
 #
-# Usage: bash scripts/throughput.sh [OLD_BINARY]
+# Usage: bash scripts/measure/throughput.sh [OLD_BINARY]
 # With OLD_BINARY (an sppm-gpu built from an earlier commit) every sppm-gpu figure is taken for
 # it too, alternating, so that before and after come from the same run. Mitsuba is run when
-# MITSUBA_PYTHON (a python with mitsuba 3 and numpy) is set.
+# MITSUBA_PYTHON (a python with mitsuba 3 and numpy) is set, with MITSUBA_TOOLS (the folder
+# holding mitsuba_timed.py). DRAGON_871K names the 871k-triangle dragon's OBJ file.
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 cargo build --release --quiet
 new=target/release/sppm-gpu
 old="${1:-}"
@@ -21,7 +24,7 @@ seconds=10
 
 # One untimed run of each kernel set first: after a shader change Mesa compiles at the first
 # dispatch (seconds on a cold shader cache), which would be charged to the new binary alone.
-mesh="$(realpath ../shared/meshes/dragon_871k.obj)"
+mesh="$(realpath "${DRAGON_871K:?set DRAGON_871K to the 871k-triangle dragon_871k.obj (the shared meshes of the study)}")"
 sed "s#file = \"meshes/dragon_11k.obj\"#file = \"$mesh\"#" scenes/gallery/glass-dragon.toml > "$out/big-dragon.toml"
 for bin in "${binaries[@]}"; do
     "$bin" scenes/cornell-box.toml --method pt-nee --iterations 1 -o "$out/warm.exr" > /dev/null 2>&1
@@ -40,7 +43,7 @@ done
 
 if [ -n "${MITSUBA_PYTHON:-}" ]; then
     echo "== Mitsuba 3 path, cornell-box 256x256, ${seconds} s"
-    "$MITSUBA_PYTHON" ../shared/tools/mitsuba_timed.py scenes/cornell-box.toml "$out/mi.exr" --seconds "$seconds" 2>&1 | tail -2
+    "$MITSUBA_PYTHON" "${MITSUBA_TOOLS:?set MITSUBA_TOOLS to the folder holding mitsuba_timed.py}/mitsuba_timed.py" scenes/cornell-box.toml "$out/mi.exr" --seconds "$seconds" 2>&1 | tail -2
 fi
 
 for bin in "${binaries[@]}"; do

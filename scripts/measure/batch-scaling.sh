@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
+# Feeds BENCHMARKS.md "Scale-out" (journal: "Session 6: batches of passes (issue 15)", docs/journal/session-06.md).
+# Inputs: the repository's scenes and target/release/sppm-gpu.
 # The cost of splitting a render into batches (BENCHMARKS.md): N passes of a scene with the
 # global radius schedule, rendered in 1, 2 and 4 batches run one after another (each its own
 # process: set-up, kernel compile from Mesa's cache, the passes, writing its partial), then
 # merged. Prints the wall time of each run and the merge.
 #
-#   bash scripts/batch-scaling.sh [SCENE] [PASSES]     (default scenes/cornell-box.toml 32)
+#   bash scripts/measure/batch-scaling.sh [SCENE] [PASSES]     (default scenes/cornell-box.toml 32)
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/../.."
 scene="${1:-scenes/cornell-box.toml}"
 passes="${2:-32}"
 cargo build --release -q

@@ -5,13 +5,13 @@ a checker, the top-left texel white) and a 4x4 linear Radiance HDR (flat RGBE sc
 warm and cool stripes, in scenes/mitsuba/textures/; and a quad with OBJ texture coordinates
 (`vt`) in scenes/mitsuba/meshes/ceiling.obj.
 
-    python3 scripts/mitsuba-test-textures.py
+    python3 scripts/regen/mitsuba-test-textures.py
 """
 import math, os, struct, zlib
 
 here = os.path.dirname(os.path.abspath(__file__))
-textures = os.path.join(here, "..", "scenes", "mitsuba", "textures")
-meshes = os.path.join(here, "..", "scenes", "mitsuba", "meshes")
+textures = os.path.join(here, "..", "..", "scenes", "mitsuba", "textures")
+meshes = os.path.join(here, "..", "..", "scenes", "mitsuba", "meshes")
 os.makedirs(textures, exist_ok=True)
 
 
@@ -58,7 +58,7 @@ write_hdr(os.path.join(textures, "stripes.hdr"), 4, 4, lambda x, y: stripes[(x +
 
 # The ceiling y = 1 of the box, facing down, its vt twice over the quad (repeating).
 with open(os.path.join(meshes, "ceiling.obj"), "w") as f:
-    f.write("# A quad with texture coordinates, for textures.xml (scripts/mitsuba-test-textures.py)\n")
+    f.write("# A quad with texture coordinates, for textures.xml (scripts/regen/mitsuba-test-textures.py)\n")
     for x, z in [(-1, -1), (1, -1), (1, 1), (-1, 1)]:
         f.write(f"v {x} 1 {z}\n")
     for u, v in [(0, 2), (2, 2), (2, 0), (0, 0)]:

@@ -3,7 +3,7 @@
 ../shared/tools/mitsuba_xml.py, which looks for the <sensor> in the top file only. File names
 in the fragments stay as they are: keep the output beside the input.
 
-    python3 scripts/mitsuba-flatten.py scene.xml scene-flat.xml
+    python3 scripts/regen/mitsuba-flatten.py scene.xml scene-flat.xml
 """
 import os, sys
 import xml.etree.ElementTree as ET
