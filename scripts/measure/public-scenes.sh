@@ -41,6 +41,7 @@ copy_scene() {
 # derive NAME FROM SCENE: a copy of FROM's SCENE without its `constant` emitter.
 noenv() {
     local name=$1 from=$2 scene=$3
+    [ -f "$DEST/$from/$scene" ] || { echo "$name: skipped ($from is not staged)" >&2; return 0; }
     copy_scene "$name" "$from"
     python3 - "$DEST/$name/$scene" <<'EOF'
 import re, sys
@@ -59,6 +60,7 @@ EOF
 # reader decode it) and a <spectrum> of three numbers (RGB in 0.6's RGB mode) becomes <rgb>.
 m3() {
     local name=$1 from=$2 scene=$3
+    [ -f "$DEST/$from/$scene" ] || { echo "$name: skipped ($from is not staged)" >&2; return 0; }
     copy_scene "$name" "$from"
     python3 - "$DEST/$name/$scene" <<'EOF'
 import re, sys
