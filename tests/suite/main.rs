@@ -21,6 +21,7 @@ mod convert;
 mod cwbvh;
 mod device_errors;
 mod direct_light;
+mod docs_links;
 mod embed;
 mod environment;
 mod features;
