@@ -79,14 +79,14 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         // Next-event estimation at diffuse, glossy, rough dielectric and plastic vertices
         // (mirrors and smooth glass cannot sample lights), from one call site: the shadow
         // ray's traversal is inlined once.
-        let nee = sample_direct && samples_lights(m);
+        let nee = sample_direct && bsdf_samples_lights(m);
         if nee {
             path.ld += beta * direct_light(s, -d, m, albedo, vec3f(rng_next(rng), rng_next2(rng)));
         }
-        // The BSDF sampled once (shared/direct.wgsl): a diffuse surface's or a plastic's base's
+        // The BSDF sampled once (shared/bsdf.wgsl): a diffuse surface's or a plastic's base's
         // lobe leaves the visible point; any other is passed through. For a plastic the
         // expectation over its lobes is the whole BSDF's estimate.
-        let next = sample_vertex(s, m, albedo, d, nee, vec3f(rng_next2(rng), rng_next(rng)));
+        let next = bsdf_sample(s, m, albedo, d, vec3f(rng_next2(rng), rng_next(rng)), true, nee);
         if next.diffuse {
             // The visible point: the photon pass adds flux * weight for photons near it.
             let n = select(-s.ng, s.ng, dot(d, s.ng) < 0.0);

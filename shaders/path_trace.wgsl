@@ -72,7 +72,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
         // smooth glass cannot sample lights), from one call site: the shadow ray's traversal
         // is inlined once. At a diffuse vertex the numbers are drawn either way, so that the
         // two methods share streams.
-        let nee = frame.nee != 0u && samples_lights(m);
+        let nee = frame.nee != 0u && bsdf_samples_lights(m);
         var u_light = vec3f(0.0);
         if nee || diffuse {
             u_light = vec3f(rng_next(&rng), rng_next2(&rng));
@@ -80,7 +80,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
         if nee {
             l += beta * direct_light(s, wo, m, albedo, u_light);
         }
-        let next = sample_vertex(s, m, albedo, d, nee, vec3f(rng_next2(&rng), rng_next(&rng)));
+        let next = bsdf_sample(s, m, albedo, d, vec3f(rng_next2(&rng), rng_next(&rng)), true, nee);
         if all(next.weight == vec3f(0.0)) {
             break;
         }

@@ -17,7 +17,6 @@
 #import sampling
 #import scene
 #import bsdf
-#import coating
 #import lights
 #import lanes
 #import grid
@@ -264,11 +263,8 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
     // Nothing has been drawn or changed yet in this bounce, so when the hit finds no room the
     // photon's state is the one to resume from.
     // On a plastic's base, with the part of its term that depends on the photon's direction.
-    var deposited = beta;
-    if is_plastic(m) {
-        deposited *= plastic_deposit(m, s, d);
-    }
-    let receives = m.kind == MATERIAL_DIFFUSE || is_plastic(m);
+    let deposited = bsdf_deposit(m, s, d, beta);
+    let receives = bsdf_receives_photons(m);
     // The surface's side the photon arrived on, as a visible point's normal is stored: only
     // points on the same side of their own surface gather it (same_side in shared/grid.wgsl).
     let normal = encode_normal(select(-s.ng, s.ng, dot(d, s.ng) < 0.0), 0u);
@@ -278,32 +274,17 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
     if behind {
         return PHOTON_ENDED;
     }
-    var wi: vec3f;
-    var f: vec3f;
-    if m.kind == MATERIAL_DIFFUSE {
-        // Scatter to the side the photon came from.
-        let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
-        wi = sample_cosine_hemisphere(n_in, rng_next2(rng));
-        f = m.albedo;
-        // A shading normal can send the photon through the surface, or behind a one-sided
-        // one's ns; end it there.
-        if dot(wi, s.ng) * dot(d, s.ng) >= 0.0 || one_sided_culls(m, s, wi) {
-            return PHOTON_ENDED;
-        }
-    } else if is_plastic(m) {
-        let c = sample_plastic(m, m.albedo, d, s, vec3f(rng_next2(rng), rng_next(rng)));
-        wi = c.wi;
-        f = c.weight;
-        if all(f == vec3f(0.0)) {
-            return PHOTON_ENDED;
-        }
-    } else {
-        let next = sample_nondiffuse(m, d, s, vec3f(rng_next2(rng), rng_next(rng)), false);
-        wi = next.wi;
-        f = next.weight;
-        if all(f == vec3f(0.0)) {
-            return PHOTON_ENDED;
-        }
+    // Scatter as camera paths do (shared/bsdf.wgsl), carrying flux. A diffuse bounce draws two
+    // numbers, any other three.
+    var u = vec3f(rng_next2(rng), 0.0);
+    if m.kind != MATERIAL_DIFFUSE {
+        u.z = rng_next(rng);
+    }
+    let next = bsdf_sample(s, m, m.albedo, d, u, false, false);
+    let wi = next.wi;
+    let f = next.weight;
+    if all(f == vec3f(0.0)) {
+        return PHOTON_ENDED;
     }
     // Russian roulette that keeps the photon's largest channel constant (pbrt-v4 sec. 16.3).
     let beta_new = (*ph).beta * f;

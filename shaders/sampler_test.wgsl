@@ -7,7 +7,6 @@
 #import sampling
 #import scene
 #import bsdf
-#import coating
 #import lights
 
 const SAMPLER_COSINE: u32 = 0u;
@@ -192,11 +191,11 @@ fn draw_sample(i: u32) {
         test_out[2u * i + 1u] = vec4f(ls.pdf, traced.x, ls.li.x * ls.pdf, traced.y);
         return;
     }
-    var s = SpecularSample(-q.wo, vec3f(0.0));
+    var s = bsdf_absorbed(-q.wo);
     var b = BsdfEval(vec3f(0.0), 0.0);
     switch q.sampler {
         case SAMPLER_COSINE: {
-            s = SpecularSample(sample_cosine_hemisphere(q.ns, u.xy), vec3f(1.0));
+            s = bsdf_specular(sample_cosine_hemisphere(q.ns, u.xy), vec3f(1.0));
             b = BsdfEval(vec3f(INV_PI), test_density(s.wi));
         }
         case SAMPLER_GLOSSY: {
@@ -210,10 +209,10 @@ fn draw_sample(i: u32) {
             let c = sample_plastic(m, m.albedo, -q.wo, test_surface(), u);
             let n = select(-q.ns, q.ns, dot(q.wo, q.ns) > 0.0);
             let l = plastic_lobes(m, m.albedo, q.wo, c.wi, n);
-            let delta = !c.base && q.alpha == 0.0;
-            s = SpecularSample(c.wi, select(c.weight, vec3f(0.0), delta));
+            let delta = !c.diffuse && q.alpha == 0.0;
+            s = bsdf_specular(c.wi, select(c.weight, vec3f(0.0), delta));
             b = l.coat;
-            if c.base {
+            if c.diffuse {
                 b = l.base;
             }
         }

@@ -8,9 +8,7 @@
 //! scene. Nothing that exists is overwritten.
 
 use sppm_gpu::image_io::Rgb32Image;
-use sppm_gpu::scene::{
-    ComplexIor, LightKind, MaterialKind, Microfacet, Named, PixelFilter, Scene, Texture, TextureFilter, TextureWrap, Triangle,
-};
+use sppm_gpu::scene::{LightKind, Named, PixelFilter, Scene, Texture, TextureFilter, TextureWrap, Triangle};
 use sppm_gpu::Error;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -168,67 +166,16 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
             taken.insert(name.clone());
         }
         let mut t = Table::new();
-        let mut put = |key: &str, v: Value| {
-            t.insert(key.into(), v);
-        };
-        let string = |s: &str| Value::String(s.into());
-        let distribution = |d: Microfacet| string(if d == Microfacet::Beckmann { "beckmann" } else { "ggx" });
-        match m.kind {
-            MaterialKind::Diffuse { .. } => put("type", string("diffuse")),
-            MaterialKind::Mirror { fresnel, .. } => {
-                put("type", string("mirror"));
-                if let Some(ComplexIor { eta, k }) = fresnel {
-                    put("eta", vec3(eta));
-                    put("k", vec3(k));
-                }
-            }
-            MaterialKind::Glossy { roughness, distribution: d, fresnel, .. } => {
-                put("type", string("glossy"));
-                put("roughness", float(roughness));
-                put("distribution", distribution(d));
-                if let Some(ComplexIor { eta, k }) = fresnel {
-                    put("eta", vec3(eta));
-                    put("k", vec3(k));
-                }
-            }
-            MaterialKind::Dielectric { ior, roughness, distribution: d, reflectance, transmittance } => {
-                put("type", string("dielectric"));
-                put("ior", float(ior));
-                put("roughness", float(roughness));
-                put("distribution", distribution(d));
-                put("reflectance", vec3(reflectance));
-                put("transmittance", vec3(transmittance));
-            }
-            MaterialKind::Plastic { specular, ior, roughness, distribution: d, nonlinear, .. } => {
-                put("type", string("plastic"));
-                put("specular", vec3(specular));
-                put("ior", float(ior));
-                put("roughness", float(roughness));
-                put("distribution", distribution(d));
-                put("nonlinear", Value::Boolean(nonlinear));
-            }
-            MaterialKind::ThinDielectric { ior, reflectance, transmittance } => {
-                put("type", string("thin_dielectric"));
-                put("ior", float(ior));
-                put("reflectance", vec3(reflectance));
-                put("transmittance", vec3(transmittance));
-            }
-            MaterialKind::Null => put("type", string("null")),
-        }
+        m.kind.toml_keys(&mut t);
         // The albedo of the kinds that have one, or the texture in its place.
-        if let MaterialKind::Diffuse { albedo, texture }
-        | MaterialKind::Mirror { albedo, texture, .. }
-        | MaterialKind::Glossy { albedo, texture, .. }
-        | MaterialKind::Plastic { albedo, texture, .. } = m.kind
-        {
-            match texture {
-                Some(i) => put("texture", texture_value(&scene.textures[i as usize], i, meshes, &mut images)),
-                None => put("albedo", vec3(albedo)),
-            }
+        if let Some((albedo, texture)) = m.kind.albedo() {
+            let value = match texture {
+                Some(i) => texture_value(&scene.textures[i as usize], i, meshes, &mut images),
+                None => vec3(albedo),
+            };
+            t.insert(if texture.is_some() { "texture" } else { "albedo" }.into(), value);
         }
-        if m.one_sided
-            && !matches!(m.kind, MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. } | MaterialKind::Null)
-        {
+        if m.one_sided && !m.kind.two_sided_by_nature() {
             t.insert("one_sided".into(), Value::Boolean(true));
         }
         materials.insert(name.clone(), Value::Table(t));

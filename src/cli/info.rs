@@ -4,7 +4,7 @@
 
 use sppm_gpu::gpu::scene_buffers::SceneData;
 use sppm_gpu::gpu::Features;
-use sppm_gpu::scene::{LightKind, MaterialKind, Named, PixelFilter, Scene, ShapeKind};
+use sppm_gpu::scene::{LightKind, Named, PixelFilter, Scene, ShapeKind};
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
@@ -58,20 +58,7 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
     );
     let mut materials = BTreeMap::new();
     for m in &scene.materials {
-        let kind = match m.kind {
-            MaterialKind::Diffuse { texture: Some(_), .. } => "textured diffuse",
-            MaterialKind::Diffuse { .. } => "diffuse",
-            MaterialKind::Mirror { texture: Some(_), .. } => "textured mirror",
-            MaterialKind::Mirror { .. } => "mirror",
-            MaterialKind::Glossy { texture: Some(_), .. } => "textured glossy conductor",
-            MaterialKind::Glossy { .. } => "glossy conductor",
-            MaterialKind::Dielectric { roughness, .. } if roughness > 0.0 => "rough dielectric",
-            MaterialKind::Dielectric { .. } => "dielectric",
-            MaterialKind::Plastic { roughness, .. } if roughness > 0.0 => "rough plastic",
-            MaterialKind::Plastic { .. } => "plastic",
-            MaterialKind::ThinDielectric { .. } => "thin dielectric",
-            MaterialKind::Null => "null",
-        };
+        let kind = m.kind.describe();
         *materials.entry(kind).or_insert(0) += 1;
     }
     let one_sided = scene.materials.iter().filter(|m| m.one_sided).count();

@@ -9,9 +9,7 @@
 
 use super::scene_buffers::SceneData;
 use super::types::{
-    EMITTER_AREA, EMITTER_DIRECTIONAL, EMITTER_ENVIRONMENT, EMITTER_POINT, EMITTER_SPOT, HAS_NORMALS, HAS_UVS,
-    MATERIAL_DIELECTRIC, MATERIAL_GLOSSY, MATERIAL_MIRROR, MATERIAL_PLASTIC, MATERIAL_THIN_DIELECTRIC, MICROFACET_BECKMANN,
-    NO_TEXTURE,
+    EMITTER_AREA, EMITTER_DIRECTIONAL, EMITTER_ENVIRONMENT, EMITTER_POINT, EMITTER_SPOT, HAS_NORMALS, HAS_UVS, NO_TEXTURE,
 };
 use crate::accel::SPHERE_BIT;
 
@@ -97,34 +95,26 @@ impl Features {
 
     /// The features `data` uses.
     pub fn of(data: &SceneData) -> Self {
-        let material = |pred: &dyn Fn(u32, f32) -> bool| data.materials.iter().any(|m| pred(m.kind, m.roughness));
         let emitter = |kind: u32, sphere: bool| {
             data.emitters.iter().any(|e| e.kind == kind && (kind != EMITTER_AREA || ((e.prim_ref & SPHERE_BIT) != 0) == sphere))
         };
-        Features {
+        let mut f = Features {
             triangles: !data.triangles.is_empty(),
             spheres: !data.spheres.is_empty(),
             motion: data.motion,
             shading_normals: data.triangles.iter().any(|t| t.attributes & HAS_NORMALS != 0),
             uvs: data.triangles.iter().any(|t| t.attributes & HAS_UVS != 0),
             textures: data.materials.iter().any(|m| m.texture != NO_TEXTURE),
-            mirror: material(&|kind, _| kind == MATERIAL_MIRROR),
-            glossy: material(&|kind, _| kind == MATERIAL_GLOSSY),
-            smooth_dielectric: material(&|kind, roughness| kind == MATERIAL_DIELECTRIC && roughness == 0.0),
-            rough_dielectric: material(&|kind, roughness| kind == MATERIAL_DIELECTRIC && roughness > 0.0),
-            plastic: material(&|kind, roughness| kind == MATERIAL_PLASTIC && roughness == 0.0),
-            rough_plastic: material(&|kind, roughness| kind == MATERIAL_PLASTIC && roughness > 0.0),
-            thin_dielectric: material(&|kind, _| kind == MATERIAL_THIN_DIELECTRIC),
-            one_sided: data.materials.iter().any(|m| m.one_sided != 0 && m.kind != MATERIAL_DIELECTRIC),
-            conductor_fresnel: data
-                .materials
-                .iter()
-                .any(|m| m.fresnel != 0 && (m.kind == MATERIAL_MIRROR || m.kind == MATERIAL_GLOSSY)),
-            beckmann: data.materials.iter().any(|m| {
-                m.distribution == MICROFACET_BECKMANN
-                    && (m.kind == MATERIAL_GLOSSY
-                        || ((m.kind == MATERIAL_DIELECTRIC || m.kind == MATERIAL_PLASTIC) && m.roughness > 0.0))
-            }),
+            mirror: false,
+            glossy: false,
+            smooth_dielectric: false,
+            rough_dielectric: false,
+            plastic: false,
+            rough_plastic: false,
+            thin_dielectric: false,
+            one_sided: false,
+            conductor_fresnel: false,
+            beckmann: false,
             triangle_lights: emitter(EMITTER_AREA, false),
             sphere_lights: emitter(EMITTER_AREA, true),
             point_lights: emitter(EMITTER_POINT, false),
@@ -132,7 +122,12 @@ impl Features {
             spot_lights: emitter(EMITTER_SPOT, false),
             environment: emitter(EMITTER_ENVIRONMENT, false),
             envmap: data.emitters.iter().any(|e| e.kind == EMITTER_ENVIRONMENT && e.prim_ref != NO_TEXTURE),
+        };
+        // Each material's family turns on its own (src/scene/material/).
+        for m in &data.materials {
+            crate::scene::material::turn_on_features(m, &mut f);
         }
+        f
     }
 
     /// The pipeline constants: each `USES_*` override with 1.0 (true) or 0.0 (false).

@@ -4,10 +4,7 @@
 use super::types::*;
 use crate::accel::bvh::PackedBvh;
 use crate::accel::{Bvh, SPHERE_BIT};
-use crate::scene::{
-    spot_solid_angle, ComplexIor, LightKind, MaterialKind, Microfacet, Scene, SceneError, TextureFilter, TextureWrap,
-    TOML_SPHERE_FRAME,
-};
+use crate::scene::{spot_solid_angle, LightKind, Scene, SceneError, TextureFilter, TextureWrap, TOML_SPHERE_FRAME};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
@@ -59,73 +56,6 @@ fn setting_error(scene: &Scene, line: usize, key: &str, message: String) -> Scen
 
 fn material_of(scene: &Scene, shape: u32) -> u32 {
     scene.shapes[shape as usize].material
-}
-
-/// [`GpuMaterial::distribution`] of a microfacet distribution.
-fn microfacet(distribution: Microfacet) -> u32 {
-    match distribution {
-        Microfacet::Ggx => MICROFACET_GGX,
-        Microfacet::Beckmann => MICROFACET_BECKMANN,
-    }
-}
-
-/// A conductor's Fresnel term on the GPU: none (Fresnel 1, nothing computed) for no complex
-/// IOR or for eta 0, k 1 exactly, Mitsuba's `none`, whose Fresnel term is 1.
-fn set_fresnel(g: &mut GpuMaterial, fresnel: Option<ComplexIor>) {
-    if let Some(ComplexIor { eta, k }) = fresnel {
-        if eta != Vec3::ZERO || k != Vec3::ONE {
-            g.fresnel = 1;
-            g.eta = eta.into();
-            g.k = k.into();
-        }
-    }
-}
-
-/// A plastic on the GPU (Mitsuba 3's `plastic` and `roughplastic`, `parameters_changed`):
-/// the probability weight of its coating's lobe, mean(specular) / (mean(albedo) +
-/// mean(specular)); Fdr, the coating's diffuse reflectance from inside, by the fit for a
-/// smooth coating and by quadrature for a rough one, whose transmittance table goes at the end
-/// of `attributes` ([`crate::scene::coating`]).
-fn set_plastic(g: &mut GpuMaterial, kind: &MaterialKind, textures: &[crate::scene::Texture], attributes: &mut Vec<[f32; 4]>) {
-    let MaterialKind::Plastic { albedo, texture, specular, ior, roughness, distribution, nonlinear } = *kind else { return };
-    g.kind = MATERIAL_PLASTIC;
-    g.albedo = albedo.into();
-    g.specular = specular.into();
-    g.ior = ior;
-    g.roughness = roughness;
-    g.distribution = microfacet(distribution);
-    g.nonlinear = nonlinear as u32;
-    // Mitsuba's weight takes a texture's mean over its texels.
-    let base = match texture {
-        Some(t) => textures[t as usize].texels.iter().sum::<Vec3>() / textures[t as usize].texels.len().max(1) as f32,
-        None => albedo,
-    };
-    let (d_mean, s_mean) = (base.element_sum() / 3.0, specular.element_sum() / 3.0);
-    g.coat_weight = s_mean / (d_mean + s_mean);
-    if roughness == 0.0 {
-        g.coat_fdr = crate::scene::coating::fresnel_diffuse_reflectance(1.0 / ior);
-        return;
-    }
-    let coat = rough_coating_cached(ior, roughness, distribution);
-    g.coat_fdr = coat.internal_reflectance;
-    g.coat_table = attributes.len() as u32;
-    attributes.extend(coat.transmittance.chunks_exact(4).map(|c| [c[0], c[1], c[2], c[3]]));
-}
-
-/// [`crate::scene::coating::rough_coating`], computed once per process for each coating (a
-/// quadrature of a million points for the internal reflectance).
-fn rough_coating_cached(ior: f32, alpha: f32, distribution: Microfacet) -> crate::scene::coating::RoughCoating {
-    use crate::scene::coating::{rough_coating, RoughCoating};
-    use std::sync::Mutex;
-    type Key = (u32, u32, bool);
-    static CACHE: Mutex<Vec<(Key, RoughCoating)>> = Mutex::new(Vec::new());
-    let key = (ior.to_bits(), alpha.to_bits(), distribution == Microfacet::Beckmann);
-    if let Some((_, c)) = CACHE.lock().unwrap().iter().find(|(k, _)| *k == key) {
-        return c.clone();
-    }
-    let c = rough_coating(ior, alpha, distribution);
-    CACHE.lock().unwrap().push((key, c.clone()));
-    c
 }
 
 /// Most `texels` entries with an environment map: 128 MiB, lavapipe's (and WebGPU's
@@ -266,55 +196,11 @@ impl SceneData {
             .materials
             .iter()
             .map(|m| {
-                let mut g = GpuMaterial { texture: NO_TEXTURE, ..GpuMaterial::default() };
+                let mut g = m.kind.gpu(&scene.textures, &mut attributes);
                 if let Some(t) = m.kind.texture() {
                     (g.texture, g.texture_size) = texture_at[t as usize];
                 }
-                match m.kind {
-                    MaterialKind::Diffuse { albedo, .. } => {
-                        g.kind = MATERIAL_DIFFUSE;
-                        g.albedo = albedo.into();
-                    }
-                    MaterialKind::Mirror { albedo, fresnel, .. } => {
-                        g.kind = MATERIAL_MIRROR;
-                        g.albedo = albedo.into();
-                        set_fresnel(&mut g, fresnel);
-                    }
-                    MaterialKind::Glossy { albedo, roughness, distribution, fresnel, .. } => {
-                        g.kind = MATERIAL_GLOSSY;
-                        g.albedo = albedo.into();
-                        g.roughness = roughness;
-                        g.distribution = microfacet(distribution);
-                        set_fresnel(&mut g, fresnel);
-                    }
-                    MaterialKind::Dielectric { ior, roughness, distribution, reflectance, transmittance } => {
-                        g.kind = MATERIAL_DIELECTRIC;
-                        g.albedo = [1.0; 3];
-                        g.ior = ior;
-                        g.roughness = roughness;
-                        g.distribution = microfacet(distribution);
-                        g.specular = reflectance.into();
-                        g.transmittance = transmittance.into();
-                    }
-                    MaterialKind::Plastic { .. } => set_plastic(&mut g, &m.kind, &scene.textures, &mut attributes),
-                    MaterialKind::ThinDielectric { ior, reflectance, transmittance } => {
-                        g.kind = MATERIAL_THIN_DIELECTRIC;
-                        g.albedo = [1.0; 3];
-                        g.ior = ior;
-                        g.specular = reflectance.into();
-                        g.transmittance = transmittance.into();
-                    }
-                    // A slab of index 1: Fresnel reflectance 0, everything passes unbent.
-                    MaterialKind::Null => {
-                        g.kind = MATERIAL_THIN_DIELECTRIC;
-                        g.albedo = [1.0; 3];
-                        g.ior = 1.0;
-                        g.specular = [0.0; 3];
-                        g.transmittance = [1.0; 3];
-                    }
-                }
-                // Dielectrics, thin ones too, are two-sided by nature: Mitsuba 3's ignore `twosided`.
-                g.one_sided = (m.one_sided && g.kind != MATERIAL_DIELECTRIC && g.kind != MATERIAL_THIN_DIELECTRIC) as u32;
+                g.one_sided = (m.one_sided && !m.kind.two_sided_by_nature()) as u32;
                 g
             })
             .collect();

@@ -321,19 +321,11 @@ pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
 /// each, for the user to read before the image (the command line prints them as warnings).
 /// Empty when the method suits the scene.
 pub fn limitations(scene: &Scene) -> Vec<String> {
-    use crate::scene::MaterialKind;
     // Environments are found by escaping rays, by every method.
     let delta_lights = scene.lights.iter().filter(|l| !l.kind.is_environment()).count();
     // Surfaces where pt-nee samples no light: mirrors and glass, smooth or rough, thin glass
     // and smooth plastics' coatings.
-    let specular = scene.materials.iter().any(|m| match m.kind {
-        MaterialKind::Mirror { .. }
-        | MaterialKind::Dielectric { .. }
-        | MaterialKind::ThinDielectric { .. }
-        | MaterialKind::Null => true,
-        MaterialKind::Plastic { roughness, .. } => roughness == 0.0,
-        _ => false,
-    });
+    let specular = scene.materials.iter().any(|m| m.kind.hides_lights());
     let mut out = Vec::new();
     match scene.render.method {
         Method::Pt if delta_lights > 0 => out.push(format!(

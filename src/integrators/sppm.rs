@@ -164,13 +164,17 @@ fn suspended_bytes(render: &crate::scene::RenderSettings, at_once: bool, max_bin
     threads.min(by_hits).min(max_binding / SUSPENDED_STATE_BYTES).max(1) * SUSPENDED_STATE_BYTES
 }
 
-/// What `photon_resume_setup` writes (`photon_resume_args`, its layout there), as byte
-/// offsets: the workgroup counts of grid_count and grid_fill, of photon_pass resuming and of
-/// grid_scan, then the pass's hits gathered and threads resumed (a word each).
-const ARGS_GRID: u64 = 0;
-const ARGS_RESUME: u64 = 12;
-const ARGS_SCAN: u64 = 24;
-const ARGS_COUNTS: u64 = 36;
+/// What `photon_resume_setup` writes (`photon_resume_args`), as byte offsets: the workgroup
+/// counts of grid_count and grid_fill, of photon_pass resuming and of grid_scan, then the
+/// pass's hits gathered and threads resumed (a word each). The kernel declares them in words
+/// (`ARGS_*` in shaders/photon_resume_setup.wgsl; a test holds the two together).
+pub const ARGS_GRID: u64 = 0;
+/// See [`ARGS_GRID`].
+pub const ARGS_RESUME: u64 = 12;
+/// See [`ARGS_GRID`].
+pub const ARGS_SCAN: u64 = 24;
+/// See [`ARGS_GRID`].
+pub const ARGS_COUNTS: u64 = 36;
 const RESUME_ARGS_BYTES: u64 = ARGS_COUNTS + 8;
 
 /// The squared radius of pass `pass` (from 0) under the global schedule of Knaus & Zwicker

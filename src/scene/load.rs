@@ -343,9 +343,7 @@ fn read_fresnel(t: &Table) -> Result<Option<ComplexIor>> {
 
 /// `distribution` of microfacet normals: "ggx" (default) or "beckmann".
 fn read_distribution(t: &Table) -> Result<Microfacet> {
-    t.or("distribution", Microfacet::Ggx, |v| {
-        v.choice("distribution", &[("ggx", Microfacet::Ggx), ("beckmann", Microfacet::Beckmann)])
-    })
+    t.or("distribution", Microfacet::Ggx, Value::named)
 }
 
 /// A specular lobe's tint in [0, 1] (Mitsuba's `specular_reflectance` and
@@ -830,12 +828,12 @@ impl<'a, 'i> Value<'a, 'i> {
         self.value.as_bool().ok_or_else(|| self.expected("a boolean (true or false)"))
     }
 
-    /// A string that must name one of `options`; `what` names it in errors.
     /// A setting's name, from its [`Named`] table.
     fn named<T: super::Named>(&self) -> Result<T> {
         T::from_name(self.string()?).map_err(|e| self.error(e))
     }
 
+    /// A string that must name one of `options`; `what` names it in errors.
     fn choice<T: Copy>(&self, what: &str, options: &[(&str, T)]) -> Result<T> {
         let name = self.string()?;
         match options.iter().find(|(option, _)| *option == name) {

@@ -10,6 +10,7 @@ pub mod coating;
 pub mod envmap;
 mod error;
 mod load;
+pub mod material;
 mod mesh;
 pub mod mitsuba;
 mod ply;
@@ -18,6 +19,7 @@ mod serialized;
 pub use builder::SceneBuilder;
 pub use error::SceneError;
 pub use load::{load_str, MAX_DIRECT_SAMPLES};
+pub use material::{ComplexIor, Material, MaterialKind, Microfacet};
 
 /// Reads a scene file: Mitsuba scene XML when its name ends in `.xml`, our TOML otherwise.
 pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
@@ -302,144 +304,6 @@ pub struct CropWindow {
     pub min: Vec2,
     /// Bottom-right corner.
     pub max: Vec2,
-}
-
-/// A material's scattering model.
-#[derive(Clone, Debug, PartialEq)]
-pub enum MaterialKind {
-    /// Lambertian; `texture` (index into `Scene::textures`) replaces `albedo` when present.
-    Diffuse {
-        /// Reflectance, linear RGB in [0, 1] (`[1, 1, 1]` when textured).
-        albedo: Vec3,
-        /// Index into [`Scene::textures`].
-        texture: Option<u32>,
-    },
-    /// Perfect specular reflector.
-    Mirror {
-        /// Reflectance, linear RGB in [0, 1], times the Fresnel term when there is one.
-        albedo: Vec3,
-        /// Index into [`Scene::textures`] of a texture that replaces `albedo` (Mitsuba's
-        /// textured `specular_reflectance`).
-        texture: Option<u32>,
-        /// The conductor's complex index of refraction, whose Fresnel reflectance scales
-        /// `albedo`; `None` is Fresnel 1 (a perfect mirror; every TOML material).
-        fresnel: Option<ComplexIor>,
-    },
-    /// Microfacet conductor; roughness is the distribution's alpha.
-    Glossy {
-        /// Reflectance, linear RGB in [0, 1], times the Fresnel term when there is one.
-        albedo: Vec3,
-        /// Index into [`Scene::textures`] of a texture that replaces `albedo`.
-        texture: Option<u32>,
-        /// Alpha in [0, 1].
-        roughness: f32,
-        /// The distribution of microfacet normals.
-        distribution: Microfacet,
-        /// The conductor's complex index of refraction, whose Fresnel reflectance at the
-        /// microfacet normal scales `albedo`; `None` is Fresnel 1.
-        fresnel: Option<ComplexIor>,
-    },
-    /// Dielectric interface; roughness 0 is smooth, otherwise the microfacet alpha (Walter et
-    /// al. 2007).
-    Dielectric {
-        /// Index of refraction of the inside relative to the outside.
-        ior: f32,
-        /// Alpha in [0, 1]; 0 is smooth.
-        roughness: f32,
-        /// The distribution of microfacet normals of a rough interface.
-        distribution: Microfacet,
-        /// Factor on reflected light (Mitsuba's `specular_reflectance`; 1 is physical), linear
-        /// RGB in [0, 1]. The lobe is still chosen with the Fresnel probability.
-        reflectance: Vec3,
-        /// Factor on refracted light (`specular_transmittance`; 1 is physical), [0, 1].
-        transmittance: Vec3,
-    },
-    /// Mitsuba 3's `plastic` (roughness 0) and `roughplastic`: a dielectric coating, smooth or
-    /// of microfacets, over a Lambertian base, with the light trapped between them summed
-    /// ([`coating`]).
-    Plastic {
-        /// The base's reflectance, linear RGB in [0, 1] (`diffuse_reflectance`; `[1, 1, 1]`
-        /// when textured).
-        albedo: Vec3,
-        /// Index into [`Scene::textures`] of the texture that replaces `albedo`.
-        texture: Option<u32>,
-        /// The coating's reflection is scaled by it (`specular_reflectance`, [0, 1]).
-        specular: Vec3,
-        /// Index of refraction of the coating relative to the outside.
-        ior: f32,
-        /// Alpha in (0, 1] of a rough coating; 0 is smooth.
-        roughness: f32,
-        /// The distribution of microfacet normals of a rough coating.
-        distribution: Microfacet,
-        /// Mitsuba's `nonlinear`: the base's light trapped in the coating darkens and
-        /// saturates its colour, 1 / (1 - albedo Fdr), rather than 1 / (1 - Fdr).
-        nonlinear: bool,
-    },
-    /// Mitsuba 3's `thindielectric`: a slab too thin to see, reflecting with the slab's summed
-    /// reflectance R' = R + T^2 R / (1 - R^2) = 2R / (1 + R) and transmitting the rest
-    /// straight through, unbent.
-    ThinDielectric {
-        /// Index of refraction of the slab relative to the outside.
-        ior: f32,
-        /// Scales the reflection (`specular_reflectance`, [0, 1]).
-        reflectance: Vec3,
-        /// Scales the transmission (`specular_transmittance`, [0, 1]).
-        transmittance: Vec3,
-    },
-    /// Mitsuba 3's `null`: an invisible surface. Rays and photons pass straight through it
-    /// with weight 1 (a forward delta, null.cpp), counting a bounce; no light is sampled
-    /// there, and shadow rays stop at it like at any surface. The kernels draw it as a
-    /// thin dielectric of index 1, which reflects nothing.
-    Null,
-}
-
-impl MaterialKind {
-    /// The texture that replaces the kind's albedo (a diffuse reflectance, a conductor's
-    /// specular reflectance), if any: on the GPU, any material's albedo may come from one.
-    pub fn texture(&self) -> Option<u32> {
-        match *self {
-            MaterialKind::Diffuse { texture, .. }
-            | MaterialKind::Mirror { texture, .. }
-            | MaterialKind::Glossy { texture, .. }
-            | MaterialKind::Plastic { texture, .. } => texture,
-            MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. } | MaterialKind::Null => None,
-        }
-    }
-}
-
-/// A distribution of microfacet normals, isotropic, with Smith's separable masking (as
-/// Mitsuba 3's `MicrofacetDistribution`, sampled by visible normals).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Microfacet {
-    /// GGX (Trowbridge-Reitz; Walter et al. 2007, eq. 33): every TOML material.
-    #[default]
-    Ggx,
-    /// Beckmann (Walter et al. 2007, eq. 25): Mitsuba's default for its rough BSDFs.
-    Beckmann,
-}
-
-/// A conductor's complex index of refraction eta + i k relative to the outside, per RGB
-/// channel.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ComplexIor {
-    /// Real part, >= 0.
-    pub eta: Vec3,
-    /// Imaginary part (the absorption coefficient), >= 0.
-    pub k: Vec3,
-}
-
-/// One `[materials]` entry.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Material {
-    /// The entry's key, which shapes name it by.
-    pub name: String,
-    /// Its scattering model and parameters.
-    pub kind: MaterialKind,
-    /// Black when seen from behind its shading normal, as Mitsuba's BSDFs are unless
-    /// wrapped in `twosided`. TOML materials are two-sided; dielectrics ignore it.
-    pub one_sided: bool,
-    /// Line of the material's entry in `[materials]`.
-    pub line: usize,
 }
 
 /// A texture: an image decoded to linear RGB, row 0 at the top, and how it is sampled.

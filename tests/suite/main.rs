@@ -32,6 +32,7 @@ mod image_metrics;
 mod limits;
 mod memory;
 mod mesh_formats;
+mod mitsuba_xml;
 mod one_sided;
 mod oracles;
 mod path;

@@ -87,5 +87,16 @@ fn host_and_kernel_constants_agree() {
         let rest = &text[at + format!("const {name}: u32 = ").len()..];
         rest[..rest.find('u').unwrap()].trim().parse().unwrap()
     };
-    assert_eq!(wgsl_u32(&source("photon_pass"), "PHOTONS_PER_THREAD"), sppm_gpu::integrators::sppm::PHOTONS_PER_THREAD);
+    use sppm_gpu::integrators::sppm;
+    assert_eq!(wgsl_u32(&source("photon_pass"), "PHOTONS_PER_THREAD"), sppm::PHOTONS_PER_THREAD);
+    // photon_resume_setup's words against the host's byte offsets of the same buffer.
+    let resume = source("photon_resume_setup");
+    for (name, bytes) in [
+        ("ARGS_GRID", sppm::ARGS_GRID),
+        ("ARGS_RESUME", sppm::ARGS_RESUME),
+        ("ARGS_SCAN", sppm::ARGS_SCAN),
+        ("ARGS_COUNTS", sppm::ARGS_COUNTS),
+    ] {
+        assert_eq!(4 * wgsl_u32(&resume, name) as u64, bytes, "{name}");
+    }
 }

@@ -19,7 +19,7 @@
 //!   coating over a Lambertian base, the light trapped inside summed (Fdr by Mitsuba's fit;
 //!   `nonlinear` darkens and saturates the base by 1 / (1 - reflectance Fdr) rather than
 //!   1 / (1 - Fdr)), the coating's lobe sampled with Mitsuba's `specular_sampling_weight`
-//!   ([`crate::scene::coating`], `shaders/shared/coating.wgsl`).
+//!   ([`crate::scene::coating`], `shaders/shared/bsdf/plastic.wgsl`).
 //! - `roughplastic`: as `plastic`, with `distribution` (`beckmann`) and `alpha` (0.1) for the
 //!   coating's microfacets; the base sees the rough coating's transmittance, tabulated at load
 //!   as Mitsuba 3 does. Refused for int_ior = ext_ior, as Mitsuba does.

@@ -4,8 +4,7 @@
 //! made by scripts/mitsuba-references.sh); files of Mitsuba 0.5/0.6 read as their own version
 //! read them, with the parameters of their era (tests/scenes/mitsuba-era/).
 
-#[path = "suite/common/mod.rs"]
-mod common;
+use crate::common;
 
 use glam::{Vec2, Vec3};
 use sppm_gpu::integrators;

@@ -15,11 +15,18 @@
 // density): the expectation over the choice is the whole BSDF's integral. SPPM relies on the
 // split: its camera path passes the coating's lobe through and leaves a visible point for the
 // base's (camera_pass.wgsl). For MIS the density of a direction is the mixture of both.
+//
+// Parameters: `albedo` (diffuse_reflectance, linear RGB in [0, 1]) or a texture in its place;
+// `specular` (specular_reflectance); `ior` of the coating; `roughness` (alpha, 0 smooth) and
+// `distribution`; `nonlinear`; precomputed on the host: `coat_weight` (w), `coat_fdr` (Fdr)
+// and a rough coating's table `coat_table` of T; `one_sided`.
 
 #import types
 #import sampling
 #import scene
-#import bsdf
+#import bsdf/lobe
+#import bsdf/fresnel
+#import bsdf/microfacet
 
 // Some plastic has a smooth coating; some has a rough one (src/gpu/features.rs).
 override USES_PLASTIC: bool = true;
@@ -107,37 +114,27 @@ fn plastic_eval(m: Material, albedo: vec3f, wo: vec3f, wi: vec3f, ns: vec3f) -> 
     return BsdfEval(l.coat.f + l.base.f, l.coat.pdf + l.base.pdf);
 }
 
-struct CoatSample {
-    wi: vec3f,
-    // The sampled lobe's f |cos| / (probability * density); 0 ends the path.
-    weight: vec3f,
-    // Whether the base's lobe was chosen.
-    base: bool,
-    // The mixture density of wi (MIS at an emitter it hits); 0 after a smooth coating's mirror.
-    pdf: f32,
-    // A visible point on the base: f_base / t(cos_i) over the base's probability,
-    // albedo / (1 - [albedo] Fdr) / (pi eta^2) t(cos_o) / (1 - q). A photon arriving at cos_i
-    // brings t(cos_i) (plastic_deposit), so that a point gathers f_base times the flux.
-    vp_weight: vec3f,
-}
-
 // Sample plastic m at s from direction of travel d (camera paths and photons alike): a lobe
 // with probability q (the coating) or 1 - q (the base), then its direction. Coating: the mirror
 // direction, weight specular F(cos_o) / q (plastic.cpp); rough, a visible normal h, weight
 // specular F(wo.h) G1(wi) / q (times visible_g1_ratio for Beckmann, as sample_glossy). Base: a
-// cosine-distributed direction, weight pi f_base / (1 - q).
-fn sample_plastic(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f) -> CoatSample {
+// cosine-distributed direction, weight pi f_base / (1 - q); there SPPM's visible point weighs
+// f_base / t(cos_i) over the base's probability, albedo / (1 - [albedo] Fdr) / (pi eta^2)
+// t(cos_o) / (1 - q): a photon arriving at cos_i brings t(cos_i) (plastic_deposit), so that
+// the point gathers f_base times the flux. The density is the mixture's (0 after a smooth
+// coating's mirror).
+fn sample_plastic(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f) -> BsdfSample {
     let wo = -d;
     let n = select(-s.ns, s.ns, dot(wo, s.ns) > 0.0);
     let cos_o = dot(wo, n);
     let t_o = coat_transmittance(m, cos_o);
     let q = coat_probability(m, t_o);
     let base = plastic_base(m, albedo);
-    var out = CoatSample(d, vec3f(0.0), u.z >= q, 0.0, base * (t_o / max(1.0 - q, 1e-30)));
+    var out = BsdfSample(d, vec3f(0.0), 0.0, u.z >= q, base * (t_o / max(1.0 - q, 1e-30)));
     if cos_o <= 0.0 {
         return out;
     }
-    if out.base {
+    if out.diffuse {
         out.wi = sample_cosine_hemisphere(n, u.xy);
         let cos_i = dot(out.wi, n);
         out.weight = PI * out.vp_weight * coat_transmittance(m, cos_i);
@@ -174,7 +171,7 @@ fn sample_plastic(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f) ->
 }
 
 // What a photon arriving along d at plastic m brings to the visible points around it: t(cos_i)
-// of its flux, the part of f_base that depends on its direction (see CoatSample.vp_weight).
+// of its flux, the part of f_base that depends on its direction (see sample_plastic).
 fn plastic_deposit(m: Material, s: Surface, d: vec3f) -> f32 {
     return coat_transmittance(m, abs(dot(d, s.ns)));
 }
