@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Feeds BENCHMARKS.md "The defaults: direct_samples and the radius" (docs/journal/session-04.md).
 # Inputs: the repository's scenes and references.
-# The measurements behind SPPM's automatic direct_samples and radius (README, "Direct light";
+# The measurements behind SPPM's automatic direct_samples and radius (docs/guide/how-it-works.md, "Direct light";
 # BENCHMARKS.md): each setting renders a canonical scene for the same wall time and prints
 # its full-resolution relMSE against the reference.
 #

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Render the gallery (scenes/gallery/*.toml) at their own settings into docs/gallery/, and
-# print each render's summary line (passes, photons, seconds) for the README's table.
+# print each render's summary line (passes, photons, seconds) for the table of docs/guide/gallery.md.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 cargo build --release -q
