@@ -305,7 +305,7 @@ fn toml_envmap_matches_the_mitsuba_one() {
 /// the small disk's part of the mixture's density would read up to 100 times too bright.
 /// (Only photons from within the small disk reach these points; the whole disk's part of the
 /// weight, which the photons that bounce on their way to the visible points test, is checked
-/// by sky.xml against Mitsuba, `tests/mitsuba_xml.rs`.)
+/// by sky.xml against Mitsuba, `tests/suite/mitsuba_xml.rs`.)
 #[test]
 fn furnace_aimed_environment_photons_read_albedo() {
     let Some(gpu) = common::gpu() else { return };
