@@ -5,4 +5,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cargo build --release
-./target/release/sppm-gpu scenes/cornell-box.toml -o cornell-box.png
+"${CARGO_TARGET_DIR:-target}/release/sppm-gpu" scenes/cornell-box.toml -o cornell-box.png

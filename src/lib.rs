@@ -3,7 +3,7 @@
 //! A physically based renderer: stochastic progressive photon mapping (SPPM, Hachisuka &
 //! Jensen 2009) and two path tracers for comparison, all running as compute kernels on any
 //! Vulkan, Metal or DX12 device, including a software one (lavapipe). Scenes are TOML files
-//! (format version 1, see the README); the output is linear RGB radiance, written as OpenEXR
+//! (format version 1, see docs/guide/scene-format.md); the output is linear RGB radiance, written as OpenEXR
 //! or sRGB PNG. The same scene, settings and seed give the same image bit for bit on the same
 //! machine: photon flux is summed in fixed point, so the order in which photons arrive does
 //! not matter.

@@ -27,7 +27,7 @@ pub enum Sampler {
 
 impl Sampler {
     /// The sampler a scene gets when it names none: Sobol, which at equal time (30 s, the
-    /// canonical scenes, BENCHMARKS.md "Sobol sampler (issue 26)") cut pt-nee's relMSE on cornell-box by
+    /// canonical scenes, docs/journal/session-12.md "Sobol sampler (issue 26)") cut pt-nee's relMSE on cornell-box by
     /// 42% and SPPM's by 13%, and tied within noise on cornell-glossy and cornell-spheres,
     /// whose error is mostly fireflies, at about 5-10% more time per pass.
     pub const DEFAULT: Sampler = Sampler::Sobol;

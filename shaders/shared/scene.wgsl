@@ -263,7 +263,7 @@ fn surface_at(hit: Hit, o: vec3f, d: vec3f) -> Surface {
         let n = normalize(o + hit.t * d - center);
         // uv = (phi / 2 pi, theta / pi) of the normal in the sphere's frame (Mitsuba's
         // sphere; TOML's frame makes s the longitude about +y from +z towards +x and t the
-        // latitude from the bottom pole, as in the README).
+        // latitude from the bottom pole, as in docs/guide/scene-format.md).
         var uv = vec2f(0.0);
         if USES_TEXTURES && (s.attributes & HAS_UVS) != 0u {
             let a = s.attributes & ATTRIBUTE_INDEX_MASK;

@@ -99,7 +99,7 @@ pub fn replacements(data: &SceneData) -> Vec<(&'static str, String)> {
 /// ([`crate::accel::cwbvh`]) rather than the binary tree's data traversal.
 ///
 /// Scenes small enough to bake are traced by code, which loads nothing and beats both
-/// (`cargo bench --bench traversal`, see BENCHMARKS.md "CWBVH (issue 24)": on the Cornell box the
+/// (`cargo bench --bench traversal`, see docs/journal/session-12.md "CWBVH (issue 24)": on the Cornell box the
 /// baked traversal traces about twice the CWBVH's rays per second, the CWBVH twice the binary
 /// tree's); the CWBVH takes every larger scene, where it traced 1.3x to 1.7x the binary
 /// tree's closest hits and 2.6x to 3x its shadow rays (the bunny box, the 48k and 871k

@@ -179,7 +179,7 @@ impl GpuContext {
     /// device (lavapipe) or a GPU. Chosen from the adapter, never from timings, so that one
     /// scene and seed give one image on one machine. Today both are the values chosen on
     /// lavapipe ([`crate::scene::PassWork::DEFAULT`]): the GPU's own are owed a measurement of
-    /// equal-time error against photons and samples a pass on a GPU (BENCHMARKS.md, "Pacing:
+    /// equal-time error against photons and samples a pass on a GPU (docs/journal/session-15.md, "Pacing:
     /// time limit, Ctrl-C and throughput").
     pub fn pass_work(&self) -> crate::scene::PassWork {
         match self.adapter_info.device_type {

@@ -49,7 +49,7 @@ pub const AUTO_RADIUS_PIXELS: f32 = 2.0;
 /// Pixel footprints across the automatic initial radius when direct light is sampled: the
 /// photons then carry only indirect light, which is smoother, and a wider radius trades a
 /// little blur of it for less noise. At equal time 3 footprints beat 2 on cornell-box and
-/// cornell-glossy (`scripts/direct-light-defaults.sh`, BENCHMARKS.md).
+/// cornell-glossy (`scripts/measure/direct-light-defaults.sh`, docs/journal/session-04.md "The defaults: direct_samples and the radius").
 pub const AUTO_RADIUS_PIXELS_INDIRECT: f32 = 3.0;
 
 /// The automatic initial radius: [`AUTO_RADIUS_PIXELS_INDIRECT`] (or, with direct light from
@@ -76,7 +76,7 @@ pub fn auto_radius(scene: &Scene) -> f32 {
 /// to 64, so that the camera pass
 /// keeps the same share of a pass whatever the photon count. On cornell-box and
 /// cornell-glossy (200,000 photons, 256x256) that is 4 paths, within 10% of the best relMSE at
-/// equal time (4 to 8; `scripts/direct-light-defaults.sh`, BENCHMARKS.md), and the camera
+/// equal time (4 to 8; `scripts/measure/direct-light-defaults.sh`, docs/journal/session-04.md), and the camera
 /// pass takes about 30% of a pass (a camera path with next-event estimation, three rays,
 /// costs about a third of a photon path on lavapipe).
 pub fn direct_samples(render: &crate::scene::RenderSettings) -> u32 {
@@ -104,7 +104,7 @@ const MAX_HITS: u64 = 1 << 21;
 /// around it at once rather than storing it for `photon_gather`. The gather reads each hit
 /// once for all the points near it, but walks every hit of the buckets a point overlaps; a
 /// direct deposit walks the points listed in the hit's bucket. Measured on cornell-box
-/// (`sppm-gpu bench`, BENCHMARKS.md "Session 9"): at 12 photons a point the gather is about
+/// (`sppm-gpu bench`, docs/journal/session-09.md): at 12 photons a point the gather is about
 /// 10% faster, at 24 the two are even, at 49 the direct deposits are 25% faster.
 pub const AT_ONCE_PHOTONS_PER_POINT: u64 = 32;
 

@@ -4,7 +4,7 @@
 //! [`EnvmapDistribution::pdf`] and [`EnvmapDistribution::sample`]).
 //!
 //! Orientation, as Mitsuba 3's `envmap.cpp` (checked against Mitsuba 3.9.1 renders, see
-//! BENCHMARKS.md "The `envmap` environment (issue 25)"): a world direction w is carried into the map's frame, d =
+//! docs/journal/session-12.md "The `envmap` environment (issue 25)"): a world direction w is carried into the map's frame, d =
 //! to_world^-1 w, and read at u = atan2(d.x, -d.z) / 2 pi (wrapped into [0, 1)), v =
 //! acos(d.y) / pi: +y is the top row, the left edge of the image looks along -z, its centre along
 //! +z, a quarter across along +x. Texels are filtered bilinearly: in texel units x = u W - 1/2, periodic, and

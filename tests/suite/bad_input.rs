@@ -2,7 +2,7 @@
 //! and the key (or, for degenerate mesh triangles, one warning), and the command line exits
 //! with status 1 and no panic. `tests/suite/scene_load.rs` checks the exact line and key of each
 //! TOML-level error through `load_str`; here the files are on disk, the messages are the ones
-//! the README's "Bad input" table shows, and the cases beyond the TOML (OBJ contents, values
+//! the "Bad input" table of docs/guide/rendering.md shows, and the cases beyond the TOML (OBJ contents, values
 //! that overflow 32-bit floats in world space, a scene with no light) are covered.
 
 use crate::common;
@@ -66,7 +66,7 @@ fn assert_error(name: &str, text: &str, files: &[(&str, &[u8])], line: usize, ke
     assert_names(&error, &path, line, key, words);
 }
 
-/// One row of the README's "Bad input" table: what is wrong, the scene (with files beside
+/// One row of the "Bad input" table of docs/guide/rendering.md: what is wrong, the scene (with files beside
 /// it), and the message after `scene.toml:LINE: key `KEY`: ` exactly as printed; `{dir}` in
 /// it stands for the scene's directory.
 struct Case {
@@ -259,7 +259,7 @@ fn readme_cases() -> Vec<Case> {
     ])
 }
 
-/// The README table's messages, exactly, each from a scene file on disk.
+/// The guide table's messages, exactly, each from a scene file on disk.
 #[test]
 fn readme_table_messages() {
     for (i, case) in readme_cases().into_iter().enumerate() {

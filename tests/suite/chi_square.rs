@@ -828,7 +828,7 @@ fn specular_pair(wo: DVec3, n: DVec3, eta: f64) -> (DVec3, Option<DVec3>, f64) {
 /// share is F(wo.ns) by Pearson's statistic, entering and leaving. Mitsuba 3's dielectric works
 /// in the shading frame; refracting about ng instead, as this renderer once did, showed the
 /// smooth glass material preview its facets and left a floor of 3.4e-3 under its relMSE
-/// (BENCHMARKS.md, session 14).
+/// (docs/journal/session-14.md).
 #[test]
 fn smooth_dielectric_sampling() {
     let Some(gpu) = common::gpu() else { return };

@@ -1,7 +1,7 @@
 //! Mitsuba scene XML (src/scene/mitsuba/): what the reader makes of the test scenes in
 //! scenes/mitsuba/, each bad input as an error naming file, line and element, and the scenes
 //! rendered against Mitsuba 3's own renders of the same files (tests/references/mitsuba/,
-//! made by scripts/mitsuba-references.sh); files of Mitsuba 0.5/0.6 read as their own version
+//! made by scripts/regen/mitsuba-references.sh); files of Mitsuba 0.5/0.6 read as their own version
 //! read them, with the parameters of their era (tests/scenes/mitsuba-era/).
 
 use crate::common;
@@ -661,7 +661,7 @@ fn envmap_matches_mitsuba() {
 }
 
 /// sky.xml (issue 25): smooth and rough glass spheres and a diffuse one on a 40 x 40 ground
-/// under a sky with a 2.5-degree sun (textures/sky.exr, scripts/sky-envmap.py), against
+/// under a sky with a 2.5-degree sun (textures/sky.exr, scripts/regen/sky-envmap.py), against
 /// Mitsuba's path (16384 spp). SPPM aims 90% of the environment's photons at the visible
 /// points ([`ENV_AIM`](sppm_gpu::integrators::sppm::ENV_AIM)): the caustics come from photons
 /// of the small disk, the light that bounces off the ground around the spheres partly from the
