@@ -74,6 +74,8 @@ impl SceneData {
     /// vertex attributes than [`ATTRIBUTE_INDEX_MASK`] addresses, or a texture larger than
     /// 65535 on a side.
     pub fn new(scene: &Scene) -> Result<Self, SceneError> {
+        // Until the kernels render participating media (issue 35), a scene with any is refused.
+        scene.check_renderable()?;
         let velocity = |shape: u32| scene.shapes[shape as usize].velocity.unwrap_or(Vec3::ZERO);
         let motion = scene.shapes.iter().any(|s| s.velocity.is_some_and(|v| v != Vec3::ZERO));
         let bvh = crate::accel::build_bvh_moving(&scene.triangles, &scene.spheres, velocity);

@@ -239,6 +239,7 @@ impl SceneBuilder {
             focus_distance: look_at.distance(position),
             aperture_line: None,
             crop: None,
+            medium: None,
         });
         self
     }
@@ -506,6 +507,7 @@ impl SceneBuilder {
             triangles: Vec::new(),
             spheres: Vec::new(),
             lights,
+            media: Vec::new(),
         };
         for (index, entry) in self.shapes.iter().enumerate() {
             let shape = check.shape(index as u32, entry, &mut scene)?;
@@ -737,6 +739,8 @@ impl Check<'_> {
             line: 0,
             velocity_line: None,
             sphere_frame: None,
+            interior: None,
+            exterior: None,
         };
         let first_triangle = scene.triangles.len();
         let first_sphere = scene.spheres.len();

@@ -3,11 +3,12 @@
 //! its type and range, and each shape is turned into world-space primitives.
 
 use super::mesh::{self, Normals, Transform};
-use super::{ply, serialized};
 use super::{
-    Camera, ComplexIor, CropWindow, DirectLight, Light, LightKind, Material, MaterialKind, Method, Microfacet, PixelFilter,
-    RadiusRule, RadiusSchedule, RenderSettings, Scene, SceneError, Shape, ShapeKind, Sphere, Texture, TextureFilter, TextureWrap,
+    medium, Camera, ComplexIor, CropWindow, DirectLight, Light, LightKind, Material, MaterialKind, Medium, Method, Microfacet,
+    Phase, PixelFilter, RadiusRule, RadiusSchedule, RenderSettings, Scene, SceneError, Shape, ShapeKind, Sphere, Texture,
+    TextureFilter, TextureWrap,
 };
+use super::{ply, serialized};
 use glam::{Vec2, Vec3};
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -42,10 +43,15 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
         source.error(line, key.as_deref(), e.message().trim())
     })?;
     let root = Table { source: &source, table: document.get_ref(), key: String::new(), line: None };
-    root.allow_keys(&["render", "camera", "materials", "shapes", "lights"])?;
+    root.allow_keys(&["render", "camera", "materials", "shapes", "lights", "media"])?;
 
     let render = root.req("render", |v| read_render(&v.table()?))?;
-    let camera = root.req("camera", |v| read_camera(&v.table()?))?;
+    // Participating media (`[media.<name>]`), which the camera and shapes name.
+    let media = root.or("media", Vec::new(), |v| {
+        let table = v.table()?;
+        table.entries().iter().map(|(name, m)| read_medium(name, m)).collect()
+    })?;
+    let camera = root.req("camera", |v| read_camera(&v.table()?, &media))?;
     let mut textures = Vec::new();
     let materials = root.or("materials", Vec::new(), |v| {
         let table = v.table()?;
@@ -68,6 +74,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
         triangles: Vec::new(),
         spheres: Vec::new(),
         lights,
+        media,
     };
     for (index, entry) in root.or("shapes", Vec::new(), Value::elements)?.iter().enumerate() {
         let shape = read_shape(entry, index as u32, &mut scene)?;
@@ -238,9 +245,10 @@ fn read_filter(t: &Table) -> Result<PixelFilter> {
     })
 }
 
-/// The `[camera]` table; `focus_distance` defaults to the distance to `look_at`.
-fn read_camera(t: &Table) -> Result<Camera> {
-    t.allow_keys(&["position", "look_at", "up", "fov", "aperture_radius", "focus_distance", "crop"])?;
+/// The `[camera]` table; `focus_distance` defaults to the distance to `look_at`; `medium`
+/// names one of `media`, the medium the camera sits in.
+fn read_camera(t: &Table, media: &[Medium]) -> Result<Camera> {
+    t.allow_keys(&["position", "look_at", "up", "fov", "aperture_radius", "focus_distance", "crop", "medium"])?;
     let position = t.req("position", Value::vec3)?;
     let look_at = t.req("look_at", Value::vec3)?;
     let up = t.or("up", Vec3::Y, Value::vec3)?;
@@ -263,7 +271,50 @@ fn read_camera(t: &Table) -> Result<Camera> {
         focus_distance: t.or("focus_distance", look_at.distance(position), |v| v.f32_in(Bound::Positive))?,
         aperture_line: t.get("aperture_radius").map(|v| v.line),
         crop: t.opt("crop", read_crop)?,
+        medium: t.opt("medium", |v| v.medium(media))?,
     })
+}
+
+/// Keys of a `[media.<name>]` table.
+const MEDIUM_KEYS: &[&str] = &["type", "sigma_a", "sigma_s", "sigma_t", "albedo", "scale", "phase", "g"];
+
+/// Reads the `[media.<name>]` table of a homogeneous medium (see [`super::medium`]):
+/// `sigma_a` and `sigma_s`, or `sigma_t` and `albedo` (each one number or `[r, g, b]`, in
+/// inverse scene units; albedo in [0, 1]), times `scale` (1); `phase` = "isotropic" (the
+/// default) or "hg" with `g` in (-1, 1). `type` = "homogeneous", the only type, may be given.
+fn read_medium(name: &str, entry: &Value) -> Result<Medium> {
+    let t = entry.table()?;
+    t.allow_keys(MEDIUM_KEYS)?;
+    t.opt("type", |v| v.choice("medium type", &[("homogeneous", ())]))?;
+    let scale = t.or("scale", 1.0, |v| v.f32_in(Bound::NonNegative))?;
+    let given = |keys: [&'static str; 2]| keys.into_iter().find(|k| t.get(k).is_some());
+    let (sigma_a, sigma_s) = match (given(["sigma_a", "sigma_s"]), given(["sigma_t", "albedo"])) {
+        (Some(_), Some(other)) => {
+            return Err(t.error_at(other, "give sigma_a and sigma_s, or sigma_t and albedo: not keys of both forms"))
+        }
+        (Some(_), None) => {
+            let a = t.req("sigma_a", |v| v.rgb(Bound::NonNegative))?;
+            let s = t.req("sigma_s", |v| v.rgb(Bound::NonNegative))?;
+            (a * scale, s * scale)
+        }
+        (None, Some(_)) => {
+            let sigma_t = t.req("sigma_t", |v| v.rgb(Bound::NonNegative))?;
+            let albedo = t.req("albedo", |v| v.rgb(UNIT))?;
+            medium::from_extinction(sigma_t, albedo, scale)
+        }
+        (None, None) => return Err(t.error_here("a medium needs its coefficients: sigma_a and sigma_s, or sigma_t and albedo")),
+    };
+    for (key, value) in [("sigma_a", sigma_a), ("sigma_s", sigma_s)] {
+        if let Some(why) = medium::check_coefficient(key, value) {
+            return Err(t.error_at("scale", why));
+        }
+    }
+    let phase = match t.or("phase", "isotropic", |v| v.choice("phase type", &[("isotropic", "isotropic"), ("hg", "hg")]))? {
+        "hg" => Phase::HenyeyGreenstein { g: t.req("g", |v| v.f32_in(Bound::Open(-1.0, 1.0)))? },
+        _ if t.get("g").is_some() => return Err(t.error_at("g", "`g` belongs to phase = \"hg\"")),
+        _ => Phase::Isotropic,
+    };
+    Ok(Medium { name: name.to_owned(), sigma_a, sigma_s, phase, line: entry.line })
 }
 
 /// `crop` = [x0, y0, x1, y1]: the part of the film the image is, in fractions of its width
@@ -461,7 +512,7 @@ const SHAPE_TYPES: &[(&str, ShapeKind, &[&str])] = &[
 ];
 
 /// Keys every shape allows.
-const SHAPE_KEYS: &[&str] = &["type", "material", "emission", "velocity"];
+const SHAPE_KEYS: &[&str] = &["type", "material", "emission", "velocity", "interior", "exterior"];
 
 /// Reads `shapes[index]` and appends its primitives to the scene.
 fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
@@ -475,6 +526,8 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
         line: entry.line,
         velocity_line: t.get("velocity").map(|v| v.line),
         sphere_frame: None,
+        interior: t.opt("interior", |v| v.medium(&scene.media))?,
+        exterior: t.opt("exterior", |v| v.medium(&scene.media))?,
     };
     let first_triangle = scene.triangles.len();
     let first_sphere = scene.spheres.len();
@@ -526,6 +579,11 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
             "the quad has no area in 32-bit floats: u and v are too small for its distance \
              from the origin",
         ));
+    }
+    if shape.interior.is_some() {
+        if let Some(why) = medium::check_closed(triangles, &shape, index) {
+            return Err(t.error_at("interior", why));
+        }
     }
     if let Some(warning) = warning {
         eprintln!("warning: {warning}");
@@ -939,6 +997,29 @@ impl<'a, 'i> Value<'a, 'i> {
 
     fn vec3(&self) -> Result<Vec3> {
         self.vec3_in(Bound::Any)
+    }
+
+    /// A colour of coefficients: one number (grey) or `[r, g, b]`, each within `bound`.
+    fn rgb(&self, bound: Bound) -> Result<Vec3> {
+        match self.value {
+            DeValue::Array(_) => self.vec3_in(bound),
+            _ => self.f32_in(bound).map(Vec3::splat),
+        }
+    }
+
+    /// The index of the medium this value names (`[media.<name>]`).
+    fn medium(&self, media: &[Medium]) -> Result<u32> {
+        let name = self.string()?;
+        if let Some(index) = media.iter().position(|m| m.name == name) {
+            return Ok(index as u32);
+        }
+        let names: Vec<&str> = media.iter().map(|m| m.name.as_str()).collect();
+        let defined = if names.is_empty() {
+            "no media are defined (a [media.<name>] table defines one)".to_owned()
+        } else {
+            format!("defined media: {}", names.join(", "))
+        };
+        Err(self.error(format!("unknown medium `{name}`; {defined}")))
     }
 
     /// A scale: one number or three, each nonzero.

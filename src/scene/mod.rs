@@ -11,6 +11,7 @@ pub mod envmap;
 mod error;
 mod load;
 pub mod material;
+pub mod medium;
 mod mesh;
 pub mod mitsuba;
 mod ply;
@@ -20,6 +21,7 @@ pub use builder::SceneBuilder;
 pub use error::SceneError;
 pub use load::{load_str, MAX_DIRECT_SAMPLES};
 pub use material::{ComplexIor, Material, MaterialKind, Microfacet};
+pub use medium::{Medium, Phase};
 
 /// Reads a scene file: Mitsuba scene XML when its name ends in `.xml`, our TOML otherwise.
 pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
@@ -294,6 +296,9 @@ pub struct Camera {
     /// the whole: `fov` and the aspect ratio are the whole film's, and the image's pixels
     /// are those of the window.
     pub crop: Option<CropWindow>,
+    /// Index into [`Scene::media`] of the medium the camera sits in (fog filling the scene),
+    /// `None` for a vacuum.
+    pub medium: Option<u32>,
 }
 
 /// A window of the film, in fractions of its width and height from its top-left corner:
@@ -390,6 +395,11 @@ pub struct Shape {
     /// z. `None` for every other shape, and for TOML's spheres, whose frame is fixed
     /// ([`TOML_SPHERE_FRAME`]).
     pub sphere_frame: Option<glam::Mat3>,
+    /// Index into [`Scene::media`] of the medium inside the shape (a closed surface: see
+    /// [`medium`]), `None` for a vacuum or none given.
+    pub interior: Option<u32>,
+    /// Index into [`Scene::media`] of the medium outside it, on the side its normals point to.
+    pub exterior: Option<u32>,
 }
 
 /// The frame of a TOML sphere's texture coordinates (see [`Shape::sphere_frame`]): s is the
@@ -542,6 +552,9 @@ pub struct Scene {
     pub spheres: Vec<Sphere>,
     /// The `[[lights]]` entries, in file order.
     pub lights: Vec<Light>,
+    /// The participating media that the camera or shapes are in ([`medium`]); they refer to
+    /// them by index.
+    pub media: Vec<Medium>,
 }
 
 impl Scene {

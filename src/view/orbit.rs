@@ -68,6 +68,7 @@ mod tests {
             focus_distance: 3.9,
             aperture_line: None,
             crop: None,
+            medium: None,
         }
     }
 

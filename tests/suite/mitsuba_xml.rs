@@ -571,7 +571,8 @@ fn bad_input_names_file_line_and_element() {
             "no parameter `scale`",
         ),
         ("ellipsoid", r#"    <shape type="sphere"><transform name="to_world"><scale x="2"/></transform></shape>"#, "ellipsoid"),
-        ("medium", r#"    <medium type="homogeneous"/>"#, "participating media"),
+        // Homogeneous media are read (tests/suite/media_scene.rs); heterogeneous ones refused.
+        ("medium", r#"    <medium type="heterogeneous" id="smoke"/>"#, "participating media"),
     ] {
         let text = scene_with(body);
         let line = line_of(&text, body.trim());

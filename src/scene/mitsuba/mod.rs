@@ -30,6 +30,7 @@
 
 mod bsdf;
 mod integrator;
+mod medium;
 mod props;
 mod sensor;
 mod shape;
@@ -37,7 +38,7 @@ mod spectra;
 mod texture;
 mod xml;
 
-use super::{Light, Material, Scene, SceneError, Shape, Sphere, Texture, Triangle};
+use super::{Light, Material, Medium, Scene, SceneError, Shape, Sphere, Texture, Triangle};
 use std::collections::HashMap;
 use std::path::Path;
 use xml::Node;
@@ -85,6 +86,10 @@ struct SceneReader<'a> {
     triangles: Vec<Triangle>,
     spheres: Vec<Sphere>,
     lights: Vec<Light>,
+    /// Media so far, and the medium of each medium element read (by address), so that a
+    /// medium shared by reference is one.
+    media: Vec<Medium>,
+    medium_of: HashMap<*const Node, u32>,
     sensor: Option<sensor::SensorSettings>,
     integrator: Option<&'a Node>,
     /// The directories `<path>` added and the scene file's, where files named in included
@@ -119,6 +124,8 @@ impl<'a> SceneReader<'a> {
             triangles: Vec::new(),
             spheres: Vec::new(),
             lights: Vec::new(),
+            media: Vec::new(),
+            medium_of: HashMap::new(),
             sensor: None,
             integrator: None,
             root: dirs,
@@ -155,7 +162,8 @@ impl<'a> SceneReader<'a> {
                     if self.sensor.is_some() {
                         return Err(node.error(None, "a second <sensor>: sppm-gpu renders one camera"));
                     }
-                    self.sensor = Some(sensor::sensor(node)?);
+                    let settings = sensor::sensor(node, &mut |m| self.medium(m))?;
+                    self.sensor = Some(settings);
                 }
                 "integrator" => {
                     if self.integrator.is_some() {
@@ -167,8 +175,25 @@ impl<'a> SceneReader<'a> {
                 "bsdf" | "texture" => {
                     node.req_attr("id")?;
                 }
-                "medium" | "phase" | "volume" => {
-                    return Err(node.error(None, format!("{}: participating media are not rendered by sppm-gpu", node.describe())))
+                // Declared for reference, and checked as Mitsuba instantiates them: in the scene's
+                // media once the sensor or a shape refers to them.
+                "medium" => {
+                    node.req_attr("id")?;
+                    self.read_medium(node)?;
+                }
+                "phase" => {
+                    node.req_attr("id")?;
+                    medium::check_phase(node)?;
+                }
+                "volume" => {
+                    return Err(node.error(
+                        None,
+                        format!(
+                            "{}: volume grids make heterogeneous media, which sppm-gpu does not render (only homogeneous \
+                             participating media)",
+                            node.describe()
+                        ),
+                    ))
                 }
                 "path" => {
                     return Err(node.error(None, "<path> (a search path) is not read: give file names relative to the scene"))
@@ -207,6 +232,7 @@ impl<'a> SceneReader<'a> {
             triangles: self.triangles,
             spheres: self.spheres,
             lights: self.lights,
+            media: self.media,
         };
         // Our camera's look-at point sets the automatic SPPM radius (pixel footprints at its
         // distance); Mitsuba's `lookat` target is often one unit ahead. Look at the scene's

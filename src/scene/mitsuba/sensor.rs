@@ -46,8 +46,9 @@ pub(super) struct SensorSettings {
     pub sampler: crate::sampler::Sampler,
 }
 
-/// Reads a `<sensor>`.
-pub(super) fn sensor(node: &Node) -> Result<SensorSettings> {
+/// Reads a `<sensor>`; `medium` gives the index of the medium a nested `<medium>` or `<ref>`
+/// names (the medium the camera sits in).
+pub(super) fn sensor<'a>(node: &'a Node, medium: &mut dyn FnMut(&'a Node) -> Result<u32>) -> Result<SensorSettings> {
     node.allow_attrs(&["type", "id", "name"])?;
     let kind = node.req_attr("type")?;
     if kind != "perspective" && kind != "thinlens" {
@@ -61,7 +62,8 @@ pub(super) fn sensor(node: &Node) -> Result<SensorSettings> {
     let mut sample_count = 4;
     let mut seed = 0;
     let mut kind_of_sampler = crate::sampler::Sampler::DEFAULT;
-    let (mut films, mut samplers) = (0, 0);
+    let (mut films, mut samplers, mut media) = (0, 0, 0);
+    let mut camera_medium = None;
     for object in p.all_objects() {
         match object.tag.as_str() {
             "film" => {
@@ -71,6 +73,14 @@ pub(super) fn sensor(node: &Node) -> Result<SensorSettings> {
             "sampler" => {
                 samplers += 1;
                 (sample_count, seed, kind_of_sampler) = sampler(object)?;
+            }
+            // The medium around the camera (Mitsuba's endpoint takes one, by any name).
+            "medium" | "ref" => {
+                media += 1;
+                if media > 1 {
+                    return Err(object.error(None, "a second medium in the sensor: a camera sits in one medium"));
+                }
+                camera_medium = Some(medium(object)?);
             }
             _ => return Err(object.error(None, format!("{} inside a sensor", object.describe()))),
         }
@@ -105,6 +115,7 @@ pub(super) fn sensor(node: &Node) -> Result<SensorSettings> {
         focus_distance: 1.0,
         aperture_line: None,
         crop: None,
+        medium: camera_medium,
     };
     // The image is the crop window: its pixels are the film's (fov and aspect stay the film's).
     if let Some([x, y, w, h]) = crop {

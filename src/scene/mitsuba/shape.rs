@@ -84,13 +84,35 @@ impl<'a> SceneReader<'a> {
 
         let mut bsdf = None;
         let mut emission = None;
+        let (mut interior, mut exterior) = (None, None);
         for object in p.all_objects() {
             let target = self.deref(object, "")?;
             match target.tag.as_str() {
                 "bsdf" if bsdf.is_none() => bsdf = Some(object),
                 "emitter" if emission.is_none() => emission = Some(area_emitter(target)?),
                 "bsdf" | "emitter" => return Err(object.error(None, format!("a second {} in one shape", target.describe()))),
-                "medium" => return Err(object.error(None, "participating media are not rendered by sppm-gpu")),
+                "medium" => {
+                    // The name on the nested element or the <ref> says which side it fills.
+                    let side = match object.attr("name") {
+                        Some("interior") => &mut interior,
+                        Some("exterior") => &mut exterior,
+                        other => {
+                            let named = other.map(|n| format!(" named \"{n}\"")).unwrap_or_default();
+                            return Err(object.error(
+                                Some("name"),
+                                format!(
+                                    "a medium{named} in a shape: name it \"interior\" (inside the shape) or \"exterior\" \
+                                     (outside it)"
+                                ),
+                            ));
+                        }
+                    };
+                    if side.is_some() {
+                        let name = object.attr("name").unwrap();
+                        return Err(object.error(Some(name), format!("a second {name} medium in one shape")));
+                    }
+                    *side = Some((object, self.medium(object)?));
+                }
                 _ => return Err(object.error(None, format!("{} inside a shape", target.describe()))),
             }
         }
@@ -206,7 +228,7 @@ impl<'a> SceneReader<'a> {
         let triangles = &self.triangles[first..];
         let spheres = if shape_kind == ShapeKind::Sphere { &self.spheres[self.spheres.len() - 1..] } else { &[] };
         mesh::check_extent(triangles, spheres, Vec3::ZERO).map_err(|e| node.error(Some("to_world"), e))?;
-        self.shapes.push(Shape {
+        let shape = Shape {
             kind: shape_kind,
             material,
             emission,
@@ -214,7 +236,15 @@ impl<'a> SceneReader<'a> {
             line: node.line,
             velocity_line: None,
             sphere_frame,
-        });
+            interior: interior.map(|(_, m)| m),
+            exterior: exterior.map(|(_, m)| m),
+        };
+        if let Some((at, _)) = interior {
+            if let Some(why) = crate::scene::medium::check_closed(triangles, &shape, index) {
+                return Err(at.error(Some("interior"), format!("{why} ({})", node.describe())));
+            }
+        }
+        self.shapes.push(shape);
         Ok(())
     }
 
