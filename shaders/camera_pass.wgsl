@@ -6,7 +6,10 @@
 // weights emission it hits after such a bounce by MIS; pbrt-v4's SPPM samples direct light at
 // camera vertices too. The photons then carry only light that has bounced at least once
 // (photon_pass.wgsl), so no light is counted twice. With 0, photons carry all light and
-// emission counts whole.
+// emission counts whole. In an isotropic participating medium (shared/medium.wgsl) the path
+// may instead end at a scattering event, leaving a visible point in the medium that gathers
+// the volume photons around it (Knaus & Zwicker 2011, sec. 5); in an anisotropic one it passes
+// the event by sampling the phase function, as it passes glossy surfaces.
 
 #import types
 #import rng
@@ -17,6 +20,7 @@
 #import lights
 #import direct
 #import grid
+#import medium
 
 @group(0) @binding(8) var<storage, read_write> visible_points: array<VisiblePoint>;
 @group(0) @binding(10) var<storage, read_write> vp_stats: array<VpStats>;
@@ -52,8 +56,46 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
     // BSDF sample hits (the other half of MIS there), traced by the same call as the rest: the
     // traversal is inlined into the kernel once.
     var to_emission = false;
+    // The medium the path travels through.
+    var medium = CAMERA_MEDIUM;
     for (var depth = 0u; depth < frame.max_depth || to_emission; depth++) {
         let hit = trace_closest(o, d, 3.4e38);
+        // In a medium the segment may end at a scattering event short of the surface.
+        if USES_MEDIA && medium != NO_MEDIUM {
+            let c = medium_coefficients(medium);
+            let flight = sample_flight(c, hit.t, rng_next2(rng));
+            if !flight.scattered {
+                beta *= flight.weight;
+            } else {
+                beta *= flight.weight * c.sigma_s;
+                // Past the visible point the path only looks for emission.
+                if to_emission || all(beta == vec3f(0.0)) {
+                    break;
+                }
+                let p = o + flight.t * d;
+                if sample_direct {
+                    path.ld += beta * medium_direct_light(p, d, medium, c.g, vec3f(rng_next(rng), rng_next2(rng)));
+                }
+                let wi = sample_phase(d, c.g, rng_next2(rng));
+                if c.g == 0.0 {
+                    // The in-scattered radiance, sigma_s (in beta) times the phase function
+                    // 1 / 4 pi times the fluence the volume photons estimate (update_stats.wgsl).
+                    path.vp = VisiblePoint(p, 0.0, beta * INV_4PI, volume_normal(depth));
+                    path.found = true;
+                    if !sample_direct {
+                        break;
+                    }
+                    to_emission = true;
+                }
+                pdf_prev = select(0.0, phase_hg(dot(d, wi), c.g), sample_direct);
+                o = p;
+                d = wi;
+                if depth + 1u >= frame.max_depth {
+                    to_emission = true;
+                }
+                continue;
+            }
+        }
         if hit.prim_ref == 0xffffffffu {
             // The ray escapes: the environment, weighted as emission is.
             if USES_ENVIRONMENT {
@@ -81,7 +123,7 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         // ray's traversal is inlined once.
         let nee = sample_direct && bsdf_samples_lights(m);
         if nee {
-            path.ld += beta * direct_light(s, -d, m, albedo, vec3f(rng_next(rng), rng_next2(rng)));
+            path.ld += beta * direct_light(s, -d, m, albedo, medium, vec3f(rng_next(rng), rng_next2(rng)));
         }
         // The BSDF sampled once (shared/bsdf.wgsl): a diffuse surface's or a plastic's base's
         // lobe leaves the visible point; any other is passed through. For a plastic the
@@ -109,6 +151,7 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         }
         beta *= next.weight;
         pdf_prev = next.pdf;
+        medium = medium_after(medium, s, d, next.wi);
         o = offset_origin(s.p, s.ng, next.wi);
         d = next.wi;
         // That was the last scattering event max_depth allows: the next segment only gathers

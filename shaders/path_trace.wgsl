@@ -3,7 +3,9 @@
 // lights stay dark. With next-event estimation (frame.nee == 1): direct_light at diffuse,
 // glossy and rough dielectric vertices, and emission hit by BSDF sampling weighted by
 // emission_weight (shared/direct.wgsl, which SPPM's camera pass uses too). Scene, camera,
-// lights and BSDF sampling are the ones SPPM's kernels use.
+// lights and BSDF sampling are the ones SPPM's kernels use. In participating media
+// (shared/medium.wgsl) each segment may end at a scattering event, where the phase function
+// is sampled and, with NEE, a light through the medium's transmittance.
 
 #import types
 #import rng
@@ -13,11 +15,25 @@
 #import camera
 #import lights
 #import direct
+#import medium
 
 // Per pixel: the sum of the passes' samples (rgb) and the sample count (w).
 @group(0) @binding(16) var<storage, read_write> radiance: array<vec4f>;
 
 const STREAM_PATH: u32 = 2u;
+
+// Russian roulette after three scattering events, keeping the largest channel's weight,
+// judged without the refractions' 1 / eta^2 (pbrt-v4's PathIntegrator, sec. 13.4: rrBeta =
+// beta etaScale): a path inside a diamond carries 1 / 2.42^2 of its weight until it leaves,
+// and would otherwise end at 83% a bounce. False when the path ends.
+fn roulette(beta: ptr<function, vec3f>, eta_scale: f32, rng: ptr<function, Rng>) -> bool {
+    let q = max(0.05, 1.0 - max_component(*beta) * eta_scale);
+    if rng_next(rng) < q {
+        return false;
+    }
+    *beta /= 1.0 - q;
+    return true;
+}
 
 @compute @workgroup_size(64)
 fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
@@ -41,9 +57,38 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     var pdf_prev = 0.0;
     // The product of eta^2 over the path's refractions (refraction_eta2).
     var eta_scale = 1.0;
+    // The medium the path travels through (shared/medium.wgsl).
+    var medium = CAMERA_MEDIUM;
     // A path has at most max_depth scattering events, so max_depth + 1 segments.
     for (var depth = 0u; depth <= frame.max_depth; depth++) {
         let hit = trace_closest(o, d, 3.4e38);
+        // In a medium the segment may end at a scattering event short of the surface (or of
+        // escaping: hit.t is then 3.4e38).
+        if USES_MEDIA && medium != NO_MEDIUM {
+            let c = medium_coefficients(medium);
+            let flight = sample_flight(c, hit.t, rng_next2(&rng));
+            if !flight.scattered {
+                beta *= flight.weight;
+            } else {
+                beta *= flight.weight * c.sigma_s;
+                if depth == frame.max_depth || all(beta == vec3f(0.0)) {
+                    break;
+                }
+                let p = o + flight.t * d;
+                if frame.nee != 0u {
+                    l += beta * medium_direct_light(p, d, medium, c.g, vec3f(rng_next(&rng), rng_next2(&rng)));
+                }
+                // The phase function sampled exactly: the weight is 1.
+                let wi = sample_phase(d, c.g, rng_next2(&rng));
+                pdf_prev = select(0.0, phase_hg(dot(d, wi), c.g), frame.nee != 0u);
+                o = p;
+                d = wi;
+                if depth >= 3u && !roulette(&beta, eta_scale, &rng) {
+                    break;
+                }
+                continue;
+            }
+        }
         if hit.prim_ref == 0xffffffffu {
             // The ray escapes: the environment, weighted as emission is.
             if USES_ENVIRONMENT {
@@ -78,7 +123,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
             u_light = vec3f(rng_next(&rng), rng_next2(&rng));
         }
         if nee {
-            l += beta * direct_light(s, wo, m, albedo, u_light);
+            l += beta * direct_light(s, wo, m, albedo, medium, u_light);
         }
         let next = bsdf_sample(s, m, albedo, d, vec3f(rng_next2(&rng), rng_next(&rng)), true, nee);
         if all(next.weight == vec3f(0.0)) {
@@ -87,18 +132,11 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
         beta *= next.weight;
         eta_scale *= refraction_eta2(m, s, d, next.wi);
         pdf_prev = next.pdf;
+        medium = medium_after(medium, s, d, next.wi);
         d = next.wi;
         o = offset_origin(s.p, s.ng, d);
-        // Russian roulette after three bounces, keeping the largest channel's weight, judged
-        // without the refractions' 1 / eta^2 (pbrt-v4's PathIntegrator, sec. 13.4: rrBeta = beta etaScale): a
-        // path inside a diamond carries 1 / 2.42^2 of its weight until it leaves, and would
-        // otherwise end at 83% a bounce.
-        if depth >= 3u {
-            let q = max(0.05, 1.0 - max_component(beta) * eta_scale);
-            if rng_next(&rng) < q {
-                break;
-            }
-            beta /= 1.0 - q;
+        if depth >= 3u && !roulette(&beta, eta_scale, &rng) {
+            break;
         }
     }
     // A NaN or infinite sample counts as black rather than poisoning the pixel.

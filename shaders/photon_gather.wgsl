@@ -40,6 +40,7 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
     let n = decode_normal(q.normal);
     let n_unit = normalize(n);
     let depth = vp_depth(q.normal);
+    let volume = in_volume(q.normal);
     var flux = array<vec2u, 3>(vec2u(0u), vec2u(0u), vec2u(0u));
     var count = 0u;
     var moments = vec4u(0u);
@@ -56,12 +57,18 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
                 continue;
             }
             let arrival = photon_hits[i + 1u];
-            if !lights_side(n, bitcast<vec3f>(arrival.xyz)) || !within_depth(depth, arrival.w, frame.max_depth) {
+            if !within_depth(depth, arrival.w, frame.max_depth) {
                 continue;
             }
             // The flux, and the normal of the surface the photon hit.
             let carried = photon_hits[i + 2u];
-            if !same_side(n_unit, decode_normal(carried.w), bitcast<vec3f>(head.xyz) - q.p) {
+            // A point in a medium gathers the photons in media, one on a surface those on
+            // surfaces, from its side.
+            if USES_MEDIA && volume != in_volume(carried.w) {
+                continue;
+            }
+            if !volume && (!lights_side(n, bitcast<vec3f>(arrival.xyz))
+                || !same_side(n_unit, decode_normal(carried.w), bitcast<vec3f>(head.xyz) - q.p)) {
                 continue;
             }
             if ADAPTIVE_RADIUS {

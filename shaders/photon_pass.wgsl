@@ -21,6 +21,7 @@
 #import lanes
 #import grid
 #import flux
+#import medium
 
 @group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
 // The grid's parameters, then camera_pass's words on the visible points (their largest
@@ -49,12 +50,18 @@ const STREAM_PHOTON: u32 = 1u;
 // Add the photon's flux to visible point v if it lies within v's radius of p, arrives on its
 // side, the joined path is not too long, and it lies on v's side of v's surface (`normal`,
 // encode_normal's, of the surface the photon hit, turned to the side it arrived from:
-// same_side in shared/grid.wgsl).
+// same_side in shared/grid.wgsl; volume_normal's in a medium).
 fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f, depth: u32, normal: u32) {
     let q = visible_points[v];
     let n = decode_normal(q.normal);
-    if within_radius(q.p, q.radius, p) && lights_side(n, d) && within_depth(vp_depth(q.normal), depth, frame.max_depth)
-        && same_side(normalize(n), decode_normal(normal), p - q.p) {
+    // A point in a medium gathers the photons in media, a point on a surface those on
+    // surfaces, with the tests of a surface's side.
+    let volume = in_volume(q.normal);
+    if USES_MEDIA && volume != in_volume(normal) {
+        return;
+    }
+    let side = volume || (lights_side(n, d) && same_side(normalize(n), decode_normal(normal), p - q.p));
+    if within_radius(q.p, q.radius, p) && within_depth(vp_depth(q.normal), depth, frame.max_depth) && side {
         accumulate_flux(v, beta);
         if ADAPTIVE_RADIUS {
             accumulate_moments(v, offset_moments((p - q.p) / q.radius));
@@ -130,6 +137,8 @@ struct Photon {
     d: vec3f,
     beta: vec3f,
     depth: u32,
+    // The medium it travels through (shared/medium.wgsl).
+    medium: u32,
 }
 
 // Choose a light in proportion to power and a photon leaving it: from an area light, a point
@@ -147,18 +156,18 @@ fn emit_photon(rng: ptr<function, Rng>) -> Photon {
     let scale = 1.0 / (e.pmf * frame.power_total);
     if USES_POINT_LIGHTS && e.kind == EMITTER_POINT {
         // I / (1 / 4 pi)
-        return Photon(e.position, sample_uniform_sphere(u_dir), e.radiance * (4.0 * PI * scale), 0u);
+        return Photon(e.position, sample_uniform_sphere(u_dir), e.radiance * (4.0 * PI * scale), 0u, CAMERA_MEDIUM);
     }
     if USES_SPOT_LIGHTS && e.kind == EMITTER_SPOT {
         let s = sample_spot_emission(e, u_pos.x, u_dir);
-        return Photon(e.position, s.d, e.radiance * (s.weight * scale), 0u);
+        return Photon(e.position, s.d, e.radiance * (s.weight * scale), 0u, CAMERA_MEDIUM);
     }
     if USES_DIRECTIONAL_LIGHTS && e.kind == EMITTER_DIRECTIONAL {
         // E / (1 / disk area)
         let b = basis(e.direction);
         let q = e.radius * sample_disk(u_pos);
         let p = e.position + b[0] * q.x + b[1] * q.y;
-        return Photon(p, e.direction, e.radiance * (e.area * scale), 0u);
+        return Photon(p, e.direction, e.radiance * (e.area * scale), 0u, CAMERA_MEDIUM);
     }
     if USES_ENVIRONMENT && e.kind == EMITTER_ENVIRONMENT {
         // Arriving from w, uniform on the sphere, through a point uniform on the disk of the
@@ -176,13 +185,18 @@ fn emit_photon(rng: ptr<function, Rng>) -> Photon {
         let b = basis(w);
         let o = environment_origin(e, b[0], b[1], u_pos);
         let p = e.position + 1.01 * e.radius * w + b[0] * o.q.x + b[1] * o.q.y;
-        return Photon(p, -w, flux * o.weight, 0u);
+        return Photon(p, -w, flux * o.weight, 0u, CAMERA_MEDIUM);
     }
     let l = sample_area_emitter(e, u_pos);
     let d = sample_cosine_hemisphere(l.n, u_dir);
     // Le cos / ((1 / area) * (cos / pi))
     let beta = shapes[l.shape].emission * (PI * e.area * scale);
-    return Photon(offset_origin(l.p, l.n, d), d, beta, 0u);
+    // Into the shape's exterior medium where it has one, else the camera's.
+    var medium = CAMERA_MEDIUM;
+    if USES_MEDIA && shapes[l.shape].media != 0xffffffffu {
+        medium = shapes[l.shape].media >> 16u;
+    }
+    return Photon(offset_origin(l.p, l.n, d), d, beta, 0u, medium);
 }
 
 // A point where an environment photon crosses the plane facing w (coordinates in the plane's
@@ -246,6 +260,40 @@ const PHOTON_NO_ROOM: u32 = 2u;
 // One bounce of a photon: deposit at a diffuse hit, then scatter.
 fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
     let hit = trace_closest((*ph).o, (*ph).d, 3.4e38);
+    // The state to resume from when a deposit finds no room: in a medium, the bounce has
+    // drawn numbers and attenuated the flux by then, and is done again from the start.
+    let ph_start = *ph;
+    let rng_start = *rng;
+    if USES_MEDIA && (*ph).medium != NO_MEDIUM {
+        let c = medium_coefficients((*ph).medium);
+        let flight = sample_flight(c, hit.t, rng_next2(rng));
+        if flight.scattered {
+            let p = (*ph).o + flight.t * (*ph).d;
+            // The track-length estimate of the fluence: Tr / p(t) of the flux, at an isotropic
+            // medium's scattering events (the phase function is the camera's, 1 / 4 pi);
+            // straight from a light, where the camera pass samples direct light, none.
+            let deposited = (*ph).beta * flight.weight;
+            let finite = all(deposited >= vec3f(0.0)) && all(deposited < vec3f(1.0e9));
+            let deposits = c.g == 0.0 && (frame.direct == 0u || (*ph).depth > 0u) && finite;
+            if !deposit(deposits, p, (*ph).d, deposited, (*ph).depth, volume_normal(0u)) {
+                *rng = rng_start;
+                *ph = ph_start;
+                return PHOTON_NO_ROOM;
+            }
+            // Russian roulette on the scattered flux, as at a surface.
+            let beta_new = deposited * c.sigma_s;
+            let q = max(0.0, 1.0 - max_component(beta_new) / max_component((*ph).beta));
+            if rng_next(rng) < q {
+                return PHOTON_ENDED;
+            }
+            (*ph).beta = beta_new / (1.0 - q);
+            (*ph).o = p;
+            (*ph).d = sample_phase((*ph).d, c.g, rng_next2(rng));
+            (*ph).depth += 1u;
+            return select(PHOTON_ENDED, PHOTON_GOES_ON, (*ph).depth < frame.max_depth);
+        }
+        (*ph).beta *= flight.weight;
+    }
     if hit.prim_ref == 0xffffffffu {
         return PHOTON_ENDED;
     }
@@ -260,8 +308,8 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
     let finite = all(beta >= vec3f(0.0)) && all(beta < vec3f(1.0e9));
     // A one-sided surface hit from behind scatters nothing: no deposit, and the photon ends.
     let behind = seen_from_behind(m, s, d);
-    // Nothing has been drawn or changed yet in this bounce, so when the hit finds no room the
-    // photon's state is the one to resume from.
+    // Nothing has been drawn or changed yet in this bounce (but in a medium, undone below), so
+    // when the hit finds no room the photon's state is the one to resume from.
     // On a plastic's base, with the part of its term that depends on the photon's direction.
     let deposited = bsdf_deposit(m, s, d, beta);
     let receives = bsdf_receives_photons(m);
@@ -269,6 +317,10 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
     // points on the same side of their own surface gather it (same_side in shared/grid.wgsl).
     let normal = encode_normal(select(-s.ng, s.ng, dot(d, s.ng) < 0.0), 0u);
     if !deposit(receives && (frame.direct == 0u || (*ph).depth > 0u) && finite && !behind, s.p, d, deposited, (*ph).depth, normal) {
+        if USES_MEDIA {
+            *rng = rng_start;
+            *ph = ph_start;
+        }
         return PHOTON_NO_ROOM;
     }
     if behind {
@@ -294,6 +346,7 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
     }
     (*ph).beta = beta_new / (1.0 - q);
     (*ph).o = offset_origin(s.p, s.ng, wi);
+    (*ph).medium = medium_after((*ph).medium, s, d, wi);
     (*ph).d = wi;
     (*ph).depth += 1u;
     return select(PHOTON_ENDED, PHOTON_GOES_ON, (*ph).depth < frame.max_depth);
@@ -303,7 +356,9 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
 // slot per thread at most, as a thread stops at its first such hit.
 fn suspend(ph: Photon, rng: Rng, next: u32, end: u32) {
     let slot = atomicAdd(&photon_hit_lists[1], 1u);
-    photon_suspended[4u * slot] = vec4u(bitcast<vec3u>(ph.o), ph.depth);
+    // With media, the depth in the low 16 bits and the medium in the high 16.
+    let depth = select(ph.depth, (ph.depth & 0xffffu) | (ph.medium << 16u), USES_MEDIA);
+    photon_suspended[4u * slot] = vec4u(bitcast<vec3u>(ph.o), depth);
     photon_suspended[4u * slot + 1u] = vec4u(bitcast<vec3u>(ph.d), rng.state);
     photon_suspended[4u * slot + 2u] = vec4u(bitcast<vec3u>(ph.beta), next);
     photon_suspended[4u * slot + 3u] = vec4u(end, rng.index, rng.seed, rng.dim);
@@ -333,7 +388,8 @@ fn photon_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         let a = photon_suspended[4u * thread];
         let b = photon_suspended[4u * thread + 1u];
         let c = photon_suspended[4u * thread + 2u];
-        ph = Photon(bitcast<vec3f>(a.xyz), bitcast<vec3f>(b.xyz), bitcast<vec3f>(c.xyz), a.w);
+        let depth = select(a.w, a.w & 0xffffu, USES_MEDIA);
+        ph = Photon(bitcast<vec3f>(a.xyz), bitcast<vec3f>(b.xyz), bitcast<vec3f>(c.xyz), depth, select(NO_MEDIUM, a.w >> 16u, USES_MEDIA));
         let e = photon_suspended[4u * thread + 3u];
         rng = Rng(b.w, e.y, e.z, e.w);
         next = c.w;

@@ -8,6 +8,7 @@
 #import scene
 #import bsdf
 #import lights
+#import medium
 
 const SAMPLER_COSINE: u32 = 0u;
 const SAMPLER_GLOSSY: u32 = 1u;
@@ -20,6 +21,11 @@ const SAMPLER_PLASTIC: u32 = 4u;
 const SAMPLER_THIN_DIELECTRIC: u32 = 5u;
 // sample_dielectric (smooth), the same way.
 const SAMPLER_SMOOTH_DIELECTRIC: u32 = 6u;
+// sample_phase (shared/medium.wgsl) against phase_hg, g in `alpha`, travelling along -wo.
+const SAMPLER_PHASE: u32 = 7u;
+// sample_flight: each sample's distance, whether it interacted and its weight, for a medium of
+// sigma_a `ns`, sigma_s `ng` and a segment of length `alpha` (the densities are the host's).
+const SAMPLER_FLIGHT: u32 = 8u;
 
 // Draw `count` samples.
 const PASS_SAMPLE: u32 = 0u;
@@ -167,6 +173,9 @@ fn test_density(w: vec3f) -> f32 {
         case SAMPLER_PLASTIC: {
             return plastic_eval(test_coated(MATERIAL_PLASTIC), vec3f(q.albedo), q.wo, w, q.ns).pdf;
         }
+        case SAMPLER_PHASE: {
+            return phase_hg(dot(-q.wo, w), q.alpha);
+        }
         case SAMPLER_THIN_DIELECTRIC, SAMPLER_SMOOTH_DIELECTRIC: {
             return 0.0;
         }
@@ -189,6 +198,12 @@ fn draw_sample(i: u32) {
         test_out[2u * i] = vec4f(ls.wi, select(0.0, cos_l, usable));
         let traced = traced_light(q.p, ls.wi);
         test_out[2u * i + 1u] = vec4f(ls.pdf, traced.x, ls.li.x * ls.pdf, traced.y);
+        return;
+    }
+    if q.sampler == SAMPLER_FLIGHT {
+        let f = sample_flight(MediumCoefficients(q.ns, 0.0, q.ng), q.alpha, u.xy);
+        test_out[2u * i] = vec4f(f.t, select(0.0, 1.0, f.scattered), f.weight.x, f.weight.y);
+        test_out[2u * i + 1u] = vec4f(f.weight.z, 0.0, 0.0, 0.0);
         return;
     }
     var s = bsdf_absorbed(-q.wo);
@@ -218,6 +233,12 @@ fn draw_sample(i: u32) {
         }
         case SAMPLER_THIN_DIELECTRIC: {
             s = sample_thin_dielectric(test_coated(MATERIAL_THIN_DIELECTRIC), -q.wo, test_surface(), u.x);
+        }
+        case SAMPLER_PHASE: {
+            // Its weight is p / pdf, no cosine: f = p / |cos| puts it in the host's f |cos| / pdf.
+            s = bsdf_specular(sample_phase(-q.wo, q.alpha, u.xy), vec3f(1.0));
+            let p = phase_hg(dot(-q.wo, s.wi), q.alpha);
+            b = BsdfEval(vec3f(p / max(abs(dot(s.wi, q.ns)), 1e-30)), test_density(s.wi));
         }
         case SAMPLER_SMOOTH_DIELECTRIC: {
             s = sample_dielectric(-q.wo, q.ng, q.ns, q.ior, u.x, q.radiance != 0u);

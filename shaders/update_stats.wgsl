@@ -22,8 +22,16 @@
 // grows without bound, and each pass with M photons scales r^2 by at most
 // (N + 0.95 M) / (N + M) = 1 - 0.05 M / (N + M), a product that goes to 0 (N <= the photons so
 // far, and sum M_i / sum_{j<=i} M_j diverges): r -> 0, as under the plain rule.
+//
+// A visible point in a participating medium (in_volume) estimates the fluence from the volume
+// photons in its sphere, of volume 4/3 pi r^3: its radius shrinks by the cube root,
+// r^3 (N + M) = r'^3 (N + alpha M) (Knaus & Zwicker 2011, sec. 5: the 3D kernel), and its
+// pass's flux enters tau as phi 3 / (4 r), so that tau / (pi r^2) (resolve.wgsl) is the
+// sphere's density tau_3d / (4/3 pi r^3) with tau_3d scaled by (r' / r)^3. The adaptive
+// rule's test, of a disc, is not applied to it.
 
 #import types
+#import grid
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
@@ -77,28 +85,36 @@ fn update_stats(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
     let m = f32(flux_accum[base + 6u]);
     if m > 0.0 && frame.global_radius > 0.0 {
         let r = frame.global_radius;
-        let phi = visible_points[index].weight * vec3f(fixed_to_float(base), fixed_to_float(base + 2u), fixed_to_float(base + 4u));
+        var phi = visible_points[index].weight * vec3f(fixed_to_float(base), fixed_to_float(base + 2u), fixed_to_float(base + 4u));
+        if in_volume(visible_points[index].normal) {
+            phi *= 0.75 / r;
+        }
         vp_stats[index].tau += phi / (PI * r * r);
         vp_stats[index].n += m;
     } else if m > 0.0 {
         var st = vp_stats[index];
         // Flux relative to frame.power_total; resolve scales it back.
-        let phi = visible_points[index].weight * vec3f(fixed_to_float(base), fixed_to_float(base + 2u), fixed_to_float(base + 4u));
+        var phi = visible_points[index].weight * vec3f(fixed_to_float(base), fixed_to_float(base + 2u), fixed_to_float(base + 4u));
+        let volume = in_volume(visible_points[index].normal);
         var alpha = frame.alpha;
         var test: RadiusTest;
-        if ADAPTIVE_RADIUS {
+        if ADAPTIVE_RADIUS && !volume {
             test = radius_tests[index];
             if test.shrinking == 0u {
                 alpha = max(frame.alpha, ALPHA_UNIFORM);
             }
         }
         let n_new = st.n + alpha * m;
-        let radius_new = st.radius * sqrt(n_new / (st.n + m));
+        var radius_new = st.radius * sqrt(n_new / (st.n + m));
+        if volume {
+            radius_new = st.radius * pow(n_new / (st.n + m), 1.0 / 3.0);
+            phi *= 0.75 / st.radius;
+        }
         let shrink = (radius_new * radius_new) / (st.radius * st.radius);
         st.tau = (st.tau + phi) * shrink;
         st.n = n_new;
         st.radius = radius_new;
-        if ADAPTIVE_RADIUS {
+        if ADAPTIVE_RADIUS && !volume {
             radius_test(&test, base, flux_accum[base + 6u]);
             radius_tests[index] = test;
         }

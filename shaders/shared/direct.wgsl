@@ -9,6 +9,7 @@
 #import scene
 #import bsdf
 #import lights
+#import medium
 
 // Power heuristic with beta = 2 (Veach 1997, eq. 9.13).
 fn power_heuristic(pdf_a: f32, pdf_b: f32) -> f32 {
@@ -31,9 +32,14 @@ fn unoccluded(p0: vec3f, p1: vec3f) -> bool {
 // Next-event estimate at surface s seen from wo, for a material where bsdf_samples_lights(m) with
 // `albedo` (its texture looked up): one light chosen by power and a point on it, u from the
 // path's stream.
-// Returns f |cos| Li / pdf times the MIS weight, without the path throughput.
-fn direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, u: vec3f) -> vec3f {
-    let ls = sample_light(s.p, u);
+// medium: the one the path arrived through. Returns f |cos| Li / pdf times the MIS weight,
+// without the path throughput.
+fn direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, medium: u32, u: vec3f) -> vec3f {
+    var ls = sample_light(s.p, u);
+    // Through the medium on the light's side (medium_after), when the path is in one.
+    if USES_MEDIA {
+        ls.li *= medium_transmittance(medium_after(medium, s, -wo, ls.wi), ls.dist);
+    }
     // Only the side the path arrived on receives light, but for a dielectric, which also
     // transmits it; a one-sided material only from in front of ns.
     let same_side = dot(ls.wi, s.ng) * dot(wo, s.ng) > 0.0;
@@ -67,4 +73,19 @@ fn escaped_light(d: vec3f, pdf_prev: f32) -> vec3f {
         return env.l;
     }
     return env.l * power_heuristic(pdf_prev, env.pdf);
+}
+
+// Next-event estimate at point p in medium `medium`, scattering light that travels on along
+// d by the phase function of mean cosine g (shared/medium.wgsl): one light chosen by power and
+// a point on it, weighted against phase sampling by the power heuristic, through the
+// transmittance of the shadow ray. Returns p Tr Li / pdf times the MIS weight, without the
+// path throughput (which holds sigma_s).
+fn medium_direct_light(p: vec3f, d: vec3f, medium: u32, g: f32, u: vec3f) -> vec3f {
+    let ls = sample_light(p, u);
+    if all(ls.li == vec3f(0.0)) || !unoccluded(p, ls.p_light) {
+        return vec3f(0.0);
+    }
+    let phase = phase_hg(dot(d, ls.wi), g);
+    let weight = select(power_heuristic(ls.pdf, phase), 1.0, ls.pdf == 0.0);
+    return phase * ls.li * medium_transmittance(medium, ls.dist) * weight;
 }

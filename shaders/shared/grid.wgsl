@@ -129,3 +129,15 @@ fn order_key(x: f32) -> u32 {
 fn from_order_key(k: u32) -> f32 {
     return bitcast<f32>(select(~k, k ^ 0x80000000u, (k & 0x80000000u) != 0u));
 }
+
+// The word encode_normal's place holds for a visible point or photon hit in a participating
+// medium (shared/medium.wgsl): no direction (its 24 low bits 0, which encode_normal never
+// writes), the depth in the top 8.
+fn volume_normal(depth: u32) -> u32 {
+    return min(depth, 255u) << 24u;
+}
+
+// Whether a visible point's or photon hit's word marks it as in a medium.
+fn in_volume(e: u32) -> bool {
+    return USES_MEDIA && (e & 0xffffffu) == 0u;
+}

@@ -170,7 +170,9 @@ struct Shape {
     emits: u32,
     // The shape sits at its position + velocity * time.
     velocity: vec3f,
-    _pad: u32,
+    // The media it bounds: interior index (low 16 bits), exterior (high 16); NO_MEDIUM for a
+    // vacuum, 0xffffffff when neither is given (shared/medium.wgsl).
+    media: u32,
 }
 
 // One light, chosen with probability pmf (proportional to its power): an emitting primitive,
@@ -299,6 +301,10 @@ const MICROFACET_BECKMANN: u32 = 1u;
 // and a word no count reaches. With ADAPTIVE_RADIUS the photons' offset moments follow
 // (offset_moments, 4 words): accum_stride() words a point.
 const ACCUM_STRIDE: u32 = 8u;
+
+// Some shape or the camera is in a participating medium (shared/medium.wgsl;
+// src/gpu/features.rs).
+override USES_MEDIA: bool = true;
 
 // The adaptive radius rule (radius_rule = "adaptive", update_stats.wgsl): the sums of each
 // photon's offset u = (x - p) / r from a visible point are only kept where it is compiled in.

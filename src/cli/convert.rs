@@ -8,7 +8,7 @@
 //! scene. Nothing that exists is overwritten.
 
 use sppm_gpu::image_io::Rgb32Image;
-use sppm_gpu::scene::{LightKind, Named, PixelFilter, Scene, Texture, TextureFilter, TextureWrap, Triangle};
+use sppm_gpu::scene::{LightKind, Named, Phase, PixelFilter, Scene, Texture, TextureFilter, TextureWrap, Triangle};
 use sppm_gpu::Error;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -153,7 +153,25 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
     camera.insert("fov".into(), float(c.fov));
     camera.insert("aperture_radius".into(), float(c.aperture_radius));
     camera.insert("focus_distance".into(), float(c.focus_distance));
+    let medium_name = |i: u32| Value::String(scene.media[i as usize].name.clone());
+    if let Some(m) = c.medium {
+        camera.insert("medium".into(), medium_name(m));
+    }
     doc.insert("camera".into(), Value::Table(camera));
+    if !scene.media.is_empty() {
+        let mut media = Table::new();
+        for m in &scene.media {
+            let mut t = Table::new();
+            t.insert("sigma_a".into(), vec3(m.sigma_a));
+            t.insert("sigma_s".into(), vec3(m.sigma_s));
+            if let Phase::HenyeyGreenstein { g } = m.phase {
+                t.insert("phase".into(), Value::String("hg".into()));
+                t.insert("g".into(), float(g));
+            }
+            media.insert(m.name.clone(), Value::Table(t));
+        }
+        doc.insert("media".into(), Value::Table(media));
+    }
 
     // Material names: the reader's, made unique where two coincide.
     let mut taken = HashSet::new();
@@ -208,6 +226,12 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
         t.insert("material".into(), Value::String(names[shape.material as usize].clone()));
         if let Some(e) = shape.emission {
             t.insert("emission".into(), vec3(e));
+        }
+        if let Some(m) = shape.interior {
+            t.insert("interior".into(), medium_name(m));
+        }
+        if let Some(m) = shape.exterior {
+            t.insert("exterior".into(), medium_name(m));
         }
         shapes.push(Value::Table(t));
     }

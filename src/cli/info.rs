@@ -4,7 +4,7 @@
 
 use sppm_gpu::gpu::scene_buffers::SceneData;
 use sppm_gpu::gpu::Features;
-use sppm_gpu::scene::{LightKind, Named, PixelFilter, Scene, ShapeKind};
+use sppm_gpu::scene::{LightKind, Named, Phase, PixelFilter, Scene, ShapeKind};
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
@@ -85,6 +85,28 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
         *lights.entry(kind).or_insert(0) += 1;
     }
     let _ = writeln!(out, "lights:     {} ({})", lights.values().sum::<usize>(), counts(&lights));
+    if !scene.media.is_empty() {
+        let name = |i: Option<u32>| i.map_or("vacuum", |i| scene.media[i as usize].name.as_str());
+        let each: Vec<String> = scene
+            .media
+            .iter()
+            .map(|m| {
+                let phase = match m.phase {
+                    Phase::Isotropic => "isotropic".to_owned(),
+                    Phase::HenyeyGreenstein { g } => format!("hg g {g}"),
+                };
+                format!("{}: sigma_a {}, sigma_s {}, {phase}", m.name, m.sigma_a, m.sigma_s)
+            })
+            .collect();
+        let bounds = scene.shapes.iter().filter(|s| s.interior.is_some() || s.exterior.is_some()).count();
+        let _ = writeln!(
+            out,
+            "media:      {} ({}); camera in {}, {bounds} shapes bound media",
+            scene.media.len(),
+            each.join("; "),
+            name(scene.camera.medium)
+        );
+    }
     let data = SceneData::new(scene)?;
     let on: Vec<&str> = Features::of(&data).constants().into_iter().filter(|(_, v)| *v != 0.0).map(|(name, _)| name).collect();
     let _ = writeln!(out, "kernels:    {}", on.join(" "));

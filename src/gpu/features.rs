@@ -63,6 +63,8 @@ pub struct Features {
     pub environment: bool,
     /// The environment is an image (`envmap`), not a constant.
     pub envmap: bool,
+    /// Some shape bounds a participating medium, or the camera sits in one.
+    pub media: bool,
 }
 
 impl Features {
@@ -91,6 +93,7 @@ impl Features {
         spot_lights: true,
         environment: true,
         envmap: true,
+        media: true,
     };
 
     /// The features `data` uses.
@@ -122,6 +125,7 @@ impl Features {
             spot_lights: emitter(EMITTER_SPOT, false),
             environment: emitter(EMITTER_ENVIRONMENT, false),
             envmap: data.emitters.iter().any(|e| e.kind == EMITTER_ENVIRONMENT && e.prim_ref != NO_TEXTURE),
+            media: data.media,
         };
         // Each material's family turns on its own (src/scene/material/).
         for m in &data.materials {
@@ -156,6 +160,7 @@ impl Features {
             ("USES_SPOT_LIGHTS", self.spot_lights),
             ("USES_ENVIRONMENT", self.environment),
             ("USES_ENVMAP", self.envmap),
+            ("USES_MEDIA", self.media),
         ]
         .into_iter()
         .map(|(name, on)| (name, if on { 1.0 } else { 0.0 }))
@@ -177,6 +182,9 @@ impl Specialization {
     pub fn of(data: &SceneData) -> Self {
         let mut constants = Features::of(data).constants();
         constants.push(super::baked_bvh::layout_constant(data));
+        // Where the media are, and the camera's (shared/medium.wgsl).
+        constants.push(("MEDIA_FIRST", data.media_first as f64));
+        constants.push(("CAMERA_MEDIUM", data.camera_medium as f64));
         Self { constants, replace: super::baked_bvh::replacements(data) }
     }
 

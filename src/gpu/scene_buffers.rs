@@ -29,6 +29,13 @@ pub struct SceneData {
     /// [`GpuTriangle::attributes`]), and the frames of textured spheres
     /// ([`GpuSphere::attributes`]).
     pub attributes: Vec<[f32; 4]>,
+    /// The first entry in `attributes` of the participating media, two each (see
+    /// `shaders/shared/medium.wgsl`).
+    pub media_first: u32,
+    /// The medium the camera sits in, as an index into the media, [`NO_MEDIUM`] for a vacuum.
+    pub camera_medium: u32,
+    /// Whether the scene has a participating medium that a path can be in.
+    pub media: bool,
     /// Every texture: its two-entry header (see [`GpuMaterial::texture`]), and its linear RGB
     /// texels, row 0 at the top, once for each distinct image.
     pub texels: Vec<[f32; 4]>,
@@ -74,8 +81,6 @@ impl SceneData {
     /// vertex attributes than [`ATTRIBUTE_INDEX_MASK`] addresses, or a texture larger than
     /// 65535 on a side.
     pub fn new(scene: &Scene) -> Result<Self, SceneError> {
-        // Until the kernels render participating media (issue 35), a scene with any is refused.
-        scene.check_renderable()?;
         let velocity = |shape: u32| scene.shapes[shape as usize].velocity.unwrap_or(Vec3::ZERO);
         let motion = scene.shapes.iter().any(|s| s.velocity.is_some_and(|v| v != Vec3::ZERO));
         let bvh = crate::accel::build_bvh_moving(&scene.triangles, &scene.spheres, velocity);
@@ -194,6 +199,17 @@ impl SceneData {
                 "the spheres' texture frames exceed what the renderer addresses".into(),
             ));
         }
+        // The participating media after everything else in `attributes`: (sigma_a, g) and
+        // (sigma_s, 0) each (shared/medium.wgsl).
+        let media_first = attributes.len() as u32;
+        for m in &scene.media {
+            let g = match m.phase {
+                crate::scene::Phase::Isotropic => 0.0,
+                crate::scene::Phase::HenyeyGreenstein { g } => g,
+            };
+            attributes.push([m.sigma_a.x, m.sigma_a.y, m.sigma_a.z, g]);
+            attributes.push([m.sigma_s.x, m.sigma_s.y, m.sigma_s.z, 0.0]);
+        }
         let materials = scene
             .materials
             .iter()
@@ -213,7 +229,10 @@ impl SceneData {
                 emission: s.emission.unwrap_or(Vec3::ZERO).into(),
                 emits: s.emission.is_some_and(|e| e.max_element() > 0.0) as u32,
                 velocity: s.velocity.unwrap_or(Vec3::ZERO).into(),
-                _pad: 0,
+                media: match (s.interior, s.exterior) {
+                    (None, None) => NOT_A_BOUNDARY,
+                    (interior, exterior) => interior.unwrap_or(NO_MEDIUM) | (exterior.unwrap_or(NO_MEDIUM) << 16),
+                },
             })
             .collect::<Vec<_>>();
         let (bounds_min, bounds_max) = scene.bounds();
@@ -370,6 +389,9 @@ impl SceneData {
             materials,
             shapes,
             attributes,
+            media_first,
+            camera_medium: scene.camera.medium.unwrap_or(NO_MEDIUM),
+            media: !scene.media.is_empty(),
             texels,
             emitters,
             power_total: power_total as f32,

@@ -236,9 +236,17 @@ pub struct GpuShape {
     pub emits: u32,
     /// Displacement over the shutter: the shape sits at its position + velocity * time.
     pub velocity: [f32; 3],
-    /// Padding to 32 bytes; always 0.
-    pub _pad: u32,
+    /// The participating media it bounds: the interior's index into the media
+    /// ([`SceneData::media_first`](crate::gpu::scene_buffers::SceneData::media_first)) in the
+    /// low 16 bits, the exterior's in the high 16, [`NO_MEDIUM`] for a vacuum; [`NOT_A_BOUNDARY`]
+    /// when neither is given (paths keep their medium across it).
+    pub media: u32,
 }
+
+/// [`GpuShape::media`]'s index of no medium (a vacuum).
+pub const NO_MEDIUM: u32 = 0xffff;
+/// [`GpuShape::media`] of a shape that bounds no medium.
+pub const NOT_A_BOUNDARY: u32 = 0xffff_ffff;
 
 /// One light photons can leave from: an emitting triangle or sphere, a point light, a
 /// directional light or a spot light, chosen with probability `pmf` in proportion to its

@@ -164,6 +164,30 @@ fn suspended_bytes(render: &crate::scene::RenderSettings, at_once: bool, max_bin
     threads.min(by_hits).min(max_binding / SUSPENDED_STATE_BYTES).max(1) * SUSPENDED_STATE_BYTES
 }
 
+/// The box the grid of visible points covers: the surfaces' (swept over the shutter), where
+/// every point on a surface lies. Visible points in a participating medium lie anywhere a
+/// camera path scatters: in fog around an open scene, in front of it and past its walls, and a
+/// point outside the grid would gather nothing. With media the box also holds the camera and
+/// reaches MEDIUM_MARGIN mean free paths of the thinnest scattering medium past both; a path
+/// scatters beyond that with probability e^-MEDIUM_MARGIN.
+fn grid_bounds(scene: &Scene, data: &SceneData) -> (glam::Vec3, glam::Vec3) {
+    const MEDIUM_MARGIN: f32 = 12.0;
+    let (mut lo, mut hi) = data.swept_bounds();
+    let thinnest = scene
+        .media
+        .iter()
+        .filter(|m| m.sigma_s.max_element() > 0.0)
+        .flat_map(|m| m.sigma_t().to_array())
+        .filter(|&sigma| sigma > 0.0)
+        .fold(f32::INFINITY, f32::min);
+    if thinnest.is_finite() && thinnest > 0.0 {
+        let margin = glam::Vec3::splat(MEDIUM_MARGIN / thinnest);
+        lo = lo.min(scene.camera.position) - margin;
+        hi = hi.max(scene.camera.position) + margin;
+    }
+    (lo, hi)
+}
+
 /// What `photon_resume_setup` writes (`photon_resume_args`), as byte offsets: the workgroup
 /// counts of grid_count and grid_fill, of photon_pass resuming and of grid_scan, then the
 /// pass's hits gathered and threads resumed (a word each). The kernel declares them in words
@@ -494,7 +518,7 @@ impl Sppm {
         // Each point is listed in at most 8 buckets (2 cells per axis); the table has a bucket
         // per point, rounded up to a power of two.
         let table_size = vp_count.next_power_of_two();
-        let (lo, hi) = data.swept_bounds();
+        let (lo, hi) = grid_bounds(scene, data);
         let grid_scene = GridScene { lo: lo.into(), table_size, hi: hi.into(), _pad: 0 };
         let stats: Vec<VpStats> = vec![VpStats { radius: initial_radius, ..VpStats::default() }; vp_count as usize];
         let uniform = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;

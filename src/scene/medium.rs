@@ -1,6 +1,6 @@
 //! Homogeneous participating media (issue 35): the scene model, read from our TOML (`[media]`)
-//! and from Mitsuba XML (`<medium type="homogeneous">`), and checked; the kernels that render
-//! them come later, and until then [`Scene::check_renderable`] refuses a scene that has one.
+//! and from Mitsuba XML (`<medium type="homogeneous">`), and checked. The kernels render them
+//! in every method (`shaders/shared/medium.wgsl`).
 //!
 //! # The model (pbrt-v4's names)
 //!
@@ -40,7 +40,7 @@
 //! all, and a glass sphere in that fog names the fog as its exterior and no interior (a vacuum
 //! inside), or the fog would fill it too.
 
-use super::{Scene, SceneError, Shape, Triangle};
+use super::{Shape, Triangle};
 use glam::Vec3;
 use std::collections::HashMap;
 
@@ -179,26 +179,4 @@ pub fn check_closed(scene_triangles: &[Triangle], shape: &Shape, index: u32) -> 
         };
         format!("an interior medium needs a closed surface to be inside of; this shape is {what}")
     })
-}
-
-/// The start of [`Scene::check_renderable`]'s refusal.
-pub const MEDIA_NOT_RENDERED: &str = "participating media are read but not rendered yet";
-
-impl Scene {
-    /// Whether the renderer can draw the scene: until the kernels of issue 35 render media,
-    /// a scene with any medium is refused, where a scene is prepared for the device
-    /// (`gpu::SceneData::new`), naming the first medium and its line.
-    pub fn check_renderable(&self) -> Result<(), SceneError> {
-        let Some(m) = self.media.first() else { return Ok(()) };
-        let more = match self.media.len() {
-            1 => String::new(),
-            n => format!(" and {} more", n - 1),
-        };
-        Err(SceneError::new(
-            &self.path,
-            (m.line > 0).then_some(m.line),
-            Some(&m.name),
-            format!("{MEDIA_NOT_RENDERED}: the scene has the medium `{}`{more} (issue 35's kernels will render them)", m.name),
-        ))
-    }
 }

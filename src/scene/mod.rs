@@ -1,4 +1,4 @@
-//! Scene description: the TOML format (version 1, see README) and Mitsuba's scene XML
+//! Scene description: the TOML format (version 1, see docs/guide/scene-format.md) and Mitsuba's scene XML
 //! ([`mitsuba`]), each parsed and validated into the same world-space [`Scene`]. No wgpu here.
 //!
 //! Loading turns every shape into triangles (quads, cubes, meshes) or analytic spheres, in

@@ -34,8 +34,8 @@ const MIN_EXPECTED: f64 = 5.0;
 const SIGNIFICANCE: f64 = 0.01;
 /// Chi-square tests in this file: cosine 1, glossy 10 of each distribution, rough dielectric
 /// 14 of each, lights 3, plastics 11, thin dielectric 2, smooth dielectric 4, environment map
-/// 1.
-const TESTS: f64 = 70.0;
+/// 1, phase function 4, free-flight distances 3.
+const TESTS: f64 = 77.0;
 /// Samples in a bin whose expected count is 0 that are put down to rounding (as pbrt-v4 does:
 /// 1e-5 of the samples).
 const STRAY: f64 = 1e-5 * SAMPLES as f64;
@@ -56,6 +56,8 @@ const SAMPLER_LIGHT: u32 = 3;
 const SAMPLER_PLASTIC: u32 = 4;
 const SAMPLER_THIN_DIELECTRIC: u32 = 5;
 const SAMPLER_SMOOTH_DIELECTRIC: u32 = 6;
+const SAMPLER_PHASE: u32 = 7;
+const SAMPLER_FLIGHT: u32 = 8;
 const PASS_SAMPLE: u32 = 0;
 const PASS_INTEGRATE: u32 = 1;
 
@@ -1010,5 +1012,119 @@ fn envmap_sampling() {
     let mut failures = Vec::new();
     judge("envmap: 16x9, turned", &outcome, &mut failures);
     assert!((outcome.usable - 1.0).abs() < 1e-9, "usable {}", outcome.usable);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// sample_phase (shared/medium.wgsl) against Henyey and Greenstein's phase function phase_hg,
+/// isotropic, forward and backward scattering; the weight p / pdf is 1.
+#[test]
+fn henyey_greenstein_sampling() {
+    let Some(gpu) = common::gpu() else { return };
+    let bench = Bench::new(gpu);
+    let scene = bsdf_scene(&bench);
+    let ns = shading_normal();
+    let (t, _) = tangents(ns);
+    let mut failures = Vec::new();
+    for (seed, g) in [0.0f32, 0.3, 0.9, -0.6].into_iter().enumerate() {
+        let wo = at_angle(ns, t, 40.0);
+        let q = Params { wo: f32x3(wo), ns: f32x3(ns), alpha: g, ..params(SAMPLER_PHASE, 900 + seed as u32, ns) };
+        let outcome = run_test(&bench, &scene, &q);
+        judge(&format!("henyey-greenstein g {g}"), &outcome, &mut failures);
+        if !within(outcome.integral - 1.0, INTEGRAL_TOLERANCE) {
+            failures.push(format!("henyey-greenstein g {g}: the phase function integrates to {}", outcome.integral));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// sample_flight (shared/medium.wgsl) against its density: distances in 64 bins of equal
+/// probability under the mixture over channels p(t) = (1/3) sum_c sigma_t[c] exp(-sigma_t[c] t),
+/// and the samples past the segment's end with probability (1/3) sum_c Tr_c(t_max); each
+/// weight is Tr(t) / p(t) at an interaction and Tr(t_max) / P(none) past it, per channel.
+/// Media: chromatic, grey, and one channel that does not interact at all.
+#[test]
+fn free_flight_sampling() {
+    let Some(gpu) = common::gpu() else { return };
+    let bench = Bench::new(gpu);
+    let scene = bsdf_scene(&bench);
+    let cases: [([f64; 3], [f64; 3], f64); 3] = [
+        ([0.2, 0.5, 1.0], [0.8, 1.0, 2.0], 1.5),
+        ([0.1, 0.1, 0.1], [0.6, 0.6, 0.6], 4.0),
+        ([0.0, 0.3, 0.1], [0.0, 0.7, 1.2], 2.0),
+    ];
+    let mut failures = Vec::new();
+    for (seed, (sigma_a, sigma_s, t_max)) in cases.into_iter().enumerate() {
+        let name = format!("free flight sigma_a {sigma_a:?} sigma_s {sigma_s:?} over {t_max}");
+        let sigma_t: Vec<f64> = (0..3).map(|c| sigma_a[c] + sigma_s[c]).collect();
+        let tr = |t: f64| -> Vec<f64> { sigma_t.iter().map(|s| (-s * t).exp()).collect() };
+        // P(t < x), the mixture's distribution function.
+        let cdf = |x: f64| tr(x).iter().map(|e| (1.0 - e) / 3.0).sum::<f64>();
+        let q = Params {
+            ns: sigma_a.map(|x| x as f32),
+            ng: sigma_s.map(|x| x as f32),
+            alpha: t_max as f32,
+            ..params(SAMPLER_FLIGHT, 950 + seed as u32, DVec3::Z)
+        };
+        let samples = bench.run(&scene, &Params { pass_kind: PASS_SAMPLE, count: SAMPLES, ..q });
+        // Bin edges: 64 equal parts of P(t < t_max), by bisection of the distribution function.
+        const BINS: usize = 64;
+        let inside = cdf(t_max);
+        let edges: Vec<f64> = (0..=BINS)
+            .map(|k| {
+                let goal = inside * k as f64 / BINS as f64;
+                let (mut lo, mut hi) = (0.0, t_max);
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    if cdf(mid) < goal {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                0.5 * (lo + hi)
+            })
+            .collect();
+        let mut observed = vec![0.0; BINS + 1];
+        let mut worst = 0.0f64;
+        for s in samples.chunks_exact(2) {
+            let (t, scattered, weight) = (s[0][0] as f64, s[0][1] > 0.5, [s[0][2] as f64, s[0][3] as f64, s[1][0] as f64]);
+            let expected: Vec<f64> = if scattered {
+                let tr = tr(t);
+                let pdf = (0..3).map(|c| sigma_t[c] * tr[c]).sum::<f64>() / 3.0;
+                tr.iter().map(|e| e / pdf).collect()
+            } else {
+                let tr = tr(t_max);
+                let none = tr.iter().sum::<f64>() / 3.0;
+                tr.iter().map(|e| e / none).collect()
+            };
+            for c in 0..3 {
+                worst = worst.max((weight[c] - expected[c]).abs() / expected[c].max(1e-3));
+            }
+            if !scattered {
+                observed[BINS] += 1.0;
+                if t != t_max {
+                    failures.push(format!("{name}: a sample past the end at t = {t}"));
+                }
+                continue;
+            }
+            let bin = edges.partition_point(|&e| e <= t).clamp(1, BINS) - 1;
+            observed[bin] += 1.0;
+        }
+        let n = SAMPLES as f64;
+        let mut cells: Vec<(f64, f64)> = observed[..BINS].iter().map(|&o| (o, n * inside / BINS as f64)).collect();
+        cells.push((observed[BINS], n * (1.0 - inside)));
+        match chi_square(&cells) {
+            Ok(t) => {
+                eprintln!("{name:<72} p = {:.4}  chi2 = {:.0} ({} dof)  weight error {worst:.1e}", t.p_value, t.statistic, t.dof);
+                if t.p_value.is_nan() || t.p_value <= SIGNIFICANCE / TESTS {
+                    failures.push(format!("{name}: p = {:.3e} ({t:?})", t.p_value));
+                }
+            }
+            Err(e) => failures.push(format!("{name}: {e}")),
+        }
+        if !within(worst, 1e-4) {
+            failures.push(format!("{name}: weights off by {worst:.2e}"));
+        }
+    }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

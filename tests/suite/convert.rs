@@ -9,7 +9,11 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn convert(name: &str, out_dir: &Path) -> (Scene, Scene) {
-    let xml = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba").join(name);
+    convert_from("scenes/mitsuba", name, out_dir)
+}
+
+fn convert_from(folder: &str, name: &str, out_dir: &Path) -> (Scene, Scene) {
+    let xml = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(folder).join(name);
     let toml = out_dir.join(name.replace(".xml", ".toml"));
     let out = Command::new(env!("CARGO_BIN_EXE_sppm-gpu")).arg("convert").arg(&xml).arg("-o").arg(&toml).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -123,4 +127,29 @@ fn converted_scenes_load_back_to_the_same_scene() {
         .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("exists already"));
+}
+
+/// The participating-media test scenes (scenes/media/): their media, the camera's medium and
+/// each shape's interior and exterior load back the same from the TOML.
+#[test]
+fn media_load_back_the_same() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("convert-media-tests");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    for name in ["fog-cornell.xml", "murky-water.xml", "volumetric-caustic.xml"] {
+        let (a, b) = convert_from("scenes/media", name, &dir);
+        let medium = |s: &Scene, i: Option<u32>| {
+            i.map(|i| {
+                let m = &s.media[i as usize];
+                (m.name.clone(), m.sigma_a, m.sigma_s, m.phase)
+            })
+        };
+        assert!(a.camera.medium.is_some() || a.shapes.iter().any(|s| s.interior.is_some()), "{name}: no medium");
+        assert_eq!(a.media.len(), b.media.len(), "{name}");
+        assert_eq!(medium(&a, a.camera.medium), medium(&b, b.camera.medium), "{name}");
+        for (s, t) in a.shapes.iter().zip(&b.shapes) {
+            assert_eq!(medium(&a, s.interior), medium(&b, t.interior), "{name}");
+            assert_eq!(medium(&a, s.exterior), medium(&b, t.exterior), "{name}");
+        }
+    }
 }

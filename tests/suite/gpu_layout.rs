@@ -98,7 +98,7 @@ fn gpu_structs_match_wgsl() {
             _pad2
         ]
     );
-    check!(module, GpuShape, "Shape", [emission, emits, velocity, _pad]);
+    check!(module, GpuShape, "Shape", [emission, emits, velocity, media]);
     check!(module, Emitter, "Emitter", [kind, prim_ref, cdf, pmf, position, area, radiance, radius, direction, width]);
     check!(module, VisiblePoint, "VisiblePoint", [p, radius, weight, normal]);
     check!(module, PhotonHit, "PhotonHit", [p, next, d, depth, beta, normal]);

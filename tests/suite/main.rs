@@ -30,6 +30,7 @@ mod gpu_layout;
 mod gpu_trace;
 mod image_metrics;
 mod limits;
+mod media;
 mod media_scene;
 mod memory;
 mod mesh_formats;

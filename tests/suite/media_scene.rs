@@ -5,7 +5,6 @@
 
 use crate::common::scene_text::BASE;
 use glam::Vec3;
-use sppm_gpu::gpu::scene_buffers::SceneData;
 use sppm_gpu::scene::{self, Medium, Phase, Scene, SceneError, ShapeKind};
 use std::path::{Path, PathBuf};
 
@@ -188,7 +187,6 @@ fn scenes_without_media_load_unchanged() {
         let s = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
         assert!(s.media.is_empty() && s.camera.medium.is_none(), "{}", path.display());
         assert!(s.shapes.iter().all(|sh| sh.interior.is_none() && sh.exterior.is_none()), "{}", path.display());
-        s.check_renderable().unwrap();
     }
 }
 
@@ -228,23 +226,6 @@ fn mitsuba_3_test_scenes_read_their_media() {
     let glass: Vec<_> = caustic.shapes.iter().filter(|s| s.exterior.is_some()).collect();
     assert_eq!(glass.len(), 1);
     assert_eq!((glass[0].kind, glass[0].interior, glass[0].exterior), (ShapeKind::Sphere, None, Some(0)));
-}
-
-#[test]
-fn scenes_with_media_are_refused_by_the_render_until_the_kernels_land() {
-    let fog = media_scene("fog-cornell.xml");
-    let e = fog.check_renderable().unwrap_err();
-    assert!(e.message.contains("participating media are read but not rendered yet"), "{e}");
-    assert_eq!((e.key.as_deref(), e.line), (Some("fog"), Some(fog.media[0].line)));
-    // Where a scene is prepared for the device, before any device is needed.
-    match SceneData::new(&fog) {
-        Ok(_) => panic!("SceneData::new accepted a scene with a medium"),
-        Err(e) => assert!(e.message.contains("participating media are read but not rendered yet"), "{e}"),
-    }
-    let toml = toml_ok(&with_media(FOG).replace("fov = 40", "fov = 40\nmedium = \"fog\""));
-    assert!(SceneData::new(&toml).is_err());
-    // A scene without media is prepared as before.
-    SceneData::new(&toml_ok(&with_media(""))).unwrap();
 }
 
 /// A Mitsuba scene of version `version` around `body`: a camera (holding `sensor_extra`) and

@@ -28,14 +28,14 @@ pub enum MaterialKind {
     Diffuse {
         /// Reflectance, linear RGB in [0, 1] (`[1, 1, 1]` when textured).
         albedo: Vec3,
-        /// Index into [`Scene::textures`].
+        /// Index into [`Scene::textures`](super::Scene::textures).
         texture: Option<u32>,
     },
     /// Perfect specular reflector.
     Mirror {
         /// Reflectance, linear RGB in [0, 1], times the Fresnel term when there is one.
         albedo: Vec3,
-        /// Index into [`Scene::textures`] of a texture that replaces `albedo` (Mitsuba's
+        /// Index into [`Scene::textures`](super::Scene::textures) of a texture that replaces `albedo` (Mitsuba's
         /// textured `specular_reflectance`).
         texture: Option<u32>,
         /// The conductor's complex index of refraction, whose Fresnel reflectance scales
@@ -46,7 +46,7 @@ pub enum MaterialKind {
     Glossy {
         /// Reflectance, linear RGB in [0, 1], times the Fresnel term when there is one.
         albedo: Vec3,
-        /// Index into [`Scene::textures`] of a texture that replaces `albedo`.
+        /// Index into [`Scene::textures`](super::Scene::textures) of a texture that replaces `albedo`.
         texture: Option<u32>,
         /// Alpha in [0, 1].
         roughness: f32,
@@ -78,7 +78,7 @@ pub enum MaterialKind {
         /// The base's reflectance, linear RGB in [0, 1] (`diffuse_reflectance`; `[1, 1, 1]`
         /// when textured).
         albedo: Vec3,
-        /// Index into [`Scene::textures`] of the texture that replaces `albedo`.
+        /// Index into [`Scene::textures`](super::Scene::textures) of the texture that replaces `albedo`.
         texture: Option<u32>,
         /// The coating's reflection is scaled by it (`specular_reflectance`, [0, 1]).
         specular: Vec3,

@@ -1,0 +1,172 @@
+//! Participating media in the kernels (issue 35; shared/medium.wgsl): analytic cases (the
+//! transmittance of a slab, a white furnace filled with a scattering medium), every method
+//! against the others in fog around an open box (where the grid of visible points must reach
+//! past the surfaces), and the Mitsuba `volpath` references of scenes/media/. The samplers'
+//! chi-square tests are in chi_square.rs (henyey_greenstein_sampling, free_flight_sampling).
+
+use crate::common;
+
+use sppm_gpu::image_io::Rgb32Image;
+use sppm_gpu::integrators::{self, Integrator};
+use sppm_gpu::metrics::{compare, downsample_box};
+use sppm_gpu::scene::{self, Method, Scene};
+use std::path::Path;
+
+fn load(text: &str) -> Scene {
+    scene::load_str(text, Path::new("media-test.toml")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn render(gpu: &sppm_gpu::gpu::GpuContext, scene: &Scene, method: Method, passes: u32) -> Rgb32Image {
+    let mut scene = scene.clone();
+    scene.render.method = method;
+    let mut integrator: Box<dyn Integrator> =
+        integrators::create(&gpu.device, &gpu.queue, &scene).unwrap_or_else(|e| panic!("{e}"));
+    common::run_passes(&mut *integrator, passes)
+}
+
+fn mean(img: &Rgb32Image) -> [f64; 3] {
+    let mut sum = [0.0; 3];
+    for p in &img.pixels {
+        for c in 0..3 {
+            sum[c] += p[c] as f64;
+        }
+    }
+    let n = img.pixels.len() as f64;
+    sum.map(|s| s / n)
+}
+
+/// An emitter of radiance 1 seen through a slab of unit thickness (a `null` cube holding a
+/// medium that only absorbs, sigma_a = (0.5, 1, 2)): every pixel is exp(-sigma_a) (the rays
+/// cross it within 1.5 degrees of its normal, 1 / cos below 1.0004), by each method.
+#[test]
+fn a_slab_transmits_exp_minus_its_optical_depth() {
+    let Some(gpu) = common::gpu() else { return };
+    let scene = load(
+        r#"[render]
+width = 16
+height = 16
+iterations = 1
+max_depth = 8
+
+[media.ink]
+sigma_a = [0.5, 1.0, 2.0]
+sigma_s = [0.0, 0.0, 0.0]
+
+[camera]
+position = [0, 0, 10]
+look_at = [0, 0, 0]
+fov = 3
+
+[materials]
+black = { type = "diffuse", albedo = [0, 0, 0] }
+clear = { type = "null" }
+
+[[shapes]]
+type = "quad"
+corner = [-5, -5, -3]
+u = [10, 0, 0]
+v = [0, 10, 0]
+material = "black"
+emission = [1, 1, 1]
+
+[[shapes]]
+type = "cube"
+scale = [5, 5, 0.5]
+material = "clear"
+interior = "ink"
+"#,
+    );
+    let expected = [0.5f64, 1.0, 2.0].map(|s| (-s).exp());
+    for (method, passes) in [(Method::Pt, 256), (Method::PtNee, 256), (Method::Sppm, 64)] {
+        let m = mean(&render(&gpu, &scene, method, passes));
+        eprintln!("slab {method:?}: {m:?} against {expected:?}");
+        for c in 0..3 {
+            // 16x16 pixels x passes binary samples (through or not) of probability p: the
+            // standard error of the mean's weight is below 0.3% of it.
+            assert!((m[c] / expected[c] - 1.0).abs() < 0.01, "{method:?}: channel {c} {} against {}", m[c], expected[c]);
+        }
+    }
+}
+
+/// A white furnace (furnace.toml: walls of albedo 0.5 emitting 1, radiance 2 everywhere)
+/// filled with a medium that scatters and does not absorb (albedo 1): the radiance stays 2
+/// along every ray, what each method must find; SPPM through visible points in the medium.
+#[test]
+fn a_furnace_filled_with_a_white_medium_stays_uniform() {
+    let Some(gpu) = common::gpu() else { return };
+    let text = std::fs::read_to_string(common::scene_path("furnace.toml")).unwrap();
+    let text = text.replacen(
+        "[camera]",
+        "[media.white]\nsigma_a = [0, 0, 0]\nsigma_s = [1.5, 1.0, 0.5]\n\n[camera]\nmedium = \"white\"",
+        1,
+    );
+    let mut scene = load(&text);
+    scene.render.width = 32;
+    scene.render.height = 32;
+    for (method, passes) in [(Method::Pt, 512), (Method::PtNee, 256), (Method::Sppm, 32)] {
+        let img = render(&gpu, &scene, method, passes);
+        let m = mean(&img);
+        // Each 8x8 block of pixels against 2, within five standard errors of its mean (the
+        // pixels' spread, as the image should be uniform) and 1% for the estimators' bias.
+        let values: Vec<f64> = img.pixels.iter().flatten().map(|&v| v as f64).collect();
+        let var = values.iter().map(|v| (v - 2.0) * (v - 2.0)).sum::<f64>() / values.len() as f64;
+        let allowed = 5.0 * (var / 64.0).sqrt() + 0.02;
+        let blocks = downsample_box(&img, 8).unwrap();
+        let worst = blocks.pixels.iter().flatten().map(|&v| (v as f64 - 2.0).abs()).fold(0.0, f64::max);
+        eprintln!("furnace {method:?}: mean {m:?}, worst 8x8 block off by {worst:.4} (allowed {allowed:.4})");
+        for c in 0..3 {
+            assert!((m[c] / 2.0 - 1.0).abs() < 0.01, "{method:?}: mean {m:?}, not 2");
+        }
+        assert!(worst < allowed, "{method:?}: an 8x8 block off by {worst}");
+    }
+}
+
+/// The Cornell box (open at the front) in chromatic fog that fills the scene, the camera in
+/// it: SPPM against pt-nee. Visible points lie in the fog in front of the box, outside the
+/// surfaces' bounds; the grid that once covered only those left them no photons (SPPM 11%
+/// dark, worst at the image's edges).
+#[test]
+fn sppm_in_fog_around_an_open_box_matches_pt_nee() {
+    let Some(gpu) = common::gpu() else { return };
+    let text = std::fs::read_to_string(common::scene_path("cornell-box.toml")).unwrap();
+    let text = text.replacen(
+        "[camera]",
+        "[media.fog]\nsigma_a = [0.05, 0.05, 0.05]\nsigma_s = [0.25, 0.3, 0.35]\n\n[camera]\nmedium = \"fog\"",
+        1,
+    );
+    let mut scene = load(&text);
+    scene.render.width = 64;
+    scene.render.height = 64;
+    let reference = render(&gpu, &scene, Method::PtNee, 2048);
+    let sppm = render(&gpu, &scene, Method::Sppm, 48);
+    let c = compare(&sppm, &reference, 8).unwrap();
+    eprintln!("open fog, SPPM against pt-nee: {c:?}");
+    for r in c.mean_ratio {
+        assert!((r - 1.0).abs() < 0.01, "channel mean ratios {:?}", c.mean_ratio);
+    }
+    assert!(c.rel_mse < 2e-3, "relMSE {}", c.rel_mse);
+}
+
+/// pt-nee and SPPM against Mitsuba 3's `volpath` renders of the same files
+/// (tests/references/mitsuba/media/, scenes/media/README.md): the fog-filled Cornell box and
+/// the box holding a block of murky water (dielectric boundary, forward scattering).
+#[test]
+fn media_scenes_match_mitsuba_volpath() {
+    let Some(gpu) = common::gpu() else { return };
+    for (name, passes_pt, passes_sppm) in [("fog-cornell", 64, 64), ("murky-water", 128, 64)] {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/media").join(format!("{name}.xml"));
+        let mut scene = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        scene.render.width = 128;
+        scene.render.height = 128;
+        let reference = downsample_box(&common::reference(&format!("mitsuba/media/{name}.exr")), 2).unwrap();
+        for (method, passes) in [(Method::PtNee, passes_pt), (Method::Sppm, passes_sppm)] {
+            let img = render(&gpu, &scene, method, passes);
+            let c = compare(&img, &reference, 8).unwrap();
+            eprintln!("{name} {method:?}: {c:?}");
+            for r in c.mean_ratio {
+                assert!((r - 1.0).abs() < 0.01, "{name} {method:?}: channel mean ratios {:?}", c.mean_ratio);
+            }
+            assert!(c.rel_mse < 2e-3, "{name} {method:?}: relMSE {}", c.rel_mse);
+        }
+    }
+}
