@@ -58,6 +58,9 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
     var to_emission = false;
     // The medium the path travels through.
     var medium = CAMERA_MEDIUM;
+    // Where the BSDF sample that pdf_prev is the density of left from: o, but past a null
+    // boundary of a medium, which the sample crossed unbent (shadow_transmittance).
+    var mis_o = o;
     for (var depth = 0u; depth < frame.max_depth || to_emission; depth++) {
         let hit = trace_closest(o, d, 3.4e38);
         // In a medium the segment may end at a scattering event short of the surface.
@@ -89,6 +92,7 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
                 }
                 pdf_prev = select(0.0, phase_hg(dot(d, wi), c.g), sample_direct);
                 o = p;
+                mis_o = p;
                 d = wi;
                 if depth + 1u >= frame.max_depth {
                     to_emission = true;
@@ -107,9 +111,16 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
         // Emission is one-sided: only the front of the geometric normal emits.
         let shape = shapes[s.shape];
         if shape.emits != 0u && dot(d, s.ng) < 0.0 {
-            path.ld += beta * shape.emission * emission_weight(pdf_prev, o, hit, s, d);
+            path.ld += beta * shape.emission * emission_weight(pdf_prev, mis_o, hit, s, d);
         }
         if to_emission {
+            // Emission behind a null boundary of a medium, which next-event estimation reached
+            // too (shadow_transmittance): the segment goes on through it.
+            if USES_MEDIA && is_null(material_at(s)) {
+                medium = medium_after(medium, s, d, d);
+                o = offset_origin(s.p, s.ng, d);
+                continue;
+            }
             break;
         }
         let m = material_at(s);
@@ -150,10 +161,17 @@ fn trace_camera_path(px: u32, py: u32, rng: ptr<function, Rng>) -> CameraPath {
             break;
         }
         beta *= next.weight;
-        pdf_prev = next.pdf;
+        // A null boundary of a medium leaves the MIS density and origin as they were.
+        let crossed_null = USES_MEDIA && is_null(m);
+        if !crossed_null {
+            pdf_prev = next.pdf;
+        }
         medium = medium_after(medium, s, d, next.wi);
         o = offset_origin(s.p, s.ng, next.wi);
         d = next.wi;
+        if !crossed_null {
+            mis_o = o;
+        }
         // That was the last scattering event max_depth allows: the next segment only gathers
         // the emission it meets, weighed by MIS, as a path tracer's last segment does.
         if depth + 1u >= frame.max_depth {

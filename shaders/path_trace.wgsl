@@ -59,6 +59,9 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     var eta_scale = 1.0;
     // The medium the path travels through (shared/medium.wgsl).
     var medium = CAMERA_MEDIUM;
+    // Where the BSDF sample that pdf_prev is the density of left from: o, but past a null
+    // boundary of a medium, which the sample crossed unbent (shadow_transmittance).
+    var mis_o = o;
     // A path has at most max_depth scattering events, so max_depth + 1 segments.
     for (var depth = 0u; depth <= frame.max_depth; depth++) {
         let hit = trace_closest(o, d, 3.4e38);
@@ -82,6 +85,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
                 let wi = sample_phase(d, c.g, rng_next2(&rng));
                 pdf_prev = select(0.0, phase_hg(dot(d, wi), c.g), frame.nee != 0u);
                 o = p;
+                mis_o = p;
                 d = wi;
                 if depth >= 3u && !roulette(&beta, eta_scale, &rng) {
                     break;
@@ -100,7 +104,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
         let shape = shapes[s.shape];
         if shape.emits != 0u && dot(d, s.ng) < 0.0 {
             // Naive path tracing finds light only this way: whole (pdf_prev stays 0).
-            l += beta * shape.emission * emission_weight(pdf_prev, o, hit, s, d);
+            l += beta * shape.emission * emission_weight(pdf_prev, mis_o, hit, s, d);
         }
         if depth == frame.max_depth {
             break;
@@ -131,10 +135,17 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
         }
         beta *= next.weight;
         eta_scale *= refraction_eta2(m, s, d, next.wi);
-        pdf_prev = next.pdf;
+        // A null boundary of a medium leaves the MIS density and origin as they were.
+        let crossed_null = USES_MEDIA && is_null(m);
+        if !crossed_null {
+            pdf_prev = next.pdf;
+        }
         medium = medium_after(medium, s, d, next.wi);
         d = next.wi;
         o = offset_origin(s.p, s.ng, d);
+        if !crossed_null {
+            mis_o = o;
+        }
         if depth >= 3u && !roulette(&beta, eta_scale, &rng) {
             break;
         }

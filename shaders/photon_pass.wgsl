@@ -348,7 +348,12 @@ fn photon_bounce(ph: ptr<function, Photon>, rng: ptr<function, Rng>) -> u32 {
     (*ph).o = offset_origin(s.p, s.ng, wi);
     (*ph).medium = medium_after((*ph).medium, s, d, wi);
     (*ph).d = wi;
-    (*ph).depth += 1u;
+    // A null boundary of a medium is no scattering event: the light a photon carries past one
+    // is still direct, which the camera pass's next-event estimation reaches through it
+    // (shadow_transmittance in shared/direct.wgsl).
+    if !(USES_MEDIA && is_null(m)) {
+        (*ph).depth += 1u;
+    }
     return select(PHOTON_ENDED, PHOTON_GOES_ON, (*ph).depth < frame.max_depth);
 }
 

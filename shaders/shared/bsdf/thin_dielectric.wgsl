@@ -31,3 +31,10 @@ fn sample_thin_dielectric(m: Material, d: vec3f, s: Surface, u: f32) -> BsdfSamp
     }
     return bsdf_specular(d, m.transmittance);
 }
+
+// Whether m is Mitsuba's null (as the host packs it: a slab of index 1 passing everything):
+// an invisible boundary that shadow rays in media cross (shared/direct.wgsl).
+fn is_null(m: Material) -> bool {
+    return USES_THIN_DIELECTRIC && m.kind == MATERIAL_THIN_DIELECTRIC && m.ior == 1.0 && all(m.transmittance == vec3f(1.0))
+        && all(m.specular == vec3f(0.0));
+}
