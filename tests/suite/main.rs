@@ -28,6 +28,7 @@ mod features;
 mod fuzz;
 mod gpu_layout;
 mod gpu_trace;
+mod guide_options;
 mod image_metrics;
 mod limits;
 mod media;
