@@ -220,6 +220,10 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     if first.found {
         // The point's own radius, or the pass's with a global schedule.
         vp.radius = select(vp_stats[index].radius, frame.global_radius, frame.global_radius > 0.0);
+        // A point in a medium gathers over a wider sphere (shared/grid.wgsl).
+        if in_volume(vp.normal) {
+            vp.radius *= VOLUME_RADIUS_SCALE;
+        }
         // Positive floats order like their bits.
         atomicMax(&grid_max_radius[0], bitcast<u32>(vp.radius));
         // Only points the camera sees directly: one seen in a mirror or glass may lie anywhere

@@ -25,10 +25,11 @@
 //
 // A visible point in a participating medium (in_volume) estimates the fluence from the volume
 // photons in its sphere, of volume 4/3 pi r^3: its radius shrinks by the cube root,
-// r^3 (N + M) = r'^3 (N + alpha M) (Knaus & Zwicker 2011, sec. 5: the 3D kernel), and its
-// pass's flux enters tau as phi 3 / (4 r), so that tau / (pi r^2) (resolve.wgsl) is the
-// sphere's density tau_3d / (4/3 pi r^3) with tau_3d scaled by (r' / r)^3. The adaptive
-// rule's test, of a disc, is not applied to it.
+// r^3 (N + M) = r'^3 (N + alpha M) (Knaus & Zwicker 2011, sec. 5: the 3D kernel). It gathers
+// within k r, k = VOLUME_RADIUS_SCALE (shared/grid.wgsl), and its pass's flux enters tau as
+// phi 3 / (4 k^3 r), so that tau / (pi r^2) (resolve.wgsl) is the sphere's density
+// tau_3d / (4/3 pi (k r)^3) with tau_3d scaled by (r' / r)^3. The adaptive rule's test, of a
+// disc, is not applied to it.
 
 #import types
 #import grid
@@ -87,7 +88,8 @@ fn update_stats(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
         let r = frame.global_radius;
         var phi = visible_points[index].weight * vec3f(fixed_to_float(base), fixed_to_float(base + 2u), fixed_to_float(base + 4u));
         if in_volume(visible_points[index].normal) {
-            phi *= 0.75 / r;
+            let k = VOLUME_RADIUS_SCALE;
+            phi *= 0.75 / (k * k * k * r);
         }
         vp_stats[index].tau += phi / (PI * r * r);
         vp_stats[index].n += m;
@@ -108,7 +110,8 @@ fn update_stats(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
         var radius_new = st.radius * sqrt(n_new / (st.n + m));
         if volume {
             radius_new = st.radius * pow(n_new / (st.n + m), 1.0 / 3.0);
-            phi *= 0.75 / st.radius;
+            let k = VOLUME_RADIUS_SCALE;
+            phi *= 0.75 / (k * k * k * st.radius);
         }
         let shrink = (radius_new * radius_new) / (st.radius * st.radius);
         st.tau = (st.tau + phi) * shrink;

@@ -137,6 +137,16 @@ fn volume_normal(depth: u32) -> u32 {
     return min(depth, 255u) << 24u;
 }
 
+// A visible point in a participating medium gathers within VOLUME_RADIUS_SCALE times its slot's
+// radius. The radius is set for surfaces (pixel footprints, src/integrators/sppm.rs), where
+// photons land on a plane; in a medium they are spread through space, and a sphere of that
+// radius holds few of them, while a wider one costs a gather that grows as its volume. At
+// equal time (20 s, 128x128, relMSE against references): fog-cornell 1.6e-2 at 1x, 3.1e-3 at
+// 2x, 1.35e-3 at 4x; the Cornell box in fog (visible points dense in front of it) 3.7e-3,
+// 4.2e-3, 1.0e-2, and 4x darkens both by 0.5 to 1% (docs/journal/session-16.md,
+// "Participating media (issue 35)").
+const VOLUME_RADIUS_SCALE: f32 = 2.0;
+
 // Whether a visible point's or photon hit's word marks it as in a medium.
 fn in_volume(e: u32) -> bool {
     return USES_MEDIA && (e & 0xffffffu) == 0u;
