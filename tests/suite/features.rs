@@ -41,8 +41,23 @@ fn features_of_the_canonical_scenes() {
     let box_xml = scene::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba/box.xml")).unwrap();
     let f = Features::of(&SceneData::new(&box_xml).unwrap());
     assert!(f.mirror && f.glossy && !f.conductor_fresnel && !f.beckmann, "material none, ggx: {f:?}");
-    assert_eq!(Features::ALL.constants().len(), 23);
+    assert_eq!(Features::ALL.constants().len(), 24);
     assert!(Features::ALL.constants().iter().all(|(_, v)| *v == 1.0));
+}
+
+/// Participating media switch USES_MEDIA on, and only they: the canonical scenes compile their
+/// kernels as before media existed.
+#[test]
+fn media_are_a_feature_of_their_own() {
+    for name in ["cornell-box.toml", "cornell-spheres.toml", "cornell-glossy.toml", "point-light.toml", "textured.toml"] {
+        let f = features(name);
+        assert!(!f.media && f.constants().contains(&("USES_MEDIA", 0.0)), "{name}");
+    }
+    for name in ["fog-cornell.xml", "murky-water.xml", "volumetric-caustic.xml"] {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/media").join(name);
+        let f = Features::of(&SceneData::new(&scene::load(&path).unwrap()).unwrap());
+        assert!(f.media && f.constants().contains(&("USES_MEDIA", 1.0)), "{name}");
+    }
 }
 
 /// A constant environment switches USES_ENVIRONMENT on, and nothing else does: scenes
