@@ -41,6 +41,13 @@
 // One a visible point with ADAPTIVE_RADIUS (else one in all, unused).
 @group(0) @binding(27) var<storage, read_write> radius_tests: array<RadiusTest>;
 
+// What a point in a medium of slot radius r multiplies its pass's flux by, so that tau / (pi r^2)
+// is the density over its sphere of radius k r, k = VOLUME_RADIUS_SCALE: 3 / (4 k^3 r).
+fn volume_flux_scale(r: f32) -> f32 {
+    let k = VOLUME_RADIUS_SCALE;
+    return 0.75 / (k * k * k * r);
+}
+
 fn fixed_to_float(lo: u32) -> f32 {
     return f32(flux_accum[lo + 1u]) + f32(flux_accum[lo]) * (1.0 / 4294967296.0);
 }
@@ -88,8 +95,7 @@ fn update_stats(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
         let r = frame.global_radius;
         var phi = visible_points[index].weight * vec3f(fixed_to_float(base), fixed_to_float(base + 2u), fixed_to_float(base + 4u));
         if in_volume(visible_points[index].normal) {
-            let k = VOLUME_RADIUS_SCALE;
-            phi *= 0.75 / (k * k * k * r);
+            phi *= volume_flux_scale(r);
         }
         vp_stats[index].tau += phi / (PI * r * r);
         vp_stats[index].n += m;
@@ -110,8 +116,7 @@ fn update_stats(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
         var radius_new = st.radius * sqrt(n_new / (st.n + m));
         if volume {
             radius_new = st.radius * pow(n_new / (st.n + m), 1.0 / 3.0);
-            let k = VOLUME_RADIUS_SCALE;
-            phi *= 0.75 / (k * k * k * st.radius);
+            phi *= volume_flux_scale(st.radius);
         }
         let shrink = (radius_new * radius_new) / (st.radius * st.radius);
         st.tau = (st.tau + phi) * shrink;

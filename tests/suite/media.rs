@@ -24,17 +24,6 @@ fn render(gpu: &sppm_gpu::gpu::GpuContext, scene: &Scene, method: Method, passes
     common::run_passes(&mut *integrator, passes)
 }
 
-fn mean(img: &Rgb32Image) -> [f64; 3] {
-    let mut sum = [0.0; 3];
-    for p in &img.pixels {
-        for c in 0..3 {
-            sum[c] += p[c] as f64;
-        }
-    }
-    let n = img.pixels.len() as f64;
-    sum.map(|s| s / n)
-}
-
 /// An emitter of radiance 1 seen through a slab of unit thickness (a `null` cube holding a
 /// medium that only absorbs, sigma_a = (0.5, 1, 2)): every pixel is exp(-sigma_a) (the rays
 /// cross it within 1.5 degrees of its normal, 1 / cos below 1.0004), by each method.
@@ -78,7 +67,7 @@ interior = "ink"
     );
     let expected = [0.5f64, 1.0, 2.0].map(|s| (-s).exp());
     for (method, passes) in [(Method::Pt, 256), (Method::PtNee, 256), (Method::Sppm, 64)] {
-        let m = mean(&render(&gpu, &scene, method, passes));
+        let m = render(&gpu, &scene, method, passes).mean();
         eprintln!("slab {method:?}: {m:?} against {expected:?}");
         for c in 0..3 {
             // 16x16 pixels x passes binary samples (through or not) of probability p: the
@@ -108,7 +97,7 @@ fn a_furnace_filled_with_a_white_medium_stays_uniform() {
     scene.render.radius = Some(0.02);
     for (method, passes) in [(Method::Pt, 512), (Method::PtNee, 256), (Method::Sppm, 32)] {
         let img = render(&gpu, &scene, method, passes);
-        let m = mean(&img);
+        let m = img.mean();
         // Each 8x8 block of pixels against 2, within five standard errors of its mean (the
         // pixels' spread, as the image should be uniform) and 1% for the estimators' bias.
         let values: Vec<f64> = img.pixels.iter().flatten().map(|&v| v as f64).collect();
@@ -283,7 +272,7 @@ intensity = [{intensity}, {intensity}, {intensity}]
         }
     }
     for (method, passes) in [(Method::PtNee, 256), (Method::Sppm, 128)] {
-        let m = mean(&render(&gpu, &scene, method, passes));
+        let m = render(&gpu, &scene, method, passes).mean();
         eprintln!("single scattering {method:?}: {m:?} against {expected:?}");
         for c in 0..3 {
             assert!((m[c] / expected[c] - 1.0).abs() < 0.01, "{method:?}: channel {c} {} against {}", m[c], expected[c]);

@@ -114,14 +114,9 @@ impl MaterialKind {
     /// The texture that replaces the kind's albedo (a diffuse reflectance, a conductor's
     /// specular reflectance), if any: on the GPU, any material's albedo may come from one.
     pub fn texture(&self) -> Option<u32> {
-        match *self {
-            MaterialKind::Diffuse { texture, .. }
-            | MaterialKind::Mirror { texture, .. }
-            | MaterialKind::Glossy { texture, .. }
-            | MaterialKind::Plastic { texture, .. } => texture,
-            MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. } | MaterialKind::Null => None,
-        }
+        self.albedo().and_then(|(_, texture)| texture)
     }
+
     /// The reflectance of the kinds that have one (a diffuse reflectance, a conductor's
     /// specular reflectance, a plastic's base), with the texture that replaces it, if any.
     pub fn albedo(&self) -> Option<(Vec3, Option<u32>)> {
