@@ -3,8 +3,10 @@
 //! is an estimate of its own drawn from random numbers keyed by its index, and the image is
 //! the mean of the passes' estimates. A batch renders passes `first..end` anywhere (another
 //! process, GPU or machine) and writes a partial image: the sum of its passes' estimates per
-//! pixel, with the pass range and the render's fingerprint in the EXR header. [`merge`] adds
-//! partials of the same render and divides by the passes they hold.
+//! pixel, with the pass range and the render's fingerprint in the EXR header, and a checksum
+//! of them and the pixels. [`merge`] adds partials of the same render and divides by the
+//! passes they hold; a partial altered since it was written, or with a pixel not finite or
+//! negative (a sum of estimates cannot be), is refused.
 //!
 //! Exactness: a partial holds `mean * count` of its batch in f32, and the merge sums in f64.
 //! Against one process rendering all the passes, a pixel differs by the rounding of those
@@ -12,7 +14,7 @@
 //! pass summed, within `1e-5` relative for renders of up to hundreds of passes
 //! (`tests/suite/batch.rs` checks it).
 
-use crate::checkpoint::Fingerprint;
+use crate::checkpoint::{Fingerprint, Fnv};
 use crate::error::Error;
 use crate::image_io::{self, Rgb32Image};
 use std::path::{Path, PathBuf};
@@ -23,6 +25,23 @@ const SETTINGS: &str = "sppm-gpu settings";
 const CAMERA: &str = "sppm-gpu camera";
 const GEOMETRY: &str = "sppm-gpu geometry";
 const APPEARANCE: &str = "sppm-gpu appearance";
+const CHECKSUM: &str = "sppm-gpu checksum";
+
+/// FNV-1a of a partial's size, pixels and `text` attributes (name and value, each
+/// length-prefixed), as 16 hex digits.
+fn checksum(sum: &Rgb32Image, text: &[(&str, &str)]) -> String {
+    let mut digest = Fnv::new();
+    digest.write(&sum.width.to_le_bytes());
+    digest.write(&sum.height.to_le_bytes());
+    digest.write_f32s(sum.pixels.iter().flatten().copied());
+    for (name, value) in text {
+        for s in [name, value] {
+            digest.write(&(s.len() as u64).to_le_bytes());
+            digest.write(s.as_bytes());
+        }
+    }
+    format!("{:016x}", digest.0)
+}
 
 /// A batch's partial image.
 #[derive(Clone, Debug)]
@@ -56,6 +75,8 @@ pub fn write_partial(path: &Path, mean: &Rgb32Image, first: u32, end: u32, finge
         (GEOMETRY, geometry.as_str()),
         (APPEARANCE, appearance.as_str()),
     ];
+    let digest = checksum(&sum, &text);
+    let text: Vec<(&str, &str)> = text.into_iter().chain([(CHECKSUM, digest.as_str())]).collect();
     Ok(image_io::write_exr_with_text(path, &sum, &text)?)
 }
 
@@ -68,6 +89,20 @@ pub fn read_partial(path: &Path) -> Result<Partial, Error> {
         })
     };
     let bad = |what: &str| Error::Setting(format!("{}: the partial's `{what}` is malformed", path.display()));
+    let names = [PASSES, SETTINGS, CAMERA, GEOMETRY, APPEARANCE];
+    let text_of = names.iter().map(|&n| Ok((n, get(n)?))).collect::<Result<Vec<_>, Error>>()?;
+    let stored = get(CHECKSUM).map_err(|_| {
+        Error::Setting(format!(
+            "{}: the partial has no `{CHECKSUM}` in its header: not written by this version of sppm-gpu; render the batch again",
+            path.display()
+        ))
+    })?;
+    if checksum(&sum, &text_of) != stored {
+        return Err(Error::Setting(format!(
+            "{}: the partial is corrupt: checksum mismatch (its pixels or header changed since it was written)",
+            path.display()
+        )));
+    }
     let (first, end) = get(PASSES)?.split_once("..").ok_or_else(|| bad(PASSES))?;
     let first: u32 = first.parse().map_err(|_| bad(PASSES))?;
     let end: u32 = end.parse().map_err(|_| bad(PASSES))?;
@@ -84,12 +119,29 @@ pub fn read_partial(path: &Path) -> Result<Partial, Error> {
     Ok(Partial { sum, first, end, fingerprint, path: path.to_path_buf() })
 }
 
+/// Errors naming the first pixel of `part` (row by row) that is not finite or is negative: a
+/// sum of non-negative estimates is neither.
+fn check_pixels(part: &Partial) -> Result<(), Error> {
+    let Some(i) = part.sum.pixels.iter().position(|p| p.iter().any(|v| !(v.is_finite() && *v >= 0.0))) else {
+        return Ok(());
+    };
+    let (x, y) = (i % part.sum.width.max(1) as usize, i / part.sum.width.max(1) as usize);
+    Err(Error::Setting(format!(
+        "{}: pixel ({x}, {y}) of the partial is {:?}: a sum of estimates must be finite and non-negative",
+        part.path.display(),
+        part.sum.pixels[i]
+    )))
+}
+
 /// The merged image of `parts`, and warnings (passes missing between them). Errors when
 /// they come from different renders, differ in size, or share a pass.
 pub fn merge(parts: &[Partial]) -> Result<(Rgb32Image, Vec<String>), Error> {
     let Some(head) = parts.first() else {
         return Err(Error::Setting("nothing to merge: give the partial images".into()));
     };
+    for p in parts {
+        check_pixels(p)?;
+    }
     for p in &parts[1..] {
         head.fingerprint.check(&p.fingerprint).map_err(|e| {
             Error::Setting(format!("{} and {}: not batches of one render: {e}", head.path.display(), p.path.display()))

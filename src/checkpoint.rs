@@ -10,7 +10,10 @@
 //! leaves the previous checkpoint intact.
 //!
 //! Layout: `SPPMGPU-CHECKPOINT`, a format version (u32), then length-prefixed (u64, little
-//! endian) fields: the settings text, the camera text, the two digests (u64 each), the state.
+//! endian) fields: the settings text, the camera text, the two digests (u64 each), the state;
+//! last, the FNV-1a digest (u64) of every byte before it. A file whose digest differs, or with
+//! bytes after it, is refused as corrupt; the integrator checks the state itself on
+//! [`restore`](crate::integrators::Integrator::restore).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -19,7 +22,7 @@ use crate::error::Error;
 use crate::scene::Scene;
 
 const MAGIC: &[u8] = b"SPPMGPU-CHECKPOINT";
-const VERSION: u32 = 1;
+const VERSION: u32 = 2;
 
 /// What a checkpoint was made from.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -36,18 +39,18 @@ pub struct Fingerprint {
 
 /// 64-bit FNV-1a (Fowler, Noll and Vo): a fixed function, so that digests agree between runs
 /// and builds.
-struct Fnv(u64);
+pub(crate) struct Fnv(pub(crate) u64);
 
 impl Fnv {
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Fnv(0xcbf2_9ce4_8422_2325)
     }
-    fn write(&mut self, bytes: &[u8]) {
+    pub(crate) fn write(&mut self, bytes: &[u8]) {
         for &b in bytes {
             self.0 = (self.0 ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3);
         }
     }
-    fn write_f32s(&mut self, values: impl IntoIterator<Item = f32>) {
+    pub(crate) fn write_f32s(&mut self, values: impl IntoIterator<Item = f32>) {
         for v in values {
             self.write(&v.to_bits().to_le_bytes());
         }
@@ -142,13 +145,19 @@ pub fn write(path: &Path, fingerprint: &Fingerprint, state: &[u8]) -> Result<(),
     field(&mut bytes, &fingerprint.geometry.to_le_bytes());
     field(&mut bytes, &fingerprint.appearance.to_le_bytes());
     field(&mut bytes, state);
+    let mut checksum = Fnv::new();
+    checksum.write(&bytes);
+    bytes.extend_from_slice(&checksum.0.to_le_bytes());
     let mut temporary = PathBuf::from(path);
     temporary.as_mut_os_string().push(format!(".{}.tmp", std::process::id()));
-    let failed = |e: std::io::Error| Error::Setting(format!("{}: cannot write the checkpoint: {e}", path.display()));
-    let mut file = std::fs::File::create(&temporary).map_err(failed)?;
-    file.write_all(&bytes).and_then(|()| file.sync_all()).map_err(failed)?;
-    drop(file);
-    std::fs::rename(&temporary, path).map_err(failed)
+    let written = std::fs::File::create(&temporary)
+        .and_then(|mut file| file.write_all(&bytes).and_then(|()| file.sync_all()))
+        .and_then(|()| std::fs::rename(&temporary, path));
+    written.map_err(|e| {
+        // A full disk or a failed rename leaves no temporary file behind.
+        let _ = std::fs::remove_file(&temporary);
+        Error::Setting(format!("{}: cannot write the checkpoint: {e}", path.display()))
+    })
 }
 
 /// The fingerprint and state of the checkpoint at `path`.
@@ -158,10 +167,18 @@ pub fn read(path: &Path) -> Result<(Fingerprint, Vec<u8>), Error> {
     let bad = |what: &str| Error::Setting(format!("{}: not a checkpoint of this renderer ({what})", path.display()));
     let rest = bytes.strip_prefix(MAGIC).ok_or_else(|| bad("no header"))?;
     let version = rest.get(..4).ok_or_else(|| bad("truncated"))?;
-    if u32::from_le_bytes(version.try_into().expect("4 bytes")) != VERSION {
-        return Err(bad("another format version"));
+    let version = u32::from_le_bytes(version.try_into().expect("4 bytes"));
+    if version != VERSION {
+        return Err(bad(&format!("format version {version}, where this renderer reads {VERSION}")));
     }
-    let mut rest = &rest[4..];
+    let corrupt = |what: &str| Error::Setting(format!("{}: the checkpoint is corrupt: {what}", path.display()));
+    let body = bytes.len().checked_sub(8).filter(|&n| n >= MAGIC.len() + 4).ok_or_else(|| bad("truncated"))?;
+    let mut checksum = Fnv::new();
+    checksum.write(&bytes[..body]);
+    if checksum.0.to_le_bytes() != bytes[body..] {
+        return Err(corrupt("checksum mismatch (truncated, extended or altered)"));
+    }
+    let mut rest = &bytes[MAGIC.len() + 4..body];
     let mut next = || -> Result<Vec<u8>, Error> {
         let len = rest.get(..8).ok_or_else(|| bad("truncated"))?;
         let len = u64::from_le_bytes(len.try_into().expect("8 bytes"));
@@ -177,5 +194,8 @@ pub fn read(path: &Path) -> Result<(Fingerprint, Vec<u8>), Error> {
     let geometry = digest(next()?)?;
     let appearance = digest(next()?)?;
     let state = next()?;
+    if !rest.is_empty() {
+        return Err(corrupt(&format!("{} bytes after its fields", rest.len())));
+    }
     Ok((Fingerprint { settings, camera, geometry, appearance }, state))
 }

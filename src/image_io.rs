@@ -10,6 +10,9 @@
 //! * **PNG** (`.png`): 8-bit sRGB for viewing. Writing applies the sRGB OETF
 //!   and clamps to `[0, 1]`; reading decodes sRGB back to linear.
 //!
+//! Reading refuses an image of more than [`MAX_PIXELS`] pixels, and a file shorter than its
+//! header says, before allocating anything for its pixels.
+//!
 //! Writes are atomic: the file is encoded in memory, written to a temporary
 //! file beside the target and renamed over it, so a crash or a full disk never
 //! leaves a truncated file where the previous one was.
@@ -17,12 +20,17 @@
 use std::ffi::OsString;
 use std::fmt;
 use std::fs::{self, File};
-use std::io::{self, Cursor, Write};
+use std::io::{self, Cursor, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use exr::meta::attribute::Compression;
 use exr::prelude::{ReadChannels, ReadLayers, SpecificChannels, Vec2, WritableImage};
 use image::{ExtendedColorType, ImageEncoder, ImageFormat};
+
+/// The most pixels an image read may have: those of the renderer's largest image, 16384 x 16384
+/// (the scene loader's `MAX_RESOLUTION` squared), 3 GiB as [`Rgb32Image`].
+pub const MAX_PIXELS: u64 = 16384 * 16384;
 
 /// A linear-radiance RGB image with `f32` channels.
 ///
@@ -112,6 +120,20 @@ pub enum ImageErrorKind {
         /// The image's height.
         height: u32,
     },
+    /// The header claims more than [`MAX_PIXELS`] pixels.
+    TooLarge {
+        /// The width it claims.
+        width: u64,
+        /// The height it claims.
+        height: u64,
+    },
+    /// The header claims more bytes of pixel data than the file holds.
+    Truncated {
+        /// Bytes the header's chunks and uncompressed samples take at least.
+        claimed: u64,
+        /// Bytes in the file.
+        len: u64,
+    },
 }
 
 /// An image could not be read or written; names the file and the cause.
@@ -152,6 +174,15 @@ impl fmt::Display for ImageError {
             ImageErrorKind::BadPixelBuffer { len, width, height } => {
                 write!(f, "{path}: image has {len} pixels but {width}x{height} needs {}", *width as usize * *height as usize)
             }
+            ImageErrorKind::TooLarge { width, height } => write!(
+                f,
+                "{path}: the header claims a {width}x{height} image, more than the {MAX_PIXELS} pixels (16384x16384) \
+                 an image may have here"
+            ),
+            ImageErrorKind::Truncated { claimed, len } => write!(
+                f,
+                "{path}: the header claims at least {claimed} bytes of pixel data but the file holds {len}: truncated or corrupt"
+            ),
         }
     }
 }
@@ -162,7 +193,10 @@ impl std::error::Error for ImageError {
             ImageErrorKind::Io(e) => Some(e),
             ImageErrorKind::Exr(e) => Some(e),
             ImageErrorKind::Png(e) => Some(e),
-            ImageErrorKind::UnsupportedExtension | ImageErrorKind::BadPixelBuffer { .. } => None,
+            ImageErrorKind::UnsupportedExtension
+            | ImageErrorKind::BadPixelBuffer { .. }
+            | ImageErrorKind::TooLarge { .. }
+            | ImageErrorKind::Truncated { .. } => None,
         }
     }
 }
@@ -279,6 +313,8 @@ pub fn read_exr(path: &Path) -> Result<Rgb32Image, ImageError> {
 
 /// [`read_exr`], and the header's text attributes, `(name, value)`.
 pub fn read_exr_with_text(path: &Path) -> Result<(Rgb32Image, Vec<(String, String)>), ImageError> {
+    let mut file = File::open(path).map_err(|e| ImageError::new(path, ImageErrorKind::Io(e)))?;
+    check_exr_header(path, &mut file)?;
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -288,7 +324,7 @@ pub fn read_exr_with_text(path: &Path) -> Result<(Rgb32Image, Vec<(String, Strin
         )
         .first_valid_layer()
         .all_attributes()
-        .from_file(path)
+        .from_unbuffered(file)
         .map_err(|e| ImageError::new(path, ImageErrorKind::Exr(e)))?;
     // The reader files unknown attributes under the layer.
     let text = image
@@ -305,13 +341,53 @@ pub fn read_exr_with_text(path: &Path) -> Result<(Rgb32Image, Vec<(String, Strin
     Ok((image.layer_data.channel_data.pixels, text))
 }
 
+/// Refuses the EXR `file` (at `path`) when a layer's header claims more than [`MAX_PIXELS`]
+/// pixels, or more bytes than the file holds: each chunk takes 16 at least (its offset and
+/// its header), and an uncompressed layer all its samples. Leaves `file` at its start.
+fn check_exr_header(path: &Path, file: &mut File) -> Result<(), ImageError> {
+    let io_error = |e| ImageError::new(path, ImageErrorKind::Io(e));
+    let len = file.metadata().map_err(io_error)?.len();
+    let meta = exr::meta::MetaData::read_from_unbuffered(&mut *file, false)
+        .map_err(|e| ImageError::new(path, ImageErrorKind::Exr(e)))?;
+    let mut claimed = 0u64;
+    for header in &meta.headers {
+        let Vec2(width, height) = header.layer_size;
+        check_size(path, width as u64, height as u64)?;
+        claimed = claimed.saturating_add(16u64.saturating_mul(header.chunk_count as u64));
+        if header.compression == Compression::Uncompressed && !header.deep {
+            let samples = width as u64 * height as u64 * header.channels.bytes_per_pixel as u64;
+            claimed = claimed.saturating_add(samples);
+        }
+    }
+    if claimed > len {
+        return Err(ImageError::new(path, ImageErrorKind::Truncated { claimed, len }));
+    }
+    file.seek(SeekFrom::Start(0)).map(drop).map_err(io_error)
+}
+
+/// Errors unless a `width` x `height` image has at most [`MAX_PIXELS`] pixels.
+fn check_size(path: &Path, width: u64, height: u64) -> Result<(), ImageError> {
+    if width.saturating_mul(height) > MAX_PIXELS {
+        Err(ImageError::new(path, ImageErrorKind::TooLarge { width, height }))
+    } else {
+        Ok(())
+    }
+}
+
 /// Reads a PNG, decoding sRGB to linear. Alpha is dropped; 16-bit and
 /// grey-scale PNGs are accepted.
 pub fn read_png(path: &Path) -> Result<Rgb32Image, ImageError> {
     let bytes = fs::read(path).map_err(|e| ImageError::new(path, ImageErrorKind::Io(e)))?;
-    let decoded = image::load_from_memory_with_format(&bytes, ImageFormat::Png)
-        .map_err(|e| ImageError::new(path, ImageErrorKind::Png(e)))?
-        .into_rgb32f();
+    let png_error = |e| ImageError::new(path, ImageErrorKind::Png(e));
+    let reader = || image::ImageReader::with_format(Cursor::new(&bytes), ImageFormat::Png);
+    let (width, height) = reader().into_dimensions().map_err(png_error)?;
+    check_size(path, width.into(), height.into())?;
+    let mut reader = reader();
+    let mut limits = image::Limits::default();
+    // The decoder's buffer: 8 bytes a pixel at most (16-bit RGBA).
+    limits.max_alloc = Some(MAX_PIXELS * 8);
+    reader.limits(limits);
+    let decoded = reader.decode().map_err(png_error)?.into_rgb32f();
     let pixels = decoded.pixels().map(|p| p.0.map(srgb_to_linear)).collect();
     Ok(Rgb32Image { width: decoded.width(), height: decoded.height(), pixels })
 }

@@ -168,6 +168,10 @@ fn decode_state(state: &[u8], expected: u64) -> Result<(u32, u64, &[u8]), Error>
     }
     let passes = u32::from_le_bytes(state[0..4].try_into().expect("4 bytes"));
     let work = u64::from_le_bytes(state[4..12].try_into().expect("8 bytes"));
+    // The next pass would count past the largest pass count.
+    if passes == u32::MAX {
+        return Err(Error::Setting(format!("the saved state is corrupt: its pass count {passes} leaves no pass to run")));
+    }
     Ok((passes, work, &state[12..]))
 }
 

@@ -235,8 +235,33 @@ impl Integrator for PathTracer {
         }
         Ok(img)
     }
+    /// Refuses a state that no render could have left: work other than a sample a pixel a pass,
+    /// sample counts other than its passes', or sums not finite or negative.
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
-        let (passes, _, sums) = super::decode_state(state, self.pixel_count as u64 * 16)?;
+        let (passes, work, sums) = super::decode_state(state, self.pixel_count as u64 * 16)?;
+        let corrupt = |what: String| Err(Error::Setting(format!("the saved state is corrupt: {what}")));
+        let Some(k) = passes.checked_sub(self.first_pass).filter(|_| work == passes as u64 * self.pixel_count as u64) else {
+            let first = self.first_pass;
+            return corrupt(format!(
+                "it holds {passes} passes (from pass {first}) and {work} samples of {} pixels",
+                self.pixel_count
+            ));
+        };
+        // Each pass adds 1 to every pixel's count, in f32: exact up to 2^24, where it stays.
+        let count = k.min(1 << 24) as f32;
+        for (i, s) in sums.chunks_exact(16).enumerate() {
+            let s: [f32; 4] = bytemuck::pod_read_unaligned(s);
+            if s[3] != count || s[..3].iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+                let width = self.frame.width as usize;
+                let (x, y) = (i % width, self.frame.row_offset as usize + i / width);
+                return corrupt(format!(
+                    "pixel ({x}, {y}) holds the sum {:?} of {} samples, where {k} passes give {count} samples of finite, \
+                     non-negative radiance",
+                    &s[..3],
+                    s[3]
+                ));
+            }
+        }
         self.queue.write_buffer(&self.radiance, 0, sums);
         self.next_pixel = 0;
         self.passes = passes;

@@ -1105,9 +1105,44 @@ impl Integrator for Sppm {
         }
         Ok(image)
     }
+    /// Refuses a state that no render could have left: photons other than those of its passes,
+    /// or statistics not finite, or negative where they cannot be.
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
         let (passes, photons, stats) = super::decode_state(state, self.state_bytes())?;
         let (stats, tests) = stats.split_at(self.buffers.vp_stats.size() as usize);
+        let corrupt = |what: String| Err(Error::Setting(format!("the saved state is corrupt: {what}")));
+        // Each pass since first_pass traced photon_count photons.
+        let per_pass = self.frame.photon_count as u64;
+        if passes.checked_sub(self.first_pass).map(|k| k as u64 * per_pass) != Some(photons) {
+            let first = self.first_pass;
+            return corrupt(format!(
+                "it holds {passes} passes and {photons} photons, where each pass from pass {first} traces {per_pass}"
+            ));
+        }
+        // The pixel of visible point i, for messages.
+        let spp = self.frame.spp.max(1) as usize;
+        let pixel = |i: usize| {
+            (i / spp % self.frame.width as usize, self.frame.row_offset as usize + i / spp / self.frame.width as usize)
+        };
+        // tau, N, ld and r: finite and non-negative.
+        for (i, st) in stats.chunks_exact(size_of::<VpStats>()).enumerate() {
+            let st: VpStats = bytemuck::pod_read_unaligned(st);
+            let mut values = st.tau.into_iter().chain([st.n]).chain(st.ld).chain([st.radius]);
+            if values.any(|v| !(v.is_finite() && v >= 0.0)) {
+                let (x, y) = pixel(i);
+                return corrupt(format!(
+                    "a visible point of pixel ({x}, {y}) holds {st:?}: each must be finite and non-negative"
+                ));
+            }
+        }
+        // The adaptive rule's sums (signed): finite; `shrinking` a flag. (No tests without it.)
+        for (i, test) in tests.chunks_exact(size_of::<RadiusTest>()).enumerate() {
+            let test: RadiusTest = bytemuck::pod_read_unaligned(test);
+            if test.offset_sum.into_iter().chain([test.spread_sum]).any(|v| !v.is_finite()) || test.shrinking > 1 {
+                let (x, y) = pixel(i);
+                return corrupt(format!("the radius test of a visible point of pixel ({x}, {y}) holds {test:?}"));
+            }
+        }
         self.queue.write_buffer(&self.buffers.vp_stats, 0, stats);
         if self.adaptive {
             self.queue.write_buffer(&self.buffers.radius_tests, 0, tests);
