@@ -508,9 +508,11 @@ impl SceneBuilder {
             spheres: Vec::new(),
             lights,
             media: Vec::new(),
+            inputs: Vec::new(),
         };
+        let budget = mesh::PrimitiveBudget::new();
         for (index, entry) in self.shapes.iter().enumerate() {
-            let shape = check.shape(index as u32, entry, &mut scene)?;
+            let shape = check.shape(index as u32, entry, &mut scene, &budget)?;
             scene.shapes.push(shape);
         }
         if !scene.is_lit() {
@@ -716,8 +718,8 @@ impl Check<'_> {
         ))
     }
 
-    /// Checks `shapes[index]` and appends its primitives to the scene.
-    fn shape(&self, index: u32, entry: &ShapeEntry, scene: &mut Scene) -> Result<Shape> {
+    /// Checks `shapes[index]` and appends its primitives to the scene, within `budget`.
+    fn shape(&self, index: u32, entry: &ShapeEntry, scene: &mut Scene, budget: &mesh::PrimitiveBudget) -> Result<Shape> {
         let key = format!("shapes[{index}]");
         let material = match scene.materials.iter().position(|m| m.name == entry.material) {
             Some(i) => i as u32,
@@ -746,6 +748,8 @@ impl Check<'_> {
         let first_sphere = scene.spheres.len();
         // A warning for skipped degenerate triangles, printed once the shape is accepted.
         let mut warning = None;
+        let count = mesh::fixed_primitives(entry.geometry.kind());
+        budget.check(super::load::primitives(scene), count, "").map_err(|e| self.error(&key, e))?;
         match entry.geometry {
             Geometry::Quad { corner, u, v, uv_scale } => {
                 let corner = self.vec3(&format!("{key}.corner"), corner, Bound::Any)?;
@@ -789,6 +793,9 @@ impl Check<'_> {
                 let file_key = format!("{key}.file");
                 let obj = mesh::read_obj(&path)
                     .map_err(|e| self.error(&file_key, format!("cannot read mesh {}: {e}", path.display())))?;
+                budget
+                    .check(super::load::primitives(scene), obj.indices.len() as u64, "")
+                    .map_err(|e| self.error(&file_key, e))?;
                 let (triangles, skipped) =
                     mesh::triangles(&obj, &transform, if smooth { mesh::Normals::Smooth } else { mesh::Normals::Flat }, index)
                         .map_err(|e| self.error(&key, e))?;

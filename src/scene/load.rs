@@ -24,7 +24,8 @@ pub const MAX_DIRECT_SAMPLES: u32 = 1024;
 
 /// Reads a scene file and loads it.
 pub fn load(path: &Path) -> Result<Scene> {
-    let bytes = std::fs::read(path).map_err(|e| SceneError::new(path, None, None, format!("cannot read the scene file: {e}")))?;
+    let bytes =
+        super::files::read(path).map_err(|e| SceneError::new(path, None, None, format!("cannot read the scene file: {e}")))?;
     let text = String::from_utf8(bytes).map_err(|e| {
         let valid = &e.as_bytes()[..e.utf8_error().valid_up_to()];
         let line = valid.iter().filter(|&&b| b == b'\n').count() + 1;
@@ -75,9 +76,11 @@ pub fn load_str(text: &str, path: &Path) -> Result<Scene> {
         spheres: Vec::new(),
         lights,
         media,
+        inputs: Vec::new(),
     };
+    let budget = mesh::PrimitiveBudget::new();
     for (index, entry) in root.or("shapes", Vec::new(), Value::elements)?.iter().enumerate() {
-        let shape = read_shape(entry, index as u32, &mut scene)?;
+        let shape = read_shape(entry, index as u32, &mut scene, &budget)?;
         scene.shapes.push(shape);
     }
     Ok(scene)
@@ -514,8 +517,8 @@ const SHAPE_TYPES: &[(&str, ShapeKind, &[&str])] = &[
 /// Keys every shape allows.
 const SHAPE_KEYS: &[&str] = &["type", "material", "emission", "velocity", "interior", "exterior"];
 
-/// Reads `shapes[index]` and appends its primitives to the scene.
-fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
+/// Reads `shapes[index]` and appends its primitives to the scene, within `budget`.
+fn read_shape(entry: &Value, index: u32, scene: &mut Scene, budget: &mesh::PrimitiveBudget) -> Result<Shape> {
     let t = entry.table()?;
     let kind = t.typed("shape type", SHAPE_TYPES, SHAPE_KEYS)?;
     let shape = Shape {
@@ -533,6 +536,7 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
     let first_sphere = scene.spheres.len();
     // A warning for skipped degenerate triangles, printed once the shape is accepted.
     let mut warning = None;
+    budget.check(primitives(scene), mesh::fixed_primitives(kind), "").map_err(|e| t.error_here(e))?;
     match kind {
         ShapeKind::Quad => {
             let corner = t.req("corner", Value::vec3)?;
@@ -564,7 +568,7 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
             }
             scene.triangles.extend(triangles);
         }
-        ShapeKind::Mesh => warning = read_mesh(&t, index, scene)?,
+        ShapeKind::Mesh => warning = read_mesh(&t, index, scene, budget)?,
     }
     let triangles = &scene.triangles[first_triangle..];
     let spheres = &scene.spheres[first_sphere..];
@@ -595,7 +599,7 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene) -> Result<Shape> {
 /// any case; `shape_index` picks a `.serialized` file's shape) and appends its world-space
 /// triangles; gives the warning to print when some of its triangles are degenerate and
 /// skipped. A `.serialized` file's face-normals flag is ignored: `smooth` decides.
-fn read_mesh(t: &Table, index: u32, scene: &mut Scene) -> Result<Option<SceneError>> {
+fn read_mesh(t: &Table, index: u32, scene: &mut Scene, budget: &mesh::PrimitiveBudget) -> Result<Option<SceneError>> {
     let transform = read_transform(t)?;
     let smooth = t.or("smooth", false, Value::bool)?;
     let file = t.require("file")?;
@@ -618,6 +622,7 @@ fn read_mesh(t: &Table, index: u32, scene: &mut Scene) -> Result<Option<SceneErr
             )
         }
     };
+    budget.check(primitives(scene), mesh.indices.len() as u64, "").map_err(|e| file.error(e))?;
     let normals = if smooth { Normals::Smooth } else { Normals::Flat };
     let (triangles, skipped) = mesh::triangles(&mesh, &transform, normals, index).map_err(|e| t.error_here(e))?;
     if triangles.is_empty() {
@@ -628,6 +633,11 @@ fn read_mesh(t: &Table, index: u32, scene: &mut Scene) -> Result<Option<SceneErr
         let s = if skipped == 1 { "" } else { "s" };
         file.error(format!("{skipped} degenerate triangle{s} (zero area) skipped in mesh {}", path.display()))
     }))
+}
+
+/// The triangles and spheres of `scene` so far.
+pub(super) fn primitives(scene: &Scene) -> u64 {
+    (scene.triangles.len() + scene.spheres.len()) as u64
 }
 
 /// A shape's `scale`, `rotate` and `translate`.

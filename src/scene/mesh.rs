@@ -115,7 +115,7 @@ fn sign(bit: u32) -> f32 {
 /// texture coordinates are kept only when every vertex has them. Materials are ignored.
 /// Errors name the OBJ line where there is one (see `check_obj_text`).
 pub(super) fn read_obj(path: &Path) -> Result<IndexedMesh, String> {
-    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let bytes = super::files::read(path)?;
     let text = std::str::from_utf8(&bytes).map_err(|e| {
         let line = bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
         format!("line {line}: not UTF-8 text")
@@ -278,6 +278,73 @@ pub(super) enum Normals {
     MitsubaSmooth,
 }
 
+/// Host bytes a primitive costs while its scene is loaded and made ready for the device: the
+/// scene's [`Triangle`], the device copies staged on the host (triangle, reference and BVH
+/// node, normals and texture coordinates: 164 bytes, as `integrators::memory_need` counts
+/// them) and the BVH build's box, centroid and reference (about 64).
+pub(crate) const LOAD_BYTES_PER_PRIMITIVE: u64 = std::mem::size_of::<Triangle>() as u64 + 164 + 64;
+
+/// The most primitives any scene may have: a primitive reference is a 31-bit index (its top
+/// bit marks spheres).
+const MAX_PRIMITIVES: u64 = (1 << 31) - 1;
+
+/// How many triangles and spheres a scene may expand to here, fixed as loading starts:
+/// what the host's available memory holds at [`LOAD_BYTES_PER_PRIMITIVE`] each. Every scene
+/// reader (TOML, [`super::SceneBuilder`], Mitsuba XML with its instances) checks it before it
+/// makes a shape's primitives, so that a scene too large is an error rather than an
+/// allocation that fails or a process killed for memory.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PrimitiveBudget {
+    /// The host's available memory in bytes, where known.
+    available: Option<u64>,
+}
+
+impl PrimitiveBudget {
+    pub fn new() -> Self {
+        Self::with_memory(super::files::available_memory())
+    }
+
+    /// The budget of a host with `available` bytes (`None`: unknown, only the 31-bit cap).
+    pub fn with_memory(available: Option<u64>) -> Self {
+        PrimitiveBudget { available }
+    }
+
+    /// The most primitives a scene may have.
+    pub fn max(&self) -> u64 {
+        self.available.map_or(MAX_PRIMITIVES, |m| (m / LOAD_BYTES_PER_PRIMITIVE).min(MAX_PRIMITIVES))
+    }
+
+    /// Refuses adding `count` primitives to a scene of `have`; `what` (a parenthesis or
+    /// empty) says where they come from.
+    pub fn check(&self, have: u64, count: u64, what: &str) -> Result<(), String> {
+        let total = have.saturating_add(count);
+        let max = self.max();
+        if total <= max {
+            return Ok(());
+        }
+        let why = match self.available {
+            Some(m) if max < MAX_PRIMITIVES => format!(
+                "the {max} this machine's memory holds ({:.1} GiB available, about {LOAD_BYTES_PER_PRIMITIVE} bytes a \
+                 primitive while loading)",
+                m as f64 / (1u64 << 30) as f64
+            ),
+            _ => format!("the {MAX_PRIMITIVES} a scene may have (a primitive reference is a 31-bit index)"),
+        };
+        Err(format!("the scene expands to {total} triangles and spheres{what}: more than {why}"))
+    }
+}
+
+/// The primitives a TOML shape of `kind` makes, checked before it is made; 0 for a mesh,
+/// counted once its file is read.
+pub(super) fn fixed_primitives(kind: super::ShapeKind) -> u64 {
+    match kind {
+        super::ShapeKind::Quad => 2,
+        super::ShapeKind::Sphere => 1,
+        super::ShapeKind::Cube => 12,
+        super::ShapeKind::Mesh => 0,
+    }
+}
+
 /// The world-space triangles of `mesh` under `transform`, and how many were skipped for
 /// having zero area. `normals` says which shading normals the vertices get; a vertex whose
 /// normal is zero (a zero normal in the file, or faces whose normals cancel) takes its
@@ -296,7 +363,13 @@ pub(super) fn triangles(
     let mut faces = Vec::with_capacity(mesh.indices.len());
     for &[a, b, c] in &mesh.indices {
         let face = if transform.flips_winding() { [a, c, b] } else { [a, b, c] }.map(|i| i as usize);
-        if face_normal(&world, face).length_squared() > 0.0 {
+        let area2 = face_normal(&world, face).length_squared();
+        // An area that overflows (infinite, or NaN from inf - inf) is a shape too large, not
+        // one scaled to nothing.
+        if !area2.is_finite() {
+            return Err(OUT_OF_RANGE.into());
+        }
+        if area2 > 0.0 {
             faces.push(face);
         }
     }
@@ -419,7 +492,7 @@ pub(super) fn read_texture(path: &Path) -> Result<Texture, String> {
 /// images (EXR, HDR) are linear; `raw` keeps every value as stored. Alpha is dropped, a grey
 /// image gives grey texels.
 pub(super) fn read_image(path: &Path, raw: bool) -> Result<Texture, String> {
-    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let bytes = super::files::read(path)?;
     let image = image::load_from_memory(&bytes).map_err(|e| e.to_string())?;
     let linear = raw || matches!(image, image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_));
     let image = image.into_rgb32f();
@@ -538,6 +611,41 @@ mod tests {
         assert!(mitsuba.iter().all(|t| t.n == Some([Vec3::Z; 3])));
         let (flat, _) = triangles(&mesh, &transform, Normals::Flat, 0).unwrap();
         assert!(flat.iter().all(|t| t.n.is_none()));
+    }
+
+    /// The budget: memory over bytes a primitive, the 31-bit cap, and the message.
+    #[test]
+    fn primitive_budget() {
+        let budget = PrimitiveBudget::with_memory(Some(1000 * LOAD_BYTES_PER_PRIMITIVE));
+        assert_eq!(budget.max(), 1000);
+        assert!(budget.check(990, 10, "").is_ok());
+        let e = budget.check(990, 11, " (here)").unwrap_err();
+        assert!(
+            e.starts_with(
+                "the scene expands to 1001 triangles and spheres (here): more than the 1000 this machine's memory holds"
+            ),
+            "{e}"
+        );
+        assert!(budget.check(u64::MAX, u64::MAX, "").is_err());
+        let unknown = PrimitiveBudget::with_memory(None);
+        assert_eq!(unknown.max(), MAX_PRIMITIVES);
+        assert!(unknown.check(MAX_PRIMITIVES, 1, "").unwrap_err().contains("31-bit"));
+    }
+
+    /// A transform that overflows an edge or an area is out of range, not zero area: the NaN
+    /// of inf - inf in a cross product too.
+    #[test]
+    fn overflowing_areas_are_out_of_range() {
+        let mesh = IndexedMesh {
+            positions: vec![Vec3::ZERO, Vec3::new(1.0, 0.2, 0.0), Vec3::new(0.3, 1.0, 0.0)],
+            normals: None,
+            uvs: None,
+            indices: vec![[0, 1, 2]],
+        };
+        let huge = Transform::new(Vec3::splat(1e30), Vec3::ZERO, Vec3::ZERO);
+        assert_eq!(triangles(&mesh, &huge, Normals::Flat, 0).unwrap_err(), OUT_OF_RANGE);
+        let tiny = Transform::new(Vec3::splat(1e-30), Vec3::ZERO, Vec3::ZERO);
+        assert_eq!(triangles(&mesh, &tiny, Normals::Flat, 0).unwrap().1, 1);
     }
 
     /// A general affine transform: the same as `new` for a scale-rotate-translate, normals

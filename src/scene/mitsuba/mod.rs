@@ -39,6 +39,7 @@ mod spectra;
 mod texture;
 mod xml;
 
+use super::mesh::PrimitiveBudget;
 use super::{Light, Material, Medium, Scene, SceneError, Shape, Sphere, Texture, Triangle};
 use std::collections::HashMap;
 use std::path::Path;
@@ -76,6 +77,17 @@ pub fn load_with_warnings(path: &Path, defines: &[(String, String)]) -> (Result<
 struct SceneReader<'a> {
     /// Elements with an `id`, for `<ref>`.
     ids: HashMap<&'a str, &'a Node>,
+    /// How many instances refer to each shapegroup (by address).
+    instances: HashMap<*const Node, u64>,
+    /// The primitives one copy of a shapegroup adds, once its first instance is read.
+    copy_size: HashMap<*const Node, u64>,
+    /// Primitives that instances not yet read will add, counted when their group's first
+    /// instance was: the budget is checked on them before any is copied.
+    reserved: u64,
+    /// How many primitives the scene may have on this machine.
+    budget: PrimitiveBudget,
+    /// The instance being read and its group, for messages.
+    instance: Option<(&'a Node, &'a Node)>,
     /// Materials so far, and the material of each BSDF element read (by address), so that a
     /// BSDF shared by reference is one material.
     materials: Vec<Material>,
@@ -115,8 +127,16 @@ impl<'a> SceneReader<'a> {
             node.children.iter().try_for_each(|c| walk(c, ids))
         }
         walk(root, &mut ids)?;
+        let mut check = References { ids: &ids, state: HashMap::new(), instances: HashMap::new() };
+        check.visit(root, 1)?;
+        let instances = check.instances;
         Ok(SceneReader {
             ids,
+            instances,
+            copy_size: HashMap::new(),
+            reserved: 0,
+            budget: PrimitiveBudget::new(),
+            instance: None,
             materials: Vec::new(),
             material_of: HashMap::new(),
             textures: Vec::new(),
@@ -131,6 +151,25 @@ impl<'a> SceneReader<'a> {
             integrator: None,
             root: dirs,
         })
+    }
+
+    /// The triangles and spheres so far, and those promised to instances not yet read.
+    fn primitives(&self) -> u64 {
+        (self.triangles.len() + self.spheres.len()) as u64 + self.reserved
+    }
+
+    /// Refuses adding `count` primitives where the scene would outgrow the machine's memory
+    /// ([`PrimitiveBudget`]), with the error at `node` about `key`.
+    fn reserve(&self, count: usize, node: &Node, key: Option<&str>) -> Result<()> {
+        let within = match self.instance {
+            Some((instance, group)) => format!(
+                " (within the instance of shapegroup \"{}\" on line {})",
+                group.attr("id").unwrap_or_default(),
+                instance.line
+            ),
+            None => String::new(),
+        };
+        self.budget.check(self.primitives(), count as u64, &within).map_err(|e| node.error(key, e))
     }
 
     /// The element a `<ref id=".."/>` names, which must have tag `tag` (or any object tag
@@ -234,6 +273,7 @@ impl<'a> SceneReader<'a> {
             spheres: self.spheres,
             lights: self.lights,
             media: self.media,
+            inputs: Vec::new(),
         };
         // Our camera's look-at point sets the automatic SPPM radius (pixel footprints at its
         // distance); Mitsuba's `lookat` target is often one unit ahead. Look at the scene's
@@ -253,5 +293,125 @@ impl<'a> SceneReader<'a> {
             ));
         }
         Ok(scene)
+    }
+}
+
+/// The reference graph, checked before anything is read: the readers follow each `<ref>`
+/// into the element it names, so a cycle would recurse without end and a long chain
+/// overflow the stack. Refuses a `<ref>` to an element around it (a cycle), nesting deeper
+/// than [`xml::MAX_DEPTH`] counting the elements references bring in, and what Mitsuba's
+/// shapegroup refuses (`shapegroup.cpp` of Mitsuba 0.6 and 3 alike): an instance or a
+/// shapegroup inside one ("Nested instancing is not permitted") and a shape that emits
+/// ("Instancing of emitters is not supported"). Counts the instances of each group. Each
+/// element with an id is walked once (its height kept), so the walk is linear.
+struct References<'a, 'm> {
+    ids: &'m HashMap<&'a str, &'a Node>,
+    /// Elements with an id: `None` while being walked, then the height of their subtree.
+    state: HashMap<*const Node, Option<usize>>,
+    instances: HashMap<*const Node, u64>,
+}
+
+impl<'a> References<'a, '_> {
+    /// Walks `node`, at `depth`, and gives the height of its subtree with references
+    /// followed (1 for an element without children).
+    fn visit(&mut self, node: &'a Node, depth: usize) -> Result<usize> {
+        let too_deep = |at: &Node| {
+            at.error(
+                None,
+                format!(
+                    "{} nests more than {} elements deep, counting the elements <ref>s bring in: a Mitsuba scene nests \
+                     about 10 deep",
+                    at.describe(),
+                    xml::MAX_DEPTH
+                ),
+            )
+        };
+        if depth > xml::MAX_DEPTH {
+            return Err(too_deep(node));
+        }
+        let key = node as *const Node;
+        let has_id = node.tag != "ref" && node.attr("id").is_some();
+        if has_id {
+            // Open elements are caught at the <ref> that names them.
+            if let Some(&Some(height)) = self.state.get(&key) {
+                return if depth + height - 1 > xml::MAX_DEPTH { Err(too_deep(node)) } else { Ok(height) };
+            }
+            self.state.insert(key, None);
+        }
+        if node.tag == "shape" && node.attr("type") == Some("shapegroup") {
+            self.check_group(node)?;
+        }
+        let instance = node.tag == "shape" && node.attr("type") == Some("instance");
+        let mut height = 1;
+        for child in &node.children {
+            let below = if child.tag == "ref" {
+                let Some(target) = child.attr("id").and_then(|id| self.ids.get(id).copied()) else {
+                    continue; // named nowhere: SceneReader::deref says so where it is read
+                };
+                if instance {
+                    *self.instances.entry(target as *const Node).or_default() += 1;
+                }
+                match self.state.get(&(target as *const Node)) {
+                    Some(None) => {
+                        return Err(child.error(
+                            Some("id"),
+                            format!(
+                                "<ref id=\"{}\"> refers to {} on line {}, which contains it: a reference cycle",
+                                child.attr("id").unwrap_or_default(),
+                                target.describe(),
+                                target.line
+                            ),
+                        ))
+                    }
+                    // The element named is read in the <ref>'s place.
+                    _ => self.visit(target, depth + 1)?,
+                }
+            } else {
+                if instance && child.tag == "shape" && child.attr("type") == Some("shapegroup") {
+                    *self.instances.entry(child as *const Node).or_default() += 1;
+                }
+                self.visit(child, depth + 1)?
+            };
+            height = height.max(below + 1);
+        }
+        if has_id {
+            self.state.insert(key, Some(height));
+        }
+        Ok(height)
+    }
+
+    /// Mitsuba's rules for what a shapegroup holds.
+    fn check_group(&self, group: &Node) -> Result<()> {
+        let id = group.attr("id").unwrap_or_default();
+        for child in group.children.iter().filter(|c| c.tag == "shape") {
+            if let Some(kind @ ("instance" | "shapegroup")) = child.attr("type") {
+                return Err(child.error(
+                    Some("type"),
+                    format!(
+                        "a{} {kind} inside shapegroup \"{id}\" (line {}): nested instancing is not permitted, as \
+                         Mitsuba refuses it",
+                        if kind == "instance" { "n" } else { "" },
+                        group.line
+                    ),
+                ));
+            }
+            for object in &child.children {
+                let target = match object.tag.as_str() {
+                    "ref" => object.attr("id").and_then(|id| self.ids.get(id).copied()),
+                    _ => Some(object),
+                };
+                if target.is_some_and(|t| t.tag == "emitter") {
+                    return Err(object.error(
+                        None,
+                        format!(
+                            "an emitter on a shape inside shapegroup \"{id}\" (line {}): instancing of emitters is \
+                             not supported, as Mitsuba refuses it",
+                            group.line
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 }

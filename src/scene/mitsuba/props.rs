@@ -493,9 +493,12 @@ pub fn transform(node: &Node) -> Result<Mat4> {
                 let v = numbers(op, op.req_attr("value")?, "value")?;
                 match v.len() {
                     // Row-major, as written.
-                    16 => Mat4::from_cols_array(&[
-                        v[0], v[4], v[8], v[12], v[1], v[5], v[9], v[13], v[2], v[6], v[10], v[14], v[3], v[7], v[11], v[15],
-                    ]),
+                    16 => {
+                        projective_row(op, [v[12], v[13], v[14], v[15]])?;
+                        Mat4::from_cols_array(&[
+                            v[0], v[4], v[8], v[12], v[1], v[5], v[9], v[13], v[2], v[6], v[10], v[14], v[3], v[7], v[11], v[15],
+                        ])
+                    }
                     9 => Mat4::from_mat3(Mat3::from_cols_array(&[v[0], v[3], v[6], v[1], v[4], v[7], v[2], v[5], v[8]])),
                     n => return Err(op.error(Some("value"), format!("a matrix has 16 (or 9) numbers, not {n}"))),
                 }
@@ -528,7 +531,38 @@ pub fn transform(node: &Node) -> Result<Mat4> {
     if !m.is_finite() {
         return Err(node.error(node.attr("name"), "the transform overflows 32-bit floats"));
     }
+    // Applied as affine, as Mitsuba 3's transform_affine: the top three rows.
+    m = Mat4::from_cols(m.x_axis.with_w(0.0), m.y_axis.with_w(0.0), m.z_axis.with_w(0.0), m.w_axis.with_w(1.0));
     Ok(m)
+}
+
+/// A `<matrix>` whose bottom row is not `0 0 0 1`, a projective transform. Mitsuba 3 applies
+/// a shape's, sensor's or emitter's `to_world` as an affine transform (`transform_affine`,
+/// the top three rows: the mesh plugins transform their vertices so), so the row is ignored
+/// with a warning. Mitsuba 0.5/0.6 divide each transformed point by its w (`Transform`'s
+/// point operator), which sppm-gpu does not model: refused in a 0.x scene.
+fn projective_row(op: &Node, bottom: [f32; 4]) -> Result<()> {
+    if bottom == [0.0, 0.0, 0.0, 1.0] {
+        return Ok(());
+    }
+    let row = bottom.map(|x| x.to_string()).join(" ");
+    if op.legacy() {
+        return Err(op.error(
+            Some("value"),
+            format!(
+                "the bottom row {row} makes the matrix projective: Mitsuba 0.5/0.6 divide each transformed point by its w, \
+                 which sppm-gpu does not model (give 0 0 0 1)"
+            ),
+        ));
+    }
+    op.warn(
+        Some("value"),
+        format!(
+            "the bottom row {row} is ignored: Mitsuba 3 applies the transform as affine (its top three rows), and so does \
+             sppm-gpu"
+        ),
+    );
+    Ok(())
 }
 
 /// The `up` of a `lookat` that gives none, as Mitsuba 3 picks it: the first tangent of

@@ -11,6 +11,9 @@
 //!   0.01% short of the disk's).
 //! - `sphere`: `center` (0), `radius` (1), analytic; `to_world` must scale it uniformly.
 //! - `shapegroup` and `instance`: a group's shapes, copied under each instance's `to_world`.
+//!   A group holds no instance, shapegroup or emitter, as Mitsuba refuses them (mod.rs,
+//!   `References`); once an instance has made the first copy, the copies of every instance of
+//!   the group are counted against the scene's primitive budget before another is made.
 //!
 //! `max_smooth_angle` (Mitsuba 0.6's meshes) is refused. In a 0.x scene, Mitsuba 0.6's mesh
 //! parameters that Mitsuba 3 lacks are read as [`legacy_mesh`] says.
@@ -54,10 +57,7 @@ impl<'a> SceneReader<'a> {
         node.allow_attrs(&["type", "id", "name"])?;
         let kind = node.req_attr("type")?;
         if kind == "shapegroup" {
-            // Read through its instances.
-            if parent != Mat4::IDENTITY {
-                return Err(node.error(None, "a shapegroup inside another shapegroup"));
-            }
+            // Read through its instances (what it may hold was checked with the references).
             node.req_attr("id")?;
             return Ok(());
         }
@@ -65,19 +65,42 @@ impl<'a> SceneReader<'a> {
         let to_world = parent * p.transform("to_world")?.unwrap_or(Mat4::IDENTITY);
         if kind == "instance" {
             let refs = p.all_objects();
-            let [group] = refs.as_slice() else {
+            let [named] = refs.as_slice() else {
                 return Err(node.error(None, "an instance refers to one shapegroup: <ref id=\"...\"/>"));
             };
-            let group = self.deref(group, "shape")?;
+            let group = self.deref(named, "shape")?;
             if group.attr("type") != Some("shapegroup") {
                 return Err(node.error(None, format!("an instance of {}: it must refer to a shapegroup", group.describe())));
             }
             p.finish()?;
+            // Once one copy is read its size is known: this copy was counted then.
+            let key = group as *const Node;
+            if let Some(&size) = self.copy_size.get(&key) {
+                self.reserved = self.reserved.saturating_sub(size);
+            }
+            let before = self.primitives();
+            let outer = self.instance.replace((node, group));
             for child in &group.children {
                 if child.tag != "shape" {
                     return Err(child.error(None, format!("{} in a shapegroup: it holds shapes only", child.describe())));
                 }
                 self.shape(child, to_world)?;
+            }
+            self.instance = outer;
+            if !self.copy_size.contains_key(&key) {
+                // The first copy: the others, before any is made.
+                let size = self.primitives() - before;
+                let copies = self.instances.get(&key).copied().unwrap_or(1).max(1);
+                let others = size.saturating_mul(copies - 1);
+                let what = format!(
+                    " ({copies} instances of shapegroup \"{}\" of line {}, {size} primitives each)",
+                    group.attr("id").unwrap_or_default(),
+                    group.line
+                );
+                let id = (named.tag == "ref").then_some("id");
+                self.budget.check(self.primitives(), others, &what).map_err(|e| named.error(id, e))?;
+                self.copy_size.insert(key, size);
+                self.reserved += others;
             }
             return Ok(());
         }
@@ -205,6 +228,7 @@ impl<'a> SceneReader<'a> {
                 if flip {
                     return Err(node.error(Some("flip_normals"), "a sphere facing inwards is not modelled by sppm-gpu"));
                 }
+                self.reserve(1, node, None)?;
                 self.spheres.push(Sphere { center: to_world.transform_point3(center), radius: radius * scale, shape: index });
                 sphere_frame = Some(linear / scale);
                 ShapeKind::Sphere
@@ -259,6 +283,8 @@ impl<'a> SceneReader<'a> {
         shape: u32,
         path: &Path,
     ) -> Result<()> {
+        // Counted before the triangles are made.
+        self.reserve(indexed.indices.len(), node, Some("filename"))?;
         if transform.flips_winding() {
             // mesh::triangles turns mirrored faces around; turn them first so they stay.
             indexed.indices.iter_mut().for_each(|t| t.swap(1, 2));
@@ -278,6 +304,7 @@ impl<'a> SceneReader<'a> {
     /// Appends a flat analytic shape given as triangles in object space: its normal follows
     /// the transformed normal, so mirrored faces are turned around (mesh::triangles does).
     fn add_flat(&mut self, node: &Node, indexed: &IndexedMesh, transform: &Transform, shape: u32) -> Result<()> {
+        self.reserve(indexed.indices.len(), node, None)?;
         let (triangles, skipped) =
             mesh::triangles(indexed, transform, Normals::Flat, shape).map_err(|e| node.error(Some("to_world"), e))?;
         if skipped > 0 {
@@ -354,8 +381,8 @@ fn legacy_mesh(p: &Props, kind: &str, path: &Path, has_bsdf: bool) -> Result<()>
             }
             p.legacy_ignored(&["collapse"], "it merges the OBJ's groups into one shape, which changes the speed, not the image");
             if p.boolean_or("load_materials", true)? && p.has("load_materials") && !has_bsdf {
-                let names_materials =
-                    std::fs::read_to_string(path).is_ok_and(|text| text.lines().any(|l| l.trim_start().starts_with("usemtl")));
+                let names_materials = crate::scene::files::read_text(path)
+                    .is_ok_and(|text| text.lines().any(|l| l.trim_start().starts_with("usemtl")));
                 if names_materials {
                     let at = p.get("load_materials").unwrap();
                     return Err(at.error(
@@ -406,13 +433,21 @@ fn area_emitter(node: &Node) -> Result<Vec3> {
 /// The factor of a similarity transform's linear part (rotation times a uniform scale,
 /// possibly mirrored), or `None` when it shears or scales unevenly.
 fn uniform_scale(linear: Mat3) -> Option<f32> {
-    let lengths = [linear.x_axis.length(), linear.y_axis.length(), linear.z_axis.length()];
+    // Measured on the matrix divided by its largest entry, so that squares neither overflow
+    // nor underflow: a huge scale is then too large for the sphere's extent (check_extent),
+    // not uneven.
+    let largest = linear.to_cols_array().iter().fold(0f32, |m, x| m.max(x.abs()));
+    if !(largest > 0.0 && largest.is_finite()) {
+        return None;
+    }
+    let unit = linear * (1.0 / largest);
+    let lengths = [unit.x_axis.length(), unit.y_axis.length(), unit.z_axis.length()];
     let s = lengths[0];
     let close = |a: f32, b: f32| (a - b).abs() <= 1e-4 * s;
-    let orthogonal = close(linear.x_axis.dot(linear.y_axis) / s, 0.0)
-        && close(linear.y_axis.dot(linear.z_axis) / s, 0.0)
-        && close(linear.x_axis.dot(linear.z_axis) / s, 0.0);
-    (s > 0.0 && close(lengths[1], s) && close(lengths[2], s) && orthogonal).then_some(s)
+    let orthogonal = close(unit.x_axis.dot(unit.y_axis) / s, 0.0)
+        && close(unit.y_axis.dot(unit.z_axis) / s, 0.0)
+        && close(unit.x_axis.dot(unit.z_axis) / s, 0.0);
+    (s > 0.0 && close(lengths[1], s) && close(lengths[2], s) && orthogonal).then_some(s * largest)
 }
 
 /// `flip_normals`: the other side becomes the front.

@@ -14,6 +14,14 @@
 //! - The outermost file's version says which Mitsuba the scene is read as ([`Node::legacy`]):
 //!   a parameter that no plugin reads is a warning in a 0.x scene, as Mitsuba 0.5/0.6 warn and
 //!   render, and an error in a 2.x/3.x scene, as Mitsuba 3 refuses it (props.rs).
+//!
+//! A hostile file must not take the process down, so reading has limits, each an error at the
+//! element that passes it: elements nest at most [`MAX_DEPTH`] deep (through includes too;
+//! roxmltree parses without recursing, but this reader and those after it recurse once a
+//! level), a scene has at most [`MAX_ELEMENTS`] elements and reads at most [`MAX_INCLUDES`]
+//! includes (an included file counted each time, so that files including the next twice
+//! cannot multiply without end), and the XML read plus what `$name`s expand to is at most
+//! [`files::max_bytes`](crate::scene::files::max_bytes).
 
 use super::super::SceneError;
 use std::cell::{Cell, RefCell};
@@ -22,6 +30,20 @@ use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
 type Result<T> = std::result::Result<T, SceneError>;
+
+/// How deep elements may nest, `<scene>` at depth 1, an included file's elements at the
+/// depth of the `<include>` they replace. A real scene nests about 10 deep (scene, shape,
+/// BSDF, texture, transform, operation); the readers recurse once a level.
+pub const MAX_DEPTH: usize = 256;
+
+/// The elements a scene may have, an included file's counted each time it is included:
+/// about 300 bytes each once read, so at most some 1.2 GiB.
+pub const MAX_ELEMENTS: usize = 1 << 22;
+
+/// The `<include>`s a scene may read, a file counted each time it is included: plenty for a
+/// scene assembled from fragments, while a chain of files each including the next twice
+/// would read 2^depth.
+pub const MAX_INCLUDES: usize = 1 << 14;
 
 /// An XML element after includes, defaults and substitution.
 #[derive(Clone, Debug)]
@@ -113,14 +135,23 @@ impl Node {
 pub fn read_scene(path: &Path, defines: &[(String, String)]) -> Result<(Node, Vec<PathBuf>)> {
     let root = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let reading = Rc::new(Reading { version: Cell::new(3), warnings: RefCell::new(Vec::new()) });
-    let mut reader = Reader { params: HashMap::new(), stack: Vec::new(), reading, dirs: vec![root] };
+    let mut reader = Reader {
+        params: HashMap::new(),
+        stack: Vec::new(),
+        reading,
+        dirs: vec![root],
+        elements: 0,
+        includes: 0,
+        bytes: 0,
+        max_bytes: crate::scene::files::max_bytes(),
+    };
     for (name, value) in defines {
         if !is_param_name(name) {
             return Err(SceneError::new(path, None, Some(name), format!("-D {name}={value}: not a parameter name")));
         }
         reader.params.insert(name.clone(), value.clone());
     }
-    let root = reader.file(path, None)?;
+    let root = reader.file(path, None, 1)?;
     Ok((root, reader.dirs))
 }
 
@@ -134,6 +165,28 @@ struct Reader {
     reading: Rc<Reading>,
     /// The directories `<path>` added, newest first, then the outermost file's.
     dirs: Vec<PathBuf>,
+    /// Elements and includes read so far (each inclusion counted).
+    elements: usize,
+    includes: usize,
+    /// Bytes of XML read (each inclusion counted) and added by `$name` expansion, and their
+    /// cap.
+    bytes: u64,
+    max_bytes: u64,
+}
+
+/// Where each line of a file starts, for the line of an element in O(log n) (roxmltree's
+/// `text_pos_at` scans from the start each time: quadratic over a large file).
+struct Lines(Vec<usize>);
+
+impl Lines {
+    fn new(text: &str) -> Self {
+        Lines(text.bytes().enumerate().filter(|&(_, b)| b == b'\n').map(|(i, _)| i).collect())
+    }
+
+    /// The 1-based line of byte `pos`.
+    fn at(&self, pos: usize) -> usize {
+        self.0.partition_point(|&newline| newline < pos) + 1
+    }
 }
 
 /// A file named in `file`: relative to `file`'s directory where it is there, else to the
@@ -150,13 +203,21 @@ pub fn resolve(name: &str, file: &Path, dirs: &[PathBuf]) -> PathBuf {
 }
 
 impl Reader {
-    /// Reads `path`'s `<scene>` element. `from` is the `<include>` that names it.
-    fn file(&mut self, path: &Path, from: Option<&Node>) -> Result<Node> {
+    /// Reads `path`'s `<scene>` element, at `depth` ([`MAX_DEPTH`]). `from` is the
+    /// `<include>` that names it.
+    fn file(&mut self, path: &Path, from: Option<&Node>, depth: usize) -> Result<Node> {
         let at = |message: String| match from {
             Some(node) => node.error(Some("filename"), message),
             None => SceneError::new(path, None, None, message),
         };
-        let bytes = std::fs::read(path).map_err(|e| at(format!("cannot read {}: {e}", path.display())))?;
+        let bytes = crate::scene::files::read(path).map_err(|e| at(format!("cannot read {}: {e}", path.display())))?;
+        self.bytes += bytes.len() as u64;
+        if self.bytes > self.max_bytes {
+            return Err(at(format!(
+                "the scene's XML comes to more than {} bytes here (an included file counted each time it is included)",
+                self.max_bytes
+            )));
+        }
         let text = String::from_utf8(bytes).map_err(|e| {
             let line = e.as_bytes()[..e.utf8_error().valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
             SceneError::new(path, Some(line), None, "the file is not UTF-8 text")
@@ -175,7 +236,8 @@ impl Reader {
         })?;
         let file = Rc::new(path.to_path_buf());
         let root = document.root_element();
-        let line = |n: roxmltree::Node| document.text_pos_at(n.range().start).row as usize;
+        let lines = Lines::new(&text);
+        let line = |n: roxmltree::Node| lines.at(n.range().start);
         if root.tag_name().name() != "scene" {
             return Err(SceneError::new(path, Some(line(root)), None, "the root element is not <scene>"));
         }
@@ -195,20 +257,15 @@ impl Reader {
             self.reading.version.set(major);
         }
         self.stack.push(canonical);
-        let result = self.element(root, &document, &file, major);
+        let result = self.element(root, &lines, &file, major, depth);
         self.stack.pop();
         result
     }
 
-    /// Converts `element` and its subtree, resolving defaults, substitution and includes.
-    fn element(
-        &mut self,
-        element: roxmltree::Node,
-        document: &roxmltree::Document,
-        file: &Rc<PathBuf>,
-        major: u32,
-    ) -> Result<Node> {
-        let line = document.text_pos_at(element.range().start).row as usize;
+    /// Converts `element`, at `depth`, and its subtree, resolving defaults, substitution and
+    /// includes.
+    fn element(&mut self, element: roxmltree::Node, lines: &Lines, file: &Rc<PathBuf>, major: u32, depth: usize) -> Result<Node> {
+        let line = lines.at(element.range().start);
         let mut node = Node {
             tag: element.tag_name().name().to_owned(),
             attrs: Vec::new(),
@@ -217,11 +274,24 @@ impl Reader {
             line,
             reading: self.reading.clone(),
         };
+        self.elements += 1;
+        if self.elements > MAX_ELEMENTS {
+            return Err(node.error(
+                None,
+                format!(
+                    "the scene has more than {MAX_ELEMENTS} elements (an included file's counted each time it is \
+                     included): more than sppm-gpu reads"
+                ),
+            ));
+        }
         if element.tag_name().namespace().is_some() {
             return Err(node.error(None, "XML namespaces are not part of Mitsuba's format"));
         }
         for a in element.attributes() {
             let value = self.substitute(a.value(), &node, a.name())?;
+            // What `$name`s added counts with the XML read: defaults that repeat one another
+            // would otherwise grow without end.
+            self.bytes += value.len().saturating_sub(a.value().len()) as u64;
             // Mitsuba 3 upgrades 0.x files' parameter names from camelCase to snake_case.
             let upgrade = major == 0 && a.name() == "name" && node.tag != "default";
             let value = if upgrade { snake_case(&value) } else { value };
@@ -229,7 +299,7 @@ impl Reader {
         }
         for child in element.children() {
             if child.is_text() && !child.text().unwrap_or("").trim().is_empty() {
-                let line = document.text_pos_at(child.range().start).row as usize;
+                let line = lines.at(child.range().start);
                 return Err(SceneError::new(
                     file,
                     Some(line),
@@ -240,7 +310,20 @@ impl Reader {
             if !child.is_element() {
                 continue;
             }
-            let child = self.element(child, document, file, major)?;
+            // Checked before recursing: the stack holds a frame a level.
+            if depth >= MAX_DEPTH {
+                return Err(SceneError::new(
+                    file,
+                    Some(lines.at(child.range().start)),
+                    None,
+                    format!(
+                        "<{}> nests more than {MAX_DEPTH} elements deep (counting through includes): a Mitsuba scene \
+                         nests about 10 deep",
+                        child.tag_name().name()
+                    ),
+                ));
+            }
+            let child = self.element(child, lines, file, major, depth + 1)?;
             match child.tag.as_str() {
                 "default" => {
                     child.allow_attrs(&["name", "value"])?;
@@ -254,7 +337,19 @@ impl Reader {
                 "include" => {
                     child.allow_attrs(&["filename"])?;
                     let name = child.req_attr("filename")?;
-                    let included = self.file(&resolve(name, file, &self.dirs), Some(&child))?;
+                    self.includes += 1;
+                    if self.includes > MAX_INCLUDES {
+                        return Err(child.error(
+                            Some("filename"),
+                            format!(
+                                "the scene reads more than {MAX_INCLUDES} includes (a file counted each time it is \
+                                 included): includes that multiply are refused"
+                            ),
+                        ));
+                    }
+                    // The included `<scene>` stands at this element's depth: its children
+                    // take the `<include>`'s place.
+                    let included = self.file(&resolve(name, file, &self.dirs), Some(&child), depth)?;
                     node.children.extend(included.children);
                 }
                 "path" => {
@@ -289,6 +384,18 @@ impl Reader {
                 return Err(node.error(Some(attr), format!("a `$` not followed by a parameter name in \"{text}\"")));
             }
             match self.params.get(name) {
+                // Bounded as it grows: the budget of `bytes` is checked before the value is kept.
+                Some(value)
+                    if (out.len() + value.len()) as u64 > text.len() as u64 + self.max_bytes.saturating_sub(self.bytes) =>
+                {
+                    return Err(node.error(
+                        Some(attr),
+                        format!(
+                            "${name} expands the scene's XML to more than {} bytes (defaults that repeat one another)",
+                            self.max_bytes
+                        ),
+                    ))
+                }
                 Some(value) => out.push_str(value),
                 None => {
                     return Err(node.error(
@@ -327,7 +434,15 @@ pub fn snake_case(name: &str) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::snake_case;
+    use super::{snake_case, Lines};
+
+    #[test]
+    fn lines_are_found_by_byte() {
+        let lines = Lines::new("a\nbc\n\nd");
+        let found: Vec<usize> = (0..8).map(|pos| lines.at(pos)).collect();
+        // Each newline belongs to the line it ends.
+        assert_eq!(found, [1, 1, 2, 2, 2, 3, 4, 4]);
+    }
 
     #[test]
     fn camel_case_names_become_snake_case() {
