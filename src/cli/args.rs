@@ -8,7 +8,8 @@ use std::path::Path;
 /// Settings that override the scene's `[render]` table.
 #[derive(clap::Args, Debug, Default)]
 pub(crate) struct Overrides {
-    /// SPPM passes (overrides render.iterations).
+    /// Passes: SPPM's, or the path tracers' samples a pixel (overrides render.iterations).
+    /// With --time-limit and without this, as many passes as fit.
     #[arg(long)]
     pub(crate) iterations: Option<u32>,
     /// Photons per pass (overrides render.photons).
@@ -23,7 +24,8 @@ pub(crate) struct Overrides {
     /// Random seed (overrides render.seed).
     #[arg(long)]
     pub(crate) seed: Option<u32>,
-    /// Stop at the pass boundary nearest this many seconds of completed passes (overrides render.time_limit).
+    /// Stop at the pass boundary nearest this many seconds of completed passes, counted
+    /// after the kernels are compiled (overrides render.time_limit).
     #[arg(long)]
     pub(crate) time_limit: Option<f64>,
     /// Image width in pixels (overrides render.width).
@@ -36,7 +38,9 @@ pub(crate) struct Overrides {
     /// MIS) (overrides render.method).
     #[arg(long, value_parser = named::<Method>())]
     pub(crate) method: Option<Method>,
-    /// Camera samples per pixel in each pass (overrides render.spp).
+    /// Samples a pixel: for the path tracers, in all (their passes, one sample a pixel each;
+    /// overrides render.iterations); for SPPM, camera samples a pixel in each pass (overrides
+    /// render.spp).
     #[arg(long)]
     pub(crate) spp: Option<u32>,
     /// Most scattering events on a path (overrides render.max_depth).
@@ -70,10 +74,32 @@ pub(crate) struct Overrides {
     pub(crate) defines: Vec<(String, String)>,
 }
 
-/// A [`Named`] setting's value parser: its names listed in `--help` and checked by clap.
+impl Overrides {
+    /// Refuses the options among `unused` that were given, for a command that does not read
+    /// them (`why` says what it reads instead): an option is never accepted and ignored.
+    pub(crate) fn refuse(&self, command: &str, unused: &[&str], why: &str) -> Result<(), Error> {
+        let given = [
+            ("method", self.method.is_some()),
+            ("time-limit", self.time_limit.is_some()),
+            ("iterations", self.iterations.is_some()),
+            ("spp", self.spp.is_some()),
+        ];
+        match given.iter().find(|(flag, given)| *given && unused.contains(flag)) {
+            Some((flag, _)) => Err(Error::Setting(format!("{command} does not take --{flag}: {why}"))),
+            None => Ok(()),
+        }
+    }
+}
+
+/// A [`Named`] setting's value parser: its names listed in `--help` and checked by clap, its
+/// aliases accepted without being listed.
 pub(crate) fn named<T: Named + Send + Sync>() -> impl clap::builder::TypedValueParser<Value = T> {
-    use clap::builder::TypedValueParser;
-    clap::builder::PossibleValuesParser::new(T::names()).map(|name| T::from_name(&name).expect("a name of the table"))
+    use clap::builder::{PossibleValue, TypedValueParser};
+    let values = T::NAMES.iter().map(|&(name, value)| {
+        let aliases = T::ALIASES.iter().filter(|(_, v)| *v == value).map(|(alias, _)| *alias);
+        PossibleValue::new(name).aliases(aliases)
+    });
+    clap::builder::PossibleValuesParser::new(values).map(|name| T::from_name(&name).expect("a name of the table"))
 }
 
 /// `NAME=VALUE` of `-D`.
@@ -118,8 +144,21 @@ pub(crate) fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSetting
     render.work_given.photons |= cli.photons.is_some();
     positive("width", cli.width, 16384, &mut render.width)?;
     positive("height", cli.height, 16384, &mut render.height)?;
-    positive("spp", cli.spp, 1024, &mut render.spp)?;
-    render.work_given.spp |= cli.spp.is_some();
+    render.method = cli.method.unwrap_or(render.method);
+    if render.method == Method::Sppm {
+        positive("spp", cli.spp, 1024, &mut render.spp)?;
+        render.work_given.spp |= cli.spp.is_some();
+    } else if let Some(spp) = cli.spp {
+        // A path tracer's pass is one sample a pixel: --spp is its passes, as pbrt's
+        // pixelsamples and Mitsuba's sample_count count samples a pixel in all.
+        if cli.iterations.is_some_and(|n| n != spp) {
+            return Err(Error::Setting(format!(
+                "--spp {spp} and --iterations {}: a path tracer's samples a pixel are its passes; give one of them",
+                cli.iterations.unwrap_or_default()
+            )));
+        }
+        positive("spp", Some(spp), u32::MAX, &mut render.iterations)?;
+    }
     positive("max-depth", cli.max_depth, 1024, &mut render.max_depth)?;
     if cli.direct_samples.is_some() {
         let mut n = 1;
@@ -147,52 +186,10 @@ pub(crate) fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSetting
     if let Some(s) = cli.seed {
         render.seed = s;
     }
-    render.method = cli.method.unwrap_or(render.method);
     render.direct = cli.direct.unwrap_or(render.direct);
     render.radius_schedule = cli.radius_schedule.unwrap_or(render.radius_schedule);
     render.radius_rule = cli.radius_rule.unwrap_or(render.radius_rule);
     render.sampler = cli.sampler.unwrap_or(render.sampler);
-    Ok(())
-}
-
-/// Refuse, before anything is loaded or rendered, outputs that would replace their input (the
-/// scene, or a part to merge) or cannot be written as an image: a wrong extension, a
-/// directory that does not exist, a directory or file that cannot be written.
-pub(crate) fn check_output(output: &Path, input: &Path) -> Result<(), Error> {
-    let ext = output.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    if !matches!(ext.as_deref(), Some("png") | Some("exr")) {
-        return Err(Error::Setting(format!("{}: the output must end in .png or .exr", output.display())));
-    }
-    let dir = match output.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    if !dir.is_dir() {
-        return Err(Error::Setting(format!("{}: the output's directory {} does not exist", output.display(), dir.display())));
-    }
-    if output.is_dir() {
-        return Err(Error::Setting(format!("{}: the output is a directory", output.display())));
-    }
-    let cannot = |e: std::io::Error| Error::Setting(format!("{}: the output cannot be written: {e}", output.display()));
-    if output.exists() {
-        // Opened for writing without truncating: the file is left as it is.
-        std::fs::OpenOptions::new().write(true).open(output).map_err(cannot)?;
-    } else {
-        // A file made and removed beside it: the directory takes new files.
-        let name = output.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let probe = dir.join(format!(".{name}.{}.sppm-gpu-probe", std::process::id()));
-        std::fs::File::create_new(&probe).map_err(cannot)?;
-        let _ = std::fs::remove_file(&probe);
-    }
-    if let (Ok(a), Ok(b)) = (output.canonicalize(), input.canonicalize()) {
-        if a == b {
-            return Err(Error::Setting(format!(
-                "{}: the output would overwrite its input {}",
-                output.display(),
-                input.display()
-            )));
-        }
-    }
     Ok(())
 }
 

@@ -10,6 +10,7 @@ use std::time::Instant;
 
 /// Run the scene's passes with a wait after each stage and print where the time goes.
 pub(crate) fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
+    overrides.refuse("bench", &["method", "time-limit"], "it times the stages of SPPM passes, --iterations of them")?;
     let (mut scene, _) = load_scene(scene_path, overrides)?;
     let gpu = GpuContext::new()?;
     scene.render.fit_pass_work(gpu.pass_work());

@@ -26,17 +26,29 @@ pub fn convert(scene: &Scene, output: &Path) -> Result<(), Error> {
     }
     let (doc, ply_files, images) = document(scene, &meshes).map_err(fail)?;
     let text = toml::to_string(&doc).map_err(|e| fail(e.to_string()))?;
-    if !ply_files.is_empty() || !images.is_empty() {
-        std::fs::create_dir(&meshes).map_err(|e| fail(format!("{}: {e}", meshes.display())))?;
+    let made_meshes = !ply_files.is_empty() || !images.is_empty();
+    let written = (|| {
+        if made_meshes {
+            std::fs::create_dir(&meshes).map_err(|e| fail(format!("{}: {e}", meshes.display())))?;
+        }
+        for (path, bytes) in &ply_files {
+            write_new(path, bytes)?;
+        }
+        // In the folder just made: nothing there to overwrite.
+        for (path, image) in &images {
+            sppm_gpu::image_io::write_exr(path, image).map_err(|e| fail(e.to_string()))?;
+        }
+        write_new(output, text.as_bytes())
+    })();
+    // A failure (a full disk) leaves nothing behind to block a retry: the folder and the
+    // TOML are ours, made above.
+    if written.is_err() {
+        if made_meshes {
+            let _ = std::fs::remove_dir_all(&meshes);
+        }
+        let _ = std::fs::remove_file(output);
     }
-    for (path, bytes) in &ply_files {
-        write_new(path, bytes)?;
-    }
-    // In the folder just made: nothing there to overwrite.
-    for (path, image) in &images {
-        sppm_gpu::image_io::write_exr(path, image).map_err(|e| fail(e.to_string()))?;
-    }
-    write_new(output, text.as_bytes())
+    written
 }
 
 /// `OUT.meshes/` beside `OUT.toml`.
@@ -45,10 +57,11 @@ fn mesh_dir(output: &Path) -> PathBuf {
     output.with_file_name(format!("{stem}.meshes"))
 }
 
+/// Writes `bytes` to `path`, which must not exist.
 fn write_new(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     use std::io::Write;
     let mut file = std::fs::File::create_new(path).map_err(|e| Error::Setting(format!("{}: {e}", path.display())))?;
-    file.write_all(bytes).map_err(|e| Error::Setting(format!("{}: {e}", path.display())))
+    file.write_all(bytes).and_then(|()| file.sync_all()).map_err(|e| Error::Setting(format!("{}: {e}", path.display())))
 }
 
 /// An f32 as a TOML float that reads back to the same f32.

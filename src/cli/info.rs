@@ -4,7 +4,7 @@
 
 use sppm_gpu::gpu::scene_buffers::SceneData;
 use sppm_gpu::gpu::Features;
-use sppm_gpu::scene::{LightKind, Named, Phase, PixelFilter, Scene, ShapeKind};
+use sppm_gpu::scene::{LightKind, Method, Named, Phase, PixelFilter, Scene, ShapeKind};
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
@@ -22,11 +22,21 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
     let _ = writeln!(out, "image:      {} x {}, {filter} filter", r.width, r.height);
     let method = r.method.name();
     let radius = r.radius.map_or_else(|| "automatic".to_string(), |x| x.to_string());
-    let _ = writeln!(
-        out,
-        "render:     {method}, {} iterations, {} photons a pass, radius {radius}, alpha {}, max depth {}, seed {}",
-        r.iterations, r.photons, r.alpha, r.max_depth, r.seed
-    );
+    let limit = r.time_limit.map_or_else(String::new, |t| format!(", at most {t} s"));
+    // Only the settings the method reads.
+    let _ = match r.method {
+        Method::Sppm => writeln!(
+            out,
+            "render:     {method}, {} passes{limit}, {} photons and {} camera samples a pixel a pass, radius {radius}, \
+             alpha {}, max depth {}, seed {}",
+            r.iterations, r.photons, r.spp, r.alpha, r.max_depth, r.seed
+        ),
+        Method::Pt | Method::PtNee => writeln!(
+            out,
+            "render:     {method}, {} samples a pixel{limit}, max depth {}, seed {}",
+            r.iterations, r.max_depth, r.seed
+        ),
+    };
     let c = &scene.camera;
     let mut lens = if c.aperture_radius > 0.0 {
         format!(", aperture radius {} focused at {}", c.aperture_radius, c.focus_distance)

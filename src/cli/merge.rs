@@ -1,14 +1,12 @@
 //! `sppm-gpu merge PART... -o OUT`: the image of a render from its batches' partial images.
 
-use super::args::check_output;
+use super::output::{self, Inputs, Kind};
 use sppm_gpu::{image_io, say, Error};
 use std::path::{Path, PathBuf};
 
 /// `sppm-gpu merge PART... -o OUT`.
 pub(crate) fn merge(parts: &[PathBuf], output: &Path) -> Result<(), Error> {
-    for part in parts {
-        check_output(output, part)?;
-    }
+    output::check(output, Kind::Image, &Inputs::of(parts.iter().map(PathBuf::as_path)))?;
     let partials = parts.iter().map(|p| sppm_gpu::batch::read_partial(p)).collect::<Result<Vec<_>, _>>()?;
     let (image, warnings) = sppm_gpu::batch::merge(&partials)?;
     for w in &warnings {

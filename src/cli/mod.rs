@@ -8,6 +8,7 @@ mod diff;
 mod experiments;
 pub mod info;
 mod merge;
+mod output;
 mod render;
 
 use crate::view;
@@ -27,8 +28,10 @@ pub(crate) struct Cli {
     /// and 2/3).
     #[arg(required_unless_present = "list_adapters")]
     scene: Option<PathBuf>,
-    /// Output image: .png (sRGB, clamped) or .exr (linear float RGB).
-    #[arg(short, long, required_unless_present_any = ["partial", "list_adapters"])]
+    /// Output image: .png (sRGB, clamped) or .exr (linear float RGB). Without it (and without
+    /// --partial), SCENE's name with .exr in the current directory, or the first of NAME-1.exr,
+    /// NAME-2.exr, ... that does not exist: nothing is replaced unasked.
+    #[arg(short, long)]
     output: Option<PathBuf>,
     /// Render passes A to B-1 of the render only (`A..B`): a batch of a render split into
     /// batches, each drawing the random numbers the whole render draws for it. SPPM needs
@@ -219,10 +222,11 @@ fn run(cli: &Cli) -> Result<ExitCode, Error> {
             done(diff::diff(image, reference, *downsample, error_image.as_deref()))
         }
         Some(Command::Bench { scene, overrides }) => done(bench::bench(scene, overrides)),
-        Some(Command::Convert { scene, output, overrides }) => {
+        Some(Command::Convert { scene, output: toml, overrides }) => {
+            output::check(toml, output::Kind::New, &output::Inputs::of([scene.as_path()]))?;
             let (loaded, _) = load_scene(scene, overrides)?;
-            convert::convert(&loaded, output)?;
-            say!("wrote {}", output.display());
+            convert::convert(&loaded, toml)?;
+            say!("wrote {}", toml.display());
             Ok(ExitCode::SUCCESS)
         }
         Some(Command::Info { scene, overrides }) => {
@@ -258,9 +262,6 @@ fn run(cli: &Cli) -> Result<ExitCode, Error> {
             let Some(scene_path) = &cli.scene else {
                 return Err(Error::Setting("a scene file is required".into()));
             };
-            if cli.output.is_none() && cli.partial.is_none() {
-                return Err(Error::Setting("-o OUTPUT or --partial OUT.exr is required".into()));
-            }
             render::render(cli, scene_path).map(|code| code.map_or(ExitCode::SUCCESS, ExitCode::from))
         }
     }

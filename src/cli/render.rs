@@ -1,17 +1,18 @@
 //! `sppm-gpu SCENE -o OUT`: the render, paced by the device's completed passes
 //! (`sppm_gpu::pacing`), with its progress bar, signals, checkpoints and lost-device recovery.
 
-use super::args::{check_output, load_scene};
+use super::args::load_scene;
+use super::output::{self, Inputs, Kind};
 use super::Cli;
 use indicatif::{ProgressBar, ProgressStyle};
 use sppm_gpu::gpu::GpuContext;
 use sppm_gpu::integrators;
 use sppm_gpu::pacing::{DeviceQueue, Goal, Pacer, PassQueue};
-use sppm_gpu::scene::Method;
+use sppm_gpu::scene::{self, Method, Named};
 use sppm_gpu::{experiments, image_io, say, Error};
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 /// A render stopped by a device error (a lost device, an exhausted GPU): the image of the
@@ -51,29 +52,80 @@ fn after_a_device_error(
     Error::Setting(format!("{error}; {kept}{resume}"))
 }
 
-/// SIGINT and SIGTERM during a render: the first ends it after the passes in flight (nothing
-/// more is submitted), and the image of the passes done is written; a second exits at once (130 or 143, as a shell
-/// reports a process killed by the signal).
+/// SIGINT and SIGTERM. Before the first pass is submitted (loading the scene, compiling the
+/// kernels) there is nothing to keep: a signal ends the process at once, saying where it was.
+/// Once passes run, the first signal ends the render after the passes in flight (nothing more
+/// is submitted) and the image of the passes done is written; a second exits at once. The
+/// exit code is 130 or 143, as a shell reports a process killed by the signal.
 struct Interrupt {
-    /// Set by the first signal.
+    /// Set by the first signal while rendering.
     pending: Arc<AtomicBool>,
     /// The number of the last signal received.
     signal: Arc<AtomicUsize>,
+    /// What the run is doing before its passes, for the message; `None` once they run.
+    stage: Arc<Mutex<Option<&'static str>>>,
+}
+
+/// The name of `signal` and the exit code that reports it.
+fn signal_name(signal: i32) -> (&'static str, u8) {
+    match signal {
+        signal_hook::consts::SIGTERM => ("SIGTERM", 143),
+        _ => ("SIGINT", 130),
+    }
 }
 
 impl Interrupt {
     fn watch() -> Result<Self, Error> {
         use signal_hook::consts::{SIGINT, SIGTERM};
-        let pending = Arc::new(AtomicBool::new(false));
-        let signal = Arc::new(AtomicUsize::new(0));
         let failed = |e: std::io::Error| Error::Setting(format!("cannot watch for Ctrl-C: {e}"));
-        for (sig, code) in [(SIGINT, 130), (SIGTERM, 143)] {
-            // In this order: a signal that finds `pending` set exits; the first sets it.
-            signal_hook::flag::register_conditional_shutdown(sig, code, Arc::clone(&pending)).map_err(failed)?;
-            signal_hook::flag::register(sig, Arc::clone(&pending)).map_err(failed)?;
-            signal_hook::flag::register_usize(sig, Arc::clone(&signal), sig as usize).map_err(failed)?;
+        let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]).map_err(failed)?;
+        let interrupt = Self {
+            pending: Arc::new(AtomicBool::new(false)),
+            signal: Arc::new(AtomicUsize::new(0)),
+            stage: Arc::new(Mutex::new(Some("starting"))),
+        };
+        let (pending, signal, stage) = (interrupt.pending.clone(), interrupt.signal.clone(), interrupt.stage.clone());
+        std::thread::Builder::new()
+            .name("signals".into())
+            .spawn(move || {
+                for received in signals.forever() {
+                    let (name, code) = signal_name(received);
+                    let before_passes = *stage.lock().unwrap_or_else(|e| e.into_inner());
+                    if let Some(doing) = before_passes {
+                        eprintln!("interrupted by {name} while {doing}: nothing was rendered or written");
+                    }
+                    if before_passes.is_some() || pending.swap(true, Ordering::SeqCst) {
+                        // _exit: no atexit handler runs under the driver's feet.
+                        signal_hook::low_level::exit(code as i32);
+                    }
+                    signal.store(received as usize, Ordering::SeqCst);
+                }
+            })
+            .map_err(failed)?;
+        Ok(interrupt)
+    }
+
+    /// Says what the run is doing before its first pass.
+    fn stage(&self, doing: &'static str) {
+        *self.stage.lock().unwrap_or_else(|e| e.into_inner()) = Some(doing);
+        Self::hold_for_a_test(doing);
+    }
+
+    /// Test hook: with `SPPM_GPU_HOLD` set to `doing` (a stage, or `after N passes`), say so
+    /// on stderr and wait for a signal, so that a test signals the run at a stage it has
+    /// seen rather than after a guessed sleep (tests/suite/outputs.rs).
+    fn hold_for_a_test(doing: &str) {
+        if std::env::var("SPPM_GPU_HOLD").is_ok_and(|hold| hold == doing) {
+            eprintln!("held {doing} (SPPM_GPU_HOLD)");
+            loop {
+                std::thread::park();
+            }
         }
-        Ok(Self { pending, signal })
+    }
+
+    /// From here passes run: the first signal ends the render gracefully.
+    fn rendering(&self) {
+        *self.stage.lock().unwrap_or_else(|e| e.into_inner()) = None;
     }
 
     /// The signal's name and the exit code that reports it, once one has arrived.
@@ -81,10 +133,7 @@ impl Interrupt {
         if !self.pending.load(Ordering::SeqCst) {
             return None;
         }
-        Some(match self.signal.load(Ordering::SeqCst) as i32 {
-            signal_hook::consts::SIGTERM => ("SIGTERM", 143),
-            _ => ("SIGINT", 130),
-        })
+        Some(signal_name(self.signal.load(Ordering::SeqCst) as i32))
     }
 }
 
@@ -92,22 +141,57 @@ impl Interrupt {
 /// render early (its image is written all the same).
 pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> {
     let interrupt = Interrupt::watch()?;
-    let output = cli.output.as_deref();
-    for path in output.into_iter().chain(cli.partial.as_deref()) {
-        check_output(path, scene_path)?;
+    let default_output = (cli.output.is_none() && cli.partial.is_none()).then(|| free_name(scene_path));
+    if let Some(path) = &default_output {
+        eprintln!("note: no -o given: writing {}", path.display());
     }
-    if let Some(partial) = &cli.partial {
-        if !partial.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr")) {
-            return Err(Error::Setting(format!("{}: a partial image is an .exr file", partial.display())));
-        }
-        if cli.checkpoint.is_some() || cli.resume.is_some() {
-            return Err(Error::Setting("--partial renders a batch: it takes no --checkpoint or --resume".into()));
-        }
+    let output = cli.output.as_deref().or(default_output.as_deref());
+    if cli.partial.is_some() && (cli.checkpoint.is_some() || cli.resume.is_some()) {
+        return Err(Error::Setting("--partial renders a batch: it takes no --checkpoint or --resume".into()));
     }
     if cli.passes.is_some() && (cli.checkpoint.is_some() || cli.resume.is_some()) {
         return Err(Error::Setting("--passes renders a batch: it takes no --checkpoint or --resume".into()));
     }
+    if !(cli.checkpoint_every >= 0.0 && cli.checkpoint_every.is_finite()) {
+        return Err(Error::Setting(format!(
+            "--checkpoint-every must be a number of seconds, 0 or more, got {}",
+            cli.checkpoint_every
+        )));
+    }
+    // What the run writes, checked before any work (src/cli/output.rs) and again once the
+    // scene has named its files; a checkpoint resumed is an input unless it is the one written.
+    let writes: Vec<(&Path, Kind)> =
+        [(output, Kind::Image), (cli.partial.as_deref(), Kind::Partial), (cli.checkpoint.as_deref(), Kind::Checkpoint)]
+            .into_iter()
+            .filter_map(|(path, kind)| path.map(|p| (p, kind)))
+            .collect();
+    for (i, (a, _)) in writes.iter().enumerate() {
+        if writes[..i].iter().any(|(b, _)| same_file(a, b)) {
+            return Err(Error::Setting(format!("{}: named as two outputs of one run", a.display())));
+        }
+    }
+    let resumed = cli.resume.as_deref().filter(|r| cli.checkpoint.as_deref().is_none_or(|c| !same_file(r, c)));
+    let mut inputs = Inputs::of(std::iter::once(scene_path).chain(resumed));
+    for &(path, kind) in &writes {
+        output::check(path, kind, &inputs)?;
+    }
+    interrupt.stage("loading the scene");
     let (mut scene, _) = load_scene(scene_path, &cli.overrides)?;
+    if cli.overrides.time_limit.is_some() && cli.overrides.iterations.is_none() && cli.passes.is_none() {
+        // --time-limit alone: as many passes as fit.
+        scene.render.iterations = u32::MAX;
+    }
+    inputs.extend(scene.inputs.iter().cloned());
+    let why = match (cli.overrides.method.is_some(), scene::is_mitsuba_xml(scene_path)) {
+        (true, _) => "--method",
+        (false, true) => "the file's <integrator>; --method picks another",
+        (false, false) => "the scene's `method`; --method picks another",
+    };
+    eprintln!("rendering {} with {} ({why})", scene_path.display(), scene.render.method.name());
+    for &(path, kind) in &writes {
+        output::check(path, kind, &inputs)?;
+    }
+    interrupt.stage("starting the GPU");
     let gpu = match &cli.adapter {
         Some(selector) => GpuContext::with_adapter(selector)?,
         None => GpuContext::new()?,
@@ -116,6 +200,16 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     integrators::check_memory(&gpu.device, &gpu.adapter_info, &scene, cli.memory_limit)?;
     for warning in integrators::limitations(&scene) {
         eprintln!("warning: {}: {warning}", scene.path.display());
+    }
+    interrupt.stage("compiling the kernels");
+    // Under a time limit the kernels are compiled first, so that the limit is spent on
+    // passes (a first run on lavapipe compiles for seconds); otherwise the first pass does it.
+    let compile = match scene.render.time_limit {
+        Some(_) => Some(integrators::warm_up(&gpu.device, &gpu.queue, &scene)?),
+        None => None,
+    };
+    if let Some(seconds) = compile.filter(|&s| s >= 1.0) {
+        eprintln!("note: compiled the kernels in {seconds:.1} s (cached for the next run); the time limit starts now");
     }
     let mut integrator = integrators::create(&gpu.device, &gpu.queue, &scene)?;
     let r = &scene.render;
@@ -159,16 +253,24 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
 
     // Passes of this run: a resumed render's rates count only these.
     let first_pass = integrator.passes();
-    let progress = ProgressBar::new(end_pass as u64);
-    progress.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} passes  {msg}  {elapsed_precise} (ETA {eta})")
-            .expect("valid template"),
-    );
+    // Under a time limit the bar runs in milliseconds against it (or against the passes,
+    // when they end the render first); otherwise in passes.
+    let limit_ms = r.time_limit.map(|t| (t * 1e3) as u64);
+    let progress = match limit_ms {
+        Some(ms) => ProgressBar::new(ms)
+            .with_style(ProgressStyle::with_template("{bar:40} {msg}  {elapsed_precise} (ETA {eta})").expect("valid template")),
+        None => ProgressBar::new(end_pass as u64).with_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} passes  {msg}  {elapsed_precise} (ETA {eta})")
+                .expect("valid template"),
+        ),
+    };
     let start = Instant::now();
     // Test hook: lose the device after this many passes of this run, as a driver crash or a
     // GPU reset would (tests/suite/checkpoint.rs).
     let lose_device_after: Option<u32> = std::env::var("SPPM_GPU_LOSE_DEVICE_AFTER").ok().and_then(|v| v.parse().ok());
-    progress.set_position(first_pass as u64);
+    if limit_ms.is_none() {
+        progress.set_position(first_pass as u64);
+    }
     // Passes are submitted through a pacer and everything is judged on completed passes and
     // the time they completed (src/pacing.rs): the time limit, progress, Ctrl-C, checkpoints.
     let goal = Goal { end_pass, time_limit: r.time_limit };
@@ -184,6 +286,9 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         pacer = pacer.with_max_group(1);
     }
     let work_per_pass = pacer.queue().inner.integrator().work_per_pass();
+    interrupt.rendering();
+    let hold_after: Option<u32> =
+        std::env::var("SPPM_GPU_HOLD").ok().and_then(|hold| hold.strip_prefix("after ")?.strip_suffix(" passes")?.parse().ok());
     let paced = (|| -> Result<(), Error> {
         loop {
             if interrupt.received().is_some() {
@@ -191,9 +296,27 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
             }
             let Some(done) = pacer.next_completion()? else { break };
             gpu.check()?;
+            if hold_after.is_some_and(|n| done.passes >= n) && interrupt.received().is_none() {
+                // The test hook of `hold_for_a_test`, here until the first signal.
+                eprintln!("held after {} passes (SPPM_GPU_HOLD)", done.passes);
+                while interrupt.received().is_none() {
+                    std::thread::park_timeout(std::time::Duration::from_millis(5));
+                }
+            }
             let work = (done.passes - first_pass) as u64 * work_per_pass;
-            progress.set_position(done.passes as u64);
-            progress.set_message(format!("{:.2} M {unit}/s", work as f64 / done.seconds / 1e6));
+            let rate = format!("{:.2} M {unit}/s", work as f64 / done.seconds / 1e6);
+            match (limit_ms, r.time_limit) {
+                (Some(ms), Some(limit)) => {
+                    let by_passes = (done.passes - first_pass) as f64 / (end_pass - first_pass).max(1) as f64;
+                    let fraction = (done.seconds / limit).max(by_passes).min(1.0);
+                    progress.set_position((fraction * ms as f64) as u64);
+                    progress.set_message(format!("{:.1}/{limit} s, {} passes, {rate}", done.seconds, done.passes));
+                }
+                _ => {
+                    progress.set_position(done.passes as u64);
+                    progress.set_message(rate);
+                }
+            }
             if cli.checkpoint.is_some() && last_checkpoint.elapsed().as_secs_f64() >= cli.checkpoint_every {
                 pacer.drain()?;
                 gpu.check()?;
@@ -210,6 +333,15 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         progress.finish_and_clear();
         let last = cli.checkpoint.as_deref().zip(saved.as_ref());
         return Err(after_a_device_error(e, integrator.as_mut(), &gpu, output, last));
+    }
+    if let Some((name, code)) = interrupt.received() {
+        // Stopped before a pass of this run completed: a batch has nothing of its own, a new
+        // render nothing at all (a resumed one has the passes it resumed).
+        if integrator.passes() == first_pass && (first_pass == 0 || cli.partial.is_some()) {
+            progress.finish_and_clear();
+            eprintln!("interrupted by {name} before the first pass completed: nothing was written");
+            return Ok(Some(code));
+        }
     }
     save(integrator.as_mut())?;
     let image = integrator.image()?;
@@ -233,8 +365,14 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         written.push(format!("{} (passes {first_pass}..{})", partial.display(), integrator.passes()));
     }
     let work = (integrator.passes() - first_pass) as u64 * integrator.work_per_pass();
+    let ended = match (interrupt.received(), r.time_limit) {
+        (Some((name, _)), _) => format!("ended by {name}"),
+        _ if integrator.passes() >= end_pass => format!("all {} passes done", end_pass - first_pass),
+        (None, Some(limit)) => format!("ended by the time limit of {limit} s"),
+        (None, None) => "ended early".to_string(),
+    };
     say!(
-        "{}: {} passes, {work} {unit} in {:.2} s ({:.2} M {unit}/s, {:.2} passes/s) -> {}",
+        "{}: {} passes, {work} {unit} in {:.2} s ({:.2} M {unit}/s, {:.2} passes/s) -> {}; {ended}",
         experiments::method_name(r.method),
         integrator.passes() - first_pass,
         seconds,
@@ -243,6 +381,9 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         written.join(" and ")
     );
     if cli.stats {
+        if let Some(compile) = compile {
+            say!("kernels compiled in {compile:.2} s, before the time limit's clock started");
+        }
         say!(
             "in flight: at most {most_in_flight} passes (at most {most_submissions} submissions of up to {largest_group} passes)"
         );
@@ -258,6 +399,22 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         );
     }
     Ok(interrupted.map(|(_, code)| code))
+}
+
+/// The default output of `scene`: its name with `.exr` in the current directory, or the first
+/// `NAME-N.exr` that does not exist.
+fn free_name(scene: &Path) -> std::path::PathBuf {
+    let stem = scene.file_stem().map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());
+    std::iter::once(format!("{stem}.exr"))
+        .chain((1..).map(|n| format!("{stem}-{n}.exr")))
+        .map(std::path::PathBuf::from)
+        .find(|p| p.symlink_metadata().is_err())
+        .expect("a free name")
+}
+
+/// Whether `a` and `b` name one file (the same path, or the same file once resolved).
+fn same_file(a: &Path, b: &Path) -> bool {
+    a == b || a.canonicalize().is_ok_and(|a| b.canonicalize().is_ok_and(|b| a == b))
 }
 
 /// The render's queue, which loses the device before submitting pass `at` (a test hook).

@@ -188,14 +188,6 @@ impl Timed {
     }
 }
 
-/// Kernels are compiled by the driver at their first dispatch (lavapipe does). One pass of a
-/// throwaway integrator first, so that no method's clock includes that.
-fn warm_up(gpu: &GpuContext, scene: &Scene) -> Result<(), Error> {
-    let mut t = Timed::new(gpu, scene)?;
-    t.run(1, None)?;
-    Ok(())
-}
-
 /// Read a reference image and check that it suits the scene's image size and `downsample`.
 fn load_reference(path: &Path, scene: &Scene, downsample: u32) -> Result<Rgb32Image, Error> {
     let reference = image_io::read_image(path)?;
@@ -373,7 +365,7 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
         let mut s = scene.clone();
         variant.apply(&mut s.render);
         bar.set_message(format!("{}: warming up", variant.name()));
-        warm_up(&gpu, &s)?;
+        integrators::warm_up(&gpu.device, &gpu.queue, &s)?;
         runs.push(Run {
             label: variant.name(),
             timed: Timed::new(&gpu, &s)?,
@@ -553,7 +545,7 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
     }
     let passes = scene.render.iterations;
     let bar = progress_bar(opts.values.len() as u64 * passes as u64, "{bar:40} {pos}/{len} passes  {msg}  {elapsed_precise}");
-    warm_up(&gpu, &settings[0])?;
+    integrators::warm_up(&gpu.device, &gpu.queue, &settings[0])?;
 
     let mut snapshots = Vec::new();
     let mut images = Vec::new();

@@ -69,16 +69,160 @@ fn material_of(scene: &Scene, shape: u32) -> u32 {
 /// default) largest storage buffer binding.
 const ENVMAP_MAX_ENTRIES: usize = (128 << 20) / 16;
 
-/// The average over RGB, in f64 for the power sums.
+/// The average over RGB, summed in f64: three channels near f32's largest overflow its sum.
 fn average(v: Vec3) -> f64 {
-    v.element_sum() as f64 / 3.0
+    (v.x as f64 + v.y as f64 + v.z as f64) / 3.0
+}
+
+/// The most radiance, intensity or irradiance a light may have in a channel (for an
+/// environment map, its brightest texel times its scale). The kernels add such values over
+/// a path's vertices and over passes, in f32: at 1e18, 3.4e20 passes or their squares still
+/// fit in f32's 3.4e38. Brighter lights are refused rather than rendered black.
+pub const MAX_EMISSION: f64 = 1e18;
+
+/// The most power the lights may emit together. Photon flux is kept relative to it (the f32
+/// [`Frame::power_total`]), SPPM's estimate multiplies it by a point's gathered flux tau
+/// (shared/estimate.wgsl), and a next-event estimate of a light of small pmf is about
+/// power_total / (pi d^2) (shared/lights.wgsl): 1e28 leaves ten orders of magnitude below
+/// f32's 3.4e38.
+pub const MAX_LIGHT_POWER: f64 = 1e28;
+
+/// What gives light: a shape with `emission`, or a `[[lights]]` entry (indices into
+/// [`Scene::shapes`] and [`Scene::lights`]).
+#[derive(Clone, Copy, PartialEq)]
+enum LightSource {
+    Shape(usize),
+    Light(usize),
+}
+
+/// Why a light's values are refused.
+fn beyond(bound: f64) -> String {
+    format!("beyond what the renderer's 32-bit arithmetic holds: at most {bound:e}")
+}
+
+/// `x` for a message: as written for moderate magnitudes (`4`, `0.5`), else in exponent form
+/// to four digits (`3.142e29`, `1e38`).
+fn number(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e6).contains(&x.abs()) {
+        return format!("{}", x as f32);
+    }
+    let s = format!("{x:.3e}");
+    let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+    let mantissa = if mantissa.contains('.') { mantissa.trim_end_matches('0').trim_end_matches('.') } else { mantissa };
+    format!("{mantissa}e{exponent}")
+}
+
+/// An error at a light's record: its line (none for the builder's records, line 0) and the
+/// key of `name`, its value to blame, as TOML and the builder spell it (`lights[2].intensity`,
+/// `shapes[0].emission`), or as a Mitsuba XML parameter (`intensity`; an area emitter's
+/// `radiance`, at its shape's line).
+fn light_error(scene: &Scene, source: LightSource, name: &str, message: String) -> SceneError {
+    let xml = crate::scene::is_mitsuba_xml(&scene.path);
+    let (line, key) = match source {
+        LightSource::Shape(i) => (scene.shapes[i].line, if xml { "radiance".into() } else { format!("shapes[{i}].{name}") }),
+        LightSource::Light(i) => {
+            let name = if xml && name == "file" { "filename" } else { name };
+            (scene.lights[i].line, if xml { name.to_owned() } else { format!("lights[{i}].{name}") })
+        }
+    };
+    SceneError { file: scene.path.clone(), line: (line > 0).then_some(line), key: Some(key), message }
+}
+
+/// The parameter that sets a light's brightness, for messages and keys.
+fn brightness_key(kind: &LightKind) -> &'static str {
+    match kind {
+        LightKind::Point { .. } | LightKind::Spot { .. } => "intensity",
+        LightKind::Directional { .. } => "irradiance",
+        LightKind::Constant { .. } => "radiance",
+        LightKind::Envmap(_) => "scale",
+    }
+}
+
+/// Refuses a light brighter than [`MAX_EMISSION`] in some channel, naming it.
+fn check_emission(scene: &Scene) -> Result<(), SceneError> {
+    let too_bright = |v: Vec3| !(v.max_element() as f64 <= MAX_EMISSION);
+    for (i, s) in scene.shapes.iter().enumerate() {
+        if let Some(e) = s.emission.filter(|&e| too_bright(e)) {
+            let message = format!("emission {} is {} in each channel", number(e.max_element() as f64), beyond(MAX_EMISSION));
+            return Err(light_error(scene, LightSource::Shape(i), "emission", message));
+        }
+    }
+    for (i, light) in scene.lights.iter().enumerate() {
+        let name = brightness_key(&light.kind);
+        let at = LightSource::Light(i);
+        match &light.kind {
+            LightKind::Point { intensity: v, .. }
+            | LightKind::Spot { intensity: v, .. }
+            | LightKind::Directional { irradiance: v, .. }
+            | LightKind::Constant { radiance: v } => {
+                if too_bright(*v) {
+                    let message =
+                        format!("{name} {} is {} in each channel", number(v.max_element() as f64), beyond(MAX_EMISSION));
+                    return Err(light_error(scene, at, name, message));
+                }
+            }
+            LightKind::Envmap(map) => {
+                let (texel, radiance) = (map.brightest_texel(), map.max_radiance());
+                if !(radiance <= MAX_EMISSION) {
+                    // The image alone, or the scale that brightens it.
+                    let key = if texel as f64 > MAX_EMISSION { "file" } else { "scale" };
+                    let message = format!(
+                        "the environment's radiance reaches {} (its brightest texel {} times scale {}), {} in each channel",
+                        number(radiance),
+                        number(texel as f64),
+                        number(map.scale as f64),
+                        beyond(MAX_EMISSION)
+                    );
+                    return Err(light_error(scene, at, key, message));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The error for lights whose power sums past [`MAX_LIGHT_POWER`]: at the light that gives
+/// the most, with how its power comes about (`radius`, that of the disk covering the scene,
+/// for a directional light and the environment).
+fn power_error(scene: &Scene, sources: &[LightSource], powers: &[f64], total: f64, radius: f32) -> SceneError {
+    let mut by_source: Vec<(LightSource, f64)> = Vec::new();
+    for (&source, &p) in sources.iter().zip(powers) {
+        match by_source.iter_mut().find(|(s, _)| *s == source) {
+            Some((_, sum)) => *sum += p,
+            None => by_source.push((source, p)),
+        }
+    }
+    let (source, power) = by_source.into_iter().max_by(|a, b| a.1.total_cmp(&b.1)).expect("a sum needs a term");
+    let (name, how) = match source {
+        LightSource::Shape(_) => ("emission", "its emission times its area times pi".to_owned()),
+        LightSource::Light(i) => {
+            let disk = format!("the area of the disk of radius {} that covers the scene", number(radius as f64));
+            let kind = &scene.lights[i].kind;
+            let how = match kind {
+                LightKind::Point { .. } => "its intensity times 4 pi".to_owned(),
+                LightKind::Spot { .. } => "its intensity times its cone's solid angle".to_owned(),
+                LightKind::Directional { .. } => format!("its irradiance times {disk}"),
+                LightKind::Constant { .. } => format!("its radiance times 4 pi times {disk}"),
+                LightKind::Envmap(_) => format!("its radiance over the sphere of directions times {disk}"),
+            };
+            (brightness_key(kind), how)
+        }
+    };
+    let message = format!(
+        "the lights' power is {}, {} of it from this light ({how}): {}; dim the lights (the image scales with them)",
+        number(total),
+        number(power),
+        beyond(MAX_LIGHT_POWER)
+    );
+    light_error(scene, source, name, message)
 }
 
 impl SceneData {
     /// Build the BVH and the GPU arrays of `scene`, and the light distribution by power.
     ///
-    /// Errors when the scene has no light with positive power, or holds more texels or
-    /// vertex attributes than [`ATTRIBUTE_INDEX_MASK`] addresses, or a texture larger than
+    /// Errors when the scene has no light with positive power, a light brighter than
+    /// [`MAX_EMISSION`] or lights more powerful than [`MAX_LIGHT_POWER`], or holds more texels
+    /// or vertex attributes than [`ATTRIBUTE_INDEX_MASK`] addresses, or a texture larger than
     /// 65535 on a side.
     pub fn new(scene: &Scene) -> Result<Self, SceneError> {
         let velocity = |shape: u32| scene.shapes[shape as usize].velocity.unwrap_or(Vec3::ZERO);
@@ -242,8 +386,11 @@ impl SceneData {
         // directional light through a disk of radius R, I * Omega for a spot light, Omega
         // the integral of its falloff over directions (spot_solid_angle, in closed form), and
         // L * pi R^2 * 4 pi for a constant environment.
+        check_emission(scene)?;
         let mut emitters = Vec::new();
         let mut powers = Vec::new();
+        // Each emitter's light, to name the brightest when the sum is too large.
+        let mut sources = Vec::new();
         let emission = |shape: u32| scene.shapes[shape as usize].emission.unwrap_or(Vec3::ZERO);
         let pi = std::f32::consts::PI;
         for (i, t) in scene.triangles.iter().enumerate() {
@@ -252,6 +399,7 @@ impl SceneData {
             if power > 0.0 {
                 emitters.push(Emitter { kind: EMITTER_AREA, prim_ref: i as u32, area, ..Emitter::default() });
                 powers.push(power);
+                sources.push(LightSource::Shape(t.shape as usize));
             }
         }
         for (i, s) in scene.spheres.iter().enumerate() {
@@ -260,6 +408,7 @@ impl SceneData {
             if power > 0.0 {
                 emitters.push(Emitter { kind: EMITTER_AREA, prim_ref: i as u32 | SPHERE_BIT, area, ..Emitter::default() });
                 powers.push(power);
+                sources.push(LightSource::Shape(s.shape as usize));
             }
         }
         // A directional light covers the scene's bounding sphere (moving shapes included)
@@ -267,7 +416,10 @@ impl SceneData {
         let (swept_min, swept_max) = swept_bounds(scene, bounds_min, bounds_max);
         let center = 0.5 * (swept_min + swept_max);
         let radius = (0.5 * (swept_max - swept_min).length()).max(1e-3);
-        for light in &scene.lights {
+        for (i, light) in scene.lights.iter().enumerate() {
+            if !light.kind.is_environment() {
+                sources.push(LightSource::Light(i));
+            }
             match light.kind {
                 LightKind::Point { position, intensity } => {
                     emitters.push(Emitter {
@@ -318,8 +470,8 @@ impl SceneData {
         // a constant one. An envmap's image and distribution go at the end of `texels`, its
         // `prim_ref` their header (NO_TEXTURE for a constant environment), its `radiance` the
         // scale.
-        let environment = scene.lights.iter().find(|l| l.kind.is_environment());
-        if let Some(light) = environment {
+        let environment = scene.lights.iter().enumerate().find(|(_, l)| l.kind.is_environment());
+        if let Some((i, light)) = environment {
             let area = pi * radius * radius;
             let mut e = Emitter {
                 kind: EMITTER_ENVIRONMENT,
@@ -359,8 +511,12 @@ impl SceneData {
             };
             emitters.push(e);
             powers.push(integral * area as f64);
+            sources.push(LightSource::Light(i));
         }
         let power_total: f64 = powers.iter().sum();
+        if !(power_total <= MAX_LIGHT_POWER) {
+            return Err(power_error(scene, &sources, &powers, power_total, radius));
+        }
         if !power_total.is_finite() || power_total <= 0.0 {
             return Err(SceneError {
                 file: scene.path.clone(),

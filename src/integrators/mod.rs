@@ -260,13 +260,7 @@ pub fn memory_need(device: &wgpu::Device, scene: &Scene) -> MemoryNeed {
     MemoryNeed { scene: scene_bytes, renderer, host: r.width as u64 * r.height as u64 * 40 }
 }
 
-/// Bytes of memory the host can still give: `MemAvailable` in /proc/meminfo (Linux).
-fn available_memory() -> Option<u64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
-}
+use crate::scene::files::available_memory;
 
 /// Refuse at once a render of `scene` on `device` (of `adapter`) that needs more memory than
 /// it can have: `limit` when given (device buffers and host image together), else on a CPU
@@ -505,4 +499,20 @@ pub fn shutter_time(seed: u32, pass: u32) -> f32 {
     let t = (radical_inverse + offset).fract() as f32;
     // Rounding to f32 can give exactly 1.
     t.min(1.0 - f32::EPSILON / 2.0)
+}
+
+/// Compiles the kernels a render of `scene` runs, by running one pass of a tiny copy of it
+/// (8x8 pixels, a thousand photons); the seconds it took. Drivers compile a kernel when it is
+/// first created (NVIDIA) or first dispatched (lavapipe, which then keeps it in Mesa's disk
+/// cache), so the render's own first pass, its time limit and its rate then measure
+/// rendering alone.
+pub fn warm_up(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<f64, Error> {
+    let start = std::time::Instant::now();
+    let mut tiny = scene.clone();
+    let r = &mut tiny.render;
+    (r.width, r.height, r.photons, r.iterations, r.time_limit) = (8, 8, r.photons.min(1024), 1, None);
+    let mut integrator = create(device, queue, &tiny)?;
+    integrator.run_pass()?;
+    integrator.image()?;
+    Ok(start.elapsed().as_secs_f64())
 }

@@ -128,6 +128,17 @@ impl Envmap {
         top * (1.0 - fy) + bottom * fy
     }
 
+    /// The largest channel of any texel, before `scale`.
+    pub fn brightest_texel(&self) -> f32 {
+        self.texels.iter().fold(0.0, |m, t| m.max(t.max_element()))
+    }
+
+    /// The largest radiance the map gives in any channel, `scale` included: bilinear
+    /// weights are convex, so no lookup exceeds the brightest texel.
+    pub fn max_radiance(&self) -> f64 {
+        self.brightest_texel() as f64 * self.scale as f64
+    }
+
     /// Radiance arriving from world direction `w` (unit), `scale` included.
     pub fn radiance(&self, w: Vec3) -> Vec3 {
         self.scale * self.lookup(self.uv(w))

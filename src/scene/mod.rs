@@ -9,6 +9,7 @@ mod builder;
 pub mod coating;
 pub mod envmap;
 mod error;
+pub mod files;
 mod load;
 pub mod material;
 pub mod medium;
@@ -31,13 +32,20 @@ pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
 /// Reads a scene file as [`load`] does, with Mitsuba's `-D name=value` parameters for an XML
 /// scene's `$name`s (refused for a TOML scene, which has none).
 pub fn load_with(path: &std::path::Path, defines: &[(String, String)]) -> Result<Scene, SceneError> {
-    if is_mitsuba_xml(path) {
-        return mitsuba::load(path, defines);
+    if !is_mitsuba_xml(path) {
+        if let Some((name, _)) = defines.first() {
+            return Err(SceneError::new(
+                path,
+                None,
+                Some(name),
+                "-D sets parameters of Mitsuba XML scenes; this is a TOML scene",
+            ));
+        }
     }
-    if let Some((name, _)) = defines.first() {
-        return Err(SceneError::new(path, None, Some(name), "-D sets parameters of Mitsuba XML scenes; this is a TOML scene"));
-    }
-    load::load(path)
+    let (scene, inputs) = files::collect(|| if is_mitsuba_xml(path) { mitsuba::load(path, defines) } else { load::load(path) });
+    let mut scene = scene?;
+    scene.inputs = inputs;
+    Ok(scene)
 }
 
 /// Whether `path` names a Mitsuba XML scene (by its extension, in any case).
@@ -61,9 +69,12 @@ pub trait Named: Copy + PartialEq + Sized + 'static {
         Self::NAMES.iter().find(|(_, v)| *v == self).map(|(n, _)| *n).expect("every value is named")
     }
 
-    /// The value of `name`, or an error that lists the names.
+    /// Other renderers' names for some values, accepted as theirs (`path` for `pt-nee`).
+    const ALIASES: &'static [(&'static str, Self)] = &[];
+
+    /// The value of `name` (or of an alias), or an error that lists the names.
     fn from_name(name: &str) -> Result<Self, String> {
-        Self::NAMES.iter().find(|(n, _)| *n == name).map(|(_, v)| *v).ok_or_else(|| {
+        Self::NAMES.iter().chain(Self::ALIASES).find(|(n, _)| *n == name).map(|(_, v)| *v).ok_or_else(|| {
             let names: Vec<&str> = Self::NAMES.iter().map(|(n, _)| *n).collect();
             format!("unknown {} `{name}`; expected one of: {}", Self::WHAT, names.join(", "))
         })
@@ -78,6 +89,11 @@ pub trait Named: Copy + PartialEq + Sized + 'static {
 impl Named for Method {
     const WHAT: &'static str = "method";
     const NAMES: &'static [(&'static str, Self)] = &[("sppm", Method::Sppm), ("pt", Method::Pt), ("pt-nee", Method::PtNee)];
+    /// Mitsuba's and pbrt-v4's integrators of the same images: their `path` and `volpath`
+    /// sample lights at each vertex with MIS, as pt-nee does; Mitsuba's `ppm` is SPPM's
+    /// ancestor.
+    const ALIASES: &'static [(&'static str, Self)] =
+        &[("path", Method::PtNee), ("volpath", Method::PtNee), ("ppm", Method::Sppm)];
 }
 
 impl Named for DirectLight {
@@ -555,6 +571,10 @@ pub struct Scene {
     /// The participating media that the camera or shapes are in ([`medium`]); they refer to
     /// them by index.
     pub media: Vec<Medium>,
+    /// Every file the scene was read from (canonical paths): the scene file, its includes,
+    /// meshes, textures and environment maps, which a run must never write over. Empty for
+    /// a scene built in code or from text.
+    pub inputs: Vec<PathBuf>,
 }
 
 impl Scene {

@@ -32,7 +32,7 @@ use std::path::Path;
 /// 32-bit floats, a face with fewer than 3 vertices or one that refers to a vertex that does
 /// not exist, no faces at all.
 pub(super) fn read_ply(path: &Path) -> Result<IndexedMesh, String> {
-    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let bytes = super::files::read(path)?;
     parse_ply(&bytes)
 }
 

@@ -61,7 +61,7 @@ const CHUNK: usize = 1 << 14;
 /// counts that the data cannot hold, more than `u32::MAX` vertices, no triangles, an index
 /// beyond the vertices, a number that is not finite in 32-bit floats.
 pub(super) fn read_serialized(path: &Path, shape_index: u32) -> Result<IndexedMesh, String> {
-    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let bytes = super::files::read(path)?;
     parse_serialized(&bytes, shape_index)
 }
 

@@ -635,7 +635,32 @@ fn binary_checks_the_output_before_rendering() {
     std::fs::create_dir_all(&dir).unwrap();
     let (code, stderr, _) = run(&dir);
     assert_eq!(code, Some(1), "{stderr}");
-    assert!(stderr.contains("is a directory"), "{stderr}");
+    assert!(stderr.contains("names a directory"), "{stderr}");
+}
+
+/// Runs the binary rendering `scene` to `out` with `args`, held by the `SPPM_GPU_HOLD` hook at
+/// `stage` (src/cli/render.rs): once its stderr says it is held there, sends `signal`. Its
+/// exit code and whole stderr.
+fn signal_when_held(scene: &Path, out: &Path, args: &[&str], stage: &str, signal: &str) -> (Option<i32>, String) {
+    use std::io::{BufRead, Read};
+    let mut child = binary(scene, out, args)
+        .env("SPPM_GPU_HOLD", stage)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let mut stderr = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut text = String::new();
+    // Reading blocks until the line comes: the state is observed, not waited for.
+    while !text.contains(&format!("held {stage}")) {
+        if stderr.read_line(&mut text).unwrap() == 0 {
+            panic!("the binary ended before it was held {stage}: {text}");
+        }
+    }
+    let kill = Command::new("kill").arg(format!("-{signal}")).arg(child.id().to_string()).status().unwrap();
+    assert!(kill.success());
+    stderr.read_to_string(&mut text).unwrap();
+    (child.wait().unwrap().code(), text)
 }
 
 /// SIGINT and SIGTERM end a render after the pass under way: the image of the passes done is
@@ -649,24 +674,38 @@ fn binary_writes_the_passes_done_when_interrupted() {
         let out = std::env::temp_dir().join(format!("sppm-gpu-signal-{signal}.exr"));
         let _ = std::fs::remove_file(&out);
         let args = ["--iterations", "1000000", "--width", "32", "--height", "24", "--photons", "2000"];
-        let child = binary(&common::scene_path("cornell-box.toml"), &out, &args)
-            .stdout(std::process::Stdio::piped())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .expect("the binary runs");
-        // Well into the render (or its kernels' compilation: the pass under way finishes).
-        std::thread::sleep(std::time::Duration::from_secs(3));
-        let kill = Command::new("kill").arg(format!("-{signal}")).arg(child.id().to_string()).status().unwrap();
-        assert!(kill.success());
-        let output = child.wait_with_output().unwrap();
-        let stderr = String::from_utf8_lossy(&output.stderr);
-        assert_eq!(output.status.code(), Some(code), "SIG{signal}: {stderr}");
+        let (status, stderr) = signal_when_held(&common::scene_path("cornell-box.toml"), &out, &args, "after 2 passes", signal);
+        assert_eq!(status, Some(code), "SIG{signal}: {stderr}");
         assert!(stderr.contains(&format!("interrupted by SIG{signal} after ")), "{stderr}");
         let image = sppm_gpu::image_io::read_exr(&out).unwrap_or_else(|e| panic!("SIG{signal}: {e}"));
         assert_eq!((image.width, image.height), (32, 24));
         assert!(image.pixels.iter().flatten().all(|v| v.is_finite() && *v >= 0.0));
         let mean = image.pixels.iter().flatten().sum::<f32>() / (3 * 32 * 24) as f32;
         assert!(mean > 0.05, "SIG{signal}: mean {mean}");
+    }
+}
+
+/// A signal before the first pass (loading the scene, starting the GPU, compiling the kernels)
+/// ends the run at once with the signal's exit code and a word of where it was; nothing is
+/// written, and no internal error is shown.
+#[test]
+fn binary_honours_a_signal_before_the_first_pass() {
+    let scene = common::scene_path("cornell-box.toml");
+    let mut stages = vec!["loading the scene"];
+    if common::gpu().is_some() {
+        stages.extend(["starting the GPU", "compiling the kernels"]);
+    }
+    for stage in stages {
+        for (signal, code) in [("INT", 130), ("TERM", 143)] {
+            let out = std::env::temp_dir().join(format!("sppm-gpu-early-signal-{}-{signal}.exr", std::process::id()));
+            let args = ["--iterations", "4", "--width", "16", "--height", "16", "--photons", "1000"];
+            let (status, stderr) = signal_when_held(&scene, &out, &args, stage, signal);
+            assert_eq!(status, Some(code), "{stage}, SIG{signal}: {stderr}");
+            let said = format!("interrupted by SIG{signal} while {stage}: nothing was rendered or written");
+            assert!(stderr.contains(&said), "{stage}: {stderr}");
+            assert!(!stderr.contains("error"), "{stage}: {stderr}");
+            assert!(!out.exists(), "{stage}: nothing is written");
+        }
     }
 }
 

@@ -126,7 +126,7 @@ fn converted_scenes_load_back_to_the_same_scene() {
         .output()
         .unwrap();
     assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("exists already"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("this command writes new files only"));
 }
 
 /// The participating-media test scenes (scenes/media/): their media, the camera's medium and

@@ -3,12 +3,14 @@
 //! noise, the speed or the scheduling, or we read it but model it differently) or refused (it
 //! would change the image).
 //!
-//! - `path`, `volpath`, 0.6's `volpath_simple`: `max_depth` (-1, unbounded) counts path
+//! - `path`, `volpath`, 0.6's `volpath_simple`: rendered by pt-nee, which samples lights at
+//!   every vertex with MIS as they do, the sampler's `sample_count` its passes (one sample a
+//!   pixel each). `max_depth` (-1, unbounded) counts path
 //!   vertices after the camera's, so 2 is direct light alone: our `max_depth` (scattering
 //!   events) is one less. `rr_depth` is warned: our Russian roulette starts by its own rule.
 //!   `hide_emitters` true is refused: the emitters seen directly would be black. 0.6's
 //!   `strict_normals` ([`strict_normals`]).
-//! - `direct`: max_depth 1 (ours); `emitter_samples`, `bsdf_samples`, `shading_samples` (how
+//! - `direct`: pt-nee with max_depth 1 (ours); `emitter_samples`, `bsdf_samples`, `shading_samples` (how
 //!   many samples of each strategy: the noise); `hide_emitters` and 0.6's `strict_normals` as
 //!   `path`'s.
 //! - `sppm` and `ppm` (0.6): `photon_count` (250000) photons a pass, `initial_radius` (0:
@@ -82,6 +84,8 @@ fn read_integrator(node: &Node, render: &mut RenderSettings, shading_normals: bo
     let p = Props::new(node)?;
     match kind {
         "path" | "volpath" | "volpath_simple" => {
+            // Light sampled at every vertex with MIS: our pt-nee, its sample_count its passes.
+            render.method = Method::PtNee;
             render.max_depth = max_depth(&p, -1)?;
             rr_depth(&p)?;
             hide_emitters(&p)?;
@@ -90,6 +94,7 @@ fn read_integrator(node: &Node, render: &mut RenderSettings, shading_normals: bo
         // Emission seen and direct light at the first hit, by light and BSDF samples with
         // MIS: the paths `path` draws with max_depth 2, so ours with max_depth 1.
         "direct" => {
+            render.method = Method::PtNee;
             render.max_depth = 1;
             // How many samples of each strategy: the noise, not the image.
             for name in ["emitter_samples", "bsdf_samples", "shading_samples"] {
