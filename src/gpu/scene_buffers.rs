@@ -75,9 +75,10 @@ fn average(v: Vec3) -> f64 {
 }
 
 /// The most radiance, intensity or irradiance a light may have in a channel (for an
-/// environment map, its brightest texel times its scale). The kernels add such values over
-/// a path's vertices and over passes, in f32: at 1e18, 3.4e20 passes or their squares still
-/// fit in f32's 3.4e38. Brighter lights are refused rather than rendered black.
+/// environment map, its brightest texel times its scale). The kernels sum such values over a
+/// path's vertices and a pixel's passes in f32, and guard the sums by zeroing what overflows:
+/// at 1e18, the sum of 3.4e20 passes, or a value's square, still fits under f32's 3.4e38.
+/// Brighter lights are refused rather than rendered black.
 pub const MAX_EMISSION: f64 = 1e18;
 
 /// The most power the lights may emit together. Photon flux is kept relative to it (the f32
@@ -100,16 +101,30 @@ fn beyond(bound: f64) -> String {
     format!("beyond what the renderer's 32-bit arithmetic holds: at most {bound:e}")
 }
 
-/// `x` for a message: as written for moderate magnitudes (`4`, `0.5`), else in exponent form
-/// to four digits (`3.142e29`, `1e38`).
-fn number(x: f64) -> String {
+/// A light's value for a message, exactly: as written for moderate magnitudes (`4`, `0.5`),
+/// else in exponent form (`1e37`, `4.2535296e37`).
+fn number(x: f32) -> String {
     if x == 0.0 || (1e-3..1e6).contains(&x.abs()) {
-        return format!("{}", x as f32);
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// A computed value for a message, to four digits (`3.142e29`), more where four would show
+/// `bound` for a value past it.
+fn rounded(x: f64, bound: f64) -> String {
+    if !x.is_finite() {
+        return format!("{x}");
     }
     let s = format!("{x:.3e}");
     let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
-    let mantissa = if mantissa.contains('.') { mantissa.trim_end_matches('0').trim_end_matches('.') } else { mantissa };
-    format!("{mantissa}e{exponent}")
+    let s = format!("{}e{exponent}", mantissa.trim_end_matches('0').trim_end_matches('.'));
+    if x != bound && s.parse::<f64>() == Ok(bound) {
+        format!("{x:e}")
+    } else {
+        s
+    }
 }
 
 /// An error at a light's record: its line (none for the builder's records, line 0) and the
@@ -140,10 +155,10 @@ fn brightness_key(kind: &LightKind) -> &'static str {
 
 /// Refuses a light brighter than [`MAX_EMISSION`] in some channel, naming it.
 fn check_emission(scene: &Scene) -> Result<(), SceneError> {
-    let too_bright = |v: Vec3| !(v.max_element() as f64 <= MAX_EMISSION);
+    let too_bright = |v: Vec3| v.is_nan() || v.max_element() as f64 > MAX_EMISSION;
     for (i, s) in scene.shapes.iter().enumerate() {
         if let Some(e) = s.emission.filter(|&e| too_bright(e)) {
-            let message = format!("emission {} is {} in each channel", number(e.max_element() as f64), beyond(MAX_EMISSION));
+            let message = format!("emission {} is {} in each channel", number(e.max_element()), beyond(MAX_EMISSION));
             return Err(light_error(scene, LightSource::Shape(i), "emission", message));
         }
     }
@@ -156,21 +171,20 @@ fn check_emission(scene: &Scene) -> Result<(), SceneError> {
             | LightKind::Directional { irradiance: v, .. }
             | LightKind::Constant { radiance: v } => {
                 if too_bright(*v) {
-                    let message =
-                        format!("{name} {} is {} in each channel", number(v.max_element() as f64), beyond(MAX_EMISSION));
+                    let message = format!("{name} {} is {} in each channel", number(v.max_element()), beyond(MAX_EMISSION));
                     return Err(light_error(scene, at, name, message));
                 }
             }
             LightKind::Envmap(map) => {
                 let (texel, radiance) = (map.brightest_texel(), map.max_radiance());
-                if !(radiance <= MAX_EMISSION) {
+                if radiance.is_nan() || radiance > MAX_EMISSION {
                     // The image alone, or the scale that brightens it.
                     let key = if texel as f64 > MAX_EMISSION { "file" } else { "scale" };
                     let message = format!(
                         "the environment's radiance reaches {} (its brightest texel {} times scale {}), {} in each channel",
-                        number(radiance),
-                        number(texel as f64),
-                        number(map.scale as f64),
+                        rounded(radiance, MAX_EMISSION),
+                        number(texel),
+                        number(map.scale),
                         beyond(MAX_EMISSION)
                     );
                     return Err(light_error(scene, at, key, message));
@@ -196,7 +210,7 @@ fn power_error(scene: &Scene, sources: &[LightSource], powers: &[f64], total: f6
     let (name, how) = match source {
         LightSource::Shape(_) => ("emission", "its emission times its area times pi".to_owned()),
         LightSource::Light(i) => {
-            let disk = format!("the area of the disk of radius {} that covers the scene", number(radius as f64));
+            let disk = format!("the area of the disk of radius {} that covers the scene", number(radius));
             let kind = &scene.lights[i].kind;
             let how = match kind {
                 LightKind::Point { .. } => "its intensity times 4 pi".to_owned(),
@@ -210,8 +224,8 @@ fn power_error(scene: &Scene, sources: &[LightSource], powers: &[f64], total: f6
     };
     let message = format!(
         "the lights' power is {}, {} of it from this light ({how}): {}; dim the lights (the image scales with them)",
-        number(total),
-        number(power),
+        rounded(total, MAX_LIGHT_POWER),
+        rounded(power, MAX_LIGHT_POWER),
         beyond(MAX_LIGHT_POWER)
     );
     light_error(scene, source, name, message)
@@ -225,6 +239,7 @@ impl SceneData {
     /// or vertex attributes than [`ATTRIBUTE_INDEX_MASK`] addresses, or a texture larger than
     /// 65535 on a side.
     pub fn new(scene: &Scene) -> Result<Self, SceneError> {
+        check_emission(scene)?;
         let velocity = |shape: u32| scene.shapes[shape as usize].velocity.unwrap_or(Vec3::ZERO);
         let motion = scene.shapes.iter().any(|s| s.velocity.is_some_and(|v| v != Vec3::ZERO));
         let bvh = crate::accel::build_bvh_moving(&scene.triangles, &scene.spheres, velocity);
@@ -386,7 +401,6 @@ impl SceneData {
         // directional light through a disk of radius R, I * Omega for a spot light, Omega
         // the integral of its falloff over directions (spot_solid_angle, in closed form), and
         // L * pi R^2 * 4 pi for a constant environment.
-        check_emission(scene)?;
         let mut emitters = Vec::new();
         let mut powers = Vec::new();
         // Each emitter's light, to name the brightest when the sum is too large.
@@ -514,7 +528,7 @@ impl SceneData {
             sources.push(LightSource::Light(i));
         }
         let power_total: f64 = powers.iter().sum();
-        if !(power_total <= MAX_LIGHT_POWER) {
+        if power_total.is_nan() || power_total > MAX_LIGHT_POWER {
             return Err(power_error(scene, &sources, &powers, power_total, radius));
         }
         if !power_total.is_finite() || power_total <= 0.0 {

@@ -259,20 +259,20 @@ fn envmap_texels_over_the_bound_are_refused_and_at_them_render_scaled() {
     check_kind(Kind::EnvmapTexels);
 }
 
-/// An envmap's radiance is its brightest texel times its scale: texels of 1e10 are fine at
-/// scale 1 and refused at scale 1e9, where the scale is to blame; texels of 1e20 are refused
-/// whatever the scale brings them to... unless it brings them under the bound.
+/// An envmap's radiance is its brightest texel times its scale, and the error blames the one
+/// past the bound: texels of 1e10 pass at scale 1 and are refused at scale 1e9 (the scale's
+/// fault); texels of 1e20 are refused at scale 1 (the file's) and pass at scale 1e-3.
 #[test]
 fn envmap_radiance_is_brightest_texel_times_scale() {
     let text = |scale: f32| format!("{}scale = {scale:e}\n", small_scene(Kind::EnvmapTexels, 0.0, "sppm"));
+    let line = Some(last_header(&text(1.0)));
     let (_, fine) = write_and_load("env-fine", &text(1.0), 1e10);
     SceneData::new(&fine).expect("1e10 is under the bound");
     let (path, scaled) = write_and_load("env-scaled", &text(1e9), 1e10);
-    let e = refusal(&scaled);
-    assert_refusal(&e, &path, Some(34), "lights[0].scale", "1e18", &["reaches 1e19", "brightest texel 1e10 times scale 1e9"]);
+    let words = ["radiance reaches 1e19", "brightest texel 1e10 times scale 1e9"];
+    assert_refusal(&refusal(&scaled), &path, line, "lights[0].scale", "1e18", &words);
     let (path, bright) = write_and_load("env-bright", &text(1.0), 1e20);
-    let e = refusal(&bright);
-    assert_refusal(&e, &path, Some(34), "lights[0].file", "1e18", &["brightest texel 1e20 times scale 1"]);
+    assert_refusal(&refusal(&bright), &path, line, "lights[0].file", "1e18", &["brightest texel 1e20 times scale 1)"]);
     let (_, dimmed) = write_and_load("env-dimmed", &text(1e-3), 1e20);
     SceneData::new(&dimmed).expect("1e20 times 1e-3 is under the bound");
 }
@@ -435,7 +435,9 @@ fn mitsuba_emitters_over_the_bound_are_refused_at_their_elements() {
         )
     };
     let dir = temp_dir("mitsuba");
-    for (file, text, line, key) in [("area.xml", scene(&over, "1"), 7, "radiance"), ("point.xml", scene("1", &over), 10, "intensity")] {
+    for (file, text, line, key) in
+        [("area.xml", scene(&over, "1"), 7, "radiance"), ("point.xml", scene("1", &over), 10, "intensity")]
+    {
         let path = dir.join(file);
         std::fs::write(&path, text).unwrap();
         let scene = scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
@@ -455,5 +457,5 @@ fn builder_lights_over_the_bound_are_refused_by_key() {
         .build()
         .unwrap_or_else(|e| panic!("{e}"));
     let e = refusal(&scene);
-    assert_refusal(&e, &scene.path, None, "lights[1].irradiance", "1e18", &["irradiance 1.0000001e18"]);
+    assert_refusal(&e, &scene.path, None, "lights[1].irradiance", "1e18", &[&format!("irradiance {:e} is", over_bound())]);
 }
