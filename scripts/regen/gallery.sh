@@ -10,7 +10,7 @@ cargo build --release -q
 bin=${CARGO_TARGET_DIR:-target}/release/sppm-gpu
 args=()
 if [ -n "${1:-}" ]; then
-    args+=(--iterations 100000000 --time-limit "$1")
+    args+=(--time-limit "$1")
 fi
 if [ -n "${2:-}" ]; then
     args+=(--width "$2" --height "$2")

@@ -8,6 +8,33 @@ use sppm_gpu::{say, Error};
 use std::path::Path;
 use std::time::Instant;
 
+/// The stages of an SPPM pass, in order.
+pub(crate) const STAGES: [&str; 4] = ["camera paths", "grid build", "photons", "statistics"];
+
+/// Runs `passes` passes of `sppm`, waiting for the device after each stage: the seconds of
+/// each of [`STAGES`], summed.
+pub(crate) fn stage_times(sppm: &mut Sppm, passes: u32) -> Result<[f64; 4], Error> {
+    let mut stage = [0.0f64; 4];
+    for _ in 0..passes {
+        let mut t = Instant::now();
+        let mut lap = |i: usize, sppm: &Sppm| -> Result<(), Error> {
+            sppm.wait()?;
+            stage[i] += t.elapsed().as_secs_f64();
+            t = Instant::now();
+            Ok(())
+        };
+        sppm.trace_camera_paths();
+        lap(0, sppm)?;
+        sppm.build_grid()?;
+        lap(1, sppm)?;
+        sppm.trace_photons();
+        lap(2, sppm)?;
+        sppm.update_statistics();
+        lap(3, sppm)?;
+    }
+    Ok(stage)
+}
+
 /// Run the scene's passes with a wait after each stage and print where the time goes.
 pub(crate) fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Error> {
     overrides.refuse("bench", &["method", "time-limit"], "it times the stages of SPPM passes, --iterations of them")?;
@@ -19,26 +46,8 @@ pub(crate) fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Erro
     // One untimed pass first: the driver may compile kernels at their first dispatch.
     sppm.run_pass()?;
     sppm.wait()?;
-    // Stage totals: camera paths, grid build, photons, statistics.
-    let mut stage = [0.0f64; 4];
     let start = Instant::now();
-    while sppm.passes() <= r.iterations {
-        let mut t = Instant::now();
-        let mut lap = |i: usize, sppm: &Sppm| -> Result<(), Error> {
-            sppm.wait()?;
-            stage[i] += t.elapsed().as_secs_f64();
-            t = Instant::now();
-            Ok(())
-        };
-        sppm.trace_camera_paths();
-        lap(0, &sppm)?;
-        sppm.build_grid()?;
-        lap(1, &sppm)?;
-        sppm.trace_photons();
-        lap(2, &sppm)?;
-        sppm.update_statistics();
-        lap(3, &sppm)?;
-    }
+    let stage = stage_times(&mut sppm, r.iterations)?;
     let seconds = start.elapsed().as_secs_f64();
     let passes = r.iterations as f64;
     let paths = sppm_gpu::integrators::sppm::direct_samples(r);
@@ -57,7 +66,7 @@ pub(crate) fn bench(scene_path: &Path, overrides: &Overrides) -> Result<(), Erro
         direct,
         gpu.adapter_info.name
     );
-    for (name, s) in ["camera paths", "grid build", "photons", "statistics"].iter().zip(stage) {
+    for (name, s) in STAGES.iter().zip(stage) {
         say!("  {name:32} {:8.1} ms/pass  {:5.1}%", 1e3 * s / passes, 100.0 * s / seconds);
     }
     say!(

@@ -176,7 +176,15 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         output::check(path, kind, &inputs)?;
     }
     interrupt.stage("loading the scene");
+    // Seconds of each phase before the passes, for --stats.
+    let mut phases: Vec<(&str, f64)> = Vec::new();
+    let mut clock = Instant::now();
+    let mut lap = |phases: &mut Vec<(&str, f64)>, name| {
+        phases.push((name, clock.elapsed().as_secs_f64()));
+        clock = Instant::now();
+    };
     let (mut scene, _) = load_scene(scene_path, &cli.overrides)?;
+    lap(&mut phases, "load");
     if cli.overrides.time_limit.is_some() && cli.overrides.iterations.is_none() && cli.passes.is_none() {
         // --time-limit alone: as many passes as fit.
         scene.render.iterations = u32::MAX;
@@ -196,6 +204,7 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         Some(selector) => GpuContext::with_adapter(selector)?,
         None => GpuContext::new()?,
     };
+    lap(&mut phases, "GPU start");
     scene.render.fit_pass_work(gpu.pass_work());
     integrators::check_memory(&gpu.device, &gpu.adapter_info, &scene, cli.memory_limit)?;
     for warning in integrators::limitations(&scene) {
@@ -208,10 +217,14 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         Some(_) => Some(integrators::warm_up(&gpu.device, &gpu.queue, &scene)?),
         None => None,
     };
+    if compile.is_some() {
+        lap(&mut phases, "kernels compiled");
+    }
     if let Some(seconds) = compile.filter(|&s| s >= 1.0) {
         eprintln!("note: compiled the kernels in {seconds:.1} s (cached for the next run); the time limit starts now");
     }
     let mut integrator = integrators::create(&gpu.device, &gpu.queue, &scene)?;
+    lap(&mut phases, "scene, BVH and renderer");
     let r = &scene.render;
     let rows = integrators::max_rows(&gpu.device, &scene);
     if rows < r.height {
@@ -349,6 +362,7 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     let seconds = start.elapsed().as_secs_f64();
     progress.finish_and_clear();
 
+    let write_start = Instant::now();
     let mut written: Vec<String> = Vec::new();
     if let Some(output) = output {
         if output.exists() {
@@ -381,13 +395,32 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         written.join(" and ")
     );
     if cli.stats {
-        if let Some(compile) = compile {
-            say!("kernels compiled in {compile:.2} s, before the time limit's clock started");
+        phases.extend([("passes", seconds), ("image written", write_start.elapsed().as_secs_f64())]);
+        let list: Vec<String> = phases.iter().map(|(name, s)| format!("{name} {s:.2} s")).collect();
+        say!("time: {}", list.join(", "));
+        match compile {
+            Some(compile) => say!("kernels compiled in {compile:.2} s, before the time limit's clock started"),
+            None => say!("kernels: compiled by the driver during the first pass (a --time-limit compiles them first)"),
         }
         say!(
             "in flight: at most {most_in_flight} passes (at most {most_submissions} submissions of up to {largest_group} passes)"
         );
-        print_memory(&integrator.gpu_memory());
+        if let Some(radius) = integrator.radius_stats()? {
+            say!("radius after the last pass: min {:.3e}, mean {:.3e}, max {:.3e}", radius.min, radius.mean, radius.max);
+        }
+        let memory = integrator.gpu_memory();
+        if r.method == Method::Sppm && rows >= r.height && interrupt.received().is_none() {
+            // Where a pass's time goes, each stage waited for: two more passes on a renderer
+            // of their own, after the image is written.
+            let mut sppm = sppm_gpu::integrators::Sppm::new(&gpu.device, &gpu.queue, &scene)?;
+            sppm.run_pass()?;
+            sppm.wait()?;
+            let stage = super::bench::stage_times(&mut sppm, 2)?;
+            let list: Vec<String> =
+                super::bench::STAGES.iter().zip(stage).map(|(name, s)| format!("{name} {:.1} ms", 1e3 * s / 2.0)).collect();
+            say!("a pass's stages (two passes timed after the render, each stage waited for): {}", list.join(", "));
+        }
+        print_memory(&memory);
     }
     let interrupted = interrupt.received();
     if let Some((name, _)) = interrupted {
@@ -453,7 +486,7 @@ fn print_memory(memory: &integrators::GpuMemory) {
         let mut sorted = buffers.clone();
         sorted.sort_by_key(|(_, bytes)| std::cmp::Reverse(*bytes));
         for (name, b) in sorted {
-            say!("    {name:24} {:>12} bytes", b);
+            say!("    {name:24} {:>10}", mib(b));
         }
     }
 }

@@ -59,7 +59,7 @@ fn scene_with(body: &str) -> String {
 fn box_scene_reads_as_mitsuba_defines_it() {
     let s = load("box.xml");
     assert_eq!((s.render.width, s.render.height), (128, 128));
-    assert_eq!(s.render.method, Method::Sppm);
+    assert_eq!(s.render.method, Method::PtNee, "<integrator type=\"path\">: light sampled at every vertex with MIS");
     assert_eq!(s.render.iterations, 64, "sample_count $spp = 64");
     assert_eq!(s.render.max_depth, 7, "Mitsuba's max_depth 8 counts vertices: 7 scattering events");
     assert_eq!(s.render.filter, PixelFilter::Tent { radius: 1.0 });
