@@ -213,18 +213,14 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     interrupt.stage("compiling the kernels");
     // Under a time limit the kernels are compiled first, so that the limit is spent on
     // passes (a first run on lavapipe compiles for seconds); otherwise the first pass does it.
-    let compile = match scene.render.time_limit {
-        Some(_) => Some(integrators::warm_up(&gpu.device, &gpu.queue, &scene)?),
-        None => None,
+    let (mut integrator, compile) = match scene.render.time_limit {
+        Some(_) => integrators::create_compiled(&gpu.device, &gpu.queue, &scene).map(|(i, s)| (i, Some(s)))?,
+        None => (integrators::create(&gpu.device, &gpu.queue, &scene)?, None),
     };
-    if compile.is_some() {
-        lap(&mut phases, "kernels compiled");
-    }
+    lap(&mut phases, if compile.is_some() { "scene, BVH, renderer and kernels" } else { "scene, BVH and renderer" });
     if let Some(seconds) = compile.filter(|&s| s >= 1.0) {
         eprintln!("note: compiled the kernels in {seconds:.1} s (cached for the next run); the time limit starts now");
     }
-    let mut integrator = integrators::create(&gpu.device, &gpu.queue, &scene)?;
-    lap(&mut phases, "scene, BVH and renderer");
     let r = &scene.render;
     let rows = integrators::max_rows(&gpu.device, &scene);
     if rows < r.height {

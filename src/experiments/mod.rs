@@ -151,13 +151,11 @@ struct Done {
 }
 
 impl Timed {
-    fn new(gpu: &GpuContext, scene: &Scene) -> Result<Self, Error> {
-        Ok(Self {
-            integrator: integrators::create(&gpu.device, &gpu.queue, scene)?,
-            device: gpu.device.clone(),
-            queue: gpu.queue.clone(),
-            seconds: 0.0,
-        })
+    /// A renderer of `scene`, its kernels compiled before its clock starts
+    /// ([`integrators::create_compiled`]).
+    fn compiled(gpu: &GpuContext, scene: &Scene) -> Result<Self, Error> {
+        let (integrator, _) = integrators::create_compiled(&gpu.device, &gpu.queue, scene)?;
+        Ok(Self { integrator, device: gpu.device.clone(), queue: gpu.queue.clone(), seconds: 0.0 })
     }
 
     /// Run passes through a [`Pacer`] (the device kept busy, several passes a submission
@@ -364,11 +362,10 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
     for &variant in &opts.methods {
         let mut s = scene.clone();
         variant.apply(&mut s.render);
-        bar.set_message(format!("{}: warming up", variant.name()));
-        integrators::warm_up(&gpu.device, &gpu.queue, &s)?;
+        bar.set_message(format!("{}: compiling", variant.name()));
         runs.push(Run {
             label: variant.name(),
-            timed: Timed::new(&gpu, &s)?,
+            timed: Timed::compiled(&gpu, &s)?,
             max_passes: opts.max_passes.unwrap_or(u32::MAX),
             next: 0,
             last: None,
@@ -545,7 +542,6 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
     }
     let passes = scene.render.iterations;
     let bar = progress_bar(opts.values.len() as u64 * passes as u64, "{bar:40} {pos}/{len} passes  {msg}  {elapsed_precise}");
-    integrators::warm_up(&gpu.device, &gpu.queue, &settings[0])?;
 
     let mut snapshots = Vec::new();
     let mut images = Vec::new();
@@ -553,7 +549,7 @@ pub fn sweep(scene: &Scene, name: &str, opts: &SweepOptions) -> Result<Vec<Snaps
     let mut rows = Vec::new();
     for (&value, s) in opts.values.iter().zip(&settings) {
         let label = value.to_string();
-        let mut run = Timed::new(&gpu, s)?;
+        let mut run = Timed::compiled(&gpu, s)?;
         let mut img = None;
         // Snapshots after 1, 2, 4, ... passes and the last; the passes between run paced.
         while run.passes() < passes {
@@ -676,7 +672,7 @@ pub fn passes(scene: &Scene, name: &str, opts: &PassesOptions) -> Result<Vec<Pas
     s.render.fit_pass_work(gpu.pass_work());
     s.render.iterations = last;
     let bar = progress_bar(last as u64, "{bar:40} {pos}/{len} passes  {msg}  {elapsed_precise}");
-    let mut run = Timed::new(&gpu, &s)?;
+    let mut run = Timed::compiled(&gpu, &s)?;
     let mut times = Vec::new();
     let mut tiles = Vec::new();
     let mut rows = Vec::new();

@@ -127,6 +127,50 @@ pub fn validate(name: &str, source: &str) -> Result<(naga::Module, naga::valid::
     Ok((module, info))
 }
 
+/// Kernels made inside [`share_kernels`], by a hash of their name, source and constants.
+mod cache {
+    use super::Kernel;
+    use std::cell::RefCell;
+
+    thread_local! {
+        /// The kernels made so far in the [`share_kernels`](super::share_kernels) running on
+        /// this thread, with their devices; `None` outside one.
+        static KERNELS: RefCell<Option<Vec<(wgpu::Device, u64, Kernel)>>> = const { RefCell::new(None) };
+    }
+
+    pub(super) fn scope<T>(f: impl FnOnce() -> T) -> T {
+        let outer = KERNELS.with(|k| k.replace(Some(Vec::new())));
+        let value = f();
+        KERNELS.with(|k| k.replace(outer));
+        value
+    }
+
+    pub(super) fn get(device: &wgpu::Device, key: u64) -> Option<Kernel> {
+        KERNELS.with(|k| {
+            let kernels = k.borrow();
+            kernels.as_ref()?.iter().find(|(d, h, _)| d == device && *h == key).map(|(_, _, kernel)| kernel.clone())
+        })
+    }
+
+    pub(super) fn put(device: &wgpu::Device, key: u64, kernel: &Kernel) {
+        KERNELS.with(|k| {
+            if let Some(kernels) = k.borrow_mut().as_mut() {
+                kernels.push((device.clone(), key, kernel.clone()));
+            }
+        });
+    }
+}
+
+/// Runs `f`, in which every kernel made twice on one device (same name, source and constants)
+/// is made once: a render's warm-up and the render then share pipelines
+/// (`integrators::warm_up`), so neither naga nor the driver compiles them again (lavapipe
+/// compiles a pipeline at its first dispatch and keeps the code in the pipeline object). The
+/// kernels are let go when `f` returns. Only within one device's use: devices of two wgpu
+/// instances may compare equal.
+pub fn share_kernels<T>(f: impl FnOnce() -> T) -> T {
+    cache::scope(f)
+}
+
 /// A buffer handed to kernels under the name of its WGSL global.
 pub struct Resource<'a> {
     /// The name of the WGSL global (`var<storage>` or `var<uniform>`) it binds to.
@@ -136,6 +180,7 @@ pub struct Resource<'a> {
 }
 
 /// One compute pipeline and what it binds.
+#[derive(Clone)]
 pub struct Kernel {
     /// The kernel's name: its file `shaders/<name>.wgsl`, its entry point and its label.
     pub name: &'static str,
@@ -166,7 +211,24 @@ impl Kernel {
         for (token, text) in replace {
             source = source.replace(token, text);
         }
-        let (module, info) = validate(name, &source)?;
+        let key = {
+            use std::hash::{Hash, Hasher};
+            let mut h = std::collections::hash_map::DefaultHasher::new();
+            (name, &source).hash(&mut h);
+            constants.iter().for_each(|(c, v)| (c, v.to_bits()).hash(&mut h));
+            h.finish()
+        };
+        if let Some(kernel) = cache::get(device, key) {
+            return Ok(kernel);
+        }
+        let kernel = Self::compile(device, name, &source, constants)?;
+        cache::put(device, key, &kernel);
+        Ok(kernel)
+    }
+
+    /// Validates and compiles `source` (kernel `name`, its replacements made).
+    fn compile(device: &wgpu::Device, name: &'static str, source: &str, constants: &[(&str, f64)]) -> Result<Self, GpuError> {
+        let (module, info) = validate(name, source)?;
         let entry = module
             .entry_points
             .iter()
@@ -228,7 +290,7 @@ impl Kernel {
         });
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(name),
-            source: wgpu::ShaderSource::Wgsl(source.into()),
+            source: wgpu::ShaderSource::Wgsl(source.to_owned().into()),
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(name),

@@ -501,18 +501,21 @@ pub fn shutter_time(seed: u32, pass: u32) -> f32 {
     t.min(1.0 - f32::EPSILON / 2.0)
 }
 
-/// Compiles the kernels a render of `scene` runs, by running one pass of a tiny copy of it
-/// (8x8 pixels, a thousand photons); the seconds it took. Drivers compile a kernel when it is
-/// first created (NVIDIA) or first dispatched (lavapipe, which then keeps it in Mesa's disk
-/// cache), so the render's own first pass, its time limit and its rate then measure
-/// rendering alone.
-pub fn warm_up(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<f64, Error> {
-    let start = std::time::Instant::now();
-    let mut tiny = scene.clone();
-    let r = &mut tiny.render;
-    (r.width, r.height, r.photons, r.iterations, r.time_limit) = (8, 8, r.photons.min(1024), 1, None);
-    let mut integrator = create(device, queue, &tiny)?;
-    integrator.run_pass()?;
-    integrator.image()?;
-    Ok(start.elapsed().as_secs_f64())
+/// [`create`], with its kernels compiled first by one pass of a tiny copy of `scene` (8x8
+/// pixels, at most a thousand photons) sharing its pipelines ([`crate::gpu::share_kernels`]);
+/// also the seconds that took. Drivers compile a kernel when it is made (NVIDIA) or first
+/// dispatched (lavapipe), so the renderer's own first pass, a time limit and a rate then
+/// measure rendering alone.
+pub fn create_compiled(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<(Box<dyn Integrator>, f64), Error> {
+    crate::gpu::share_kernels(|| {
+        let start = std::time::Instant::now();
+        let mut tiny = scene.clone();
+        let r = &mut tiny.render;
+        (r.width, r.height, r.photons, r.iterations, r.time_limit) = (8, 8, r.photons.min(1024), 1, None);
+        let mut warm_up = create(device, queue, &tiny)?;
+        warm_up.run_pass()?;
+        warm_up.image()?;
+        let seconds = start.elapsed().as_secs_f64();
+        Ok((create(device, queue, scene)?, seconds))
+    })
 }
