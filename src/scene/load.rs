@@ -6,7 +6,7 @@ use super::mesh::{self, Normals, Transform};
 use super::{
     medium, Camera, ComplexIor, CropWindow, DirectLight, Light, LightKind, Material, MaterialKind, Medium, Method, Microfacet,
     Phase, PixelFilter, RadiusRule, RadiusSchedule, RenderSettings, Scene, SceneError, Shape, ShapeKind, Sphere, Texture,
-    TextureFilter, TextureWrap,
+    TextureFilter, TextureWrap, Triangle,
 };
 use super::{ply, serialized};
 use glam::{Vec2, Vec3};
@@ -506,13 +506,26 @@ fn texture_index(v: &Value, textures: &mut Vec<Texture>) -> Result<u32> {
     Ok(textures.len() as u32 - 1)
 }
 
-/// Shape types: name, kind, and the keys allowed besides [`SHAPE_KEYS`].
-const SHAPE_TYPES: &[(&str, ShapeKind, &[&str])] = &[
-    ("quad", ShapeKind::Quad, &["corner", "u", "v", "uv_scale"]),
-    ("sphere", ShapeKind::Sphere, &["center", "radius"]),
-    ("cube", ShapeKind::Cube, &["scale", "rotate", "translate"]),
-    ("mesh", ShapeKind::Mesh, &["file", "smooth", "shape_index", "scale", "rotate", "translate"]),
+/// A `[[shapes]]` type: one of the scene's [`ShapeKind`]s, or a disk, whose triangles make a
+/// [`ShapeKind::Mesh`] (as Mitsuba's `disk` does).
+#[derive(Clone, Copy, PartialEq)]
+enum ShapeType {
+    Kind(ShapeKind),
+    Disk,
+}
+
+/// Shape types: name, type, and the keys allowed besides [`SHAPE_KEYS`].
+const SHAPE_TYPES: &[(&str, ShapeType, &[&str])] = &[
+    ("quad", ShapeType::Kind(ShapeKind::Quad), &["corner", "u", "v", "uv_scale"]),
+    ("sphere", ShapeType::Kind(ShapeKind::Sphere), &["center", "radius"]),
+    ("cube", ShapeType::Kind(ShapeKind::Cube), &["scale", "rotate", "translate"]),
+    ("mesh", ShapeType::Kind(ShapeKind::Mesh), &["file", "smooth", "shape_index", "scale", "rotate", "translate"]),
+    ("disk", ShapeType::Disk, &["center", "normal", "radius"]),
 ];
+
+/// Segments of a `disk`: triangles about its centre, as many as Mitsuba's `disk` has (their
+/// area is 0.01% short of the circle's).
+const DISK_SEGMENTS: u32 = 256;
 
 /// Keys every shape allows.
 const SHAPE_KEYS: &[&str] = &["type", "material", "emission", "velocity", "interior", "exterior"];
@@ -520,7 +533,11 @@ const SHAPE_KEYS: &[&str] = &["type", "material", "emission", "velocity", "inter
 /// Reads `shapes[index]` and appends its primitives to the scene, within `budget`.
 fn read_shape(entry: &Value, index: u32, scene: &mut Scene, budget: &mesh::PrimitiveBudget) -> Result<Shape> {
     let t = entry.table()?;
-    let kind = t.typed("shape type", SHAPE_TYPES, SHAPE_KEYS)?;
+    let shape_type = t.typed("shape type", SHAPE_TYPES, SHAPE_KEYS)?;
+    let kind = match shape_type {
+        ShapeType::Kind(kind) => kind,
+        ShapeType::Disk => ShapeKind::Mesh,
+    };
     let shape = Shape {
         kind,
         material: t.req("material", |v| v.material(&scene.materials))?,
@@ -536,7 +553,8 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene, budget: &mesh::Primi
     let first_sphere = scene.spheres.len();
     // A warning for skipped degenerate triangles, printed once the shape is accepted.
     let mut warning = None;
-    budget.check(primitives(scene), mesh::fixed_primitives(kind), "").map_err(|e| t.error_here(e))?;
+    let fixed = if shape_type == ShapeType::Disk { DISK_SEGMENTS.into() } else { mesh::fixed_primitives(kind) };
+    budget.check(primitives(scene), fixed, "").map_err(|e| t.error_here(e))?;
     match kind {
         ShapeKind::Quad => {
             let corner = t.req("corner", Value::vec3)?;
@@ -568,6 +586,7 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene, budget: &mesh::Primi
             }
             scene.triangles.extend(triangles);
         }
+        ShapeKind::Mesh if shape_type == ShapeType::Disk => scene.triangles.extend(read_disk(&t, index)?),
         ShapeKind::Mesh => warning = read_mesh(&t, index, scene, budget)?,
     }
     let triangles = &scene.triangles[first_triangle..];
@@ -593,6 +612,41 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene, budget: &mesh::Primi
         eprintln!("warning: {warning}");
     }
     Ok(shape)
+}
+
+/// A `disk` shape's triangles: `center`, `normal` (its front side, which emission leaves) and
+/// `radius`, as [`DISK_SEGMENTS`] triangles about the centre. Texture coordinates are those of
+/// Mitsuba's `disk`, (r / radius, phi / 2 pi), phi turning about the normal from the direction
+/// that the shortest rotation of +z onto the normal takes +x to.
+fn read_disk(t: &Table, index: u32) -> Result<Vec<Triangle>> {
+    let center = t.req("center", Value::vec3)?;
+    // Normalized in f64, so that no finite normal over- or underflows to zero.
+    let normal = t.req("normal", Value::vec3)?.as_dvec3().normalize_or_zero().as_vec3();
+    if normal == Vec3::ZERO {
+        return Err(t.error_at("normal", "the normal must not be zero"));
+    }
+    let radius = t.req("radius", |v| v.f32_in(Bound::Positive))?;
+    let frame = glam::Quat::from_rotation_arc(Vec3::Z, normal);
+    let (x, y) = (frame * Vec3::X * radius, frame * Vec3::Y * radius);
+    let n = DISK_SEGMENTS as f32;
+    let rim = |i: u32| {
+        let phi = std::f32::consts::TAU * (i % DISK_SEGMENTS) as f32 / n;
+        center + phi.cos() * x + phi.sin() * y
+    };
+    let triangle = |i: u32| {
+        let v = i as f32 / n;
+        let uv = [Vec2::new(0.0, v + 0.5 / n), Vec2::new(1.0, v), Vec2::new(1.0, v + 1.0 / n)];
+        Triangle { p: [center, rim(i), rim(i + 1)], n: None, uv: Some(uv), shape: index }
+    };
+    let triangles: Vec<Triangle> = (0..DISK_SEGMENTS).map(triangle).collect();
+    mesh::check_extent(&triangles, &[], Vec3::ZERO).map_err(|e| t.error_here(e))?;
+    if triangles.iter().any(mesh::is_degenerate) {
+        return Err(t.error_at(
+            "radius",
+            "the disk has no area in 32-bit floats: its radius is too small for its distance from the origin",
+        ));
+    }
+    Ok(triangles)
 }
 
 /// Reads a `mesh` shape's file (OBJ, PLY or Mitsuba `.serialized`, by its extension, in

@@ -130,7 +130,7 @@ fn readme_cases() -> Vec<Case> {
             with_shape(&QUAD.replace("\"quad\"", "\"cone\"")),
             14,
             "shapes[0].type",
-            "unknown shape type `cone`; expected one of: quad, sphere, cube, mesh",
+            "unknown shape type `cone`; expected one of: quad, sphere, cube, mesh, disk",
         ),
         case(
             "unknown light type",

@@ -50,4 +50,5 @@ mod sobol;
 mod sppm;
 mod stability;
 mod stored_data;
+mod tutorial;
 mod view;

@@ -873,3 +873,47 @@ fn mode_names_come_from_one_table() {
         assert_eq!(load_ok(&text).render.method, method);
     }
 }
+
+/// A disk: 256 triangles about its centre, facing its normal, on the circle of its radius,
+/// with Mitsuba's disk's texture coordinates (r, phi / 2 pi); a mesh among the shape kinds.
+#[test]
+fn disk_faces_its_normal_on_its_circle() {
+    let disk = "type = \"disk\"\ncenter = [1, 2, 3]\nnormal = [0, -2, 0]\nradius = 0.5\nmaterial = \"white\"\n";
+    let scene = load_ok(&with_shape(&format!("{disk}emission = [1, 1, 1]\n")));
+    assert_eq!((scene.shapes[0].kind, scene.shapes[0].emission), (ShapeKind::Mesh, Some(Vec3::ONE)));
+    assert_eq!((scene.triangles.len(), scene.spheres.len()), (256, 0));
+    let center = Vec3::new(1.0, 2.0, 3.0);
+    let mut area = 0.0;
+    for t in &scene.triangles {
+        assert_close(geometric_normal(t.p), Vec3::NEG_Y);
+        assert_eq!((t.p[0], t.n, t.shape), (center, None, 0));
+        for p in &t.p[1..] {
+            assert!(((*p - center).length() - 0.5).abs() < 1e-6 && (p.y - 2.0).abs() < 1e-6, "{p}");
+        }
+        let uv = t.uv.unwrap();
+        assert_eq!((uv[0].x, uv[1].x, uv[2].x), (0.0, 1.0, 1.0));
+        area += 0.5 * (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length();
+    }
+    // 256 segments: the area 0.01% short of the circle's.
+    let circle = std::f32::consts::PI * 0.25;
+    assert!((area / circle - 1.0).abs() < 2e-4, "{area} against {circle}");
+    // Any normal, +z's opposite included.
+    for (normal, expected) in [("[0, 0, -1]", Vec3::NEG_Z), ("[1, 1, 1]", Vec3::ONE.normalize()), ("[0, 0, 1e-30]", Vec3::Z)] {
+        let scene = load_ok(&with_shape(&disk.replace("[0, -2, 0]", normal)));
+        assert!(scene.triangles.iter().all(|t| geometric_normal(t.p).abs_diff_eq(expected, 1e-4)), "{normal}");
+    }
+    // Its keys, and what is refused.
+    assert_error(&with_shape(&disk.replace("[0, -2, 0]", "[0, 0, 0]")), 16, "shapes[0].normal", &["must not be zero"]);
+    assert_error(&with_shape(&disk.replace("0.5", "0")), 17, "shapes[0].radius", &["greater than 0"]);
+    assert_error(&with_shape(&disk.replace("radius = 0.5\n", "")), 13, "shapes[0].radius", &["missing required key"]);
+    assert_error(&with_shape(&format!("{disk}corner = [0, 0, 0]\n")), 19, "shapes[0].corner", &["center, normal, radius"]);
+    assert_error(
+        &with_shape(&disk.replace("center = [1, 2, 3]", "center = [1e30, 0, 0]").replace("0.5", "1e-30")),
+        17,
+        "shapes[0].radius",
+        &["no area"],
+    );
+    let fog = "[media.fog]\nsigma_t = 1\nalbedo = 0.5\n";
+    let error = error_of(&format!("{}{fog}[[shapes]]\n{disk}interior = \"fog\"\n", BASE));
+    assert_message(&error, &["closed surface"]);
+}
