@@ -98,6 +98,10 @@ impl Interrupt {
                         // _exit: no atexit handler runs under the driver's feet.
                         signal_hook::low_level::exit(code as i32);
                     }
+                    // Said at once: a pass of billions of photons may take long to finish.
+                    eprintln!(
+                        "{name}: stopping after the passes in flight, then writing their image; another {name} exits at once"
+                    );
                     signal.store(received as usize, Ordering::SeqCst);
                 }
             })

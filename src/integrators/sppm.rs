@@ -52,6 +52,31 @@ pub const AUTO_RADIUS_PIXELS: f32 = 2.0;
 /// cornell-glossy (`scripts/measure/direct-light-defaults.sh`, docs/journal/session-04.md "The defaults: direct_samples and the radius").
 pub const AUTO_RADIUS_PIXELS_INDIRECT: f32 = 3.0;
 
+/// Refuses a gather radius whose disc area pi r^2, in 32-bit floats against the scene's size,
+/// leaves no estimate: past ten times the scene's diagonal a photon's flux over the disc
+/// (area up to 1e60 and more) vanishes and the image is black; under a millionth of it the
+/// disc is below the precision of the positions (1e-30: the area underflows to 0 and every
+/// estimate is 0/0).
+pub fn check_radius(scene: &Scene, radius: f32) -> Result<(), Error> {
+    let (lo, hi) = scene.bounds();
+    let diagonal = (hi - lo).length();
+    if !(diagonal > 0.0 && diagonal.is_finite()) {
+        return Ok(());
+    }
+    let (least, most) = (1e-6 * diagonal, 10.0 * diagonal);
+    if !(least..=most).contains(&radius) {
+        let shown = if (1e-4..1e6).contains(&radius) { radius.to_string() } else { format!("{radius:e}") };
+        return Err(Error::Setting(format!(
+            "{}: radius {shown} is outside what SPPM can estimate with in this scene (diagonal {diagonal:.4}): from a \
+             millionth of the diagonal ({least:.3e}: below it the disc is under the positions' precision and its area \
+             underflows) to ten times it ({most:.3e}: beyond it every point gathers every photon); or give none for the \
+             automatic radius",
+            scene.path.display()
+        )));
+    }
+    Ok(())
+}
+
 /// The automatic initial radius: [`AUTO_RADIUS_PIXELS_INDIRECT`] (or, with direct light from
 /// photons, [`AUTO_RADIUS_PIXELS`]) times the side of a pixel's footprint on a plane facing
 /// the camera at the focus distance (the look-at point for a pinhole),
@@ -495,6 +520,7 @@ impl Sppm {
                 ))
             })?;
         let initial_radius = r.radius.unwrap_or_else(|| auto_radius(scene));
+        check_radius(scene, initial_radius)?;
         let adaptive = r.radius_rule == RadiusRule::Adaptive;
         if adaptive && r.radius_schedule == RadiusSchedule::Global {
             return Err(Error::Setting("radius_rule = \"adaptive\" needs radius_schedule = \"per-point\"".into()));

@@ -471,13 +471,22 @@ fn huge_light_directions_still_normalize() {
 
 #[test]
 fn scene_without_light_is_an_error_of_scene_data() {
+    // With no emission or light at all: the file, and `lights`, where one goes; else the
+    // first emission or light in the file, all of them zero, at its entry's line.
+    let black_light = "type = \"point\"\nposition = [0, 0, 0]\nintensity = [0, 0, 0]\n";
     let unlit = [
-        ("no-shapes", BASE.to_owned()),
-        ("no-emission", with_shape(QUAD)),
-        ("black-emission", with_shape(&format!("{QUAD}emission = [0, 0, 0]\n"))),
-        ("black-point-light", with_light("type = \"point\"\nposition = [0, 0, 0]\nintensity = [0, 0, 0]\n")),
+        ("no-shapes", BASE.to_owned(), "", "lights"),
+        ("no-emission", with_shape(QUAD), "", "lights"),
+        ("black-emission", with_shape(&format!("{QUAD}emission = [0, 0, 0]\n")), ":13", "shapes[0].emission"),
+        ("black-point-light", with_light(black_light), ":13", "lights[0].intensity"),
+        (
+            "black-light-first",
+            format!("{}\n[[shapes]]\n{QUAD}emission = 0\n", with_light(black_light)),
+            ":13",
+            "lights[0].intensity",
+        ),
     ];
-    for (name, text) in unlit {
+    for (name, text, line, key) in unlit {
         let path = write_scene(name, &text, &[]);
         let scene = scene::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
         let error = match SceneData::new(&scene) {
@@ -487,7 +496,7 @@ fn scene_without_light_is_an_error_of_scene_data() {
         assert_eq!(
             error.to_string(),
             format!(
-                "{}: key `shapes.emission`: the scene has no light: give a shape an \
+                "{}{line}: key `{key}`: the scene has no light: give a shape an \
                  `emission` greater than zero, or add a [[lights]] entry with positive \
                  intensity or irradiance",
                 path.display()
@@ -737,4 +746,28 @@ fn binary_refuses_a_render_beyond_the_memory_limit() {
     let (code, stderr, _) = run("32", "lots");
     assert_eq!(code, Some(2), "a bad limit is a usage error: {stderr}");
     assert!(stderr.contains("a number of bytes"), "{stderr}");
+}
+
+/// A radius whose disc SPPM cannot estimate with (1e-30: its area underflows and every
+/// estimate is 0/0, the image black even where direct light falls; 1e30: its area overflows)
+/// is refused with the range it may take; one at the edge of the range renders.
+#[test]
+fn radii_beyond_what_32_bit_floats_estimate_with_are_refused() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut scene = common::load_scene("cornell-box.toml");
+    (scene.render.width, scene.render.height, scene.render.photons) = (8, 8, 1000);
+    let (lo, hi) = scene.bounds();
+    let diagonal = (hi - lo).length();
+    for radius in [1e-30, 1e30, 0.9e-6 * diagonal, 11.0 * diagonal] {
+        scene.render.radius = Some(radius);
+        let error = match sppm_gpu::integrators::create(&gpu.device, &gpu.queue, &scene) {
+            Ok(_) => panic!("radius {radius} accepted"),
+            Err(e) => e.to_string(),
+        };
+        assert!(error.contains("is outside what SPPM can estimate with") && error.contains("cornell-box.toml"), "{error}");
+    }
+    scene.render.radius = Some(1.01e-6 * diagonal);
+    let mut sppm = sppm_gpu::integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
+    let image = common::run_passes(sppm.as_mut(), 1);
+    assert!(image.mean().iter().all(|&m| m > 0.01), "direct light at the smallest radius: {:?}", image.mean());
 }
