@@ -64,9 +64,22 @@ fn write_new(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     file.write_all(bytes).and_then(|()| file.sync_all()).map_err(|e| Error::Setting(format!("{}: {e}", path.display())))
 }
 
-/// An f32 as a TOML float that reads back to the same f32.
+/// An f32 as a TOML float that reads back to the same f32: the shortest decimal that does
+/// (`0.8`, not `0.800000011920929`), unless the loader's path (decimal to f64 to f32) would
+/// round it twice to another f32; then the f32's exact value.
 fn float(x: f32) -> Value {
-    Value::Float(x as f64)
+    let shortest: f64 = x.to_string().parse().unwrap_or(f64::NAN);
+    Value::Float(if shortest as f32 == x { shortest } else { x as f64 })
+}
+
+/// Every float of `value` that is an f32 (the keys a material wrote) as [`float`] writes it.
+fn shortest_floats(value: &mut Value) {
+    match value {
+        Value::Float(x) if (*x as f32) as f64 == *x => *value = float(*x as f32),
+        Value::Array(items) => items.iter_mut().for_each(shortest_floats),
+        Value::Table(t) => t.iter_mut().for_each(|(_, v)| shortest_floats(v)),
+        _ => {}
+    }
 }
 
 fn vec3(v: glam::Vec3) -> Value {
@@ -198,6 +211,7 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
         }
         let mut t = Table::new();
         m.kind.toml_keys(&mut t);
+        t.iter_mut().for_each(|(_, v)| shortest_floats(v));
         // The albedo of the kinds that have one, or the texture in its place.
         if let Some((albedo, texture)) = m.kind.albedo() {
             let value = match texture {
@@ -225,6 +239,10 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
             t.insert("type".into(), Value::String("sphere".into()));
             t.insert("center".into(), vec3(sphere.center));
             t.insert("radius".into(), float(sphere.radius));
+            // A Mitsuba sphere's texture frame (its to_world's rotation).
+            if let Some(frame) = shape.sphere_frame.filter(|&f| f != sppm_gpu::scene::TOML_SPHERE_FRAME) {
+                t.insert("uv_frame".into(), Value::Array([frame.x_axis, frame.y_axis, frame.z_axis].map(vec3).to_vec()));
+            }
         } else {
             let triangles: Vec<&Triangle> = scene.triangles.iter().filter(|t| t.shape as usize == i).collect();
             let dir = meshes.file_name().map_or_else(|| "meshes".into(), |n| n.to_string_lossy().into_owned());

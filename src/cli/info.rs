@@ -46,8 +46,9 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
     if let Some(w) = c.crop {
         lens += &format!(", the film's window {} to {}", w.min, w.max);
     }
+    // Every number as the shortest decimal of its f32 (`40`, not `40.0000`).
     let _ =
-        writeln!(out, "camera:     at {} looking at {}, up {}, vertical fov {:.4} deg{lens}", c.position, c.look_at, c.up, c.fov);
+        writeln!(out, "camera:     at {} looking at {}, up {}, vertical fov {} deg{lens}", c.position, c.look_at, c.up, c.fov);
     let mut shapes = BTreeMap::new();
     for s in &scene.shapes {
         let kind = match s.kind {

@@ -143,6 +143,20 @@ fn light_error(scene: &Scene, source: LightSource, name: &str, message: String) 
     SceneError { file: scene.path.clone(), line: (line > 0).then_some(line), key: Some(key), message }
 }
 
+/// A scene that gives no light: at the first emission or light in the file, all of them
+/// zero (its line and key), or, with none, at the file and the `lights` a light goes in.
+fn no_light_error(scene: &Scene) -> SceneError {
+    let message = "the scene has no light: give a shape an `emission` greater than zero, or add a [[lights]] entry \
+                   with positive intensity or irradiance";
+    let shape =
+        scene.shapes.iter().position(|s| s.emission.is_some()).map(|i| (scene.shapes[i].line, LightSource::Shape(i), "emission"));
+    let light = scene.lights.first().map(|l| (l.line, LightSource::Light(0), brightness_key(&l.kind)));
+    match shape.into_iter().chain(light).min_by_key(|&(line, ..)| line) {
+        Some((_, source, name)) => light_error(scene, source, name, message.into()),
+        None => SceneError { file: scene.path.clone(), line: None, key: Some("lights".into()), message: message.into() },
+    }
+}
+
 /// The parameter that sets a light's brightness, for messages and keys.
 fn brightness_key(kind: &LightKind) -> &'static str {
     match kind {
@@ -532,12 +546,7 @@ impl SceneData {
             return Err(power_error(scene, &sources, &powers, power_total, radius));
         }
         if !power_total.is_finite() || power_total <= 0.0 {
-            return Err(SceneError {
-                file: scene.path.clone(),
-                line: None,
-                key: Some("shapes.emission".into()),
-                message: "the scene has no light: give a shape an `emission` greater than zero, or add a [[lights]] entry with positive intensity or irradiance".into(),
-            });
+            return Err(no_light_error(scene));
         }
         let mut running = 0.0;
         for (e, p) in emitters.iter_mut().zip(&powers) {

@@ -516,8 +516,17 @@ impl SceneBuilder {
             scene.shapes.push(shape);
         }
         if !scene.is_lit() {
+            // At the first emission or light given, all zero; with none, where a light goes.
+            let key = match (scene.shapes.iter().position(|s| s.emission.is_some()), scene.lights.first().map(|l| &l.kind)) {
+                (Some(i), _) => format!("shapes[{i}].emission"),
+                (None, Some(LightKind::Point { .. } | LightKind::Spot { .. })) => "lights[0].intensity".into(),
+                (None, Some(LightKind::Directional { .. })) => "lights[0].irradiance".into(),
+                (None, Some(LightKind::Constant { .. })) => "lights[0].radiance".into(),
+                (None, Some(LightKind::Envmap(_))) => "lights[0].scale".into(),
+                (None, None) => "lights".into(),
+            };
             return Err(check.error(
-                "shapes.emission",
+                &key,
                 "the scene has no light: give a shape an emission greater than zero, or add a point, \
                  directional or spot light with positive intensity or irradiance"
                     .into(),

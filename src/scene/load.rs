@@ -371,7 +371,7 @@ fn read_diffuse(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> 
 
 /// `albedo` in [0, 1], or a `texture` in its place (then the albedo is white).
 fn read_albedo(t: &Table, textures: &mut Vec<Texture>) -> Result<(Vec3, Option<u32>)> {
-    let albedo = t.opt("albedo", |v| v.vec3_in(UNIT))?;
+    let albedo = t.opt("albedo", |v| v.rgb(UNIT))?;
     if albedo.is_some() && t.get("texture").is_some() {
         return Err(t.error_at("texture", "give either `albedo` or `texture`, not both"));
     }
@@ -385,8 +385,8 @@ fn read_albedo(t: &Table, textures: &mut Vec<Texture>) -> Result<(Vec3, Option<u
 /// A conductor's complex index of refraction: `eta` and `k` together (each >= 0 per
 /// channel), or neither (no Fresnel term: the albedo alone).
 fn read_fresnel(t: &Table) -> Result<Option<ComplexIor>> {
-    let eta = t.opt("eta", |v| v.vec3_in(Bound::NonNegative))?;
-    let k = t.opt("k", |v| v.vec3_in(Bound::NonNegative))?;
+    let eta = t.opt("eta", |v| v.rgb(Bound::NonNegative))?;
+    let k = t.opt("k", |v| v.rgb(Bound::NonNegative))?;
     match (eta, k) {
         (Some(eta), Some(k)) => Ok(Some(ComplexIor { eta, k })),
         (None, None) => Ok(None),
@@ -403,7 +403,7 @@ fn read_distribution(t: &Table) -> Result<Microfacet> {
 /// A specular lobe's tint in [0, 1] (Mitsuba's `specular_reflectance` and
 /// `specular_transmittance`), white unless given.
 fn read_tint(t: &Table, key: &str) -> Result<Vec3> {
-    t.or(key, Vec3::ONE, |v| v.vec3_in(UNIT))
+    t.or(key, Vec3::ONE, |v| v.rgb(UNIT))
 }
 
 fn read_mirror(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> {
@@ -517,7 +517,7 @@ enum ShapeType {
 /// Shape types: name, type, and the keys allowed besides [`SHAPE_KEYS`].
 const SHAPE_TYPES: &[(&str, ShapeType, &[&str])] = &[
     ("quad", ShapeType::Kind(ShapeKind::Quad), &["corner", "u", "v", "uv_scale"]),
-    ("sphere", ShapeType::Kind(ShapeKind::Sphere), &["center", "radius"]),
+    ("sphere", ShapeType::Kind(ShapeKind::Sphere), &["center", "radius", "uv_frame"]),
     ("cube", ShapeType::Kind(ShapeKind::Cube), &["scale", "rotate", "translate"]),
     ("mesh", ShapeType::Kind(ShapeKind::Mesh), &["file", "smooth", "shape_index", "scale", "rotate", "translate"]),
     ("disk", ShapeType::Disk, &["center", "normal", "radius"]),
@@ -530,6 +530,27 @@ const DISK_SEGMENTS: u32 = 256;
 /// Keys every shape allows.
 const SHAPE_KEYS: &[&str] = &["type", "material", "emission", "velocity", "interior", "exterior"];
 
+/// A sphere's `uv_frame` = [x, y, z]: the axes its texture coordinates are taken in (see
+/// [`Shape::sphere_frame`]; by default [`super::TOML_SPHERE_FRAME`]), orthonormal to within
+/// 1e-4 and used as written, so that a converted Mitsuba sphere keeps its frame bit for bit.
+fn read_uv_frame(v: &Value) -> Result<glam::Mat3> {
+    let items = v.elements().map_err(|_| v.expected("an array of 3 axes [x, y, z]"))?;
+    if items.len() != 3 {
+        return Err(v.error(format!("expected 3 axes [x, y, z], found {} items", items.len())));
+    }
+    let mut axes = [Vec3::ZERO; 3];
+    for (axis, item) in axes.iter_mut().zip(items) {
+        *axis = Value { key: v.key.clone(), ..item }.vec3()?;
+    }
+    let [x, y, z] = axes.map(|a| a.as_dvec3());
+    let unit = |a: glam::DVec3| (a.length() - 1.0).abs() <= 1e-4;
+    let orthogonal = x.dot(y).abs() <= 1e-4 && y.dot(z).abs() <= 1e-4 && z.dot(x).abs() <= 1e-4;
+    if !(unit(x) && unit(y) && unit(z) && orthogonal) {
+        return Err(v.error("the axes of a uv_frame are unit length and at right angles to each other"));
+    }
+    Ok(glam::Mat3::from_cols_array_2d(&axes.map(|a| a.to_array())))
+}
+
 /// Reads `shapes[index]` and appends its primitives to the scene, within `budget`.
 fn read_shape(entry: &Value, index: u32, scene: &mut Scene, budget: &mesh::PrimitiveBudget) -> Result<Shape> {
     let t = entry.table()?;
@@ -541,11 +562,11 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene, budget: &mesh::Primi
     let shape = Shape {
         kind,
         material: t.req("material", |v| v.material(&scene.materials))?,
-        emission: t.opt("emission", |v| v.vec3_in(Bound::NonNegative))?,
+        emission: t.opt("emission", |v| v.rgb(Bound::NonNegative))?,
         velocity: t.opt("velocity", Value::vec3)?,
         line: entry.line,
         velocity_line: t.get("velocity").map(|v| v.line),
-        sphere_frame: None,
+        sphere_frame: t.opt("uv_frame", read_uv_frame)?,
         interior: t.opt("interior", |v| v.medium(&scene.media))?,
         exterior: t.opt("exterior", |v| v.medium(&scene.media))?,
     };
@@ -725,7 +746,7 @@ fn read_light(entry: &Value) -> Result<Light> {
 fn read_point_light(t: &Table) -> Result<LightKind> {
     Ok(LightKind::Point {
         position: t.req("position", Value::vec3)?,
-        intensity: t.req("intensity", |v| v.vec3_in(Bound::NonNegative))?,
+        intensity: t.req("intensity", |v| v.rgb(Bound::NonNegative))?,
     })
 }
 
@@ -746,7 +767,7 @@ fn read_spot_light(t: &Table) -> Result<LightKind> {
     Ok(LightKind::Spot {
         position: t.req("position", Value::vec3)?,
         direction,
-        intensity: t.req("intensity", |v| v.vec3_in(Bound::NonNegative))?,
+        intensity: t.req("intensity", |v| v.rgb(Bound::NonNegative))?,
         cutoff_angle,
         beam_width: t.or("beam_width", 0.75 * cutoff_angle, |v| v.f32_in(Bound::NonNegative))?,
     })
@@ -754,7 +775,7 @@ fn read_spot_light(t: &Table) -> Result<LightKind> {
 
 /// A constant environment: `radiance` from every direction.
 fn read_constant_light(t: &Table) -> Result<LightKind> {
-    Ok(LightKind::Constant { radiance: t.req("radiance", |v| v.vec3_in(Bound::NonNegative))? })
+    Ok(LightKind::Constant { radiance: t.req("radiance", |v| v.rgb(Bound::NonNegative))? })
 }
 
 /// An environment map: `file` (an equirectangular image, EXR or HDR linear, PNG sRGB),
@@ -779,7 +800,7 @@ fn read_directional_light(t: &Table) -> Result<LightKind> {
     if direction == Vec3::ZERO {
         return Err(t.error_at("direction", "the direction must not be zero"));
     }
-    Ok(LightKind::Directional { direction, irradiance: t.req("irradiance", |v| v.vec3_in(Bound::NonNegative))? })
+    Ok(LightKind::Directional { direction, irradiance: t.req("irradiance", |v| v.rgb(Bound::NonNegative))? })
 }
 
 /// The scene file: its name and where its lines start.
@@ -1063,11 +1084,13 @@ impl<'a, 'i> Value<'a, 'i> {
         self.vec3_in(Bound::Any)
     }
 
-    /// A colour of coefficients: one number (grey) or `[r, g, b]`, each within `bound`.
+    /// A colour (every colour-valued key): one number (grey) or `[r, g, b]`, each within
+    /// `bound`.
     fn rgb(&self, bound: Bound) -> Result<Vec3> {
         match self.value {
             DeValue::Array(_) => self.vec3_in(bound),
-            _ => self.f32_in(bound).map(Vec3::splat),
+            DeValue::Integer(_) | DeValue::Float(_) => self.f32_in(bound).map(Vec3::splat),
+            _ => Err(self.expected("one number or an array of 3 numbers")),
         }
     }
 

@@ -408,8 +408,8 @@ pub struct Shape {
     /// A sphere's frame for its texture coordinates (Mitsuba's `sphere`): columns are its
     /// object-space x, y and z axes in world space, unit length, and uv = (phi / 2 pi,
     /// theta / pi) of the normal in that frame, phi from x towards y in [0, 2 pi), theta from
-    /// z. `None` for every other shape, and for TOML's spheres, whose frame is fixed
-    /// ([`TOML_SPHERE_FRAME`]).
+    /// z. `None` for every other shape, and for TOML's spheres without a `uv_frame` (theirs is
+    /// [`TOML_SPHERE_FRAME`]).
     pub sphere_frame: Option<glam::Mat3>,
     /// Index into [`Scene::media`] of the medium inside the shape (a closed surface: see
     /// [`medium`]), `None` for a vacuum or none given.

@@ -333,8 +333,10 @@ fn a_scene_without_light_is_an_error() {
         [0.0, 1.0, 0.0],
         "white",
     );
-    assert_err(dark.clone(), "shapes.emission", "no light");
-    assert_err(dark.clone().emission([0.0; 3]), "shapes.emission", "no light");
+    // Where a light goes, or the first emission or light given, all zero.
+    assert_err(dark.clone(), "lights", "no light");
+    assert_err(dark.clone().emission([0.0; 3]), "shapes[0].emission", "no light");
+    assert_err(dark.clone().directional_light([0.0, -1.0, 0.0], [0.0; 3]), "lights[0].irradiance", "no light");
     assert!(dark.clone().point_light([0.0, 1.0, 0.0], [1.0; 3]).build().is_ok());
     assert!(dark.directional_light([0.0, -1.0, 0.0], [1.0; 3]).build().is_ok());
 }

@@ -1765,3 +1765,48 @@ fn legacy_spectra_are_read_as_mitsuba_0_6_read_them() {
         expect_error(test, &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, element)), needle);
     }
 }
+
+/// A -D for a parameter the scene never reads (no `$name`, no `<default>`: most likely
+/// misspelt) is a warning naming the file and the parameter; one that a `<default>` names
+/// (whether or not a `$name` uses it) or that an included file substitutes is not.
+#[test]
+fn a_define_the_scene_never_reads_is_a_warning() {
+    let dir = temp_dir("unused-define");
+    let main = scene_with(
+        "    <default name=\"unused_default\" value=\"1\"/>\n    <include filename=\"part.xml\"/>\n    <shape type=\"sphere\"><float name=\"radius\" value=\"$r\"/></shape>",
+    );
+    std::fs::write(dir.join("s.xml"), main).unwrap();
+    std::fs::write(
+        dir.join("part.xml"),
+        "<scene version=\"3.0.0\"><shape type=\"sphere\"><float name=\"radius\" value=\"$q\"/></shape></scene>",
+    )
+    .unwrap();
+    let defines: Vec<(String, String)> = [("r", "0.5"), ("q", "0.25"), ("unused_default", "2"), ("sppp", "3"), ("sppp", "4")]
+        .map(|(k, v)| (k.into(), v.into()))
+        .to_vec();
+    let (scene, warnings) = scene::mitsuba::load_with_warnings(&dir.join("s.xml"), &defines);
+    let scene = scene.unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.spheres.iter().map(|s| s.radius).collect::<Vec<_>>(), [0.25, 0.5]);
+    // Once, with the value that counts (the last).
+    assert_eq!(warnings.len(), 1, "{warnings:#?}");
+    let w = &warnings[0];
+    assert!(w.file.ends_with("s.xml") && w.line.is_none(), "{w}");
+    assert_eq!(w.message, "-D sppp=4: the scene has no $sppp and no <default name=\"sppp\">");
+    // Every -D read: no warning.
+    let (_, warnings) = scene::mitsuba::load_with_warnings(&dir.join("s.xml"), &defines[..3]);
+    assert!(warnings.is_empty(), "{warnings:#?}");
+}
+
+/// `sppm-gpu info` prints each number as the shortest decimal of its f32: the fov 40 as `40`
+/// (not `40.0000`), a radius of 0.015 as written.
+#[test]
+fn info_prints_numbers_shortest() {
+    let dir = temp_dir("info-numbers");
+    let text = scene_with(r#"    <integrator type="sppm"><float name="initial_radius" value="0.015"/></integrator>"#);
+    std::fs::write(dir.join("s.xml"), text).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_sppm-gpu")).arg("info").arg(dir.join("s.xml")).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("radius 0.015,"), "{stdout}");
+    assert!(stdout.contains("at [0, 0, 4] looking at [0, 0, 0], up [1, 0, 0], vertical fov 40 deg"), "{stdout}");
+}

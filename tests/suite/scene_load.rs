@@ -917,3 +917,79 @@ fn disk_faces_its_normal_on_its_circle() {
     let error = error_of(&format!("{}{fog}[[shapes]]\n{disk}interior = \"fog\"\n", BASE));
     assert_message(&error, &["closed surface"]);
 }
+
+/// Every colour-valued key takes one number as grey, as a medium's coefficients do (and
+/// Mitsuba's `<rgb value="0.6"/>`); anything but a number or an array is refused naming both.
+#[test]
+fn a_single_number_is_a_grey_colour() {
+    let grey = Vec3::splat(0.6);
+    let material = |m: &str| load_ok(&edit("{ type = \"diffuse\", albedo = [0.5, 0.5, 0.5] }", m)).materials[0].kind.clone();
+    assert_eq!(material("{ type = \"diffuse\", albedo = 0.6 }").albedo(), Some((grey, None)));
+    match material("{ type = \"mirror\", albedo = 1, eta = 0.2, k = 3 }") {
+        MaterialKind::Mirror { albedo, fresnel: Some(f), .. } => {
+            assert_eq!((albedo, f.eta, f.k), (Vec3::ONE, Vec3::splat(0.2), Vec3::splat(3.0)))
+        }
+        other => panic!("{other:?}"),
+    }
+    match material("{ type = \"plastic\", albedo = 0.6, specular = 0.5, ior = 1.5 }") {
+        MaterialKind::Plastic { albedo, specular, .. } => assert_eq!((albedo, specular), (grey, Vec3::splat(0.5))),
+        other => panic!("{other:?}"),
+    }
+    match material("{ type = \"dielectric\", ior = 1.5, reflectance = 0.6, transmittance = 0.5 }") {
+        MaterialKind::Dielectric { reflectance, transmittance, .. } => {
+            assert_eq!((reflectance, transmittance), (grey, Vec3::splat(0.5)))
+        }
+        other => panic!("{other:?}"),
+    }
+    let shape = load_ok(&with_shape(&format!("{QUAD}emission = 4\n")));
+    assert_eq!(shape.shapes[0].emission, Some(Vec3::splat(4.0)));
+    let lights = [
+        (
+            "type = \"point\"\nposition = [0, 1, 0]\nintensity = 2\n",
+            LightKind::Point { position: Vec3::Y, intensity: Vec3::splat(2.0) },
+        ),
+        (
+            "type = \"directional\"\ndirection = [0, -1, 0]\nirradiance = 0.5\n",
+            LightKind::Directional { direction: Vec3::NEG_Y, irradiance: Vec3::splat(0.5) },
+        ),
+        ("type = \"constant\"\nradiance = 3\n", LightKind::Constant { radiance: Vec3::splat(3.0) }),
+    ];
+    for (body, kind) in lights {
+        assert_eq!(load_ok(&with_light(body)).lights[0].kind, kind, "{body}");
+    }
+    let spot = load_ok(&with_light("type = \"spot\"\nposition = [0, 1, 0]\ndirection = [0, -1, 0]\nintensity = 5\n"));
+    assert!(matches!(spot.lights[0].kind, LightKind::Spot { intensity, .. } if intensity == Vec3::splat(5.0)));
+    // Bounds as for each channel; other types named.
+    assert_error(
+        &edit("albedo = [0.5, 0.5, 0.5]", "albedo = 1.5"),
+        12,
+        "materials.white.albedo",
+        &["between 0 and 1, found 1.5"],
+    );
+    assert_error(&with_shape(&format!("{QUAD}emission = -1\n")), 19, "shapes[0].emission", &["at least 0"]);
+    assert_error(
+        &edit("albedo = [0.5, 0.5, 0.5]", "albedo = \"grey\""),
+        12,
+        "materials.white.albedo",
+        &["expected one number or an array of 3 numbers, found a string"],
+    );
+}
+
+/// A sphere's `uv_frame`: the axes its texture coordinates are taken in, kept bit for bit;
+/// axes not orthonormal are refused.
+#[test]
+fn a_sphere_takes_its_uv_frame() {
+    let sphere = "type = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"white\"\n";
+    assert_eq!(load_ok(&with_shape(sphere)).shapes[0].sphere_frame, None);
+    let (c, s) = (0.8f32, 0.6f32);
+    let frame = format!("uv_frame = [[{c}, {s}, 0], [-{s}, {c}, 0], [0, 0, 1]]\n");
+    let scene = load_ok(&with_shape(&format!("{sphere}{frame}")));
+    let expected = glam::Mat3::from_cols(Vec3::new(c, s, 0.0), Vec3::new(-s, c, 0.0), Vec3::Z);
+    assert_eq!(scene.shapes[0].sphere_frame, Some(expected));
+    let bad = |f: &str| with_shape(&format!("{sphere}uv_frame = {f}\n"));
+    assert_error(&bad("[[1, 0, 0], [1, 0, 0], [0, 0, 1]]"), 18, "shapes[0].uv_frame", &["unit length and at right angles"]);
+    assert_error(&bad("[[2, 0, 0], [0, 1, 0], [0, 0, 1]]"), 18, "shapes[0].uv_frame", &["unit length"]);
+    assert_error(&bad("[[1, 0, 0], [0, 1, 0]]"), 18, "shapes[0].uv_frame", &["expected 3 axes [x, y, z], found 2 items"]);
+    assert_error(&bad("[[1, 0, 0], [0, 1, 0], [0, 1]]"), 18, "shapes[0].uv_frame", &["array of 3 numbers"]);
+    assert_error(&with_shape(&format!("{QUAD}uv_frame = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n")), 19, "shapes[0].uv_frame", &[]);
+}

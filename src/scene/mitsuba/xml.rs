@@ -25,7 +25,7 @@
 
 use super::super::SceneError;
 use std::cell::{Cell, RefCell};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
@@ -137,6 +137,7 @@ pub fn read_scene(path: &Path, defines: &[(String, String)]) -> Result<(Node, Ve
     let reading = Rc::new(Reading { version: Cell::new(3), warnings: RefCell::new(Vec::new()) });
     let mut reader = Reader {
         params: HashMap::new(),
+        used: HashSet::new(),
         stack: Vec::new(),
         reading,
         dirs: vec![root],
@@ -152,12 +153,23 @@ pub fn read_scene(path: &Path, defines: &[(String, String)]) -> Result<(Node, Ve
         reader.params.insert(name.clone(), value.clone());
     }
     let root = reader.file(path, None, 1)?;
+    // A -D the scene never reads is most likely misspelt.
+    let mut warned = HashSet::new();
+    for (name, _) in defines {
+        if !reader.used.contains(name) && warned.insert(name) {
+            let value = &reader.params[name];
+            let message = format!("-D {name}={value}: the scene has no ${name} and no <default name=\"{name}\">");
+            reader.reading.warnings.borrow_mut().push(SceneError::new(path, None, None, message));
+        }
+    }
     Ok((root, reader.dirs))
 }
 
 /// What reading the files keeps: parameters, the chain of includes, what the elements share.
 struct Reader {
     params: HashMap<String, String>,
+    /// Parameters a `$name` or a `<default>` named.
+    used: HashSet<String>,
     /// The files being read, outermost first, canonicalized: an include cycle repeats one.
     stack: Vec<PathBuf>,
     /// The version of the outermost file (set as it is read, before any element) and the
@@ -332,6 +344,7 @@ impl Reader {
                         return Err(child.error(Some("name"), format!("\"{name}\" is not a parameter name")));
                     }
                     let value = child.req_attr("value")?.to_owned();
+                    self.used.insert(name.to_owned());
                     self.params.entry(name.to_owned()).or_insert(value);
                 }
                 "include" => {
@@ -372,7 +385,7 @@ impl Reader {
     }
 
     /// `text` with each `$name` replaced by its parameter's value.
-    fn substitute(&self, text: &str, node: &Node, attr: &str) -> Result<String> {
+    fn substitute(&mut self, text: &str, node: &Node, attr: &str) -> Result<String> {
         let mut out = String::with_capacity(text.len());
         let mut rest = text;
         while let Some(at) = rest.find('$') {
@@ -396,7 +409,10 @@ impl Reader {
                         ),
                     ))
                 }
-                Some(value) => out.push_str(value),
+                Some(value) => {
+                    out.push_str(value);
+                    self.used.insert(name.to_owned());
+                }
                 None => {
                     return Err(node.error(
                         Some(attr),
