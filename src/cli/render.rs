@@ -9,7 +9,7 @@ use sppm_gpu::gpu::GpuContext;
 use sppm_gpu::integrators;
 use sppm_gpu::pacing::{DeviceQueue, Goal, Pacer, PassQueue};
 use sppm_gpu::scene::{self, Method, Named};
-use sppm_gpu::{experiments, image_io, say, Error};
+use sppm_gpu::{image_io, say, Error};
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -387,7 +387,7 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     };
     say!(
         "{}: {} passes, {work} {unit} in {:.2} s ({:.2} M {unit}/s, {:.2} passes/s) -> {}; {ended}",
-        experiments::method_name(r.method),
+        r.method.name(),
         integrator.passes() - first_pass,
         seconds,
         work as f64 / seconds / 1e6,

@@ -21,11 +21,6 @@ use indicatif::{ProgressBar, ProgressStyle};
 use plot::{Chart, Series, Tile};
 use std::path::{Path, PathBuf};
 
-/// The name of a method as the scene format spells it ([`Named`]).
-pub fn method_name(method: Method) -> &'static str {
-    method.name()
-}
-
 /// A method as [`compare`] runs it: the integrator, for SPPM where its direct light comes
 /// from, and the sampler. Named like the method, with `sppm-photons` for SPPM with direct
 /// light from photons alone (`direct = "photons"`), and `/independent` or `/sobol` after the
@@ -708,16 +703,16 @@ pub fn passes(scene: &Scene, name: &str, opts: &PassesOptions) -> Result<Vec<Pas
         Method::Sppm => format!("{} photons", r.photons),
         _ => format!("{} spp", r.spp),
     };
-    let title = format!("{name}: time per pass ({}, {what})", method_name(r.method));
+    let title = format!("{name}: time per pass ({}, {what})", r.method.name());
     let note = device_note(&gpu, &s, None);
     let series =
-        Series { name: method_name(r.method).into(), points: times.iter().map(|t| (t.pass as f64, t.seconds * 1e3)).collect() };
+        Series { name: r.method.name().into(), points: times.iter().map(|t| (t.pass as f64, t.seconds * 1e3)).collect() };
     plot::write_chart(
         &opts.out.join("time-per-pass.png"),
         &Chart { title: &title, x_desc: "pass", y_desc: "milliseconds", log_x: false, log_y: false, note: &note },
         &[series],
     )?;
-    let title = format!("{name}: {} over passes", method_name(r.method));
+    let title = format!("{name}: {} over passes", r.method.name());
     plot::write_montage(&opts.out.join("images.png"), &title, &[tiles], None)?;
 
     let total: f64 = times.iter().map(|t| t.seconds).sum();

@@ -19,7 +19,7 @@ use blit::{Blit, DisplayParams};
 use sppm_gpu::gpu::GpuContext;
 use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators::{self, Integrator, PartSize, Work};
-use sppm_gpu::scene::{Camera, Method, Scene};
+use sppm_gpu::scene::{Camera, Method, Named, Scene};
 use sppm_gpu::{metrics, say, Error};
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -222,14 +222,6 @@ impl FrameStats {
 /// The renderer of `method` among those made so far.
 fn renderer_of(renderers: &mut [(Method, Box<dyn Integrator>)], method: Method) -> &mut Box<dyn Integrator> {
     &mut renderers.iter_mut().find(|(m, _)| *m == method).expect("a renderer is made before it is used").1
-}
-
-fn method_name(m: Method) -> &'static str {
-    match m {
-        Method::Sppm => "sppm",
-        Method::Pt => "pt",
-        Method::PtNee => "pt-nee",
-    }
 }
 
 impl App {
@@ -455,7 +447,7 @@ impl App {
                 saved.exr.display(),
                 saved.png.display(),
                 passes,
-                method_name(view.method)
+                view.method.name()
             );
             return Ok(());
         }
@@ -467,7 +459,7 @@ impl App {
             saved.png.display(),
             saved.toml.display(),
             passes,
-            method_name(view.method)
+            view.method.name()
         );
         Ok(())
     }
@@ -684,7 +676,7 @@ impl View {
         let seconds = (self.rendering + self.resumed_at.map_or(Duration::ZERO, |t| t.elapsed())).as_secs_f64();
         let mut fields = vec![
             format!("sppm-gpu view: {name}"),
-            method_name(method).to_string(),
+            method.name().to_string(),
             format!("{passes} pass{}", if passes == 1 { "" } else { "es" }),
         ];
         if self.paused {

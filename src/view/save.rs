@@ -3,7 +3,7 @@
 //! a name no file has yet.
 
 use sppm_gpu::image_io::{self, Rgb32Image};
-use sppm_gpu::scene::{Camera, DirectLight, Method, RenderSettings};
+use sppm_gpu::scene::{Camera, DirectLight, Named, RenderSettings};
 use sppm_gpu::Error;
 use std::path::{Path, PathBuf};
 
@@ -52,11 +52,7 @@ pub fn scene_text(original: &str, camera: &Camera, render: &RenderSettings, pass
 
     let mut r = table(&mut doc, "render")?;
     let int = |v: u32| toml::Value::Integer(v as i64);
-    let method = match render.method {
-        Method::Sppm => "sppm",
-        Method::Pt => "pt",
-        Method::PtNee => "pt-nee",
-    };
+    let method = render.method.name();
     r.insert("method".into(), toml::Value::String(method.into()));
     r.insert("iterations".into(), int(passes.max(1)));
     r.insert("width".into(), int(render.width));
@@ -111,6 +107,7 @@ pub fn save(scene_path: &Path, image: &Rgb32Image, text: Option<&str>) -> Result
 #[cfg(test)]
 mod tests {
     use super::*;
+    use sppm_gpu::scene::Method;
 
     #[test]
     fn names_are_never_taken() {

@@ -4,7 +4,7 @@
 use sppm_gpu::experiments::plot::{self, Chart, Series, Tile};
 use sppm_gpu::experiments::{self, Snapshot, SweepParam};
 use sppm_gpu::image_io::{self, Rgb32Image};
-use sppm_gpu::scene::{DirectLight, Method};
+use sppm_gpu::scene::{DirectLight, Method, Named};
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -37,7 +37,7 @@ fn methods_and_sweep_parameters_parse_and_check_ranges() {
         assert_eq!(experiments::Variant::parse(v.name()).unwrap(), v);
     }
     for m in [Method::Sppm, Method::Pt, Method::PtNee] {
-        let v = experiments::Variant::parse(experiments::method_name(m)).unwrap();
+        let v = experiments::Variant::parse(m.name()).unwrap();
         assert_eq!((v.method, v.direct), (m, DirectLight::Sampled));
     }
     assert!(experiments::Variant::parse("bdpt").is_err());
