@@ -1,10 +1,9 @@
 // SPPM photon gather, after the photon pass: each visible point adds the photon hits stored
 // within its radius (photon_pass.wgsl) to its accumulator. It walks the lists of the buckets
 // of the cells its disc overlaps (at most two per axis, each bucket once), so every hit within
-// the radius is met exactly once; the tests are those of a direct deposit (distance below the
-// radius, arriving from the side the point faces, not too long a joined path, on the point's
-// side of its surface: same_side in shared/grid.wgsl). The sums are kept in registers in the
-// 32.32 fixed point of shared/flux.wgsl and added once, without atomics: only this thread
+// the radius is met exactly once; the tests are those of a direct deposit (accepts in
+// shared/gather.wgsl). The sums are kept in registers in the 32.32 fixed point of
+// shared/flux.wgsl and added once, without atomics: only this thread
 // writes its point's words in this dispatch (the direct deposits of resumed photon threads,
 // with atomics, are dispatches of their own). Integer sums do not
 // depend on the order of the terms, so the accumulator holds the bits a direct deposit of
@@ -14,6 +13,7 @@
 #import types
 #import sampling
 #import grid
+#import gather
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
@@ -37,15 +37,12 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
     }
     let q = visible_points[index];
     let b = point_buckets(grid, q.p, q.radius);
-    let n = decode_normal(q.normal);
-    let n_unit = normalize(n);
-    let depth = vp_depth(q.normal);
-    let volume = in_volume(q.normal);
+    let g = gatherer(q);
     var flux = array<vec2u, 3>(vec2u(0u), vec2u(0u), vec2u(0u));
     var count = 0u;
     var moments = vec4u(0u);
     for (var k = 0u; k < 8u; k++) {
-        if ((b.keep >> k) & 1u) == 0u {
+        if !visits(b, k) {
             continue;
         }
         var next = photon_hit_lists[2u + b.h[k]];
@@ -53,22 +50,10 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
             let i = 3u * (next - 1u);
             let head = photon_hits[i];
             next = head.w;
-            if !within_radius(q.p, q.radius, bitcast<vec3f>(head.xyz)) {
-                continue;
-            }
             let arrival = photon_hits[i + 1u];
-            if !within_depth(depth, arrival.w, frame.max_depth) {
-                continue;
-            }
             // The flux, and the normal of the surface the photon hit.
             let carried = photon_hits[i + 2u];
-            // A point in a medium gathers the photons in media, one on a surface those on
-            // surfaces, from its side.
-            if USES_MEDIA && volume != in_volume(carried.w) {
-                continue;
-            }
-            if !volume && (!lights_side(n, bitcast<vec3f>(arrival.xyz))
-                || !same_side(n_unit, decode_normal(carried.w), bitcast<vec3f>(head.xyz) - q.p)) {
+            if !accepts(g, bitcast<vec3f>(head.xyz), bitcast<vec3f>(arrival.xyz), arrival.w, carried.w, frame.max_depth) {
                 continue;
             }
             if ADAPTIVE_RADIUS {

@@ -20,6 +20,7 @@
 #import lights
 #import lanes
 #import grid
+#import gather
 #import flux
 #import medium
 
@@ -47,21 +48,12 @@ struct PhotonGrid {
 
 const STREAM_PHOTON: u32 = 1u;
 
-// Add the photon's flux to visible point v if it lies within v's radius of p, arrives on its
-// side, the joined path is not too long, and it lies on v's side of v's surface (`normal`,
-// encode_normal's, of the surface the photon hit, turned to the side it arrived from:
-// same_side in shared/grid.wgsl; volume_normal's in a medium).
+// Add the photon's flux to visible point v if the point accepts it (shared/gather.wgsl):
+// `normal` is encode_normal's, of the surface the photon hit, turned to the side it arrived
+// from (volume_normal's in a medium).
 fn deposit_at(v: u32, p: vec3f, d: vec3f, beta: vec3f, depth: u32, normal: u32) {
     let q = visible_points[v];
-    let n = decode_normal(q.normal);
-    // A point in a medium gathers the photons in media, a point on a surface those on
-    // surfaces, with the tests of a surface's side.
-    let volume = in_volume(q.normal);
-    if USES_MEDIA && volume != in_volume(normal) {
-        return;
-    }
-    let side = volume || (lights_side(n, d) && same_side(normalize(n), decode_normal(normal), p - q.p));
-    if within_radius(q.p, q.radius, p) && within_depth(vp_depth(q.normal), depth, frame.max_depth) && side {
+    if accepts(gatherer(q), p, d, depth, normal, frame.max_depth) {
         accumulate_flux(v, beta);
         if ADAPTIVE_RADIUS {
             accumulate_moments(v, offset_moments((p - q.p) / q.radius));

@@ -101,28 +101,6 @@ fn envmap_eval(e: Emitter, w: vec3f) -> EnvmapEval {
     return EnvmapEval(e.radiance * envmap_lookup(base, n, c), pdf);
 }
 
-// First index k < count whose running sum exceeds u (the last is 1 > u): rows (row = -1) or
-// the cells of row `row`.
-fn envmap_find(base: u32, n: vec2u, row: i32, count: u32, u: f32) -> u32 {
-    var lo = 0u;
-    var hi = count - 1u;
-    while lo < hi {
-        let mid = (lo + hi) / 2u;
-        var cdf: f32;
-        if row < 0 {
-            cdf = envmap_marginal(base, n, mid);
-        } else {
-            cdf = envmap_conditional(base, n, mid, u32(row));
-        }
-        if cdf <= u {
-            lo = mid + 1u;
-        } else {
-            hi = mid;
-        }
-    }
-    return lo;
-}
-
 // A direction of the environment map of e (world, unit) for the numbers u in [0, 1)^2, with
 // its radiance and solid-angle density (without the pmf): a row by the marginal running sums
 // (u.y), a cell by its row's (u.x), each number reused for the point within the cell.
@@ -135,10 +113,10 @@ struct EnvmapSample {
 fn sample_envmap(e: Emitter, u: vec2f) -> EnvmapSample {
     let base = e.prim_ref;
     let n = envmap_size(base);
-    let j = envmap_find(base, n, -1, n.y - 1u, u.y);
+    let j = find_cdf(Cdf(CDF_ENVMAP_ROWS, base, n, 0u), n.y - 1u, u.y);
     let m0 = select(0.0, envmap_marginal(base, n, j - 1u), j > 0u);
     let pm = envmap_marginal(base, n, j) - m0;
-    let i = envmap_find(base, n, i32(j), n.x, u.x);
+    let i = find_cdf(Cdf(CDF_ENVMAP_CELLS, base, n, j), n.x, u.x);
     let c0 = select(0.0, envmap_conditional(base, n, i - 1u, j), i > 0u);
     let pc = envmap_conditional(base, n, i, j) - c0;
     let st = clamp(vec2f((u.x - c0) / pc, (u.y - m0) / pm), vec2f(0.0), vec2f(1.0));

@@ -117,6 +117,11 @@ fn point_buckets(g: GridParams, p: vec3f, r: f32) -> PointBuckets {
     return out;
 }
 
+// Whether corner k's bucket is one to visit (bit k of b.keep).
+fn visits(b: PointBuckets, k: u32) -> bool {
+    return ((b.keep >> k) & 1u) != 0u;
+}
+
 // A key of a float that orders as the float does (as u32), so that atomicMax finds the
 // largest float and, on the complement, the smallest (the bounds of the visible points that
 // photon_pass aims environment photons at). Not for NaN.

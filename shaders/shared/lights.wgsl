@@ -3,6 +3,7 @@
 // light side of next-event estimation, for the path tracer and SPPM's camera pass alike.
 
 #import envmap
+#import cdf
 
 @group(0) @binding(15) var<storage, read> emitters: array<Emitter>;
 
@@ -19,19 +20,9 @@ fn environment() -> Emitter {
     return emitters[frame.emitter_count - 1u];
 }
 
-// Index of the emitter whose cdf interval holds u (binary search).
+// Index of the emitter whose cdf interval holds u.
 fn find_emitter(u: f32) -> u32 {
-    var lo = 0u;
-    var hi = frame.emitter_count - 1u;
-    while lo < hi {
-        let mid = (lo + hi) / 2u;
-        if emitters[mid].cdf <= u {
-            lo = mid + 1u;
-        } else {
-            hi = mid;
-        }
-    }
-    return lo;
+    return find_cdf(Cdf(CDF_EMITTERS, 0u, vec2u(0u), 0u), frame.emitter_count, u);
 }
 
 struct LightPoint {
