@@ -4,9 +4,9 @@
 
 use super::mesh::{self, Normals, Transform};
 use super::{
-    medium, Camera, ComplexIor, CropWindow, DirectLight, Light, LightKind, Material, MaterialKind, Medium, Method, Microfacet,
-    Phase, PixelFilter, RadiusRule, RadiusSchedule, RenderSettings, Scene, SceneError, Shape, ShapeKind, Sphere, Texture,
-    TextureFilter, TextureWrap, Triangle,
+    medium, Camera, ComplexIor, CropWindow, Light, LightKind, Material, MaterialKind, Medium, Microfacet, Phase, PixelFilter,
+    RadiusRule, RadiusSchedule, RenderSettings, Scene, SceneError, Shape, ShapeKind, Sphere, Texture, TextureFilter, TextureWrap,
+    Triangle,
 };
 use super::{ply, serialized};
 use glam::{Vec2, Vec3};
@@ -198,24 +198,25 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         "filter_stddev",
         "sampler",
     ])?;
+    let d = RenderSettings::default();
     Ok(RenderSettings {
         width: t.req("width", |v| v.u32_in(1, MAX_RESOLUTION))?,
         height: t.req("height", |v| v.u32_in(1, MAX_RESOLUTION))?,
-        method: t.or("method", Method::Sppm, Value::named)?,
+        method: t.or("method", d.method, Value::named)?,
         iterations: t.req("iterations", Value::count)?,
-        spp: t.or("spp", super::PassWork::DEFAULT.spp, Value::count)?,
-        photons: t.or("photons", super::PassWork::DEFAULT.photons, Value::count)?,
+        spp: t.or("spp", d.spp, Value::count)?,
+        photons: t.or("photons", d.photons, Value::count)?,
         radius: t.opt("radius", |v| v.f32_in(Bound::Positive))?,
-        alpha: t.or("alpha", 0.6667, |v| v.f32_in(Bound::Open(0.0, 1.0)))?,
-        max_depth: t.or("max_depth", 64, Value::count)?,
-        seed: t.or("seed", 0, |v| v.u32_in(0, u32::MAX))?,
+        alpha: t.or("alpha", d.alpha, |v| v.f32_in(Bound::Open(0.0, 1.0)))?,
+        max_depth: t.or("max_depth", d.max_depth, Value::count)?,
+        seed: t.or("seed", d.seed, |v| v.u32_in(0, u32::MAX))?,
         time_limit: t.opt("time_limit", |v| v.f64_in(Bound::Positive))?,
-        direct: t.or("direct", DirectLight::Sampled, Value::named)?,
+        direct: t.or("direct", d.direct, Value::named)?,
         direct_samples: t.opt("direct_samples", |v| v.u32_in(1, MAX_DIRECT_SAMPLES))?,
-        radius_schedule: t.or("radius_schedule", RadiusSchedule::PerPoint, Value::named)?,
+        radius_schedule: t.or("radius_schedule", d.radius_schedule, Value::named)?,
         radius_rule: read_radius_rule(t)?,
         filter: read_filter(t)?,
-        sampler: t.or("sampler", crate::sampler::Sampler::DEFAULT, Value::named)?,
+        sampler: t.or("sampler", d.sampler, Value::named)?,
         work_given: super::WorkGiven { photons: t.get("photons").is_some(), spp: t.get("spp").is_some() },
     })
 }

@@ -276,6 +276,33 @@ impl PassWork {
     pub const DEFAULT: PassWork = PassWork { photons: 100_000, spp: 1 };
 }
 
+impl Default for RenderSettings {
+    /// The defaults of every reader (TOML, Mitsuba XML, [`SceneBuilder`]), each of which
+    /// sets the image size and pass count it reads.
+    fn default() -> Self {
+        RenderSettings {
+            width: 256,
+            height: 256,
+            method: Method::Sppm,
+            iterations: 1,
+            spp: PassWork::DEFAULT.spp,
+            photons: PassWork::DEFAULT.photons,
+            radius: None,
+            alpha: 0.6667,
+            max_depth: 64,
+            seed: 0,
+            time_limit: None,
+            direct: DirectLight::Sampled,
+            direct_samples: None,
+            radius_schedule: RadiusSchedule::PerPoint,
+            radius_rule: RadiusRule::Shrink,
+            filter: PixelFilter::Box,
+            sampler: crate::sampler::Sampler::DEFAULT,
+            work_given: WorkGiven::default(),
+        }
+    }
+}
+
 impl RenderSettings {
     /// Give the work settings the scene did not give ([`RenderSettings::work_given`]) the
     /// values of `work`: the device's defaults, chosen from its kind, never from timings, so

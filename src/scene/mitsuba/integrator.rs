@@ -39,7 +39,7 @@ use super::props::Props;
 use super::sensor::SensorSettings;
 use super::xml::Node;
 use super::Result;
-use crate::scene::{DirectLight, Method, RadiusSchedule, RenderSettings};
+use crate::scene::{Method, RenderSettings};
 
 /// Our `max_depth` for Mitsuba's -1 (unbounded): Russian roulette ends paths long before.
 const UNBOUNDED_DEPTH: u32 = 1024;
@@ -54,22 +54,12 @@ pub(super) fn render_settings(
     let mut render = RenderSettings {
         width: sensor.width,
         height: sensor.height,
-        method: Method::Sppm,
         iterations: sensor.sample_count,
-        spp: crate::scene::PassWork::DEFAULT.spp,
-        photons: crate::scene::PassWork::DEFAULT.photons,
-        radius: None,
-        alpha: 0.6667,
         max_depth: UNBOUNDED_DEPTH,
         seed: sensor.seed,
-        time_limit: None,
-        direct: DirectLight::Sampled,
-        direct_samples: None,
-        radius_schedule: RadiusSchedule::PerPoint,
-        radius_rule: crate::scene::RadiusRule::Shrink,
         filter: sensor.filter,
         sampler: sensor.sampler,
-        work_given: crate::scene::WorkGiven::default(),
+        ..RenderSettings::default()
     };
     if let Some(node) = integrator {
         read_integrator(node, &mut render, shading_normals)?;
