@@ -50,6 +50,11 @@ fn photon_gather(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgro
             let i = 3u * (next - 1u);
             let head = photon_hits[i];
             next = head.w;
+            // The radius first, before the hit's other loads: most hits fail it (accepts
+            // tests it again, which the compiler folds).
+            if !within_radius(g.p, g.radius, bitcast<vec3f>(head.xyz)) {
+                continue;
+            }
             let arrival = photon_hits[i + 1u];
             // The flux, and the normal of the surface the photon hit.
             let carried = photon_hits[i + 2u];
