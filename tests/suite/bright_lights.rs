@@ -183,11 +183,17 @@ fn assert_refusal(e: &SceneError, path: &Path, line: Option<usize>, key: &str, b
     }
 }
 
-/// Renders `scene` with the method it names.
-fn render(scene: &Scene) -> Rgb32Image {
+/// Renders `bright` and `unit` with the method they name, on one device, sharing their kernels
+/// (the two differ in their lights' values alone: one compile serves both).
+fn render_pair(bright: &Scene, unit: &Scene) -> (Rgb32Image, Rgb32Image) {
     let gpu = common::gpu().expect("checked by the caller");
-    let mut integrator = integrators::create(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
-    common::run_passes(integrator.as_mut(), scene.render.iterations)
+    sppm_gpu::gpu::share_kernels(|| {
+        let mut render = |scene: &Scene| {
+            let mut integrator = integrators::create(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
+            common::run_passes(integrator.as_mut(), scene.render.iterations)
+        };
+        (render(bright), render(unit))
+    })
 }
 
 /// `bright` is `unit` times `s`, to f32 rounding: every channel within 1e-5 of it (rounding
@@ -220,7 +226,8 @@ fn check_kind(kind: Kind) {
     for method in ["sppm", "pt-nee"] {
         let (_, unit, _) = light_scene(&format!("{name}-{method}-unit"), kind, 1.0, method);
         let (_, bright, _) = light_scene(&format!("{name}-{method}-bound"), kind, at_bound(), method);
-        assert_scaled(&render(&bright), &render(&unit), at_bound() as f64, &format!("{name} {method}"));
+        let (bright, unit) = render_pair(&bright, &unit);
+        assert_scaled(&bright, &unit, at_bound() as f64, &format!("{name} {method}"));
     }
 }
 
@@ -399,7 +406,8 @@ fn power_over_the_bound_is_refused_and_under_it_renders_scaled() {
             // The dim point light is not scaled: only the image of the scaled light is compared,
             // with the point light dark in both.
             let (unit, bright) = (without_point_light(unit), without_point_light(bright));
-            assert_scaled(&render(&bright), &render(&unit), under as f64, &format!("{name} {method}"));
+            let (bright, unit) = render_pair(&bright, &unit);
+            assert_scaled(&bright, &unit, under as f64, &format!("{name} {method}"));
         }
     }
 }
