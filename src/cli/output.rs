@@ -94,6 +94,9 @@ pub(crate) fn check(output: &Path, kind: Kind, inputs: &Inputs) -> Result<bool, 
         if !output.is_file() {
             return refuse("exists and is not a regular file".into());
         }
+        if let Kind::New = kind {
+            return refuse("exists already: this command writes new files only".into());
+        }
         if let Some(what) = not_of_kind(output, kind).map_err(cannot)? {
             return refuse(format!(
                 "exists and is {what}: sppm-gpu replaces only a file of the kind it writes there; remove it first"
@@ -123,7 +126,7 @@ fn not_of_kind(path: &Path, kind: Kind) -> std::io::Result<Option<String>> {
         Kind::Image | Kind::Partial => is_exr(),
         Kind::Checkpoint => head.starts_with(CHECKPOINT_MAGIC),
         Kind::Csv(header) => head.starts_with(header.as_bytes()),
-        Kind::New => return Ok(Some("there already: this command writes new files only".into())),
+        Kind::New => false,
     };
     if of_kind {
         return Ok(None);
@@ -143,7 +146,7 @@ fn not_of_kind(path: &Path, kind: Kind) -> std::io::Result<Option<String>> {
         Kind::Image | Kind::Partial => "the image",
         Kind::Checkpoint => "the checkpoint",
         Kind::Csv(_) => "the table",
-        Kind::New => unreachable!("returned above"),
+        Kind::New => "a new file",
     };
     Ok(Some(format!("{what}, not of the kind of {wanted} written here")))
 }

@@ -188,7 +188,7 @@ fn assert_refusal(e: &SceneError, path: &Path, line: Option<usize>, key: &str, b
 fn render_pair(bright: &Scene, unit: &Scene) -> (Rgb32Image, Rgb32Image) {
     let gpu = common::gpu().expect("checked by the caller");
     sppm_gpu::gpu::share_kernels(|| {
-        let mut render = |scene: &Scene| {
+        let render = |scene: &Scene| {
             let mut integrator = integrators::create(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
             common::run_passes(integrator.as_mut(), scene.render.iterations)
         };

@@ -99,7 +99,7 @@ fn an_existing_file_of_another_kind_is_refused() {
     std::fs::write(&existing, "# mine\n").unwrap();
     let (code, stderr) = run(&[os("convert"), os(&scene), os("-o"), os(&existing)]);
     assert_eq!(code, Some(1), "{stderr}");
-    assert!(stderr.contains("existing.toml: exists and is there already: this command writes new files only"), "{stderr}");
+    assert!(stderr.contains("existing.toml: exists already: this command writes new files only"), "{stderr}");
     assert_eq!(std::fs::read_to_string(&existing).unwrap(), "# mine\n");
 
     // compare's table over a CSV of someone else's.
