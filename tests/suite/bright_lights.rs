@@ -424,23 +424,11 @@ fn without_point_light(mut scene: Scene) -> Scene {
 fn mitsuba_emitters_over_the_bound_are_refused_at_their_elements() {
     let over = format!("{:e}", over_bound());
     let scene = |area: &str, point: &str| {
-        format!(
-            r#"<scene version="3.0.0">
-    <sensor type="perspective">
-        <float name="fov" value="40"/>
-        <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0"/></transform>
-        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
-    </sensor>
-    <shape type="rectangle">
-        <emitter type="area"><rgb name="radiance" value="{area}"/></emitter>
-    </shape>
-    <emitter type="point">
-        <point name="position" x="0" y="0" z="2"/>
-        <rgb name="intensity" value="{point}"/>
-    </emitter>
-</scene>
-"#
-        )
+        let emitter = format!(
+            "    <emitter type=\"point\">\n        <point name=\"position\" x=\"0\" y=\"0\" z=\"2\"/>\n        \
+             <rgb name=\"intensity\" value=\"{point}\"/>\n    </emitter>"
+        );
+        common::scene_text::mitsuba_with("3.0.0", area, &emitter)
     };
     let dir = temp_dir("mitsuba");
     for (file, text, line, key) in

@@ -34,20 +34,7 @@ const HEAD_LINES: usize = 9;
 /// A small valid scene of version `version` with `body` from line 10 on: a camera and a lit
 /// rectangle (2 triangles).
 fn scene_with(version: &str, body: &str) -> String {
-    format!(
-        r#"<scene version="{version}">
-    <sensor type="perspective">
-        <float name="fov" value="40"/>
-        <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0"/></transform>
-        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
-    </sensor>
-    <shape type="rectangle">
-        <emitter type="area"><rgb name="radiance" value="1"/></emitter>
-    </shape>
-{body}
-</scene>
-"#
-    )
+    crate::common::scene_text::mitsuba_with(version, "1", body)
 }
 
 /// Loads `dir/main.xml`; it must fail, and the error must name a file in `dir` and a line.

@@ -39,20 +39,7 @@ fn load_files(test: &str, files: &[(&str, &str)], defines: &[(&str, &str)]) -> R
 
 /// A small valid scene with `body` added to it: a camera, a lit rectangle.
 fn scene_with(body: &str) -> String {
-    format!(
-        r#"<scene version="3.0.0">
-    <sensor type="perspective">
-        <float name="fov" value="40"/>
-        <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0"/></transform>
-        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
-    </sensor>
-    <shape type="rectangle">
-        <emitter type="area"><rgb name="radiance" value="1"/></emitter>
-    </shape>
-{body}
-</scene>
-"#
-    )
+    common::scene_text::mitsuba_with("3.0.0", "1", body)
 }
 
 #[test]

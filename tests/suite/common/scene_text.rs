@@ -38,3 +38,22 @@ pub fn with_shape(body: &str) -> String {
 pub fn with_light(body: &str) -> String {
     format!("{BASE}[[lights]]\n{body}")
 }
+
+/// A small valid Mitsuba scene of version `version`: a camera (8x8) and a rectangle emitting
+/// `radiance`; `body` starts at line 10, after the 9 lines of the head.
+pub fn mitsuba_with(version: &str, radiance: &str, body: &str) -> String {
+    format!(
+        r#"<scene version="{version}">
+    <sensor type="perspective">
+        <float name="fov" value="40"/>
+        <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+    </sensor>
+    <shape type="rectangle">
+        <emitter type="area"><rgb name="radiance" value="{radiance}"/></emitter>
+    </shape>
+{body}
+</scene>
+"#
+    )
+}
