@@ -21,7 +21,8 @@ use std::path::{Path, PathBuf};
 use crate::error::Error;
 use crate::scene::Scene;
 
-const MAGIC: &[u8] = b"SPPMGPU-CHECKPOINT";
+/// The bytes a checkpoint starts with.
+pub const MAGIC: &[u8] = b"SPPMGPU-CHECKPOINT";
 const VERSION: u32 = 2;
 
 /// What a checkpoint was made from.

@@ -33,7 +33,6 @@ pub(crate) enum Kind {
 /// The leading bytes that mark a file of each format.
 const PNG_MAGIC: &[u8] = b"\x89PNG\r\n\x1a\n";
 const EXR_MAGIC: &[u8] = &[0x76, 0x2f, 0x31, 0x01];
-const CHECKPOINT_MAGIC: &[u8] = b"SPPMGPU-CHECKPOINT";
 
 /// The files a run reads, canonical, for [`check`].
 #[derive(Default, Debug)]
@@ -124,7 +123,7 @@ fn not_of_kind(path: &Path, kind: Kind) -> std::io::Result<Option<String>> {
             head.starts_with(PNG_MAGIC)
         }
         Kind::Image | Kind::Partial => is_exr(),
-        Kind::Checkpoint => head.starts_with(CHECKPOINT_MAGIC),
+        Kind::Checkpoint => head.starts_with(sppm_gpu::checkpoint::MAGIC),
         Kind::Csv(header) => head.starts_with(header.as_bytes()),
         Kind::New => false,
     };
@@ -135,7 +134,7 @@ fn not_of_kind(path: &Path, kind: Kind) -> std::io::Result<Option<String>> {
         "a PNG image"
     } else if is_exr() {
         "an EXR image"
-    } else if head.starts_with(CHECKPOINT_MAGIC) {
+    } else if head.starts_with(sppm_gpu::checkpoint::MAGIC) {
         "a checkpoint"
     } else if head.is_empty() {
         "an empty file"

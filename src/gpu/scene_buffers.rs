@@ -101,9 +101,9 @@ fn beyond(bound: f64) -> String {
     format!("beyond what the renderer's 32-bit arithmetic holds: at most {bound:e}")
 }
 
-/// A light's value for a message, exactly: as written for moderate magnitudes (`4`, `0.5`),
-/// else in exponent form (`1e37`, `4.2535296e37`).
-fn number(x: f32) -> String {
+/// A value for a message, exactly: as written for moderate magnitudes (`4`, `0.5`), else in
+/// exponent form (`1e37`, `4.2535296e37`).
+pub(crate) fn number(x: f32) -> String {
     if x == 0.0 || (1e-3..1e6).contains(&x.abs()) {
         format!("{x}")
     } else {
