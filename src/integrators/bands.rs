@@ -27,14 +27,26 @@ impl Bands {
     /// shorter), sharing one upload of the scene.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, rows_per_band: u32) -> Result<Self, Error> {
         crate::gpu::check_device(device)?;
+        let data = SceneData::new(scene)?;
+        let scene_buffers = Arc::new(SceneBuffers::new(device, &data));
+        Self::with_scene_buffers(device, queue, scene, &data, scene_buffers, rows_per_band)
+    }
+
+    /// [`Bands::new`] on scene buffers already uploaded.
+    pub(crate) fn with_scene_buffers(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        data: &SceneData,
+        scene_buffers: Arc<SceneBuffers>,
+        rows_per_band: u32,
+    ) -> Result<Self, Error> {
         if rows_per_band == 0 {
             return Err(Error::Setting(format!(
                 "one row of {} pixels (spp {}) needs more memory than one of this device's buffers holds",
                 scene.render.width, scene.render.spp
             )));
         }
-        let data = SceneData::new(scene)?;
-        let scene_buffers = Arc::new(SceneBuffers::new(device, &data));
         let height = scene.render.height;
         let bands = (0..height)
             .step_by(rows_per_band as usize)
@@ -42,12 +54,10 @@ impl Bands {
                 let rows = y0..(y0 + rows_per_band).min(height);
                 let shared = scene_buffers.clone();
                 Ok::<_, Error>(match scene.render.method {
-                    Method::Sppm => {
-                        Box::new(Sppm::with_scene_buffers(device, queue, scene, &data, shared, rows, Deposits::Auto)?)
-                            as Box<dyn Integrator>
-                    }
+                    Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, shared, rows, Deposits::Auto)?)
+                        as Box<dyn Integrator>,
                     Method::Pt | Method::PtNee => {
-                        Box::new(PathTracer::with_scene_buffers(device, queue, scene, &data, shared, rows)?)
+                        Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, shared, rows)?)
                     }
                 })
             })

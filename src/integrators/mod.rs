@@ -13,8 +13,10 @@ pub use path::PathTracer;
 pub use sppm::{Deposits, Sppm};
 
 use crate::error::Error;
+use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
 use crate::image_io::Rgb32Image;
 use crate::scene::Method;
+use std::sync::Arc;
 
 /// How much of a pass one [`Integrator::record_pass_part`] may record: at most `points`
 /// camera paths (visible points for SPPM, pixel samples for the path tracers) or `photons`
@@ -207,12 +209,35 @@ fn sizes<'a>(buffers: impl IntoIterator<Item = (&'a str, &'a wgpu::Buffer)>) -> 
 
 /// The integrator for `scene.render.method`, on the caller's device.
 pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Box<dyn Integrator>, Error> {
-    let rows = max_rows(device, scene);
+    check_device_for(device, scene)?;
+    let data = SceneData::new(scene)?;
+    let buffers = Arc::new(SceneBuffers::new(device, &data));
+    create_on(device, queue, scene, &data, buffers)
+}
+
+/// SPPM, and any method in bands, need the device's storage buffers and workgroups
+/// ([`crate::gpu::check_device`]): refused before the scene is built.
+fn check_device_for(device: &wgpu::Device, scene: &Scene) -> Result<(), Error> {
+    if scene.render.method == Method::Sppm || max_rows(device, scene) < scene.render.height {
+        crate::gpu::check_device(device)?;
+    }
+    Ok(())
+}
+
+/// [`create`] on `scene`'s records and buffers already made (and its device checked).
+fn create_on(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    data: &SceneData,
+    buffers: Arc<SceneBuffers>,
+) -> Result<Box<dyn Integrator>, Error> {
+    let (rows, height) = (max_rows(device, scene), scene.render.height);
     Ok(match scene.render.method {
         // An image whose per-pixel buffers do not fit in one storage buffer goes in bands.
-        _ if rows < scene.render.height => Box::new(Bands::new(device, queue, scene, rows)?),
-        Method::Sppm => Box::new(Sppm::new(device, queue, scene)?),
-        Method::Pt | Method::PtNee => Box::new(PathTracer::new(device, queue, scene)?),
+        _ if rows < height => Box::new(Bands::with_scene_buffers(device, queue, scene, data, buffers, rows)?),
+        Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?),
+        Method::Pt | Method::PtNee => Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
     })
 }
 
@@ -509,13 +534,18 @@ pub fn shutter_time(seed: u32, pass: u32) -> f32 {
 pub fn create_compiled(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<(Box<dyn Integrator>, f64), Error> {
     crate::gpu::share_kernels(|| {
         let start = std::time::Instant::now();
+        check_device_for(device, scene)?;
+        // The scene's records depend on its shapes, materials, lights and camera medium, not
+        // on the image: one BVH and one upload serve both renderers.
+        let data = SceneData::new(scene)?;
+        let buffers = Arc::new(SceneBuffers::new(device, &data));
         let mut tiny = scene.clone();
         let r = &mut tiny.render;
         (r.width, r.height, r.photons, r.iterations, r.time_limit) = (8, 8, r.photons.min(1024), 1, None);
-        let mut warm_up = create(device, queue, &tiny)?;
+        let mut warm_up = create_on(device, queue, &tiny, &data, buffers.clone())?;
         warm_up.run_pass()?;
         warm_up.image()?;
         let seconds = start.elapsed().as_secs_f64();
-        Ok((create(device, queue, scene)?, seconds))
+        Ok((create_on(device, queue, scene, &data, buffers)?, seconds))
     })
 }
