@@ -18,7 +18,8 @@ use sppm_gpu::accel::build_cwbvh;
 use sppm_gpu::gpu::baked_bvh::replacements;
 use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
 use sppm_gpu::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
-use sppm_gpu::gpu::{Features, GpuContext, Kernel, Resource};
+use sppm_gpu::gpu::{GpuContext, Kernel, Resource};
+use sppm_gpu::layout::Features;
 use wgpu::util::DeviceExt;
 
 const RAYS: usize = 1 << 20;
@@ -114,7 +115,7 @@ fn main() {
         let hits = storage_buffer(&gpu.device, "hits", &vec![[0f32; 4]; RAYS]);
         let frame = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
-            contents: bytemuck::bytes_of(&sppm_gpu::gpu::types::Frame::default()),
+            contents: bytemuck::bytes_of(&sppm_gpu::layout::Frame::default()),
             usage: wgpu::BufferUsages::UNIFORM,
         });
         let groups: Vec<wgpu::BindGroup> = kernels

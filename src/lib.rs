@@ -20,13 +20,15 @@
 //!
 //! # Modules
 //!
+//! - [`layout`]: what crosses to the GPU, without wgpu: the `#[repr(C)]` records shared with
+//!   the kernels and the feature flags they are specialized on. The scene model and the GPU
+//!   code both stand on it.
 //! - [`scene`]: the scene format, parsed and validated into world-space triangles and
 //!   spheres, materials, textures and lights ([`scene::load`]). No wgpu.
 //! - [`accel`]: the BVH over the primitives and the hashed grid over visible points, built on
 //!   the host, with host traversal and lookup functions that the kernels mirror.
-//! - [`gpu`]: the device ([`gpu::GpuContext`], [`gpu::required_limits`]), the WGSL kernels,
-//!   the `#[repr(C)]` structs shared with them ([`gpu::types`]) and the scene's storage
-//!   buffers.
+//! - [`gpu`]: the device ([`gpu::GpuContext`], [`gpu::required_limits`]), the WGSL kernels
+//!   and the scene's storage buffers.
 //! - [`integrators`]: [`integrators::Sppm`] and [`integrators::PathTracer`], both behind the
 //!   progressive [`integrators::Integrator`] trait.
 //! - [`image_io`]: [`image_io::Rgb32Image`] and reading and writing it as EXR or PNG.
@@ -162,6 +164,7 @@ pub mod experiments;
 pub mod gpu;
 pub mod image_io;
 pub mod integrators;
+pub mod layout;
 pub mod metrics;
 pub mod pacing;
 pub mod sampler;

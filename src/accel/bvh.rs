@@ -17,6 +17,7 @@ use bytemuck::Zeroable;
 use glam::{Vec3, Vec3A};
 use obvhs::{aabb::Aabb, bvh2::builder::build_bvh2, bvh2::Bvh2, BvhBuildParams};
 
+use crate::layout::{BvhParams, GpuBvhNode};
 use crate::scene::{Sphere, Triangle};
 
 /// One node of the host tree (32 bytes). Leaf when `count > 0`: primitives
@@ -56,29 +57,6 @@ pub const STACK_SIZE: usize = 64;
 /// Leaves hold at most this many primitives.
 pub const MAX_PRIMS_PER_LEAF: u32 = 4;
 
-/// One interior node as the kernels read it (32 bytes): the boxes of its two children,
-/// quantized to 16 bits per coordinate on a grid over the root's box ([`BvhParams`]), and a
-/// reference to each child. A traversal step loads one node and tests both children without
-/// loading them: 8 words instead of the 24 of three [`BvhNode`]s, which matters where loads
-/// at per-ray addresses are expensive (lavapipe gathers them one lane at a time).
-///
-/// A child box is `(lo.x | lo.y << 16, lo.z | hi.x << 16, hi.y | hi.z << 16)`; decoded as
-/// `origin + q * scale`, it contains the child's exact box (lower corners rounded down,
-/// upper corners up, with a margin for the rounding of the decode). An empty child has the
-/// inverted box `lo = 65535, hi = 0`, which no ray enters.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct GpuBvhNode {
-    /// Quantized box of the first child.
-    pub box_a: [u32; 3],
-    /// Reference to the first child (see [`LEAF_BIT`]).
-    pub child_a: u32,
-    /// Quantized box of the second child.
-    pub box_b: [u32; 3],
-    /// Reference to the second child.
-    pub child_b: u32,
-}
-
 /// Marks a child reference as a leaf: `LEAF_BIT | count << LEAF_COUNT_SHIFT | first`, its
 /// primitives `prim_refs[first .. first + count]`. Without the bit, a reference is the index
 /// of an interior node in [`PackedBvh::nodes`].
@@ -87,23 +65,6 @@ pub const LEAF_BIT: u32 = 0x8000_0000;
 pub const LEAF_COUNT_SHIFT: u32 = 27;
 /// Mask of a leaf's first primitive in its reference.
 pub const LEAF_FIRST_MASK: u32 = (1 << LEAF_COUNT_SHIFT) - 1;
-
-/// How quantized child boxes decode: `origin + q * scale` (a uniform buffer for the kernels,
-/// 32 bytes).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct BvhParams {
-    /// World position of q = 0.
-    pub origin: [f32; 3],
-    /// Which tree the kernels' `bvh_nodes` and `prim_refs` hold: 0 this binary one, 1 a
-    /// [`super::cwbvh::CwBvh`] (whose nodes carry their own grids: origin and scale unused).
-    pub tree_kind: u32,
-    /// World size of one quantization step, per axis.
-    pub scale: [f32; 3],
-    /// With a CWBVH, the entry of `bvh_nodes` (16 bytes each) where its leaf primitives
-    /// start; 0 otherwise.
-    pub leaf_base: u32,
-}
 
 /// The BVH in the layout the kernels traverse: interior nodes only, root at index 0 (see
 /// [`GpuBvhNode`]), with the primitive references of [`Bvh::prim_refs`].

@@ -7,7 +7,7 @@
 //! placed in slots by the direction they lie in from the node's centre). Each node is 80 bytes
 //! ([`CwNode`]): its box's lower corner, a power-of-two grid step per axis, and the boxes of
 //! up to 8 children quantized to 8 bits on that grid. A traversal step loads one node and
-//! tests 8 children, where the binary layout ([`super::bvh::GpuBvhNode`]) loads 32 bytes to
+//! tests 8 children, where the binary layout ([`GpuBvhNode`](crate::layout::GpuBvhNode)) loads 32 bytes to
 //! test 2: on a CPU driver, where each load at a per-ray address is a loop over the SIMD
 //! lanes, loads per child box are what the time is made of.
 //!

@@ -40,6 +40,8 @@
 
 use glam::Vec3;
 
+use crate::layout::GridParams;
+
 /// Cell side in units of the largest radius: 2, and a little more, so that a point's box
 /// (2 r wide) spans at most two cells per axis despite rounding; cell ranges are clamped to
 /// two per axis as well, which bounds the entries at 8 per point.
@@ -47,20 +49,6 @@ pub const CELL_RADII: f32 = 2.002;
 
 /// Cells per axis at most; a scene far larger than its radius gets larger cells instead.
 pub const MAX_RES: u32 = 1 << 20;
-
-/// GPU-side grid parameters (32 bytes, std430/uniform compatible).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct GridParams {
-    /// Minimum corner of the grid.
-    pub origin: [f32; 3],
-    /// Side of the cubic cells: [`CELL_RADII`] times the largest radius.
-    pub cell_size: f32,
-    /// Cells per axis; `[0, 0, 0]` when there are no points, so that every lookup misses.
-    pub res: [u32; 3],
-    /// `table_size - 1`; `table_size` is a power of two.
-    pub table_mask: u32,
-}
 
 /// The grid: parameters, bucket offsets and point indices (see the module documentation).
 #[derive(Clone, Debug, PartialEq)]

@@ -11,4 +11,4 @@ pub mod grid;
 
 pub use bvh::{build_bvh, build_bvh_moving, Bvh, BvhNode, SPHERE_BIT};
 pub use cwbvh::{build_cwbvh, CwBvh, CwNode};
-pub use grid::{build_grid, build_grid_in, hash_cell, GridParams, HashGrid};
+pub use grid::{build_grid, build_grid_in, hash_cell, HashGrid};

@@ -3,7 +3,7 @@
 //! features it turns on (the `USES_*` constants its kernels are specialized with).
 
 use sppm_gpu::gpu::scene_buffers::SceneData;
-use sppm_gpu::gpu::Features;
+use sppm_gpu::layout::Features;
 use sppm_gpu::scene::{LightKind, Method, Named, Phase, PixelFilter, Scene, ShapeKind};
 use std::collections::BTreeMap;
 use std::fmt::Write;

@@ -10,7 +10,7 @@
 //! is a constant, each interior node an `if` that the lanes whose rays miss the box skip
 //! (a driver branches over a block when no lane is active in it, as a GPU does over a warp),
 //! and the nearest hit is kept per lane as before. The kernels are compiled per scene anyway
-//! (see [`super::Features`]); this is the same specialization taken one step further.
+//! (see [`crate::layout::Features`]); this is the same specialization taken one step further.
 //!
 //! Children are visited in a fixed order rather than nearest first (ordering would need a
 //! copy of each subtree per order), which costs some box tests that a shrinking `t` would
@@ -18,13 +18,8 @@
 
 use std::fmt::Write;
 
-use super::scene_buffers::SceneData;
+use super::scene_buffers::{SceneData, MAX_BAKED_PRIMITIVES};
 use crate::accel::SPHERE_BIT;
-
-/// Scenes of at most this many primitives are traced by code. Compile time grows with the
-/// code (lavapipe compiles each kernel once per run): a 36-triangle Cornell box adds a
-/// fraction of a second.
-pub const MAX_BAKED_PRIMITIVES: usize = 256;
 
 /// The function in `shaders/shared/scene.wgsl` that [`baked_trace`] replaces: it traces nothing and
 /// says so, and the data traversal runs.
@@ -93,52 +88,4 @@ fn node(data: &SceneData, index: usize, depth: usize, out: &mut String) {
 /// traversal in place of [`PLACEHOLDER`], or nothing.
 pub fn replacements(data: &SceneData) -> Vec<(&'static str, String)> {
     baked_trace(data).map(|code| (PLACEHOLDER, code)).into_iter().collect()
-}
-
-/// Whether a scene of `primitives` primitives is traced through the compressed 8-wide BVH
-/// ([`crate::accel::cwbvh`]) rather than the binary tree's data traversal.
-///
-/// Scenes small enough to bake are traced by code, which loads nothing and beats both
-/// (`cargo bench --bench traversal`, see docs/journal/session-12.md "CWBVH (issue 24)": on the Cornell box the
-/// baked traversal traces about twice the CWBVH's rays per second, the CWBVH twice the binary
-/// tree's); the CWBVH takes every larger scene, where it traced 1.3x to 1.7x the binary
-/// tree's closest hits and 2.6x to 3x its shadow rays (the bunny box, the 48k and 871k
-/// dragons), and pt-nee drew 1.5x the samples on the bunny box; SPPM's passes on the 871k
-/// dragon took as long either way (not yet explained). `SPPM_GPU_TRAVERSAL=binary` in the
-/// environment keeps the binary tree instead, to compare the two in one binary (images agree
-/// bit for bit but for ties).
-pub fn uses_cwbvh(primitives: usize) -> bool {
-    primitives > MAX_BAKED_PRIMITIVES && std::env::var("SPPM_GPU_TRAVERSAL").map_or(true, |v| v != "binary")
-}
-
-/// The `BVH_LAYOUT` override for `data`'s scene (`shaders/shared/scene.wgsl`): 2 when its
-/// buffers hold the CWBVH, 1 for the binary tree, so that kernels compile only the
-/// traversal the scene uses.
-pub fn layout_constant(data: &SceneData) -> (&'static str, f64) {
-    ("BVH_LAYOUT", if data.cwbvh.is_some() { 2.0 } else { 1.0 })
-}
-
-/// The primitives of [`SceneData::cwbvh`]'s leaves in leaf order, three `vec4f` each, as the
-/// CWBVH traversal reads them after its nodes in `bvh_nodes` (`shaders/shared/cwbvh.wgsl`):
-/// a triangle as `(p0, prim_ref)`, `(e1, shape)`, `(e2, 0)`, a sphere as
-/// `(center, prim_ref)`, `(radius, shape, 0, 0)`, `0`, the integers as `f32` bits. The
-/// coordinates are those of `triangles` and `spheres`, so the intersection tests compute the
-/// same numbers. Empty without a CWBVH.
-pub fn leaf_prims(data: &SceneData) -> Vec<[f32; 4]> {
-    let Some(cw) = &data.cwbvh else { return Vec::new() };
-    let bits = f32::from_bits;
-    cw.prim_refs
-        .iter()
-        .flat_map(|&r| {
-            if r & SPHERE_BIT != 0 {
-                let s = &data.spheres[(r & !SPHERE_BIT) as usize];
-                let c = s.center;
-                [[c[0], c[1], c[2], bits(r)], [s.radius, bits(s.shape), 0.0, 0.0], [0.0; 4]]
-            } else {
-                let t = &data.triangles[r as usize];
-                let (p, e1, e2) = (t.p0, t.e1, t.e2);
-                [[p[0], p[1], p[2], bits(r)], [e1[0], e1[1], e1[2], bits(t.shape)], [e2[0], e2[1], e2[2], 0.0]]
-            }
-        })
-        .collect()
 }

@@ -6,8 +6,8 @@
 //! module gives each kernel's bind group layout, and the host hands over a table of named
 //! buffers, of which each kernel takes the ones it declares.
 
-use super::types::WORKGROUP_SIZE;
 use super::GpuError;
+use crate::layout::WORKGROUP_SIZE;
 
 /// Every kernel, by name (its file `shaders/<name>.wgsl`, its entry point and its label).
 pub const KERNELS: &[&str] = &[
@@ -200,7 +200,7 @@ impl Kernel {
     /// The kernel with each `(token, text)` replaced in its source first, for variants that
     /// WGSL cannot parameterize (the texel format of a storage texture), and its `override`
     /// constants set from `constants` (those the kernel does not declare are ignored, so one
-    /// list such as [`Features::constants`](super::Features::constants) serves every kernel).
+    /// list such as [`Features::constants`](crate::layout::Features::constants) serves every kernel).
     pub fn specialized(
         device: &wgpu::Device,
         name: &'static str,

@@ -6,8 +6,8 @@ mod features;
 mod kernel;
 pub mod readback;
 pub mod scene_buffers;
-pub mod types;
+pub mod submissions;
 
 pub use context::{adapters, check_device, required_limits, GpuContext, GpuError, STORAGE_BUFFERS_NEEDED};
-pub use features::{Features, Specialization};
+pub use features::Specialization;
 pub use kernel::{shader_source, shader_source_for, share_kernels, validate, DeviceCaps, Kernel, Resource, KERNELS};

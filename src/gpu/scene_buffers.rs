@@ -1,9 +1,9 @@
 //! The scene in GPU layout: host arrays built from a loaded scene and its BVH (no device
 //! needed, so they can be tested alone), then uploaded as storage buffers.
 
-use super::types::*;
 use crate::accel::bvh::PackedBvh;
 use crate::accel::{Bvh, SPHERE_BIT};
+use crate::layout::*;
 use crate::scene::{spot_solid_angle, LightKind, Scene, SceneError, TextureFilter, TextureWrap, TOML_SPHERE_FRAME};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
@@ -15,7 +15,7 @@ pub struct SceneData {
     /// The same tree in the kernels' layout (quantized child boxes in each interior node).
     pub packed_bvh: PackedBvh,
     /// The compressed 8-wide BVH the kernels traverse instead, for scenes where
-    /// [`super::baked_bvh::uses_cwbvh`] says it is faster.
+    /// [`uses_cwbvh`] says it is faster.
     pub cwbvh: Option<crate::accel::CwBvh>,
     /// Every triangle, in the scene's order (the BVH's triangle references index this).
     pub triangles: Vec<GpuTriangle>,
@@ -257,7 +257,7 @@ impl SceneData {
         let velocity = |shape: u32| scene.shapes[shape as usize].velocity.unwrap_or(Vec3::ZERO);
         let motion = scene.shapes.iter().any(|s| s.velocity.is_some_and(|v| v != Vec3::ZERO));
         let bvh = crate::accel::build_bvh_moving(&scene.triangles, &scene.spheres, velocity);
-        let cwbvh = super::baked_bvh::uses_cwbvh(bvh.prim_refs.len())
+        let cwbvh = uses_cwbvh(bvh.prim_refs.len())
             .then(|| crate::accel::build_cwbvh(&scene.triangles, &scene.spheres, velocity))
             .flatten();
 
@@ -616,11 +616,66 @@ fn swept_bounds(scene: &Scene, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
     (lo, hi)
 }
 
+// Which tree the buffers hold: the traversal a scene gets.
+
+/// Scenes of at most this many primitives are traced by code. Compile time grows with the
+/// code (lavapipe compiles each kernel once per run): a 36-triangle Cornell box adds a
+/// fraction of a second.
+pub const MAX_BAKED_PRIMITIVES: usize = 256;
+
+/// Whether a scene of `primitives` primitives is traced through the compressed 8-wide BVH
+/// ([`crate::accel::cwbvh`]) rather than the binary tree's data traversal.
+///
+/// Scenes small enough to bake are traced by code, which loads nothing and beats both
+/// (`cargo bench --bench traversal`, see docs/journal/session-12.md "CWBVH (issue 24)": on the Cornell box the
+/// baked traversal traces about twice the CWBVH's rays per second, the CWBVH twice the binary
+/// tree's); the CWBVH takes every larger scene, where it traced 1.3x to 1.7x the binary
+/// tree's closest hits and 2.6x to 3x its shadow rays (the bunny box, the 48k and 871k
+/// dragons), and pt-nee drew 1.5x the samples on the bunny box; SPPM's passes on the 871k
+/// dragon took as long either way (not yet explained). `SPPM_GPU_TRAVERSAL=binary` in the
+/// environment keeps the binary tree instead, to compare the two in one binary (images agree
+/// bit for bit but for ties).
+pub fn uses_cwbvh(primitives: usize) -> bool {
+    primitives > MAX_BAKED_PRIMITIVES && std::env::var("SPPM_GPU_TRAVERSAL").map_or(true, |v| v != "binary")
+}
+
+/// The `BVH_LAYOUT` override for `data`'s scene (`shaders/shared/scene.wgsl`): 2 when its
+/// buffers hold the CWBVH, 1 for the binary tree, so that kernels compile only the
+/// traversal the scene uses.
+pub fn layout_constant(data: &SceneData) -> (&'static str, f64) {
+    ("BVH_LAYOUT", if data.cwbvh.is_some() { 2.0 } else { 1.0 })
+}
+
+/// The primitives of [`SceneData::cwbvh`]'s leaves in leaf order, three `vec4f` each, as the
+/// CWBVH traversal reads them after its nodes in `bvh_nodes` (`shaders/shared/cwbvh.wgsl`):
+/// a triangle as `(p0, prim_ref)`, `(e1, shape)`, `(e2, 0)`, a sphere as
+/// `(center, prim_ref)`, `(radius, shape, 0, 0)`, `0`, the integers as `f32` bits. The
+/// coordinates are those of `triangles` and `spheres`, so the intersection tests compute the
+/// same numbers. Empty without a CWBVH.
+pub fn leaf_prims(data: &SceneData) -> Vec<[f32; 4]> {
+    let Some(cw) = &data.cwbvh else { return Vec::new() };
+    let bits = f32::from_bits;
+    cw.prim_refs
+        .iter()
+        .flat_map(|&r| {
+            if r & SPHERE_BIT != 0 {
+                let s = &data.spheres[(r & !SPHERE_BIT) as usize];
+                let c = s.center;
+                [[c[0], c[1], c[2], bits(r)], [s.radius, bits(s.shape), 0.0, 0.0], [0.0; 4]]
+            } else {
+                let t = &data.triangles[r as usize];
+                let (p, e1, e2) = (t.p0, t.e1, t.e2);
+                [[p[0], p[1], p[2], bits(r)], [e1[0], e1[1], e1[2], bits(t.shape)], [e2[0], e2[1], e2[2], 0.0]]
+            }
+        })
+        .collect()
+}
+
 /// Storage buffers of a [`SceneData`]. Empty arrays get one zeroed element, since wgpu
 /// cannot bind a zero-sized buffer.
 pub struct SceneBuffers {
     /// [`PackedBvh::nodes`]: `array<BvhNode>`, or the nodes of [`SceneData::cwbvh`] then
-    /// its leaves' primitives ([`super::baked_bvh::leaf_prims`]).
+    /// its leaves' primitives ([`leaf_prims`]).
     pub bvh_nodes: wgpu::Buffer,
     /// [`PackedBvh::params`]: `var<uniform> bvh: BvhParams` (its `tree_kind` 1 with a CWBVH,
     /// `leaf_base` where the primitives start).
@@ -662,7 +717,7 @@ impl SceneBuffers {
             Some(cw) => {
                 let mut words: Vec<[f32; 4]> = bytemuck::cast_slice(&cw.nodes).to_vec();
                 (params.tree_kind, params.leaf_base) = (1, words.len() as u32);
-                words.extend(super::baked_bvh::leaf_prims(data));
+                words.extend(leaf_prims(data));
                 storage_buffer(device, "bvh_nodes", &words)
             }
             None => storage_buffer(device, "bvh_nodes", &data.packed_bvh.nodes),

@@ -8,7 +8,7 @@
 //! code of filters a scene does not use.
 
 use crate::error::Error;
-use crate::gpu::types::{Frame, FILTER_BOX, FILTER_GAUSSIAN, FILTER_TABLE_SIZE, FILTER_TENT};
+use crate::layout::{Frame, FILTER_BOX, FILTER_GAUSSIAN, FILTER_TABLE_SIZE, FILTER_TENT};
 use crate::scene::PixelFilter;
 
 /// Where Mitsuba 3 cuts its gaussian off, in standard deviations.

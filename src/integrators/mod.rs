@@ -278,7 +278,7 @@ pub fn memory_need(device: &wgpu::Device, scene: &Scene) -> MemoryNeed {
     // node has two children or more) and a copy of each primitive in leaf order (48).
     let attributes: u64 = scene.triangles.iter().map(|t| 48 * t.n.is_some() as u64 + 32 * t.uv.is_some() as u64).sum();
     let primitives = scene.triangles.len() + scene.spheres.len();
-    let cwbvh = if crate::gpu::baked_bvh::uses_cwbvh(primitives) { primitives as u64 * (48 + 80 - 32) } else { 0 };
+    let cwbvh = if crate::gpu::scene_buffers::uses_cwbvh(primitives) { primitives as u64 * (48 + 80 - 32) } else { 0 };
     let texels: u64 = scene.textures.iter().map(|t| 16 * t.width as u64 * t.height as u64).sum();
     let fixed = 64 * (scene.materials.len() + scene.shapes.len() + scene.lights.len() + 64) as u64;
     let scene_bytes = scene.triangles.len() as u64 * 84 + attributes + scene.spheres.len() as u64 * 68 + texels + fixed + cwbvh;
@@ -376,7 +376,7 @@ pub fn limitations(scene: &Scene) -> Vec<String> {
     out
 }
 
-use crate::gpu::types::Frame;
+use crate::layout::Frame;
 use crate::scene::{Camera, Scene};
 
 /// The frame of an integrator over rows `rows` of `scene`'s image: the whole image's camera

@@ -6,9 +6,9 @@ use super::{shutter_time, Integrator, Part, PartSize, Work};
 use crate::error::Error;
 use crate::gpu::readback::{read_buffer, staging_buffer};
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
-use crate::gpu::types::Frame;
 use crate::gpu::{Kernel, Resource};
 use crate::image_io::Rgb32Image;
+use crate::layout::Frame;
 use crate::scene::{Method, Scene};
 use std::ops::Range;
 use std::sync::Arc;
@@ -35,7 +35,7 @@ pub struct PathTracer {
     radiance: wgpu::Buffer,
     radiance_staging: wgpu::Buffer,
     /// [`Integrator::run_pass`]'s submissions in flight.
-    submissions: crate::pacing::Submissions,
+    submissions: crate::gpu::submissions::Submissions,
     // Kept alive for the bind group.
     _scene: Arc<SceneBuffers>,
 }
@@ -118,7 +118,7 @@ impl PathTracer {
             frame_buffer,
             radiance_staging: staging_buffer(device, "radiance_staging", bytes),
             radiance,
-            submissions: crate::pacing::Submissions::new(),
+            submissions: crate::gpu::submissions::Submissions::new(),
             _scene: scene_buffers,
         })
     }

@@ -15,16 +15,25 @@
 //! image at any time.
 
 use super::{Integrator, Part, PartSize, Work};
-use crate::accel::GridParams;
 use crate::error::Error;
 use crate::gpu::readback::{read_buffer, read_whole, staging_buffer};
 use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
-use crate::gpu::types::*;
 use crate::gpu::{Kernel, Resource, Specialization};
 use crate::image_io::Rgb32Image;
+use crate::layout::GridParams;
+use crate::layout::*;
 use crate::scene::{DirectLight, RadiusRule, RadiusSchedule, Scene};
 use std::ops::Range;
 use std::sync::Arc;
+
+/// Words per visible point in the flux accumulator (`accum_stride()` in WGSL):
+/// [`ACCUM_STRIDE`], and [`ACCUM_MOMENT_WORDS`] more under the adaptive radius rule.
+pub fn accum_stride(rule: RadiusRule) -> u32 {
+    match rule {
+        RadiusRule::Shrink => ACCUM_STRIDE,
+        RadiusRule::Adaptive => ACCUM_STRIDE + ACCUM_MOMENT_WORDS,
+    }
+}
 
 /// Bytes a visible point takes in the largest of the per-point buffers: the flux accumulator
 /// (32, or 48 under the adaptive radius rule), statistics, points and grid entries (32 each).
@@ -332,7 +341,7 @@ pub struct Sppm {
     buffers: Buffers,
     image_staging: wgpu::Buffer,
     /// [`Sppm::run_pass`]'s submissions in flight.
-    submissions: crate::pacing::Submissions,
+    submissions: crate::gpu::submissions::Submissions,
 }
 
 /// Every buffer the kernels bind, each under the name of its WGSL global.
@@ -610,7 +619,7 @@ impl Sppm {
             resolve_texture: [None, None],
             image_staging: staging_buffer(device, "image_staging", pixel_count as u64 * 16),
             buffers,
-            submissions: crate::pacing::Submissions::new(),
+            submissions: crate::gpu::submissions::Submissions::new(),
         })
     }
 

@@ -1,5 +1,5 @@
 //! Scene description: the TOML format (version 1, see docs/guide/scene-format.md) and Mitsuba's scene XML
-//! ([`mitsuba`]), each parsed and validated into the same world-space [`Scene`]. No wgpu here.
+//! ([`mitsuba`]), each parsed and validated into the same world-space [`Scene`]. Nothing here knows the GPU API.
 //!
 //! Loading turns every shape into triangles (quads, cubes, meshes) or analytic spheres, in
 //! world space, each tagged with its shape index so that emission, velocity and texture
@@ -165,7 +165,7 @@ pub enum RadiusRule {
     /// By alpha only where the photons around the point stop looking uniform over its disc (a
     /// chi-square test on their offsets' moments, in the spirit of Lin et al. 2020, "CPPM:
     /// Chi-squared Progressive Photon Mapping"), else by the milder
-    /// [`ALPHA_UNIFORM`](crate::gpu::types::ALPHA_UNIFORM); see `update_stats.wgsl`.
+    /// [`ALPHA_UNIFORM`](crate::layout::ALPHA_UNIFORM); see `update_stats.wgsl`.
     Adaptive,
 }
 

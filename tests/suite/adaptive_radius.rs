@@ -8,11 +8,10 @@ use crate::common;
 
 use crate::common::Rng;
 use glam::Vec3;
-use sppm_gpu::gpu::types::{
-    accum_stride, RadiusTest, VpStats, ALPHA_UNIFORM, OFFSET_SCALE, RADIUS_TEST_CHI2, RADIUS_TEST_PHOTONS, SPREAD_SCALE,
-};
 use sppm_gpu::gpu::GpuContext;
+use sppm_gpu::integrators::sppm::accum_stride;
 use sppm_gpu::integrators::{Deposits, Sppm};
+use sppm_gpu::layout::{RadiusTest, VpStats, ALPHA_UNIFORM, OFFSET_SCALE, RADIUS_TEST_CHI2, RADIUS_TEST_PHOTONS, SPREAD_SCALE};
 use sppm_gpu::metrics::{compare, downsample_box};
 use sppm_gpu::scene::{RadiusRule, Scene};
 

@@ -7,7 +7,8 @@ use crate::common;
 use crate::common::Rng;
 use glam::Vec3;
 use sppm_gpu::gpu::scene_buffers::SceneData;
-use sppm_gpu::gpu::{Features, Kernel};
+use sppm_gpu::gpu::Kernel;
+use sppm_gpu::layout::Features;
 use sppm_gpu::scene::{self, Sphere, Triangle};
 
 fn features(name: &str) -> Features {

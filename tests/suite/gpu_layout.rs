@@ -1,8 +1,8 @@
 //! Every struct that crosses to the GPU has the same member names, offsets and size in Rust
-//! (`src/gpu/types.rs`) and in WGSL (`shaders/shared/types.wgsl`), as naga lays it out.
+//! (`src/layout/records.rs`) and in WGSL (`shaders/shared/types.wgsl`), as naga lays it out.
 
 use sppm_gpu::gpu::shader_source;
-use sppm_gpu::gpu::types::*;
+use sppm_gpu::layout::*;
 use std::mem::{offset_of, size_of};
 
 fn check_struct(module: &naga::Module, name: &str, size: usize, fields: &[(&str, usize)]) {

@@ -32,6 +32,7 @@ mod gpu_layout;
 mod gpu_trace;
 mod guide_options;
 mod hostile_scenes;
+mod house;
 mod image_metrics;
 mod limits;
 mod media;

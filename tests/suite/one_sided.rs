@@ -11,9 +11,9 @@ use crate::common;
 
 use glam::Vec3;
 use sppm_gpu::gpu::scene_buffers::SceneData;
-use sppm_gpu::gpu::Features;
 use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators;
+use sppm_gpu::layout::Features;
 use sppm_gpu::metrics::{count_negative, count_non_finite};
 use sppm_gpu::scene::{DirectLight, Method, Scene, SceneBuilder};
 

@@ -13,9 +13,9 @@ use crate::common::Rng;
 use glam::Vec3;
 use sppm_gpu::accel::build_grid;
 use sppm_gpu::accel::grid::{brute_force_within, point_within};
-use sppm_gpu::gpu::types::{VpStats, ACCUM_STRIDE};
 use sppm_gpu::gpu::GpuContext;
 use sppm_gpu::integrators::{Deposits, Sppm};
+use sppm_gpu::layout::{VpStats, ACCUM_STRIDE};
 use sppm_gpu::scene::Scene;
 use std::collections::HashSet;
 
@@ -453,7 +453,7 @@ fn gpu_grid_build_matches_cpu_oracle() {
         let data = sppm_gpu::gpu::scene_buffers::SceneData::new(&scene).unwrap();
         let (lo, hi) = data.swept_bounds();
         let table_size = params.table_mask + 1;
-        let expected = sppm_gpu::accel::GridParams::covering(lo, hi, max_r, table_size);
+        let expected = sppm_gpu::layout::GridParams::covering(lo, hi, max_r, table_size);
         assert_eq!(params, expected, "{name}: grid parameters");
 
         let cpu = sppm_gpu::accel::build_grid_in(&points, params);

@@ -10,11 +10,11 @@ use crate::common;
 use glam::Vec3;
 use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
 use sppm_gpu::gpu::scene_buffers::storage_buffer;
-use sppm_gpu::gpu::types::{Frame, FILTER_TABLE_SIZE};
 use sppm_gpu::gpu::{shader_source, GpuContext, Kernel, Resource};
 use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators::filter::{gaussian_filter_cdf, pixel_filter_constants};
 use sppm_gpu::integrators::{self, set_pixel_filter, Integrator};
+use sppm_gpu::layout::{Frame, FILTER_TABLE_SIZE};
 use sppm_gpu::scene::{Method, PixelFilter, Scene, SceneBuilder};
 use wgpu::util::DeviceExt;
 

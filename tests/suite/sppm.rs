@@ -3,10 +3,10 @@
 
 use crate::common;
 
-use sppm_gpu::gpu::types::VpStats;
 use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators::sppm::auto_radius;
 use sppm_gpu::integrators::{Deposits, Sppm};
+use sppm_gpu::layout::VpStats;
 use sppm_gpu::metrics::{compare, downsample_box};
 use sppm_gpu::scene::{DirectLight, Scene, SceneBuilder};
 

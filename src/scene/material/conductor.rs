@@ -6,7 +6,7 @@
 //! `shaders/shared/bsdf/conductor.wgsl`.
 
 use super::{microfacet, put_float, put_str, put_vec3, ComplexIor, Features, GpuMaterial, Microfacet, Named, Table, Vec3};
-use crate::gpu::types::{MATERIAL_GLOSSY, MATERIAL_MIRROR, MICROFACET_BECKMANN, NO_TEXTURE};
+use crate::layout::{MATERIAL_GLOSSY, MATERIAL_MIRROR, MICROFACET_BECKMANN, NO_TEXTURE};
 
 pub(super) fn gpu_mirror(albedo: Vec3, fresnel: Option<ComplexIor>) -> GpuMaterial {
     let mut g = GpuMaterial { kind: MATERIAL_MIRROR, albedo: albedo.into(), texture: NO_TEXTURE, ..GpuMaterial::default() };

@@ -6,7 +6,7 @@
 //! by nature. Kernel: `shaders/shared/bsdf/dielectric.wgsl`.
 
 use super::{microfacet, put_float, put_str, put_vec3, Features, GpuMaterial, Microfacet, Named, Table, Vec3};
-use crate::gpu::types::{MATERIAL_DIELECTRIC, MICROFACET_BECKMANN, NO_TEXTURE};
+use crate::layout::{MATERIAL_DIELECTRIC, MICROFACET_BECKMANN, NO_TEXTURE};
 
 pub(super) fn gpu(ior: f32, roughness: f32, distribution: Microfacet, reflectance: Vec3, transmittance: Vec3) -> GpuMaterial {
     GpuMaterial {

@@ -3,7 +3,7 @@
 //! in its place; `one_sided`. Kernel: `shaders/shared/bsdf/diffuse.wgsl`.
 
 use super::{put_str, Features, GpuMaterial, Table, Vec3};
-use crate::gpu::types::{MATERIAL_DIFFUSE, NO_TEXTURE};
+use crate::layout::{MATERIAL_DIFFUSE, NO_TEXTURE};
 
 pub(super) fn gpu(albedo: Vec3) -> GpuMaterial {
     GpuMaterial { kind: MATERIAL_DIFFUSE, albedo: albedo.into(), texture: NO_TEXTURE, ..GpuMaterial::default() }

@@ -7,7 +7,7 @@
 //!
 //! Adding a family: its variant here and a branch in each dispatcher below, its file in this
 //! folder, its WGSL file and a branch in `bsdf.wgsl`'s functions, a `MATERIAL_*` kind
-//! (`gpu/types.rs` and `types.wgsl`), and the readers.
+//! (`layout/records.rs` and `types.wgsl`), and the readers.
 
 mod conductor;
 mod dielectric;
@@ -16,8 +16,8 @@ mod plastic;
 mod thin_dielectric;
 
 use super::Named;
-use crate::gpu::types::{GpuMaterial, MATERIAL_DIELECTRIC, MATERIAL_THIN_DIELECTRIC, MICROFACET_BECKMANN, MICROFACET_GGX};
-use crate::gpu::Features;
+use crate::layout::Features;
+use crate::layout::{GpuMaterial, MATERIAL_DIELECTRIC, MATERIAL_THIN_DIELECTRIC, MICROFACET_BECKMANN, MICROFACET_GGX};
 use glam::Vec3;
 use toml::{Table, Value};
 
@@ -226,7 +226,7 @@ impl MaterialKind {
 /// Turn on the kernel features ([`Features`]) that material `m`, as on the GPU, needs: its
 /// family's `USES_*` overrides.
 pub fn turn_on_features(m: &GpuMaterial, f: &mut Features) {
-    use crate::gpu::types::{MATERIAL_DIFFUSE, MATERIAL_GLOSSY, MATERIAL_MIRROR, MATERIAL_PLASTIC};
+    use crate::layout::{MATERIAL_DIFFUSE, MATERIAL_GLOSSY, MATERIAL_MIRROR, MATERIAL_PLASTIC};
     match m.kind {
         MATERIAL_DIFFUSE => diffuse::turn_on(m, f),
         MATERIAL_MIRROR | MATERIAL_GLOSSY => conductor::turn_on(m, f),

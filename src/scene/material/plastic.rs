@@ -6,7 +6,7 @@
 //! `one_sided`. Kernel: `shaders/shared/bsdf/plastic.wgsl`.
 
 use super::{microfacet, put_float, put_str, put_vec3, Features, GpuMaterial, Microfacet, Named, Table, Value, Vec3};
-use crate::gpu::types::{MATERIAL_PLASTIC, MICROFACET_BECKMANN, NO_TEXTURE};
+use crate::layout::{MATERIAL_PLASTIC, MICROFACET_BECKMANN, NO_TEXTURE};
 use crate::scene::coating::{fresnel_diffuse_reflectance, rough_coating, RoughCoating};
 use crate::scene::Texture;
 

@@ -5,7 +5,7 @@
 //! `shaders/shared/bsdf/thin_dielectric.wgsl`.
 
 use super::{put_float, put_str, put_vec3, Features, GpuMaterial, Table, Vec3};
-use crate::gpu::types::{MATERIAL_THIN_DIELECTRIC, NO_TEXTURE};
+use crate::layout::{MATERIAL_THIN_DIELECTRIC, NO_TEXTURE};
 
 pub(super) fn gpu(ior: f32, reflectance: Vec3, transmittance: Vec3) -> GpuMaterial {
     GpuMaterial {

@@ -73,7 +73,7 @@ pub fn trace_rays_with(
     // The traversal reads the ray offset and shutter time from the frame: a still scene at time 0.
     let frame = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("frame"),
-        contents: bytemuck::bytes_of(&sppm_gpu::gpu::types::Frame::default()),
+        contents: bytemuck::bytes_of(&sppm_gpu::layout::Frame::default()),
         usage: wgpu::BufferUsages::UNIFORM,
     });
     let mut resources = buffers.resources();

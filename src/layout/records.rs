@@ -1,10 +1,6 @@
-//! Structs that cross to the GPU. Each is declared once here and once in
-//! `shaders/shared/types.wgsl`; `tests/suite/gpu_layout.rs` checks every offset and size with naga.
+//! The records (see [`super`] for how they are held to their WGSL twins).
 
 use bytemuck::{Pod, Zeroable};
-
-pub use crate::accel::bvh::{BvhParams, GpuBvhNode};
-pub use crate::accel::GridParams;
 
 /// Per-pass constants (uniform `frame`).
 #[repr(C)]
@@ -431,25 +427,18 @@ pub const MATERIAL_PLASTIC: u32 = 4;
 /// [`GpuMaterial::kind`]: Mitsuba 3's thin dielectric: reflection or straight transmission.
 pub const MATERIAL_THIN_DIELECTRIC: u32 = 5;
 /// Values in a rough plastic's table of its coating's transmittance ([`GpuMaterial::coat_table`]).
-pub const COAT_TABLE_SIZE: u32 = crate::scene::coating::COAT_TABLE_SIZE as u32;
+pub const COAT_TABLE_SIZE: u32 = 64;
 /// [`GpuMaterial::distribution`]: GGX (Trowbridge-Reitz).
 pub const MICROFACET_GGX: u32 = 0;
 /// [`GpuMaterial::distribution`]: Beckmann.
 pub const MICROFACET_BECKMANN: u32 = 1;
 /// u32 words of flux and photon count per visible point in the flux accumulator; the adaptive
-/// radius rule adds [`ACCUM_MOMENT_WORDS`] (see [`accum_stride`]).
+/// radius rule adds [`ACCUM_MOMENT_WORDS`] (see [`accum_stride`](crate::integrators::sppm::accum_stride)).
 pub const ACCUM_STRIDE: u32 = 8;
 /// The accumulator's words of photon offset moments per visible point under the adaptive
 /// radius rule (`offset_moments` in WGSL): sum (u + 1) OFFSET_SCALE per axis, then
 /// sum |u|^2 SPREAD_SCALE.
 pub const ACCUM_MOMENT_WORDS: u32 = 4;
-/// Words per visible point in the flux accumulator (`accum_stride()` in WGSL).
-pub fn accum_stride(rule: crate::scene::RadiusRule) -> u32 {
-    match rule {
-        crate::scene::RadiusRule::Shrink => ACCUM_STRIDE,
-        crate::scene::RadiusRule::Adaptive => ACCUM_STRIDE + ACCUM_MOMENT_WORDS,
-    }
-}
 /// Fixed-point steps per unit of a photon offset's coordinate (`offset_moments`).
 pub const OFFSET_SCALE: u32 = 1024;
 /// Fixed-point steps per unit of a photon offset's squared length (`offset_moments`).
@@ -472,3 +461,57 @@ pub const FILTER_TENT: u32 = 1;
 pub const FILTER_GAUSSIAN: u32 = 2;
 /// Intervals of [`Frame::filter_cdf`].
 pub const FILTER_TABLE_SIZE: u32 = 256;
+
+/// One interior node as the kernels read it (32 bytes): the boxes of its two children,
+/// quantized to 16 bits per coordinate on a grid over the root's box ([`BvhParams`]), and a
+/// reference to each child. A traversal step loads one node and tests both children without
+/// loading them: 8 words instead of the 24 of three [`BvhNode`](crate::accel::BvhNode)s, which matters where loads
+/// at per-ray addresses are expensive (lavapipe gathers them one lane at a time).
+///
+/// A child box is `(lo.x | lo.y << 16, lo.z | hi.x << 16, hi.y | hi.z << 16)`; decoded as
+/// `origin + q * scale`, it contains the child's exact box (lower corners rounded down,
+/// upper corners up, with a margin for the rounding of the decode). An empty child has the
+/// inverted box `lo = 65535, hi = 0`, which no ray enters.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Pod, Zeroable)]
+pub struct GpuBvhNode {
+    /// Quantized box of the first child.
+    pub box_a: [u32; 3],
+    /// Reference to the first child (see [`LEAF_BIT`](crate::accel::bvh::LEAF_BIT)).
+    pub child_a: u32,
+    /// Quantized box of the second child.
+    pub box_b: [u32; 3],
+    /// Reference to the second child.
+    pub child_b: u32,
+}
+
+/// How quantized child boxes decode: `origin + q * scale` (a uniform buffer for the kernels,
+/// 32 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct BvhParams {
+    /// World position of q = 0.
+    pub origin: [f32; 3],
+    /// Which tree the kernels' `bvh_nodes` and `prim_refs` hold: 0 this binary one, 1 a
+    /// [`CwBvh`](crate::accel::cwbvh::CwBvh) (whose nodes carry their own grids: origin and scale unused).
+    pub tree_kind: u32,
+    /// World size of one quantization step, per axis.
+    pub scale: [f32; 3],
+    /// With a CWBVH, the entry of `bvh_nodes` (16 bytes each) where its leaf primitives
+    /// start; 0 otherwise.
+    pub leaf_base: u32,
+}
+
+/// GPU-side grid parameters (32 bytes, std430/uniform compatible).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GridParams {
+    /// Minimum corner of the grid.
+    pub origin: [f32; 3],
+    /// Side of the cubic cells: [`CELL_RADII`](crate::accel::grid::CELL_RADII) times the largest radius.
+    pub cell_size: f32,
+    /// Cells per axis; `[0, 0, 0]` when there are no points, so that every lookup misses.
+    pub res: [u32; 3],
+    /// `table_size - 1`; `table_size` is a power of two.
+    pub table_mask: u32,
+}
