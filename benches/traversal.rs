@@ -20,6 +20,9 @@ use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
 use sppm_gpu::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
 use sppm_gpu::gpu::{GpuContext, Kernel, Resource};
 use sppm_gpu::layout::Features;
+
+/// The test kernel that traces a buffer of rays (`tests/shaders/trace_rays.wgsl`).
+const TRACE_RAYS: &str = include_str!("../tests/shaders/trace_rays.wgsl");
 use wgpu::util::DeviceExt;
 
 const RAYS: usize = 1 << 20;
@@ -108,7 +111,7 @@ fn main() {
                 let no_bake = use_cw || constants.iter().any(|(k, x)| *k == "BAKED" && *x == 0.0);
                 let baked = if no_bake { vec![] } else { replacements(&data) };
                 let replace: Vec<(&str, &str)> = baked.iter().map(|(t, c)| (*t, c.as_str())).collect();
-                Kernel::specialized(&gpu.device, "trace_rays", &replace, &constants).unwrap()
+                Kernel::from_wgsl(&gpu.device, "trace_rays", TRACE_RAYS, &replace, &constants).unwrap()
             })
             .collect();
         let ray_buffer = storage_buffer(&gpu.device, "rays", &rays);

@@ -10,6 +10,8 @@ use super::GpuError;
 use crate::layout::WORKGROUP_SIZE;
 
 /// Every kernel, by name (its file `shaders/<name>.wgsl`, its entry point and its label).
+/// Kernels that only tests run (`tests/shaders/`) are not here: they are assembled from their
+/// text with [`assemble`] and made with [`Kernel::from_wgsl`].
 pub const KERNELS: &[&str] = &[
     "camera_pass",
     "grid_setup",
@@ -24,9 +26,6 @@ pub const KERNELS: &[&str] = &[
     "resolve_texture",
     "path_trace",
     "path_resolve_texture",
-    "trace_rays",
-    "sampler_test",
-    "sobol_test",
 ];
 
 /// Every shader file, embedded at build time so the binary stands alone: (name, source), a
@@ -87,15 +86,22 @@ pub fn shader_source(name: &str) -> Result<String, GpuError> {
 /// [`shader_source`] for a device with `caps`: the fallback files of what it lacks imported
 /// instead.
 pub fn shader_source_for(name: &str, caps: DeviceCaps) -> Result<String, GpuError> {
-    fn expand(name: &str, caps: DeviceCaps, seen: &mut Vec<String>, out: &mut String) -> Result<(), GpuError> {
-        let name = caps.file_for(name);
-        if seen.iter().any(|s| s == name) {
-            return Ok(());
-        }
-        seen.push(name.to_string());
-        for line in file(name)?.lines() {
+    assemble(file(name)?, caps)
+}
+
+/// `text`, a kernel's WGSL (one of [`KERNELS`], or one a test writes), with its imports of
+/// `shaders/shared/` expanded, each file once, in order, for a device with `caps`.
+pub fn assemble(text: &str, caps: DeviceCaps) -> Result<String, GpuError> {
+    fn expand(text: &str, caps: DeviceCaps, seen: &mut Vec<String>, out: &mut String) -> Result<(), GpuError> {
+        for line in text.lines() {
             match line.trim().strip_prefix("#import ") {
-                Some(import) => expand(import.trim(), caps, seen, out)?,
+                Some(import) => {
+                    let name = caps.file_for(import.trim());
+                    if !seen.iter().any(|s| s == name) {
+                        seen.push(name.to_string());
+                        expand(file(name)?, caps, seen, out)?;
+                    }
+                }
                 None => {
                     out.push_str(line);
                     out.push('\n');
@@ -105,7 +111,7 @@ pub fn shader_source_for(name: &str, caps: DeviceCaps) -> Result<String, GpuErro
         Ok(())
     }
     let mut out = String::new();
-    expand(name, caps, &mut Vec::new(), &mut out)?;
+    expand(text, caps, &mut Vec::new(), &mut out)?;
     Ok(out)
 }
 
@@ -207,7 +213,20 @@ impl Kernel {
         replace: &[(&str, &str)],
         constants: &[(&str, f64)],
     ) -> Result<Self, GpuError> {
-        let mut source = shader_source_for(name, DeviceCaps::of(device.features()))?;
+        Self::from_wgsl(device, name, file(name)?, replace, constants)
+    }
+
+    /// [`Kernel::specialized`] for a kernel whose WGSL is `text` (its entry point `name`)
+    /// rather than a file of `shaders/`: a test's kernel, its imports of `shaders/shared/`
+    /// expanded ([`assemble`]).
+    pub fn from_wgsl(
+        device: &wgpu::Device,
+        name: &'static str,
+        text: &str,
+        replace: &[(&str, &str)],
+        constants: &[(&str, f64)],
+    ) -> Result<Self, GpuError> {
+        let mut source = assemble(text, DeviceCaps::of(device.features()))?;
         for (token, text) in replace {
             source = source.replace(token, text);
         }

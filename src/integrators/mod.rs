@@ -4,18 +4,29 @@
 
 pub mod bands;
 pub mod filter;
+mod frame;
+mod memory;
 pub mod path;
+mod resolve;
 pub mod sppm;
+mod state;
 
 pub use bands::Bands;
 pub use filter::set_pixel_filter;
+pub use frame::{camera_frame, camera_frame_for, shutter_time};
+pub use memory::{check_memory, max_rows, memory_need, GpuMemory, MemoryNeed};
 pub use path::PathTracer;
 pub use sppm::{Deposits, Sppm};
+
+use frame::{band_frame, record_upload, set_frame_camera, specialization};
+use memory::sizes;
+use resolve::{check_resolve_target, resolve_kernel};
+use state::{decode_state, encode_state};
 
 use crate::error::Error;
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
 use crate::image_io::Rgb32Image;
-use crate::scene::Method;
+use crate::scene::{Method, Scene};
 use std::sync::Arc;
 
 /// How much of a pass one [`Integrator::record_pass_part`] may record: at most `points`
@@ -129,84 +140,6 @@ pub trait Integrator {
     }
 }
 
-/// Copy `bytes` into `dst` from within `encoder`, through a small buffer that wgpu keeps
-/// alive until the commands have run: passes recorded into one encoder each see their own
-/// constants. Written with `write_buffer`, not mapped at creation: on a lost device that
-/// reports an error instead of panicking.
-fn record_upload(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    encoder: &mut wgpu::CommandEncoder,
-    dst: &wgpu::Buffer,
-    bytes: &[u8],
-) {
-    let upload = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("upload"),
-        size: bytes.len() as u64,
-        usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    queue.write_buffer(&upload, 0, bytes);
-    encoder.copy_buffer_to_buffer(&upload, 0, dst, 0, bytes.len() as u64);
-}
-
-/// The bytes of an integrator's state: its pass count and work so far, then one buffer.
-fn encode_state(passes: u32, work: u64, buffer: &[u8]) -> Vec<u8> {
-    let mut out = Vec::with_capacity(12 + buffer.len());
-    out.extend_from_slice(&passes.to_le_bytes());
-    out.extend_from_slice(&work.to_le_bytes());
-    out.extend_from_slice(buffer);
-    out
-}
-
-/// (passes, work, buffer) of [`encode_state`]'s bytes, the buffer `expected` bytes long.
-fn decode_state(state: &[u8], expected: u64) -> Result<(u32, u64, &[u8]), Error> {
-    if state.len() as u64 != 12 + expected {
-        return Err(Error::Setting(format!(
-            "the saved state holds {} bytes where this render needs {}: made for another image size",
-            state.len(),
-            12 + expected
-        )));
-    }
-    let passes = u32::from_le_bytes(state[0..4].try_into().expect("4 bytes"));
-    let work = u64::from_le_bytes(state[4..12].try_into().expect("8 bytes"));
-    // The next pass would count past the largest pass count.
-    if passes == u32::MAX {
-        return Err(Error::Setting(format!("the saved state is corrupt: its pass count {passes} leaves no pass to run")));
-    }
-    Ok((passes, work, &state[12..]))
-}
-
-/// GPU buffers by name and size, split into the scene's (geometry, BVH, materials, lights:
-/// proportional to the scene) and the renderer's (per pixel or per visible point).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct GpuMemory {
-    /// The scene's buffers, bytes each.
-    pub scene: Vec<(String, u64)>,
-    /// The renderer's buffers (summed over bands), bytes each.
-    pub renderer: Vec<(String, u64)>,
-}
-
-impl GpuMemory {
-    /// Bytes of the scene's buffers.
-    pub fn scene_bytes(&self) -> u64 {
-        self.scene.iter().map(|(_, b)| b).sum()
-    }
-    /// Bytes of the renderer's buffers.
-    pub fn renderer_bytes(&self) -> u64 {
-        self.renderer.iter().map(|(_, b)| b).sum()
-    }
-    /// All bytes.
-    pub fn total(&self) -> u64 {
-        self.scene_bytes() + self.renderer_bytes()
-    }
-}
-
-/// Names and sizes of `buffers`.
-fn sizes<'a>(buffers: impl IntoIterator<Item = (&'a str, &'a wgpu::Buffer)>) -> Vec<(String, u64)> {
-    buffers.into_iter().map(|(name, b)| (name.to_string(), b.size())).collect()
-}
-
 /// The integrator for `scene.render.method`, on the caller's device.
 pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Box<dyn Integrator>, Error> {
     check_device_for(device, scene)?;
@@ -239,105 +172,6 @@ fn create_on(
         Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?),
         Method::Pt | Method::PtNee => Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
     })
-}
-
-/// What a render will take, computed before anything is allocated (see [`memory_need`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct MemoryNeed {
-    /// The scene's buffers, an upper bound from its primitive, attribute and texel counts.
-    pub scene: u64,
-    /// The renderer's buffers over all bands, as [`Integrator::gpu_memory`] will report them.
-    pub renderer: u64,
-    /// Host memory for the image: the estimate read back (16 bytes a pixel), the image
-    /// (12) and its encoding for the file (up to 12), 40 bytes a pixel.
-    pub host: u64,
-}
-
-impl MemoryNeed {
-    /// Device memory: the scene's and the renderer's buffers.
-    pub fn gpu(&self) -> u64 {
-        self.scene + self.renderer
-    }
-}
-
-/// The memory a render of `scene` on `device` takes, before allocating any of it, so that a
-/// render that cannot fit is refused at once rather than killed by the system later.
-pub fn memory_need(device: &wgpu::Device, scene: &Scene) -> MemoryNeed {
-    let r = &scene.render;
-    let rows = max_rows(device, scene).clamp(1, r.height.max(1));
-    let bands = (0..r.height).step_by(rows as usize).map(|y0| (y0 + rows).min(r.height) - y0);
-    let renderer = bands
-        .map(|band| match r.method {
-            Method::Sppm => Sppm::renderer_bytes(scene, band, device.limits().max_storage_buffer_binding_size),
-            Method::Pt | Method::PtNee => PathTracer::renderer_bytes(scene, band),
-        })
-        .sum();
-    // Per triangle: itself (48), its reference (4), a BVH node at most (32), shading normals
-    // (48) and texture coordinates (32); per sphere: itself, a reference and a node. A scene
-    // traced through the CWBVH has a node of 80 bytes at most per primitive (every interior
-    // node has two children or more) and a copy of each primitive in leaf order (48).
-    let attributes: u64 = scene.triangles.iter().map(|t| 48 * t.n.is_some() as u64 + 32 * t.uv.is_some() as u64).sum();
-    let primitives = scene.triangles.len() + scene.spheres.len();
-    let cwbvh = if crate::gpu::scene_buffers::uses_cwbvh(primitives) { primitives as u64 * (48 + 80 - 32) } else { 0 };
-    let texels: u64 = scene.textures.iter().map(|t| 16 * t.width as u64 * t.height as u64).sum();
-    let fixed = 64 * (scene.materials.len() + scene.shapes.len() + scene.lights.len() + 64) as u64;
-    let scene_bytes = scene.triangles.len() as u64 * 84 + attributes + scene.spheres.len() as u64 * 68 + texels + fixed + cwbvh;
-    MemoryNeed { scene: scene_bytes, renderer, host: r.width as u64 * r.height as u64 * 40 }
-}
-
-use crate::scene::files::available_memory;
-
-/// Refuse at once a render of `scene` on `device` (of `adapter`) that needs more memory than
-/// it can have: `limit` when given (device buffers and host image together), else on a CPU
-/// device (whose buffers are host memory) the host's available memory. A render that does not fit would otherwise grow
-/// until the system kills it, with nothing written.
-pub fn check_memory(device: &wgpu::Device, adapter: &wgpu::AdapterInfo, scene: &Scene, limit: Option<u64>) -> Result<(), Error> {
-    let need = memory_need(device, scene);
-    let cpu_device = adapter.device_type == wgpu::DeviceType::Cpu;
-    let (total, have, source) = match limit {
-        Some(limit) => (need.gpu() + need.host, limit, "the --memory-limit"),
-        None if cpu_device => match available_memory() {
-            Some(available) => {
-                (need.gpu() + need.host, available, "the host's available memory (a CPU device's buffers are host memory)")
-            }
-            None => return Ok(()),
-        },
-        None => match available_memory() {
-            Some(available) => (need.host, available, "the host's available memory"),
-            None => return Ok(()),
-        },
-    };
-    if total <= have {
-        return Ok(());
-    }
-    let r = &scene.render;
-    let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
-    let pixels = (r.width as u64 * r.height as u64).max(1);
-    Err(Error::Setting(format!(
-        "{}: a {}x{} image (spp {}) needs about {:.1} GiB: {:.1} GiB of device buffers ({} bytes a pixel, the scene's {:.2} GiB \
-         included) and {:.1} GiB for the image on the host; that is more than {} ({:.1} GiB). Render it smaller, or raise \
-         --memory-limit",
-        scene.path.display(),
-        r.width,
-        r.height,
-        r.spp,
-        gib(total),
-        gib(need.gpu()),
-        need.renderer / pixels,
-        gib(need.scene),
-        gib(need.host),
-        source,
-        gib(have)
-    )))
-}
-
-/// Rows of `scene`'s image that one integrator of `scene.render.method` holds on `device`;
-/// [`create`] splits taller images into [`Bands`] of this many rows.
-pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
-    match scene.render.method {
-        Method::Sppm => Sppm::max_rows(device, scene),
-        Method::Pt | Method::PtNee => PathTracer::max_rows(device, scene),
-    }
 }
 
 /// What `scene.render.method` cannot render of this scene, or renders badly, one sentence
@@ -374,156 +208,6 @@ pub fn limitations(scene: &Scene) -> Vec<String> {
         _ => {}
     }
     out
-}
-
-use crate::layout::Frame;
-use crate::scene::{Camera, Scene};
-
-/// The frame of an integrator over rows `rows` of `scene`'s image: the whole image's camera
-/// and settings, the band's height and first row, and the light and ray constants of `data`.
-fn band_frame(scene: &Scene, data: &crate::gpu::scene_buffers::SceneData, rows: &std::ops::Range<u32>) -> Result<Frame, Error> {
-    let height = scene.render.height;
-    if rows.is_empty() || rows.end > height {
-        return Err(Error::Setting(format!("rows {rows:?} are not within the image's {height} rows")));
-    }
-    let mut frame = Frame {
-        height: rows.end - rows.start,
-        row_offset: rows.start,
-        emitter_count: data.emitters.len() as u32,
-        ray_epsilon: data.ray_epsilon(),
-        power_total: data.power_total,
-        direct: (scene.render.direct == crate::scene::DirectLight::Sampled) as u32,
-        direct_samples: sppm::direct_samples(&scene.render),
-        work_end: u32::MAX,
-        ..camera_frame(scene)
-    };
-    set_pixel_filter(&mut frame, scene.render.filter)?;
-    Ok(frame)
-}
-
-/// What the tracing kernels of `scene` are compiled for: the features of its `data`, its
-/// pixel filter, its sampler and its radius rule.
-fn specialization(scene: &Scene, data: &crate::gpu::scene_buffers::SceneData) -> crate::gpu::Specialization {
-    let mut spec = crate::gpu::Specialization::of(data);
-    spec.constants.extend(filter::pixel_filter_constants(scene.render.filter));
-    spec.constants.extend(scene.render.sampler.constants());
-    spec.constants.extend(scene.render.radius_rule.constants());
-    spec
-}
-
-/// The camera part of [`Frame`]: position and the image-plane basis at distance 1
-/// (`cam_right` spans half the image width, `cam_up` half its height).
-pub fn camera_frame(scene: &Scene) -> Frame {
-    let r = &scene.render;
-    Frame {
-        spp: r.spp,
-        seed: r.seed,
-        max_depth: r.max_depth,
-        alpha: r.alpha,
-        ..camera_frame_for(&scene.camera, r.width, r.height)
-    }
-}
-
-/// The camera fields of [`Frame`] (and the image size) for `camera` on a `width` x `height`
-/// image.
-pub fn camera_frame_for(c: &Camera, width: u32, height: u32) -> Frame {
-    let forward = (c.look_at - c.position).normalize();
-    let right = forward.cross(c.up).normalize();
-    let up = right.cross(forward);
-    let tan_half = (c.fov.to_radians() * 0.5).tan();
-    let (min, max) = c.crop.map_or((glam::Vec2::ZERO, glam::Vec2::ONE), |w| (w.min, w.max));
-    // The whole film's aspect ratio, of which the image is the window [min, max].
-    let extent = max - min;
-    let aspect = (width as f32 / extent.x) / (height as f32 / extent.y);
-    let (right, up) = (right * tan_half * aspect, up * tan_half);
-    // The window's image plane: the film's coordinates sx' = sx (max - min).x + (min + max).x
-    // - 1 and sy' = sy (max - min).y + 1 - (min + max).y, in the kernels' sx, sy in [-1, 1]
-    // (shared/camera.wgsl), folded into the basis. The forward part stays 1, so a thin lens
-    // still focuses on the plane at focus_distance.
-    let centre = forward + right * (min.x + max.x - 1.0) + up * (1.0 - min.y - max.y);
-    Frame {
-        cam_position: c.position.into(),
-        lens_radius: c.aperture_radius,
-        cam_right: (right * extent.x).into(),
-        focus_distance: c.focus_distance,
-        cam_up: (up * extent.y).into(),
-        width,
-        cam_forward: centre.into(),
-        height,
-        image_height: height,
-        ..Frame::default()
-    }
-}
-
-/// Texel formats the resolve kernels write, by slot: the token replaced in their WGSL.
-const RESOLVE_FORMATS: [&str; 2] = ["rgba32float", "rgba16float"];
-
-/// The resolve kernel `name` (a `*_resolve_texture` kernel) for `texture`'s format, from
-/// `kernels` (one a format, made when first needed), after checking `texture` as a target for
-/// a `width` x `height` image ([`check_resolve_target`]).
-fn resolve_kernel<'a>(
-    device: &wgpu::Device,
-    kernels: &'a mut [Option<crate::gpu::Kernel>; 2],
-    name: &'static str,
-    texture: &wgpu::Texture,
-    width: u32,
-    height: u32,
-) -> Result<&'a crate::gpu::Kernel, Error> {
-    let slot = check_resolve_target(texture, width, height)?;
-    Ok(match &mut kernels[slot] {
-        Some(kernel) => kernel,
-        empty => empty.insert(crate::gpu::Kernel::specialized(device, name, &[("rgba32float", RESOLVE_FORMATS[slot])], &[])?),
-    })
-}
-
-/// The slot in [`RESOLVE_FORMATS`] of `texture`, a resolve target for a `width` x `height`
-/// image: it must be that size, `Rgba32Float` or `Rgba16Float`, with `STORAGE_BINDING`.
-fn check_resolve_target(texture: &wgpu::Texture, width: u32, height: u32) -> Result<usize, Error> {
-    let slot = match texture.format() {
-        wgpu::TextureFormat::Rgba32Float => 0,
-        wgpu::TextureFormat::Rgba16Float => 1,
-        f => return Err(Error::Setting(format!("the target texture is {f:?}; use Rgba16Float or Rgba32Float"))),
-    };
-    let size = texture.size();
-    if size.width != width || size.height != height || !texture.usage().contains(wgpu::TextureUsages::STORAGE_BINDING) {
-        return Err(Error::Setting(format!(
-            "the target texture is {}x{} with usage {:?}; it must be {width}x{height} with STORAGE_BINDING",
-            size.width,
-            size.height,
-            texture.usage(),
-        )));
-    }
-    Ok(slot)
-}
-
-/// Point `frame`'s camera fields at `camera` (validated), keeping its image size.
-fn set_frame_camera(frame: &mut Frame, camera: &Camera) -> Result<(), Error> {
-    crate::scene::validate_camera(camera).map_err(Error::Setting)?;
-    let f = camera_frame_for(camera, frame.width, frame.image_height);
-    frame.cam_position = f.cam_position;
-    frame.lens_radius = f.lens_radius;
-    frame.cam_right = f.cam_right;
-    frame.focus_distance = f.focus_distance;
-    frame.cam_up = f.cam_up;
-    frame.cam_forward = f.cam_forward;
-    Ok(())
-}
-
-/// The shutter time of pass `pass` in [0, 1): the base-2 radical inverse of the pass index
-/// (van der Corput), rotated by an offset drawn from the seed (Cranley-Patterson rotation).
-/// Any run of passes from the first covers the shutter evenly, so a render stopped early by
-/// a time limit still averages over the whole shutter.
-pub fn shutter_time(seed: u32, pass: u32) -> f32 {
-    let radical_inverse = pass.reverse_bits() as f64 / 4294967296.0;
-    // SplitMix-style hash of the seed to an offset in [0, 1).
-    let mut z = (seed as u64).wrapping_add(0x9e37_79b9_7f4a_7c15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^= z >> 31;
-    let offset = (z >> 11) as f64 / (1u64 << 53) as f64;
-    let t = (radical_inverse + offset).fract() as f32;
-    // Rounding to f32 can give exactly 1.
-    t.min(1.0 - f32::EPSILON / 2.0)
 }
 
 /// [`create`], with its kernels compiled first by one pass of a tiny copy of `scene` (8x8

@@ -1,6 +1,6 @@
 //! Chi-square tests of every direction sampler against the density the integrators weight it
 //! by, in the manner of pbrt-v4's `bsdfs_test.cpp` and Mitsuba's `chi2` test, on the WGSL
-//! itself (`shaders/sampler_test.wgsl`): a million directions from the sampler go into bins
+//! itself (`tests/shaders/sampler_test.wgsl`): a million directions from the sampler go into bins
 //! of (theta, phi) over the sphere, the density integrated over each bin gives the count
 //! expected there, and Pearson's statistic must not reject the match. Samples a sampler
 //! gives up on (a glossy reflection below the surface, a refraction back out) go in a
@@ -14,7 +14,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
 use sppm_gpu::gpu::scene_buffers::{SceneBuffers, SceneData};
-use sppm_gpu::gpu::{shader_source, GpuContext, Kernel, Resource};
+use sppm_gpu::gpu::{GpuContext, Kernel, Resource};
 use sppm_gpu::layout::{Frame, MICROFACET_BECKMANN, MICROFACET_GGX};
 use sppm_gpu::scene::SceneBuilder;
 use std::f64::consts::PI;
@@ -48,7 +48,7 @@ const FINE_POINTS: u32 = 64;
 /// samples it is compared with; the quadrature is good to about 1e-5.
 const INTEGRAL_TOLERANCE: f64 = 2e-4;
 
-// `SAMPLER_*` and `PASS_*` in shaders/sampler_test.wgsl.
+// `SAMPLER_*` and `PASS_*` in tests/shaders/sampler_test.wgsl.
 const SAMPLER_COSINE: u32 = 0;
 const SAMPLER_GLOSSY: u32 = 1;
 const SAMPLER_ROUGH_DIELECTRIC: u32 = 2;
@@ -61,7 +61,7 @@ const SAMPLER_FLIGHT: u32 = 8;
 const PASS_SAMPLE: u32 = 0;
 const PASS_INTEGRATE: u32 = 1;
 
-/// `SamplerTestParams` in shaders/sampler_test.wgsl.
+/// `SamplerTestParams` in tests/shaders/sampler_test.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 struct Params {
@@ -252,7 +252,7 @@ struct GpuScene {
 
 impl Bench {
     fn new(gpu: GpuContext) -> Self {
-        let kernel = Kernel::new(&gpu.device, "sampler_test").unwrap_or_else(|e| panic!("{e}"));
+        let kernel = crate::common::test_kernel(&gpu, "sampler_test", &[], &[]);
         let params = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("test_params"),
             size: size_of::<Params>() as u64,
@@ -508,7 +508,7 @@ fn p_values_and_quadrature_are_right() {
 
 #[test]
 fn sampler_params_match_wgsl() {
-    let module = naga::front::wgsl::parse_str(&shader_source("sampler_test").unwrap()).unwrap();
+    let module = naga::front::wgsl::parse_str(&crate::common::test_kernel_source("sampler_test")).unwrap();
     let (_, ty) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("SamplerTestParams")).unwrap();
     let naga::TypeInner::Struct { members, span } = &ty.inner else { panic!("not a struct") };
     let offsets: Vec<usize> = members.iter().map(|m| m.offset as usize).collect();

@@ -10,7 +10,7 @@ use crate::common;
 use glam::Vec3;
 use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
 use sppm_gpu::gpu::scene_buffers::storage_buffer;
-use sppm_gpu::gpu::{shader_source, GpuContext, Kernel, Resource};
+use sppm_gpu::gpu::{GpuContext, Kernel, Resource};
 use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators::filter::{gaussian_filter_cdf, pixel_filter_constants};
 use sppm_gpu::integrators::{self, set_pixel_filter, Integrator};
@@ -195,14 +195,13 @@ const CAMERA_BODY: &str = "    if index >= arrayLength(&hits) / 2u {
 /// A kernel running `camera` (the text of shaders/shared/camera.wgsl, or a variant of it)
 /// with pipeline constants `constants`.
 fn camera_kernel(gpu: &GpuContext, camera: &str, constants: &[(&str, f64)]) -> Kernel {
-    let source = shader_source("trace_rays").unwrap();
+    let source = crate::common::test_kernel_source("trace_rays");
     assert!(source.contains(ENTRY) && source.contains(BODY), "trace_rays.wgsl changed: update this test");
     // rng.wgsl's import of the Sobol sampler spelled out (its SAMPLER_SOBOL left false).
     let rng =
         include_str!("../../shaders/shared/rng.wgsl").replace("#import sobol", include_str!("../../shaders/shared/sobol.wgsl"));
     let prefix = [rng.as_str(), include_str!("../../shaders/shared/sampling.wgsl"), camera, ENTRY].join("\n");
-    Kernel::specialized(&gpu.device, "trace_rays", &[(ENTRY, &prefix), (BODY, CAMERA_BODY)], constants)
-        .unwrap_or_else(|e| panic!("{e}"))
+    crate::common::test_kernel(gpu, "trace_rays", &[(ENTRY, &prefix), (BODY, CAMERA_BODY)], constants)
 }
 
 /// `count` samples of `kernel` under `frame`: per sample (origin, next number) and (direction, 0).

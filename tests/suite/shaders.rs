@@ -5,11 +5,12 @@ use sppm_gpu::gpu::{shader_source, shader_source_for, validate, DeviceCaps, KERN
 
 #[test]
 fn every_kernel_validates() {
-    for name in KERNELS {
-        let source = shader_source(name).unwrap();
+    let library = KERNELS.iter().map(|name| (*name, shader_source(name).unwrap()));
+    let tests = crate::common::TEST_KERNELS.iter().map(|(name, _)| (*name, crate::common::test_kernel_source(name)));
+    for (name, source) in library.chain(tests) {
         let (module, _) = validate(name, &source).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(module.entry_points.len(), 1, "{name}");
-        assert_eq!(module.entry_points[0].name, *name);
+        assert_eq!(module.entry_points[0].name, name);
     }
 }
 
@@ -73,6 +74,16 @@ fn the_kernel_table_is_the_shader_folder() {
     let mut kernels: Vec<String> = sppm_gpu::gpu::KERNELS.iter().map(|k| k.to_string()).collect();
     kernels.sort();
     assert_eq!(kernels, files);
+    // And the test kernels are those of tests/shaders/, none of them in the library's table.
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/shaders");
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.unwrap().file_name().to_str()?.strip_suffix(".wgsl").map(str::to_owned))
+        .collect();
+    files.sort();
+    let tests: Vec<String> = crate::common::TEST_KERNELS.iter().map(|(k, _)| k.to_string()).collect();
+    assert_eq!(tests, files);
+    assert!(tests.iter().all(|t| !kernels.contains(t)));
 }
 
 /// Constants declared once on the host and once in WGSL hold the same value.

@@ -9,11 +9,11 @@
 use crate::common;
 
 use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
-use sppm_gpu::gpu::{Kernel, Resource};
+use sppm_gpu::gpu::Resource;
 use sppm_gpu::sampler::{owen_scramble, pcg_hash, sobol_1d, sobol_2d, sobol_2d_bits, Sampler, Scramble, OWEN, SOBOL_PATTERNS};
 use wgpu::util::DeviceExt;
 
-/// `SobolTestParams` in shaders/sobol_test.wgsl.
+/// `SobolTestParams` in tests/shaders/sobol_test.wgsl.
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct Params {
@@ -27,7 +27,7 @@ struct Params {
 /// with `SAMPLER_SOBOL` = `sobol`.
 fn gpu_draws(gpu: &sppm_gpu::gpu::GpuContext, sobol: bool, p: Params) -> Vec<[f32; 2]> {
     let constants = [("SAMPLER_SOBOL", sobol as u32 as f64)];
-    let kernel = Kernel::specialized(&gpu.device, "sobol_test", &[], &constants).unwrap_or_else(|e| panic!("{e}"));
+    let kernel = crate::common::test_kernel(gpu, "sobol_test", &[], &constants);
     let params = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("sobol_params"),
         contents: bytemuck::bytes_of(&p),

@@ -53,6 +53,32 @@ pub fn trace_rays(
     trace_rays_with(gpu, data, rays, constants, &[])
 }
 
+/// Kernels only tests run, by name (`tests/shaders/<name>.wgsl`, its entry point named like
+/// the file): kept out of the library's kernel table, assembled with the library's shared WGSL.
+pub const TEST_KERNELS: &[(&str, &str)] = &[
+    ("sampler_test", include_str!("../../shaders/sampler_test.wgsl")),
+    ("sobol_test", include_str!("../../shaders/sobol_test.wgsl")),
+    ("trace_rays", include_str!("../../shaders/trace_rays.wgsl")),
+];
+
+/// The WGSL of test kernel `name`, its imports expanded.
+pub fn test_kernel_source(name: &str) -> String {
+    let text = TEST_KERNELS.iter().find(|(n, _)| *n == name).unwrap_or_else(|| panic!("no test kernel {name}")).1;
+    sppm_gpu::gpu::assemble(text, sppm_gpu::gpu::DeviceCaps::ALL).unwrap()
+}
+
+/// Test kernel `name` made on `gpu`'s device, `replace` made in its source and its
+/// `constants` set (as `Kernel::specialized` does for the library's kernels).
+pub fn test_kernel(
+    gpu: &GpuContext,
+    name: &'static str,
+    replace: &[(&str, &str)],
+    constants: &[(&str, f64)],
+) -> sppm_gpu::gpu::Kernel {
+    let text = TEST_KERNELS.iter().find(|(n, _)| *n == name).unwrap_or_else(|| panic!("no test kernel {name}")).1;
+    sppm_gpu::gpu::Kernel::from_wgsl(&gpu.device, name, text, replace, constants).unwrap_or_else(|e| panic!("{e}"))
+}
+
 /// [`trace_rays`] with source replacements (the baked traversal of `gpu::baked_bvh`).
 pub fn trace_rays_with(
     gpu: &GpuContext,
@@ -63,9 +89,9 @@ pub fn trace_rays_with(
 ) -> Vec<[f32; 4]> {
     use sppm_gpu::gpu::readback::{read_buffer, staging_buffer};
     use sppm_gpu::gpu::scene_buffers::{storage_buffer, SceneBuffers};
-    use sppm_gpu::gpu::{Kernel, Resource};
+    use sppm_gpu::gpu::Resource;
     use wgpu::util::DeviceExt;
-    let kernel = Kernel::specialized(&gpu.device, "trace_rays", replace, constants).unwrap();
+    let kernel = test_kernel(gpu, "trace_rays", replace, constants);
     let buffers = SceneBuffers::new(&gpu.device, data);
     let n = rays.len() / 2;
     let ray_buffer = storage_buffer(&gpu.device, "rays", rays);

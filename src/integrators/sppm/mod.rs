@@ -14,32 +14,24 @@
 //! into each point's statistics (N, radius, tau). `resolve` turns the statistics into an
 //! image at any time.
 
+mod buffers;
+
+pub use buffers::{
+    accum_stride, deposits_at_once, photon_hit_capacity, BufferSizes, Deposits, ARGS_COUNTS, ARGS_GRID, ARGS_RESUME, ARGS_SCAN,
+    AT_ONCE_PHOTONS_PER_POINT,
+};
+
 use super::{Integrator, Part, PartSize, Work};
 use crate::error::Error;
 use crate::gpu::readback::{read_buffer, read_whole, staging_buffer};
-use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
-use crate::gpu::{Kernel, Resource, Specialization};
+use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
+use crate::gpu::{Kernel, Specialization};
 use crate::image_io::Rgb32Image;
-use crate::layout::GridParams;
 use crate::layout::*;
 use crate::scene::{DirectLight, RadiusRule, RadiusSchedule, Scene};
+use buffers::{largest_point_bytes, Buffers, GRID_POINT_WORDS_BYTES, SUSPENDED_STATE_BYTES};
 use std::ops::Range;
 use std::sync::Arc;
-
-/// Words per visible point in the flux accumulator (`accum_stride()` in WGSL):
-/// [`ACCUM_STRIDE`], and [`ACCUM_MOMENT_WORDS`] more under the adaptive radius rule.
-pub fn accum_stride(rule: RadiusRule) -> u32 {
-    match rule {
-        RadiusRule::Shrink => ACCUM_STRIDE,
-        RadiusRule::Adaptive => ACCUM_STRIDE + ACCUM_MOMENT_WORDS,
-    }
-}
-
-/// Bytes a visible point takes in the largest of the per-point buffers: the flux accumulator
-/// (32, or 48 under the adaptive radius rule), statistics, points and grid entries (32 each).
-fn largest_point_bytes(scene: &Scene) -> u64 {
-    (accum_stride(scene.render.radius_rule) as u64 * 4).max(size_of::<VpStats>() as u64)
-}
 
 /// The share of an environment light's photons aimed at each pass's visible points
 /// ([`Frame::env_aim`], `environment_origin` in `photon_pass.wgsl`): drawn from a disk covering
@@ -123,81 +115,6 @@ pub fn direct_samples(render: &crate::scene::RenderSettings) -> u32 {
     })
 }
 
-/// Room for photon hits a photon: about 0.9 hits a photon reach the gather on cornell-box,
-/// cornell-glossy, cornell-spheres and the glass dragon where direct light is sampled (photons
-/// deposit from their second diffuse hit on), 1.5 to 1.7 with direct light from photons
-/// (`sppm-gpu bench` prints the count).
-const HITS_PER_PHOTON: u64 = 2;
-
-/// The most photon hits stored between two gathers (96 MiB of [`PhotonHit`]s): a pass of
-/// more than half as many photons gathers more than once, so memory stops growing with the
-/// photon count there.
-const MAX_HITS: u64 = 1 << 21;
-
-/// Photons per visible point from which a pass adds each photon hit to the visible points
-/// around it at once rather than storing it for `photon_gather`. The gather reads each hit
-/// once for all the points near it, but walks every hit of the buckets a point overlaps; a
-/// direct deposit walks the points listed in the hit's bucket. Measured on cornell-box
-/// (`sppm-gpu bench`, docs/journal/session-09.md): at 12 photons a point the gather is about
-/// 10% faster, at 24 the two are even, at 49 the direct deposits are 25% faster.
-pub const AT_ONCE_PHOTONS_PER_POINT: u64 = 32;
-
-/// How a pass adds its photons to the visible points: the same fixed-point sums either way,
-/// so the image is the same bit for bit.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Deposits {
-    /// At once where photons outnumber `points` [`AT_ONCE_PHOTONS_PER_POINT`] to 1
-    /// ([`deposits_at_once`]), gathered otherwise.
-    Auto,
-    /// Hits stored in the grid's buckets and gathered by the visible points
-    /// (`photon_gather`); a hit that finds no room is added at once.
-    Gathered,
-    /// Every hit added at once to the visible points listed in its bucket, the grid's lists
-    /// built before the photons. No room for hits is allocated.
-    AtOnce,
-}
-
-/// Whether a pass of `render.photons` photons over `points` visible points adds each hit at
-/// once ([`Deposits::Auto`]).
-pub fn deposits_at_once(render: &crate::scene::RenderSettings, points: u64) -> bool {
-    render.photons as u64 >= AT_ONCE_PHOTONS_PER_POINT * points.max(1)
-}
-
-/// Photon hits stored for the gather at a time ([`PhotonHit`], 48 bytes each):
-/// `HITS_PER_PHOTON` (2) a photon, at most `MAX_HITS` (2^21), within one storage buffer of
-/// `max_binding` bytes; none where hits are added at once. A hit past them is deposited at
-/// once (the same sums, found more slowly).
-pub fn photon_hit_capacity(render: &crate::scene::RenderSettings, at_once: bool, max_binding: u64) -> u32 {
-    if at_once {
-        return 0;
-    }
-    let want = (render.photons as u64 * HITS_PER_PHOTON).min(MAX_HITS);
-    want.min(max_binding / size_of::<PhotonHit>() as u64).min(u32::MAX as u64) as u32
-}
-
-/// Bytes of `photon_hit_lists`: two counts and a list head a bucket of the grid's `table`;
-/// none where hits are added at once.
-fn hit_lists_bytes(table: u64, at_once: bool) -> u64 {
-    if at_once {
-        0
-    } else {
-        (table + 2) * 4
-    }
-}
-
-/// Bytes of the state a photon thread saves when its hit finds no room.
-const SUSPENDED_STATE_BYTES: u64 = 64;
-
-/// Bytes of room for the states of photon threads: every thread of a pass, or as many as the
-/// room for hits expects ([`HITS_PER_PHOTON`] for each of their photons), within one storage
-/// buffer of `max_binding` bytes. The photons of a pass go in rounds of that many threads,
-/// each gathered before the next.
-fn suspended_bytes(render: &crate::scene::RenderSettings, at_once: bool, max_binding: u64) -> u64 {
-    let threads = render.photons.div_ceil(PHOTONS_PER_THREAD) as u64;
-    let by_hits = photon_hit_capacity(render, at_once, max_binding) as u64 / (HITS_PER_PHOTON * PHOTONS_PER_THREAD as u64);
-    threads.min(by_hits).min(max_binding / SUSPENDED_STATE_BYTES).max(1) * SUSPENDED_STATE_BYTES
-}
-
 /// The box the grid of visible points covers: the surfaces' (swept over the shutter), where
 /// every point on a surface lies. Visible points in a participating medium lie anywhere a
 /// camera path scatters: in fog around an open scene, in front of it and past its walls, and a
@@ -222,19 +139,6 @@ fn grid_bounds(scene: &Scene, data: &SceneData) -> (glam::Vec3, glam::Vec3) {
     (lo, hi)
 }
 
-/// What `photon_resume_setup` writes (`photon_resume_args`), as byte offsets: the workgroup
-/// counts of grid_count and grid_fill, of photon_pass resuming and of grid_scan, then the
-/// pass's hits gathered and threads resumed (a word each). The kernel declares them in words
-/// (`ARGS_*` in shaders/photon_resume_setup.wgsl; a test holds the two together).
-pub const ARGS_GRID: u64 = 0;
-/// See [`ARGS_GRID`].
-pub const ARGS_RESUME: u64 = 12;
-/// See [`ARGS_GRID`].
-pub const ARGS_SCAN: u64 = 24;
-/// See [`ARGS_GRID`].
-pub const ARGS_COUNTS: u64 = 36;
-const RESUME_ARGS_BYTES: u64 = ARGS_COUNTS + 8;
-
 /// The squared radius of pass `pass` (from 0) under the global schedule of Knaus & Zwicker
 /// 2011 (eq. 14 there, with their pass i = `pass + 1`): r_i^2 = r_1^2 prod_{k=1}^{i-1} (k +
 /// alpha) / (k + 1). In f64, one product after another, so that a batch starting at any
@@ -251,10 +155,6 @@ pub fn global_radius_sq(initial_radius: f32, alpha: f32, pass: u32) -> f64 {
 fn global_radius_factor(k: u32, alpha: f32) -> f64 {
     (k as f64 + alpha as f64) / (k as f64 + 1.0)
 }
-
-/// Bytes of camera_pass's words on a pass's visible points (`grid_max_radius`): the largest
-/// radius, then with [`Frame::env_aim`] the bounds of their positions (six order keys).
-const GRID_POINT_WORDS_BYTES: u64 = 32;
 
 /// [`ENV_AIM`], or `SPPM_ENV_AIM` where set.
 fn env_aim() -> Result<f32, Error> {
@@ -344,28 +244,6 @@ pub struct Sppm {
     submissions: crate::gpu::submissions::Submissions,
 }
 
-/// Every buffer the kernels bind, each under the name of its WGSL global.
-struct Buffers {
-    scene: Arc<SceneBuffers>,
-    frame: wgpu::Buffer,
-    visible_points: wgpu::Buffer,
-    vp_stats: wgpu::Buffer,
-    flux_accum: wgpu::Buffer,
-    image: wgpu::Buffer,
-    grid_scene: wgpu::Buffer,
-    grid_max_radius: wgpu::Buffer,
-    grid_params: wgpu::Buffer,
-    grid: wgpu::Buffer,
-    grid_cell_count: wgpu::Buffer,
-    grid_cell_start: wgpu::Buffer,
-    grid_entries: wgpu::Buffer,
-    photon_hits: wgpu::Buffer,
-    photon_hit_lists: wgpu::Buffer,
-    photon_suspended: wgpu::Buffer,
-    photon_resume_args: wgpu::Buffer,
-    radius_tests: wgpu::Buffer,
-}
-
 /// A kernel and its bind group.
 struct Stage {
     kernel: Kernel,
@@ -383,40 +261,6 @@ impl Stage {
         self.kernel.dispatch(encoder, &self.group, threads);
     }
 }
-
-impl Buffers {
-    /// The table each kernel's bind group takes its bindings from.
-    fn resources(&self) -> Vec<Resource<'_>> {
-        let mut resources = self.scene.resources();
-        resources.extend([
-            Resource { name: "frame", buffer: &self.frame },
-            Resource { name: "visible_points", buffer: &self.visible_points },
-            Resource { name: "vp_stats", buffer: &self.vp_stats },
-            Resource { name: "flux_accum", buffer: &self.flux_accum },
-            Resource { name: "image", buffer: &self.image },
-            Resource { name: "grid_scene", buffer: &self.grid_scene },
-            Resource { name: "grid_max_radius", buffer: &self.grid_max_radius },
-            Resource { name: "grid_params", buffer: &self.grid_params },
-            Resource { name: "grid", buffer: &self.grid },
-            Resource { name: "grid_cell_count", buffer: &self.grid_cell_count },
-            Resource { name: "grid_cell_start", buffer: &self.grid_cell_start },
-            Resource { name: "grid_entries", buffer: &self.grid_entries },
-            Resource { name: "photon_hits", buffer: &self.photon_hits },
-            Resource { name: "photon_hit_lists", buffer: &self.photon_hit_lists },
-            Resource { name: "photon_suspended", buffer: &self.photon_suspended },
-            Resource { name: "photon_resume_args", buffer: &self.photon_resume_args },
-            Resource { name: "radius_tests", buffer: &self.radius_tests },
-        ]);
-        resources
-    }
-}
-
-fn buffer(device: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false })
-}
-
-const STORAGE: wgpu::BufferUsages =
-    wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST).union(wgpu::BufferUsages::COPY_SRC);
 
 impl Sppm {
     /// Set up the renderer for `scene` on the caller's device.
@@ -458,40 +302,13 @@ impl Sppm {
 
     /// Bytes of the renderer's own buffers for a band of `rows` rows of `scene`'s image on a
     /// device whose storage buffers hold `max_binding` bytes, as
-    /// [`Integrator::gpu_memory`] reports them once allocated:
-    /// computed before allocating, for the memory check. Per visible point: the point (32),
-    /// statistics (32), flux (32; 48 and a uniformity test of 32 under the adaptive radius
-    /// rule), up to 8 grid entries (32) and two buckets' lists (of grid
-    /// entries and of photon hits: 12 at most, the table being the point count rounded up to a
-    /// power of two); per pixel: the image and its read-back copy (32); per photon: room for
-    /// its hits ([`photon_hit_capacity`]). Where hits are added at once there is neither room
-    /// for hits nor their lists.
+    /// [`Integrator::gpu_memory`] reports them once allocated ([`BufferSizes`]), computed
+    /// before allocating, for the memory check.
     pub fn renderer_bytes(scene: &Scene, rows: u32, max_binding: u64) -> u64 {
         let r = &scene.render;
         let pixels = r.width as u64 * rows as u64;
         let points = pixels * r.spp as u64;
-        let table = points.max(1).next_power_of_two();
-        let adaptive = r.radius_rule == RadiusRule::Adaptive;
-        let tests = if adaptive { size_of::<RadiusTest>() } else { 0 };
-        let per_point =
-            size_of::<VisiblePoint>() + size_of::<VpStats>() + accum_stride(r.radius_rule) as usize * 4 + 8 * 4 + tests;
-        let grid_words = GRID_POINT_WORDS_BYTES as usize;
-        let fixed = [
-            size_of::<Frame>(),
-            size_of::<GridScene>(),
-            grid_words,
-            size_of::<GridParams>(),
-            size_of::<GridParams>() + grid_words,
-        ]
-        .map(|b| b.max(16) as u64);
-        let at_once = deposits_at_once(r, points);
-        let hits = (photon_hit_capacity(r, at_once, max_binding) as u64 * size_of::<PhotonHit>() as u64).max(16);
-        let photons = hits + suspended_bytes(r, at_once, max_binding).max(16) + RESUME_ARGS_BYTES;
-        // Buffers of fewer than 16 bytes are made 16 bytes long.
-        let tables = (table * 4).max(16) + ((table + 1) * 4).max(16) + hit_lists_bytes(table, at_once).max(16);
-        // Under the plain rule, the one unused uniformity test.
-        let unused_test = if adaptive { 0 } else { size_of::<RadiusTest>() as u64 };
-        points * per_point as u64 + pixels * 32 + tables + photons + fixed.iter().sum::<u64>() + unused_test
+        BufferSizes::new(r, points, pixels, deposits_at_once(r, points), max_binding).total()
     }
 
     /// [`Sppm::new_rows`] on scene buffers already uploaded (shared between bands).
@@ -556,27 +373,8 @@ impl Sppm {
         let (lo, hi) = grid_bounds(scene, data);
         let grid_scene = GridScene { lo: lo.into(), table_size, hi: hi.into(), _pad: 0 };
         let stats: Vec<VpStats> = vec![VpStats { radius: initial_radius, ..VpStats::default() }; vp_count as usize];
-        let uniform = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
-        let buffers = Buffers {
-            scene: scene_buffers,
-            frame: buffer(device, "frame", size_of::<Frame>() as u64, uniform),
-            visible_points: buffer(device, "visible_points", n * size_of::<VisiblePoint>() as u64, STORAGE),
-            vp_stats: storage_buffer(device, "vp_stats", &stats),
-            flux_accum: buffer(device, "flux_accum", n * accum_stride(r.radius_rule) as u64 * 4, STORAGE),
-            image: buffer(device, "image", pixel_count as u64 * 16, STORAGE),
-            grid_scene: storage_buffer(device, "grid_scene", &[grid_scene]),
-            grid_max_radius: buffer(device, "grid_max_radius", GRID_POINT_WORDS_BYTES, STORAGE),
-            grid_params: buffer(device, "grid_params", size_of::<GridParams>() as u64, STORAGE),
-            grid: buffer(device, "grid", size_of::<GridParams>() as u64 + GRID_POINT_WORDS_BYTES, uniform),
-            grid_cell_count: buffer(device, "grid_cell_count", table_size as u64 * 4, STORAGE),
-            grid_cell_start: buffer(device, "grid_cell_start", (table_size as u64 + 1) * 4, STORAGE),
-            grid_entries: buffer(device, "grid_entries", n * 8 * 4, STORAGE),
-            photon_hits: buffer(device, "photon_hits", hit_capacity as u64 * size_of::<PhotonHit>() as u64, STORAGE),
-            photon_hit_lists: buffer(device, "photon_hit_lists", hit_lists_bytes(table_size as u64, at_once), STORAGE),
-            photon_suspended: buffer(device, "photon_suspended", suspended_bytes(r, at_once, max_binding), STORAGE),
-            photon_resume_args: buffer(device, "photon_resume_args", RESUME_ARGS_BYTES, STORAGE | wgpu::BufferUsages::INDIRECT),
-            radius_tests: buffer(device, "radius_tests", if adaptive { n } else { 1 } * size_of::<RadiusTest>() as u64, STORAGE),
-        };
+        let sizes = BufferSizes::new(r, n, pixel_count as u64, at_once, max_binding);
+        let buffers = Buffers::new(device, &sizes, scene_buffers, &stats, grid_scene);
         queue.write_buffer(&buffers.frame, 0, bytemuck::bytes_of(&frame));
         // The tracing kernels, compiled for what this scene has.
         let spec = super::specialization(scene, data);
@@ -617,7 +415,7 @@ impl Sppm {
             update_stats: Stage::new(device, "update_stats", &buffers, &spec)?,
             resolve: Stage::new(device, "resolve", &buffers, &spec)?,
             resolve_texture: [None, None],
-            image_staging: staging_buffer(device, "image_staging", pixel_count as u64 * 16),
+            image_staging: staging_buffer(device, "image_staging", sizes.image_staging),
             buffers,
             submissions: crate::gpu::submissions::Submissions::new(),
         })
