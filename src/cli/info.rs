@@ -36,6 +36,11 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
             "render:     {method}, {} samples a pixel{limit}, max depth {}, seed {}",
             r.iterations, r.max_depth, r.seed
         ),
+        Method::Lt => writeln!(
+            out,
+            "render:     {method}, {} passes of a light subpath a pixel{limit}, max depth {}, seed {}",
+            r.iterations, r.max_depth, r.seed
+        ),
     };
     let c = &scene.camera;
     let mut lens = if c.aperture_radius > 0.0 {

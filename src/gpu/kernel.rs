@@ -26,6 +26,8 @@ pub const KERNELS: &[&str] = &[
     "resolve_texture",
     "path_trace",
     "path_resolve_texture",
+    "light_trace",
+    "splat_accumulate",
 ];
 
 /// Every shader file, embedded at build time so the binary stands alone: (name, source), a

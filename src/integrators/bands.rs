@@ -59,6 +59,7 @@ impl Bands {
                     Method::Pt | Method::PtNee => {
                         Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, shared, rows)?)
                     }
+                    Method::Lt => Box::new(super::LightTracer::with_scene_buffers(device, queue, scene, data, shared, rows)?),
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
@@ -99,10 +100,11 @@ impl Integrator for Bands {
         self.bands[self.bands.len() - 1].passes()
     }
     /// What a pass adds to the estimate: the pass's photons for SPPM (each band traces them
-    /// again, for its own points), a sample per pixel of every band for the path tracers.
+    /// again, for its own points; the light tracer's subpaths likewise, for its own pixels), a
+    /// sample per pixel of every band for the path tracers.
     fn work_per_pass(&self) -> u64 {
         match self.method {
-            Method::Sppm => self.bands[0].work_per_pass(),
+            Method::Sppm | Method::Lt => self.bands[0].work_per_pass(),
             Method::Pt | Method::PtNee => self.bands.iter().map(|b| b.work_per_pass()).sum(),
         }
     }

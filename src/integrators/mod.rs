@@ -5,8 +5,10 @@
 pub mod bands;
 pub mod filter;
 mod frame;
+pub mod light;
 mod memory;
 pub mod path;
+mod pixel_sums;
 mod resolve;
 pub mod sppm;
 mod state;
@@ -14,6 +16,7 @@ mod state;
 pub use bands::Bands;
 pub use filter::set_pixel_filter;
 pub use frame::{camera_frame, camera_frame_for, shutter_time};
+pub use light::LightTracer;
 pub use memory::{check_memory, max_rows, memory_need, GpuMemory, MemoryNeed};
 pub use path::PathTracer;
 pub use sppm::{Deposits, Sppm};
@@ -171,6 +174,7 @@ fn create_on(
         _ if rows < height => Box::new(Bands::with_scene_buffers(device, queue, scene, data, buffers, rows)?),
         Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?),
         Method::Pt | Method::PtNee => Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
+        Method::Lt => Box::new(LightTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
     })
 }
 

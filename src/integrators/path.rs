@@ -2,9 +2,9 @@
 //! naive (`method = "pt"`) or with next-event estimation and MIS (`"pt-nee"`). Each pass adds
 //! one sample per pixel (`path_trace`); the image is the running mean.
 
+use super::pixel_sums::PixelSums;
 use super::{shutter_time, Integrator, Part, PartSize, Work};
 use crate::error::Error;
-use crate::gpu::readback::{read_buffer, staging_buffer};
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
 use crate::gpu::{Kernel, Resource};
 use crate::image_io::Rgb32Image;
@@ -29,11 +29,9 @@ pub struct PathTracer {
     first_pass: u32,
     /// The first pixel of the next part of the pass under way (0: a new pass).
     next_pixel: u32,
-    /// `path_resolve_texture` for Rgba32Float and Rgba16Float targets, made when first used.
-    resolve_texture: [Option<Kernel>; 2],
     frame_buffer: wgpu::Buffer,
-    radiance: wgpu::Buffer,
-    radiance_staging: wgpu::Buffer,
+    /// Each pixel's samples summed.
+    sums: PixelSums,
     /// [`Integrator::run_pass`]'s submissions in flight.
     submissions: crate::gpu::submissions::Submissions,
     // Kept alive for the bind group.
@@ -93,15 +91,10 @@ impl PathTracer {
             contents: bytemuck::bytes_of(&frame),
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
-        let radiance = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("radiance"),
-            size: bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let sums = PixelSums::new(device, queue, pixel_count);
         let mut resources = scene_buffers.resources();
         resources.push(Resource { name: "frame", buffer: &frame_buffer });
-        resources.push(Resource { name: "radiance", buffer: &radiance });
+        resources.push(Resource { name: "radiance", buffer: &sums.radiance });
         let group = path_trace.bind_group(device, &resources)?;
         drop(resources);
         Ok(Self {
@@ -114,10 +107,8 @@ impl PathTracer {
             group,
             first_pass: 0,
             next_pixel: 0,
-            resolve_texture: [None, None],
             frame_buffer,
-            radiance_staging: staging_buffer(device, "radiance_staging", bytes),
-            radiance,
+            sums,
             submissions: crate::gpu::submissions::Submissions::new(),
             _scene: scene_buffers,
         })
@@ -153,15 +144,7 @@ impl Integrator for PathTracer {
     /// The mean of each pixel's samples, as [`Integrator::image`] computes it. Between the
     /// parts of a pass, pixels hold one sample more than others.
     fn record_resolve_to_texture(&mut self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) -> Result<(), Error> {
-        let (width, height) = (self.frame.width, self.frame.height);
-        let kernel =
-            super::resolve_kernel(&self.device, &mut self.resolve_texture, "path_resolve_texture", texture, width, height)?;
-        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-        let resources =
-            [Resource { name: "frame", buffer: &self.frame_buffer }, Resource { name: "radiance", buffer: &self.radiance }];
-        let group = kernel.bind_group_with_views(&self.device, &resources, &[("out_image", &view)])?;
-        kernel.dispatch(encoder, &group, self.pixel_count);
-        Ok(())
+        self.sums.record_resolve_to_texture(encoder, texture, &self.frame, &self.frame_buffer)
     }
 
     /// Each pixel's sum counts its own samples, so a batch needs only its pass indices.
@@ -182,8 +165,7 @@ impl Integrator for PathTracer {
 
     /// Start over: no sample in any pixel. The buffer is cleared at the next submission.
     fn reset(&mut self) {
-        let zeros = vec![0u8; self.radiance.size() as usize];
-        self.queue.write_buffer(&self.radiance, 0, &zeros);
+        self.sums.clear();
         self.next_pixel = 0;
         self.passes = self.first_pass;
     }
@@ -201,70 +183,27 @@ impl Integrator for PathTracer {
     }
 
     fn image(&mut self) -> Result<Rgb32Image, Error> {
-        let sums: Vec<[f32; 4]> =
-            read_buffer(&self.device, &self.queue, &self.radiance, &self.radiance_staging, self.pixel_count as u64 * 16)?;
-        let mut img = Rgb32Image::new(self.frame.width, self.frame.height);
-        for (dst, s) in img.pixels.iter_mut().zip(&sums) {
-            let n = s[3].max(1.0);
-            *dst = [s[0] / n, s[1] / n, s[2] / n];
-        }
-        Ok(img)
+        self.sums.image(self.frame.width, self.frame.height)
     }
     fn gpu_memory(&self) -> super::GpuMemory {
+        let own = [("frame", &self.frame_buffer)].into_iter().chain(self.sums.buffers());
         super::GpuMemory {
             scene: super::sizes(self._scene.resources().iter().map(|r| (r.name, r.buffer))),
-            renderer: super::sizes([
-                ("frame", &self.frame_buffer),
-                ("radiance", &self.radiance),
-                ("radiance_staging", &self.radiance_staging),
-            ]),
+            renderer: super::sizes(own),
         }
     }
     fn state(&mut self) -> Result<Vec<u8>, Error> {
-        let bytes = self.pixel_count as u64 * 16;
-        let sums: Vec<u8> = read_buffer(&self.device, &self.queue, &self.radiance, &self.radiance_staging, bytes)?;
-        Ok(super::encode_state(self.passes, self.passes as u64 * self.pixel_count as u64, &sums))
+        self.sums.state(self.passes, self.passes as u64 * self.pixel_count as u64)
     }
     fn image_of_state(&self, state: &[u8]) -> Result<Rgb32Image, Error> {
-        let (_, _, sums) = super::decode_state(state, self.pixel_count as u64 * 16)?;
-        let sums: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(sums);
-        let mut img = Rgb32Image::new(self.frame.width, self.frame.height);
-        for (dst, s) in img.pixels.iter_mut().zip(&sums) {
-            let n = s[3].max(1.0);
-            *dst = [s[0] / n, s[1] / n, s[2] / n];
-        }
-        Ok(img)
+        self.sums.image_of_state(state, self.frame.width, self.frame.height)
     }
     /// Refuses a state that no render could have left: work other than a sample a pixel a pass,
     /// sample counts other than its passes', or sums not finite or negative.
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
-        let (passes, work, sums) = super::decode_state(state, self.pixel_count as u64 * 16)?;
-        let corrupt = |what: String| Err(Error::Setting(format!("the saved state is corrupt: {what}")));
-        let Some(k) = passes.checked_sub(self.first_pass).filter(|_| work == passes as u64 * self.pixel_count as u64) else {
-            let first = self.first_pass;
-            return corrupt(format!(
-                "it holds {passes} passes (from pass {first}) and {work} samples of {} pixels",
-                self.pixel_count
-            ));
-        };
-        // Each pass adds 1 to every pixel's count, in f32: exact up to 2^24, where it stays.
-        let count = k.min(1 << 24) as f32;
-        for (i, s) in sums.chunks_exact(16).enumerate() {
-            let s: [f32; 4] = bytemuck::pod_read_unaligned(s);
-            if s[3] != count || s[..3].iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
-                let width = self.frame.width as usize;
-                let (x, y) = (i % width, self.frame.row_offset as usize + i / width);
-                return corrupt(format!(
-                    "pixel ({x}, {y}) holds the sum {:?} of {} samples, where {k} passes give {count} samples of finite, \
-                     non-negative radiance",
-                    &s[..3],
-                    s[3]
-                ));
-            }
-        }
-        self.queue.write_buffer(&self.radiance, 0, sums);
+        let (width, rows) = (self.frame.width, self.frame.row_offset);
+        self.passes = self.sums.restore(state, self.first_pass, self.pixel_count as u64, width, rows)?;
         self.next_pixel = 0;
-        self.passes = passes;
         Ok(())
     }
 }

@@ -88,7 +88,8 @@ pub trait Named: Copy + PartialEq + Sized + 'static {
 
 impl Named for Method {
     const WHAT: &'static str = "method";
-    const NAMES: &'static [(&'static str, Self)] = &[("sppm", Method::Sppm), ("pt", Method::Pt), ("pt-nee", Method::PtNee)];
+    const NAMES: &'static [(&'static str, Self)] =
+        &[("sppm", Method::Sppm), ("pt", Method::Pt), ("pt-nee", Method::PtNee), ("lt", Method::Lt)];
     /// Mitsuba's and pbrt-v4's integrators of the same images: their `path` and `volpath`
     /// sample lights at each vertex with MIS, as pt-nee does; Mitsuba's `ppm` is SPPM's
     /// ancestor.
@@ -126,6 +127,8 @@ pub enum Method {
     Pt,
     /// Path tracing with next-event estimation and multiple importance sampling.
     PtNee,
+    /// Light tracing: light subpaths joined to the camera.
+    Lt,
 }
 
 /// Where SPPM's direct light comes from (`direct` in `[render]`).

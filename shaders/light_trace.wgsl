@@ -1,0 +1,131 @@
+// Light tracing (`--method lt`; Veach 1997 sec. 10.2, Arvo & Kirk's particle tracing): light
+// subpaths leave the emitters as SPPM's photons do (emission.wgsl) and scatter as they do;
+// every vertex whose BSDF can be evaluated, and the point an area light emits from, is joined
+// to the camera by a shadow ray, and what it sends the camera is splatted into the pixels
+// around where it lands (camera_importance.wgsl, splat.wgsl). frame.photon_count subpaths a
+// pass, each splat divided by their number: the pass's splats sum to one estimate of the
+// image, which splat_accumulate adds to the per-pixel sums the path tracers keep.
+//
+// A subpath's throughput beta estimates flux arriving on surfaces (photon_pass's, times the
+// total power). At a vertex x reached along d, light L(x -> camera) = f(wo, -d) |d.ns| Li is
+// estimated by beta f |d.ns| / |d.ng| (the flux's density is per unit area on the geometric
+// normal; the ratio is pbrt-v4's shading-normal correction for light carrying importance),
+// and the pixel measures g L cos_x / (dist^2 cos^3 theta A_pix).
+
+#import types
+#import rng
+#import sampling
+#import scene
+#import bsdf
+#import lights
+#import medium
+#import emission
+#import camera
+#import splat
+#import camera_importance
+
+const STREAM_LIGHT: u32 = 3u;
+
+// Join the point p (on surface s, when `on_surface`) to the camera and splat what it sends
+// there: `le` the light leaving p towards the camera per unit of importance (radiance times
+// cos_x, already divided by the pass's subpath count).
+fn connect_to_camera(p_offset: vec3f, view: CameraView, c: vec3f) {
+    if view.importance <= 0.0 || all(c == vec3f(0.0)) {
+        return;
+    }
+    if !unoccluded(p_offset, frame.cam_position) {
+        return;
+    }
+    splat_filtered(view.raster, c * view.importance);
+}
+
+// Whether nothing blocks the segment from p0 to p1 (direct.wgsl's test, without its imports).
+fn unoccluded(p0: vec3f, p1: vec3f) -> bool {
+    let to = p1 - p0;
+    let dist = length(to);
+    if !(dist > 0.0) {
+        return true;
+    }
+    return !occluded(p0, to / dist, dist * (1.0 - 1e-4));
+}
+
+@compute @workgroup_size(64)
+fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    // This dispatch's part of the pass: subpaths [work_first, work_end).
+    let index = frame.work_first + gid.x + gid.y * groups.x * 64u;
+    if index >= min(frame.work_end, frame.photon_count) {
+        return;
+    }
+    var rng = rng_new(frame.seed, frame.pass_index, STREAM_LIGHT, index);
+    let per_seed = max(0xffffffffu / max(frame.photon_count, 1u), 1u);
+    rng_sobol(&rng, (frame.pass_index % per_seed) * frame.photon_count + index, sobol_seed(frame.seed, STREAM_LIGHT, frame.pass_index / per_seed));
+    var ph = emit_photon(&rng, EnvironmentAim(vec3f(0.0), 0.0, 0.0));
+    // emit_photon's flux is relative to the total power; per subpath of the pass.
+    let scale = frame.power_total / f32(frame.photon_count);
+    var beta = ph.beta * scale;
+    // The point an area light emits from, seen by the camera: Le cos_x / (pmf pdf_pos), which
+    // is beta / pi (emit_photon draws the direction by cosine), from the light's front.
+    if any(ph.n != vec3f(0.0)) {
+        let view = camera_view(ph.o);
+        let cos_x = dot(view.wi, ph.n);
+        if cos_x > 0.0 {
+            connect_to_camera(ph.o, view, beta * (cos_x * INV_PI));
+        }
+    }
+    var o = ph.o;
+    var d = ph.d;
+    var depth = 0u;
+    loop {
+        if depth >= frame.max_depth {
+            break;
+        }
+        let hit = trace_closest(o, d, 3.4e38);
+        if hit.prim_ref == 0xffffffffu {
+            break;
+        }
+        let s = surface_at(hit, o, d);
+        let m = material_at(s);
+        if seen_from_behind(m, s, d) {
+            break;
+        }
+        let finite = all(beta >= vec3f(0.0)) && all(beta < vec3f(1.0e30));
+        if !finite {
+            break;
+        }
+        // Join this vertex to the camera: wo towards the camera, the light arriving along d.
+        if bsdf_samples_lights(m) {
+            let view = camera_view(s.p);
+            let wo = view.wi;
+            let wi = -d;
+            let same_side = dot(wo, s.ng) * dot(wi, s.ng) > 0.0;
+            if view.importance > 0.0 && (same_side || m.kind == MATERIAL_DIELECTRIC) && !one_sided_culls(m, s, wo) {
+                let b = bsdf_eval(s, m, m.albedo, wo, wi);
+                let correction = abs(dot(wi, s.ns)) / max(abs(dot(wi, s.ng)), 1e-8);
+                let c = beta * b.f * (correction * abs(dot(wo, s.ng)));
+                connect_to_camera(offset_origin(s.p, s.ng, wo), view, c);
+            }
+        }
+        // Scatter as photons do (photon_pass.wgsl): a diffuse bounce draws two numbers, any
+        // other three.
+        var u = vec3f(rng_next2(&rng), 0.0);
+        if m.kind != MATERIAL_DIFFUSE {
+            u.z = rng_next(&rng);
+        }
+        let next = bsdf_sample(s, m, m.albedo, d, u, false, false);
+        if all(next.weight == vec3f(0.0)) {
+            break;
+        }
+        // Russian roulette that keeps the subpath's largest channel constant.
+        let beta_new = beta * next.weight;
+        let q = max(0.0, 1.0 - max_component(beta_new) / max_component(beta));
+        if rng_next(&rng) < q {
+            break;
+        }
+        beta = beta_new / (1.0 - q);
+        o = offset_origin(s.p, s.ng, next.wi);
+        d = next.wi;
+        if !(USES_MEDIA && is_null(m)) {
+            depth += 1u;
+        }
+    }
+}

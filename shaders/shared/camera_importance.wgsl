@@ -1,0 +1,106 @@
+// The camera seen from the scene: where a point projects on the image and how much of the
+// light leaving it towards the camera a pixel measures (the pinhole's importance), for light
+// subpaths that are joined to the camera (light tracing; Veach 1997 sec. 10.2, pbrt-v4 sec.
+// 5.1.4 and 16.1), and the pixel filter's weight for splatting what they carry.
+//
+// A pixel measures I = integral of g(r - c) L ds over the image plane at distance 1 (s in
+// raster units of area A_pix on that plane, g the pixel filter's normalized density, c the
+// pixel's centre), as camera_ray samples it. On that plane a point at angle theta from the
+// view direction lies at distance 1 / cos theta, so ds = dw / cos^3 theta, and a surface
+// point x at distance d seen at cos_x: dw = cos_x dA / d^2. Light L leaving x towards the
+// camera therefore adds g L cos_x / (d^2 cos^3 theta A_pix) dA to the pixel.
+
+#import types
+
+// A point as the camera sees it (a pinhole at frame.cam_position).
+struct CameraView {
+    // Raster position: pixels from the image's top left corner (row 0 at +cam_up).
+    raster: vec2f,
+    // Unit direction from the point to the camera, and the distance.
+    wi: vec3f,
+    dist: f32,
+    // 1 / (d^2 cos^3 theta A_pix): what g L cos_x is multiplied by (see the top); 0 where the
+    // point lies behind the camera.
+    importance: f32,
+}
+
+fn camera_view(p: vec3f) -> CameraView {
+    let v = p - frame.cam_position;
+    let dist = length(v);
+    // The view axis: cam_right x cam_up point right and up, so up x right is forward; the
+    // image plane's centre frame.cam_forward lies at distance 1 along it (off the axis only
+    // for a crop window).
+    let axis = normalize(cross(frame.cam_up, frame.cam_right));
+    let t = dot(v, axis);
+    if !(t > 0.0) || !(dist > 0.0) {
+        return CameraView(vec2f(-1.0e9), vec3f(0.0), dist, 0.0);
+    }
+    // The point on the plane at distance 1 along the axis, in the image's coordinates sx, sy
+    // in [-1, 1] (camera_ray's).
+    let q = v / t - frame.cam_forward;
+    let sx = dot(q, frame.cam_right) / dot(frame.cam_right, frame.cam_right);
+    let sy = dot(q, frame.cam_up) / dot(frame.cam_up, frame.cam_up);
+    let raster = vec2f(0.5 * (sx + 1.0) * f32(frame.width), 0.5 * (1.0 - sy) * f32(frame.image_height));
+    // A pixel's area on the plane, and 1 / (d^2 cos^3) = d / t^3.
+    let a_pix = 4.0 * length(frame.cam_right) * length(frame.cam_up) / (f32(frame.width) * f32(frame.image_height));
+    return CameraView(raster, -v / dist, dist, dist / (t * t * t * a_pix));
+}
+
+// The integral of Mitsuba's gaussian over [0, 4] standard deviations, exp(-t^2 / 2) - exp(-8)
+// integrated: sqrt(pi / 2) erf(4 / sqrt 2) - 4 exp(-8) (src/integrators/filter.rs tabulates
+// the same mass).
+const GAUSSIAN_HALF_MASS: f32 = 1.2518929;
+
+// The pixel filter's normalized density at offset x (pixels) from a pixel's centre, per axis:
+// the density sample_filter draws camera samples from.
+fn filter_density(x: f32) -> f32 {
+    if USES_TENT_FILTER && frame.pixel_filter == FILTER_TENT {
+        let r = frame.filter_width;
+        return max(0.0, 1.0 - abs(x) / r) / r;
+    }
+    if USES_GAUSSIAN_FILTER && frame.pixel_filter == FILTER_GAUSSIAN {
+        let sigma = frame.filter_width;
+        return gaussian_filter(x / sigma) / (2.0 * GAUSSIAN_HALF_MASS * sigma);
+    }
+    return select(0.0, 1.0, abs(x) <= 0.5);
+}
+
+// How far from a pixel's centre the filter reaches, in pixels.
+fn filter_radius() -> f32 {
+    if USES_TENT_FILTER && frame.pixel_filter == FILTER_TENT {
+        return frame.filter_width;
+    }
+    if USES_GAUSSIAN_FILTER && frame.pixel_filter == FILTER_GAUSSIAN {
+        return 4.0 * frame.filter_width;
+    }
+    return 0.5;
+}
+
+// Add radiance c, arriving at raster position `raster`, to every pixel of this renderer's rows
+// whose filter reaches it, weighted by the filter (splat.wgsl). The box filter's pixel is the
+// one camera_ray's jitter covers, [px, px + 1) x [py, py + 1).
+fn splat_filtered(raster: vec2f, c: vec3f) {
+    let rows = vec2i(i32(frame.row_offset), i32(frame.row_offset + frame.height));
+    if !((USES_TENT_FILTER && frame.pixel_filter == FILTER_TENT) || (USES_GAUSSIAN_FILTER && frame.pixel_filter == FILTER_GAUSSIAN)) {
+        if raster.x >= 0.0 && raster.y >= 0.0 {
+            let px = i32(raster.x);
+            let py = i32(raster.y);
+            if px < i32(frame.width) && py >= rows.x && py < rows.y {
+                splat_add(u32(py - rows.x) * frame.width + u32(px), c);
+            }
+        }
+        return;
+    }
+    let reach = filter_radius();
+    let lo = vec2i(ceil(raster - 0.5 - reach));
+    let hi = vec2i(floor(raster - 0.5 + reach));
+    for (var py = max(lo.y, rows.x); py <= min(hi.y, rows.y - 1); py++) {
+        let wy = filter_density(raster.y - (f32(py) + 0.5));
+        for (var px = max(lo.x, 0); px <= min(hi.x, i32(frame.width) - 1); px++) {
+            let w = wy * filter_density(raster.x - (f32(px) + 0.5));
+            if w > 0.0 {
+                splat_add(u32(py - rows.x) * frame.width + u32(px), c * w);
+            }
+        }
+    }
+}

@@ -1,0 +1,255 @@
+//! Light tracing (`method = "lt"`): light subpaths from the emitters, each vertex joined to
+//! the camera and splatted into the pixels it lands on (`shaders/light_trace.wgsl`), then
+//! added to per-pixel sums as one estimate of the image a pass (`splat_accumulate`). The
+//! light half of the bidirectional family (Veach 1997 ch. 10; SmallVCM's light tracing mode):
+//! it finds caustics seen directly, which a path tracer cannot, and the light arriving at the
+//! camera through nothing but diffuse surfaces, as a path tracer does.
+
+use super::pixel_sums::{PixelSums, PIXEL_BYTES};
+use super::{shutter_time, Integrator, Part, PartSize, Work};
+use crate::error::Error;
+use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
+use crate::gpu::{Kernel, Resource};
+use crate::image_io::Rgb32Image;
+use crate::layout::Frame;
+use crate::scene::Scene;
+use std::ops::Range;
+use std::sync::Arc;
+use wgpu::util::DeviceExt;
+
+/// Bytes of a pixel's splats: r, g, b in 32.32 fixed point (`SPLAT_STRIDE` words in
+/// `shaders/shared/splat.wgsl`).
+const SPLAT_BYTES: u64 = 24;
+
+/// A progressive light tracer: each pass traces one light subpath per pixel of the image and
+/// adds the pass's splats to each pixel's sums. Driven through [`Integrator`].
+pub struct LightTracer {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    frame: Frame,
+    passes: u32,
+    pixel_count: u32,
+    light_trace: Kernel,
+    trace_group: wgpu::BindGroup,
+    splat_accumulate: Kernel,
+    accumulate_group: wgpu::BindGroup,
+    /// The first pass this tracer runs ([`Integrator::start_at_pass`]).
+    first_pass: u32,
+    /// The first subpath of the next part of the pass under way (0: a new pass).
+    next_path: u32,
+    frame_buffer: wgpu::Buffer,
+    splat: wgpu::Buffer,
+    sums: PixelSums,
+    /// [`Integrator::run_pass`]'s submissions in flight.
+    submissions: crate::gpu::submissions::Submissions,
+    // Kept alive for the bind groups.
+    _scene: Arc<SceneBuffers>,
+}
+
+impl LightTracer {
+    /// Rows of `scene`'s image whose splats fit in one of this device's storage buffers.
+    pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
+        let pixels = device.limits().max_storage_buffer_binding_size / SPLAT_BYTES;
+        (pixels / (scene.render.width as u64).max(1)).min(u32::MAX as u64) as u32
+    }
+
+    /// Bytes of the renderer's own buffers for a band of `rows` rows of `scene`'s image, as
+    /// [`Integrator::gpu_memory`] reports them: the sums per pixel and their read-back copy, the
+    /// splats, and the frame.
+    pub fn renderer_bytes(scene: &Scene, rows: u32) -> u64 {
+        scene.render.width as u64 * rows as u64 * (2 * PIXEL_BYTES + SPLAT_BYTES) + size_of::<Frame>() as u64
+    }
+
+    /// What a light tracer cannot render of `scene`, as an error naming it: participating
+    /// media, a thin lens (light subpaths are joined to a pinhole) and an environment light
+    /// (seen directly only by camera paths).
+    pub fn check_scene(scene: &Scene) -> Result<(), Error> {
+        let refuse =
+            |what: String| Err(Error::Setting(format!("{}: method lt {what}; use pt-nee or sppm", scene.path.display())));
+        if let Some(m) = scene.media.first() {
+            return refuse(format!("does not render participating media yet (medium {:?})", m.name));
+        }
+        if scene.camera.aperture_radius > 0.0 {
+            return refuse(format!(
+                "joins light subpaths to a pinhole camera, not a thin lens (aperture radius {})",
+                scene.camera.aperture_radius
+            ));
+        }
+        if scene.lights.iter().any(|l| l.kind.is_environment()) {
+            return refuse("cannot show an environment light seen directly".into());
+        }
+        Ok(())
+    }
+
+    /// The light tracer for rows `rows` of the image, on scene buffers already uploaded; random
+    /// numbers are keyed by the subpath's index, and every band traces all of them, so bands
+    /// give the whole image bit for bit.
+    pub(crate) fn with_scene_buffers(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        data: &SceneData,
+        scene_buffers: Arc<SceneBuffers>,
+        rows: Range<u32>,
+    ) -> Result<Self, Error> {
+        Self::check_scene(scene)?;
+        let r = &scene.render;
+        let mut frame = super::band_frame(scene, data, &rows)?;
+        let pixel_count = r.width.checked_mul(frame.height).ok_or_else(|| Error::Setting("image too large".into()))?;
+        if pixel_count as u64 * SPLAT_BYTES > device.limits().max_storage_buffer_binding_size {
+            return Err(Error::Setting(format!(
+                "{}x{} pixels need more memory than this device's buffers hold; render it in bands of at most {} rows",
+                r.width,
+                frame.height,
+                Self::max_rows(device, scene)
+            )));
+        }
+        // One light subpath a pixel of the whole image a pass.
+        frame.photon_count = r
+            .width
+            .checked_mul(r.height)
+            .ok_or_else(|| Error::Setting(format!("{}x{} pixels are more than 2^32 light subpaths a pass", r.width, r.height)))?;
+
+        let spec = super::specialization(scene, data);
+        let light_trace = spec.kernel(device, "light_trace")?;
+        let splat_accumulate = Kernel::new(device, "splat_accumulate")?;
+        let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("frame"),
+            contents: bytemuck::bytes_of(&frame),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let splat = storage_buffer(device, "splat", &vec![0u32; pixel_count as usize * (SPLAT_BYTES / 4) as usize]);
+        let sums = PixelSums::new(device, queue, pixel_count);
+        let mut resources = scene_buffers.resources();
+        resources.push(Resource { name: "frame", buffer: &frame_buffer });
+        resources.push(Resource { name: "splat", buffer: &splat });
+        resources.push(Resource { name: "radiance", buffer: &sums.radiance });
+        let trace_group = light_trace.bind_group(device, &resources)?;
+        let accumulate_group = splat_accumulate.bind_group(device, &resources)?;
+        drop(resources);
+        Ok(Self {
+            device: device.clone(),
+            queue: queue.clone(),
+            frame,
+            passes: 0,
+            pixel_count,
+            light_trace,
+            trace_group,
+            splat_accumulate,
+            accumulate_group,
+            first_pass: 0,
+            next_path: 0,
+            frame_buffer,
+            splat,
+            sums,
+            submissions: crate::gpu::submissions::Submissions::new(),
+            _scene: scene_buffers,
+        })
+    }
+
+    /// Light subpaths a pass.
+    fn paths(&self) -> u32 {
+        self.frame.photon_count
+    }
+}
+
+impl Integrator for LightTracer {
+    fn run_pass(&mut self) -> Result<(), Error> {
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("light_trace") });
+        self.record_pass(&mut encoder);
+        self.submissions.submit(&self.device, &self.queue, encoder.finish())
+    }
+
+    /// Subpaths `next_path..` of this pass, at most `size.photons` of them; after the last,
+    /// the pass's splats become each pixel's estimate.
+    fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> Part {
+        let first = self.next_path;
+        let end = first.saturating_add(size.photons.max(1)).min(self.paths());
+        self.frame.pass_index = self.passes;
+        self.frame.time = shutter_time(self.frame.seed, self.passes);
+        self.frame.work_first = first;
+        self.frame.work_end = end;
+        super::record_upload(&self.device, &self.queue, encoder, &self.frame_buffer, bytemuck::bytes_of(&self.frame));
+        self.light_trace.dispatch(encoder, &self.trace_group, end - first);
+        self.next_path = end;
+        let pass_done = end == self.paths();
+        if pass_done {
+            self.splat_accumulate.dispatch(encoder, &self.accumulate_group, self.pixel_count);
+            self.next_path = 0;
+            self.passes += 1;
+        }
+        Part { work: Work::Photons, items: end - first, pass_done }
+    }
+
+    /// The mean of each pixel's estimates over the completed passes.
+    fn record_resolve_to_texture(&mut self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) -> Result<(), Error> {
+        self.sums.record_resolve_to_texture(encoder, texture, &self.frame, &self.frame_buffer)
+    }
+
+    /// Each pass's subpaths are keyed by the pass index, so a batch needs only its indices.
+    fn start_at_pass(&mut self, first: u32) -> Result<(), Error> {
+        if self.passes != self.first_pass || self.next_path != 0 {
+            return Err(Error::Setting("start_at_pass: passes have run already".into()));
+        }
+        self.first_pass = first;
+        self.passes = first;
+        Ok(())
+    }
+
+    fn set_camera(&mut self, camera: &crate::scene::Camera) -> Result<(), Error> {
+        if camera.aperture_radius > 0.0 {
+            return Err(Error::Setting("method lt joins light subpaths to a pinhole camera, not a thin lens".into()));
+        }
+        super::set_frame_camera(&mut self.frame, camera)?;
+        self.reset();
+        Ok(())
+    }
+
+    /// Start over: no estimate in any pixel, and no splat of a pass under way.
+    fn reset(&mut self) {
+        self.sums.clear();
+        self.queue.write_buffer(&self.splat, 0, &vec![0u8; self.splat.size() as usize]);
+        self.next_path = 0;
+        self.passes = self.first_pass;
+    }
+
+    fn passes(&self) -> u32 {
+        self.passes
+    }
+
+    fn work_per_pass(&self) -> u64 {
+        self.paths() as u64
+    }
+
+    fn work_unit(&self) -> &'static str {
+        "light paths"
+    }
+
+    fn image(&mut self) -> Result<Rgb32Image, Error> {
+        self.sums.image(self.frame.width, self.frame.height)
+    }
+
+    fn gpu_memory(&self) -> super::GpuMemory {
+        let own = [("frame", &self.frame_buffer), ("splat", &self.splat)].into_iter().chain(self.sums.buffers());
+        super::GpuMemory {
+            scene: super::sizes(self._scene.resources().iter().map(|r| (r.name, r.buffer))),
+            renderer: super::sizes(own),
+        }
+    }
+
+    fn state(&mut self) -> Result<Vec<u8>, Error> {
+        self.sums.state(self.passes, self.passes as u64 * self.paths() as u64)
+    }
+
+    fn image_of_state(&self, state: &[u8]) -> Result<Rgb32Image, Error> {
+        self.sums.image_of_state(state, self.frame.width, self.frame.height)
+    }
+
+    /// Refuses a state that no render could have left (see the path tracer's).
+    fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
+        let (width, rows) = (self.frame.width, self.frame.row_offset);
+        self.passes = self.sums.restore(state, self.first_pass, self.paths() as u64, width, rows)?;
+        self.next_path = 0;
+        Ok(())
+    }
+}

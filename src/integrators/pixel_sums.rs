@@ -1,0 +1,145 @@
+//! The per-pixel sums of the integrators whose passes each add one estimate of every pixel
+//! (the path tracers and the light tracer): `radiance`, the sum of the estimates (rgb) and
+//! their count (w), its read-back, its state for checkpoints and batches, and its resolve.
+
+use super::{decode_state, encode_state, resolve_kernel};
+use crate::error::Error;
+use crate::gpu::readback::{read_buffer, staging_buffer};
+use crate::gpu::{Kernel, Resource};
+use crate::image_io::Rgb32Image;
+use crate::layout::Frame;
+
+/// Bytes of a pixel's sums: a `vec4f`.
+pub(super) const PIXEL_BYTES: u64 = 16;
+
+/// The sums of `pixel_count` pixels, one estimate a pixel a pass.
+pub(super) struct PixelSums {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    pixel_count: u32,
+    /// `radiance`: `array<vec4f>`, bound by the kernels that add to it.
+    pub(super) radiance: wgpu::Buffer,
+    staging: wgpu::Buffer,
+    /// `path_resolve_texture` for Rgba32Float and Rgba16Float targets, made when first used.
+    resolve_texture: [Option<Kernel>; 2],
+}
+
+impl PixelSums {
+    /// Zeroed sums for `pixel_count` pixels.
+    pub(super) fn new(device: &wgpu::Device, queue: &wgpu::Queue, pixel_count: u32) -> Self {
+        let bytes = pixel_count as u64 * PIXEL_BYTES;
+        let radiance = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("radiance"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Self {
+            device: device.clone(),
+            queue: queue.clone(),
+            pixel_count,
+            staging: staging_buffer(device, "radiance_staging", bytes),
+            radiance,
+            resolve_texture: [None, None],
+        }
+    }
+
+    /// The buffers, by name, for [`super::Integrator::gpu_memory`].
+    pub(super) fn buffers(&self) -> [(&'static str, &wgpu::Buffer); 2] {
+        [("radiance", &self.radiance), ("radiance_staging", &self.staging)]
+    }
+
+    fn bytes(&self) -> u64 {
+        self.pixel_count as u64 * PIXEL_BYTES
+    }
+
+    /// The mean of each pixel's estimates, `width` x `height`.
+    fn mean(sums: &[[f32; 4]], width: u32, height: u32) -> Rgb32Image {
+        let mut img = Rgb32Image::new(width, height);
+        for (dst, s) in img.pixels.iter_mut().zip(sums) {
+            let n = s[3].max(1.0);
+            *dst = [s[0] / n, s[1] / n, s[2] / n];
+        }
+        img
+    }
+
+    /// The image so far, read back (waits for the submitted passes).
+    pub(super) fn image(&self, width: u32, height: u32) -> Result<Rgb32Image, Error> {
+        let sums: Vec<[f32; 4]> = read_buffer(&self.device, &self.queue, &self.radiance, &self.staging, self.bytes())?;
+        Ok(Self::mean(&sums, width, height))
+    }
+
+    /// Record the mean of each pixel's estimates into `texture` (see
+    /// [`super::Integrator::record_resolve_to_texture`]); `frame_buffer` holds the image's size.
+    pub(super) fn record_resolve_to_texture(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        texture: &wgpu::Texture,
+        frame: &Frame,
+        frame_buffer: &wgpu::Buffer,
+    ) -> Result<(), Error> {
+        let kernel =
+            resolve_kernel(&self.device, &mut self.resolve_texture, "path_resolve_texture", texture, frame.width, frame.height)?;
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let resources = [Resource { name: "frame", buffer: frame_buffer }, Resource { name: "radiance", buffer: &self.radiance }];
+        let group = kernel.bind_group_with_views(&self.device, &resources, &[("out_image", &view)])?;
+        kernel.dispatch(encoder, &group, self.pixel_count);
+        Ok(())
+    }
+
+    /// No estimate in any pixel; the buffer is cleared at the next submission.
+    pub(super) fn clear(&self) {
+        let zeros = vec![0u8; self.radiance.size() as usize];
+        self.queue.write_buffer(&self.radiance, 0, &zeros);
+    }
+
+    /// The state after `passes` passes that did `work` (waits for them).
+    pub(super) fn state(&self, passes: u32, work: u64) -> Result<Vec<u8>, Error> {
+        let sums: Vec<u8> = read_buffer(&self.device, &self.queue, &self.radiance, &self.staging, self.bytes())?;
+        Ok(encode_state(passes, work, &sums))
+    }
+
+    /// The image of a state, on the host.
+    pub(super) fn image_of_state(&self, state: &[u8], width: u32, height: u32) -> Result<Rgb32Image, Error> {
+        let (_, _, sums) = decode_state(state, self.bytes())?;
+        Ok(Self::mean(&bytemuck::pod_collect_to_vec(sums), width, height))
+    }
+
+    /// Load a state whose passes from `first_pass` each did `work_per_pass`, after checking
+    /// that a render could have left it: work other than that a pass, estimate counts other
+    /// than its passes', or sums not finite or negative are refused. `width` and `row_offset`
+    /// name pixels in the message. Returns the state's pass count.
+    pub(super) fn restore(
+        &self,
+        state: &[u8],
+        first_pass: u32,
+        work_per_pass: u64,
+        width: u32,
+        row_offset: u32,
+    ) -> Result<u32, Error> {
+        let (passes, work, sums) = decode_state(state, self.bytes())?;
+        let corrupt = |what: String| Err(Error::Setting(format!("the saved state is corrupt: {what}")));
+        let Some(k) = passes.checked_sub(first_pass).filter(|_| work == passes as u64 * work_per_pass) else {
+            return corrupt(format!(
+                "it holds {passes} passes (from pass {first_pass}) and {work} samples of {} pixels",
+                self.pixel_count
+            ));
+        };
+        // Each pass adds 1 to every pixel's count, in f32: exact up to 2^24, where it stays.
+        let count = k.min(1 << 24) as f32;
+        for (i, s) in sums.chunks_exact(PIXEL_BYTES as usize).enumerate() {
+            let s: [f32; 4] = bytemuck::pod_read_unaligned(s);
+            if s[3] != count || s[..3].iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+                let (x, y) = (i % width as usize, row_offset as usize + i / width as usize);
+                return corrupt(format!(
+                    "pixel ({x}, {y}) holds the sum {:?} of {} samples, where {k} passes give {count} samples of finite, \
+                     non-negative radiance",
+                    &s[..3],
+                    s[3]
+                ));
+            }
+        }
+        self.queue.write_buffer(&self.radiance, 0, sums);
+        Ok(passes)
+    }
+}
