@@ -34,6 +34,7 @@ mod guide_options;
 mod hostile_scenes;
 mod house;
 mod image_metrics;
+mod light;
 mod limits;
 mod media;
 mod media_scene;
