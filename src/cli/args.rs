@@ -34,8 +34,8 @@ pub(crate) struct Overrides {
     /// Image height in pixels (overrides render.height).
     #[arg(long)]
     pub(crate) height: Option<u32>,
-    /// Rendering method: sppm, pt (naive path tracing) or pt-nee (next-event estimation with
-    /// MIS) (overrides render.method).
+    /// Rendering method: sppm, pt (naive path tracing), pt-nee (next-event estimation with
+    /// MIS) or lt (light tracing) (overrides render.method).
     #[arg(long, value_parser = named::<Method>())]
     pub(crate) method: Option<Method>,
     /// Samples a pixel: for the path tracers, in all (their passes, one sample a pixel each;

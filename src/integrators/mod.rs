@@ -197,6 +197,11 @@ pub fn limitations(scene: &Scene) -> Vec<String> {
             "method pt-nee cannot carry light from the scene's {delta_lights} point, spot or directional light(s) through mirror or \
              glass surfaces: their caustics are missing from the image; use sppm"
         )),
+        Method::Lt if specular => out.push(
+            "method lt joins light to the camera only at surfaces it can evaluate: mirrors and glass (and smooth plastics' \
+             coatings) show nothing of what they reflect or refract; use pt-nee or sppm"
+                .into(),
+        ),
         Method::Sppm => {
             let (lo, hi) = scene.bounds();
             let diagonal = (hi - lo).length();
