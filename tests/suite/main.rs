@@ -53,4 +53,5 @@ mod sppm;
 mod stability;
 mod stored_data;
 mod tutorial;
+mod vcm;
 mod view;

@@ -1,0 +1,128 @@
+// Multiple importance sampling over the strategies of the bidirectional family (vertex
+// connection and merging: Georgiev, Krivanek, Davidovic & Slusallek 2012; the recursive form
+// of Georgiev's "Implementing vertex connection and merging", 2012, whose quantities SmallVCM
+// names dVCM, dVC and dVM). A path of k segments can be made by every split of it into a
+// light subpath of s vertices and a camera subpath: emission hit by the camera path (s = 0),
+// next-event estimation (s = 1), a connection between the subpaths' ends (1 < s < k), light
+// tracing (the light subpath joined to the camera), and merging a light vertex with a camera
+// vertex within the radius. Each strategy's weight is its density over the sum of all the
+// strategies' densities (the balance heuristic); the recursive quantities carry, along each
+// subpath, the sums over the strategies that split it on that side, so that a weight costs
+// a few multiplications at the vertex where the strategy is evaluated.
+//
+// Densities: *PdfW in solid angle, *PdfA in area; `fwd` the density of the direction the
+// subpath was extended in, `rev` of the opposite one (the other subpath sampling it). eta_vcm =
+// pi r^2 n_light (n_light light subpaths a pass): merging's density relative to connection's.
+
+// The balance heuristic's power of a density (Veach 1997 eq. 9.10: power 1).
+fn mis(x: f32) -> f32 {
+    return x;
+}
+
+// What the weights of a subpath's strategies need, carried along it.
+struct SubpathMis {
+    d_vcm: f32,
+    d_vc: f32,
+    d_vm: f32,
+}
+
+// Which strategies a method uses, as the factors the weights take: vc_factor = mis(1 / eta_vcm)
+// when connections are used (else 0), vm_factor = mis(eta_vcm) when merging is (else 0).
+struct MisFactors {
+    vc: f32,
+    vm: f32,
+}
+
+// A light subpath leaving its light: the light sampled the point with area density direct_pdf_a
+// (next-event estimation's, light choice included) and the point and direction together with
+// emission_pdf_w; cos_light between the direction and the light's normal (1 for lights with
+// no surface). A delta light (point, spot) cannot be hit: no strategy but those joining its
+// vertex, so its d_vc is 0.
+fn mis_light_start(direct_pdf_a: f32, emission_pdf_w: f32, cos_light: f32, delta: bool, f: MisFactors) -> SubpathMis {
+    let d_vcm = mis(direct_pdf_a / emission_pdf_w);
+    let d_vc = select(mis(cos_light / emission_pdf_w), 0.0, delta);
+    return SubpathMis(d_vcm, d_vc, d_vc * f.vc);
+}
+
+// A camera subpath leaving the camera along a direction of density camera_pdf_w (solid
+// angle, per pixel area); n_light light subpaths a pass.
+fn mis_camera_start(camera_pdf_w: f32, n_light: f32) -> SubpathMis {
+    return SubpathMis(mis(n_light / camera_pdf_w), 0.0, 0.0);
+}
+
+// The subpath reached a surface at distance `dist`, cos_hit between the segment and its
+// normal. `finite`: false for the first segment from a light at infinity, whose density is
+// not in area measure.
+fn mis_hit(m: SubpathMis, dist: f32, cos_hit: f32, finite: bool) -> SubpathMis {
+    var out = m;
+    if finite {
+        out.d_vcm *= mis(dist * dist);
+    }
+    let c = mis(abs(cos_hit));
+    out.d_vcm /= c;
+    out.d_vc /= c;
+    out.d_vm /= c;
+    return out;
+}
+
+// The subpath scattered at a vertex into a direction of density pdf_fwd, whose opposite the
+// other subpath samples with density pdf_rev, cos_out between it and the normal; a specular
+// scattering's densities are deltas, which cancel.
+fn mis_scatter(m: SubpathMis, pdf_fwd: f32, pdf_rev: f32, cos_out: f32, specular: bool, f: MisFactors) -> SubpathMis {
+    if specular {
+        let c = mis(abs(cos_out));
+        return SubpathMis(0.0, m.d_vc * c, m.d_vm * c);
+    }
+    let g = mis(abs(cos_out) / pdf_fwd);
+    let d_vc = g * (m.d_vc * mis(pdf_rev) + m.d_vcm + f.vm);
+    let d_vm = g * (m.d_vm * mis(pdf_rev) + m.d_vcm * f.vc + 1.0);
+    return SubpathMis(mis(1.0 / pdf_fwd), d_vc, d_vm);
+}
+
+// Weight of light tracing: light vertex (with `light`, reached and not yet scattered) joined
+// to the camera, which would have sampled it with area density camera_pdf_a; bsdf_rev_pdf_w
+// the density of the BSDF sampling the light's side given the camera's direction.
+fn mis_weight_to_camera(light: SubpathMis, camera_pdf_a: f32, bsdf_rev_pdf_w: f32, n_light: f32, f: MisFactors) -> f32 {
+    let w_light = mis(camera_pdf_a / n_light) * (f.vm + light.d_vcm + light.d_vc * mis(bsdf_rev_pdf_w));
+    return 1.0 / (w_light + 1.0);
+}
+
+// Weight of emission hit by a camera subpath (`camera` updated by mis_hit at the light):
+// next-event estimation would have sampled the point with direct_pdf_a, and a light subpath
+// the point and the direction to the camera's previous vertex with emission_pdf_w.
+fn mis_weight_emission(camera: SubpathMis, direct_pdf_a: f32, emission_pdf_w: f32) -> f32 {
+    let w_camera = mis(direct_pdf_a) * camera.d_vcm + mis(emission_pdf_w) * camera.d_vc;
+    return 1.0 / (1.0 + w_camera);
+}
+
+// Weight of next-event estimation at a camera vertex: the light sampled with direct_pdf_w
+// (solid angle from the vertex, light choice included; 0 for a delta light, which BSDF
+// sampling cannot hit), and would have emitted towards the vertex with emission_pdf_w; the
+// BSDF samples the light's direction with bsdf_pdf_w and the opposite with bsdf_rev_pdf_w;
+// cos_to_light at the vertex, cos_at_light at the light.
+fn mis_weight_nee(camera: SubpathMis, direct_pdf_w: f32, emission_pdf_w: f32, cos_to_light: f32, cos_at_light: f32,
+    bsdf_pdf_w: f32, bsdf_rev_pdf_w: f32, delta: bool, f: MisFactors) -> f32 {
+    let w_light = select(mis(bsdf_pdf_w / direct_pdf_w), 0.0, delta);
+    let w_camera = mis(emission_pdf_w * abs(cos_to_light) / (direct_pdf_w * abs(cos_at_light)))
+        * (f.vm + camera.d_vcm + camera.d_vc * mis(bsdf_rev_pdf_w));
+    return 1.0 / (w_light + 1.0 + w_camera);
+}
+
+// Weight of connecting a camera vertex to a light vertex: each side's BSDF samples the other's
+// vertex with density *_pdf_a (area, at the other vertex) and its own subpath's previous
+// direction with *_rev_pdf_w.
+fn mis_weight_connection(camera: SubpathMis, light: SubpathMis, camera_pdf_a: f32, camera_rev_pdf_w: f32,
+    light_pdf_a: f32, light_rev_pdf_w: f32, f: MisFactors) -> f32 {
+    let w_light = mis(camera_pdf_a) * (f.vm + light.d_vcm + light.d_vc * mis(light_rev_pdf_w));
+    let w_camera = mis(light_pdf_a) * (f.vm + camera.d_vcm + camera.d_vc * mis(camera_rev_pdf_w));
+    return 1.0 / (w_light + 1.0 + w_camera);
+}
+
+// Weight of merging a light vertex (reached, with `light`) at a camera vertex: the camera's
+// BSDF samples the light subpath's last direction with camera_pdf_w and its own previous
+// direction with camera_rev_pdf_w.
+fn mis_weight_merge(camera: SubpathMis, light: SubpathMis, camera_pdf_w: f32, camera_rev_pdf_w: f32, f: MisFactors) -> f32 {
+    let w_light = light.d_vcm * f.vc + light.d_vm * mis(camera_pdf_w);
+    let w_camera = camera.d_vcm * f.vc + camera.d_vm * mis(camera_rev_pdf_w);
+    return 1.0 / (w_light + 1.0 + w_camera);
+}
