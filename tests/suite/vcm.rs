@@ -43,8 +43,8 @@ fn random_path(rng: &mut Rng, k: usize) -> Option<Vec<[f32; 4]>> {
     let to = |i: usize, j: usize| (x[j] - x[i]).normalize();
     let mut n = vec![Vec3::ZERO; k];
     n[0] = (to(0, 1) + 0.7 * unit(rng)).normalize();
-    for i in 1..k {
-        n[i] = (to(i, i - 1) + to(i, i + 1) + 0.5 * unit(rng)).normalize();
+    for (i, ni) in n.iter_mut().enumerate().skip(1) {
+        *ni = (to(i, i - 1) + to(i, i + 1) + 0.5 * unit(rng)).normalize();
     }
     let axis = (to(k, k - 1) + 0.3 * unit(rng)).normalize();
     let short = (0..k).any(|i| (x[i + 1] - x[i]).length() < 0.1);
