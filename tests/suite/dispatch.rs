@@ -6,7 +6,7 @@
 //! read, pack and specialize kernels for each. A file added without its dispatch arms fails
 //! here.
 
-use crate::common::scene_text::BASE;
+use crate::common::scene_text::{with_light, BASE, QUAD};
 use sppm_gpu::gpu::scene_buffers::SceneData;
 use sppm_gpu::layout::Features;
 use std::collections::BTreeSet;
@@ -90,6 +90,24 @@ fn table<'a>(text: &'a str, name: &str) -> &'a str {
     &text[start..start + text[start..].find("];").unwrap()]
 }
 
+/// The names of the constants of type `ty` that host file `text` declares (`pub(super) const
+/// TOML: TomlType`).
+fn consts_of_type<'a>(text: &'a str, ty: &str) -> Vec<&'a str> {
+    text.lines()
+        .filter_map(|l| l.trim().strip_prefix("pub(super) const ")?.split_once(&format!(": {ty} ")).map(|(name, _)| name))
+        .collect()
+}
+
+/// Every TOML type and Mitsuba plugin that the host file of `kind` declares is in its
+/// dispatcher's table.
+fn tables_list(host: &str, own: &str, kind: &str, tables: [(&str, &str); 2]) {
+    for (ty, list) in tables {
+        for name in consts_of_type(own, ty) {
+            assert!(table(host, list).contains(&format!("{kind}::{name}")), "{list} lacks {kind}::{name}");
+        }
+    }
+}
+
 #[test]
 fn every_bsdf_family_is_in_each_dispatcher() {
     let families = kinds("shaders/shared/bsdf", "src/scene/material", "MATERIAL_");
@@ -104,9 +122,9 @@ fn every_bsdf_family_is_in_each_dispatcher() {
         for dispatcher in ["describe", "toml_keys", "check", "gpu", "turn_on_features"] {
             assert!(function(&host, dispatcher).contains(&format!("{family}::")), "material/mod.rs: {dispatcher} lacks {family}");
         }
-        for list in ["TOML_TYPES", "MITSUBA_PLUGINS"] {
-            assert!(table(&host, list).contains(&format!("{family}::")), "material/mod.rs: {list} lacks {family}");
-        }
+        let own_host = read(&root().join(format!("src/scene/material/{family}.rs")));
+        assert!(!consts_of_type(&own_host, "TomlType").is_empty(), "{family} has no TOML type");
+        tables_list(&host, &own_host, family, [("TomlType", "TOML_TYPES"), ("MitsubaPlugins", "MITSUBA_PLUGINS")]);
         assert!(wgsl.contains(&format!("#import bsdf/{family}\n")), "bsdf.wgsl does not import bsdf/{family}");
         assert!(own.contains(&format!("fn {family}_sample(")), "bsdf/{family}.wgsl has no {family}_sample");
         assert!(function(&wgsl, "bsdf_sample").contains(&format!("{family}_sample(")), "bsdf_sample lacks {family}");
@@ -128,9 +146,7 @@ fn every_bsdf_family_is_in_each_dispatcher() {
         "null" => "",
         other => panic!("the TOML material type `{other}` needs its parameters here"),
     };
-    let on = |f: Features| -> BTreeSet<&'static str> { f.constants().into_iter().filter(|c| c.1 == 1.0).map(|c| c.0).collect() };
     let mut reached = BTreeSet::new();
-    let mut features = Vec::new();
     for t in sppm_gpu::scene::material::toml_types() {
         let text = format!(
             "{BASE}m = {{ type = \"{t}\" {} }}\n[[shapes]]\ntype = \"sphere\"\ncenter = [0, 0, 0]\nradius = 1\n\
@@ -138,15 +154,76 @@ fn every_bsdf_family_is_in_each_dispatcher() {
             if params(t).is_empty() { String::new() } else { format!(", {}", params(t)) }
         );
         let scene = sppm_gpu::scene::load_str(&text, Path::new("t.toml")).unwrap_or_else(|e| panic!("{t}: {e}"));
-        let data = SceneData::new(&scene).unwrap();
+        let mut data = SceneData::new(&scene).unwrap();
         let kind = data.materials[1].kind;
         assert!(families.iter().any(|f| f.2 == kind), "{t} packs to kind {kind}, no family's");
         reached.insert(kind);
-        features.push((t, on(Features::of(&data))));
+        // Its features against those of the same scene with the diffuse material in its place.
+        let own = on(&data);
+        data.materials[1] = data.materials[0];
+        assert!(t == "diffuse" || !own.is_subset(&on(&data)), "{t} turns on no feature of its own: {own:?}");
     }
     assert_eq!(reached.len(), families.len(), "every family is some TOML type's");
-    let diffuse = &features.iter().find(|f| f.0 == "diffuse").unwrap().1;
-    for (t, own) in &features {
-        assert!(*t == "diffuse" || !own.is_subset(diffuse), "{t} turns on no feature of its own: {own:?}");
+}
+
+/// The kernel features a scene's data turns on.
+fn on(data: &SceneData) -> BTreeSet<&'static str> {
+    Features::of(data).constants().into_iter().filter(|c| c.1 == 1.0).map(|c| c.0).collect()
+}
+
+#[test]
+fn every_emitter_kind_is_in_each_dispatcher() {
+    let kinds = kinds("shaders/shared/emitter", "src/scene/emitter", "EMITTER_");
+    let names: Vec<&str> = kinds.iter().map(|k| k.0.as_str()).collect();
+    assert_eq!(names, ["area", "point", "directional", "spot", "environment"], "the kinds, by kind");
+    let host = read(&root().join("src/scene/emitter/mod.rs"));
+    let wgsl = read(&root().join("shaders/shared/lights.wgsl"));
+    for (kind, constant, _) in &kinds {
+        let own_host = read(&root().join(format!("src/scene/emitter/{kind}.rs")));
+        let own = read(&root().join(format!("shaders/shared/emitter/{kind}.wgsl")));
+        assert!(host.contains(&format!("\nmod {kind};")), "emitter/mod.rs lacks `mod {kind};`");
+        assert!(
+            host.contains(&format!("pub use {kind}::")) && host.contains(constant),
+            "emitter/mod.rs does not export {constant}"
+        );
+        for dispatcher in ["pack", "turn_on_features"] {
+            assert!(function(&host, dispatcher).contains(&format!("{kind}::")), "emitter/mod.rs: {dispatcher} lacks {kind}");
+        }
+        tables_list(&host, &own_host, kind, [("TomlType", "TOML_TYPES"), ("MitsubaPlugin", "MITSUBA_PLUGINS")]);
+        assert!(wgsl.contains(&format!("#import emitter/{kind}\n")), "lights.wgsl does not import emitter/{kind}");
+        for (entry, dispatcher) in [("sample", "sample_light"), ("emit", "emit_light")] {
+            assert!(own.contains(&format!("fn {kind}_{entry}(")), "emitter/{kind}.wgsl has no {kind}_{entry}");
+            assert!(function(&wgsl, dispatcher).contains(&format!("{kind}_{entry}(")), "{dispatcher} lacks {kind}");
+        }
     }
+
+    // Through the library: a light of each TOML type (and an emitting shape, the area light)
+    // reads, checks and packs to a kind's emitter, every kind is reached, and each turns on a
+    // kernel feature of its own.
+    let params = |t: &str| match t {
+        "point" => "position = [0, 0, 3]\nintensity = 1\n".to_owned(),
+        "directional" => "direction = [0, 0, -1]\nirradiance = 1\n".into(),
+        "spot" => "position = [0, 0, 3]\ndirection = [0, 0, -1]\nintensity = 1\n".into(),
+        "constant" => "radiance = 1\n".into(),
+        "envmap" => format!("file = \"{}\"\n", root().join("scenes/mitsuba/textures/sky.exr").display()),
+        other => panic!("the TOML light type `{other}` needs its parameters here"),
+    };
+    let shape = format!("[[shapes]]\n{QUAD}");
+    let mut reached = BTreeSet::new();
+    for t in sppm_gpu::scene::emitter::toml_types().into_iter().map(Some).chain([None]) {
+        let text = match t {
+            Some(t) => format!("{}{shape}", with_light(&format!("type = \"{t}\"\n{}", params(t)))),
+            None => format!("{BASE}{shape}emission = [1, 1, 1]\n"),
+        };
+        let scene = sppm_gpu::scene::load_str(&text, Path::new("t.toml")).unwrap_or_else(|e| panic!("{t:?}: {e}"));
+        let mut data = SceneData::new(&scene).unwrap();
+        let kind = data.emitters[0].kind;
+        assert!(kinds.iter().any(|k| k.2 == kind), "{t:?} packs to kind {kind}, no kind's");
+        reached.insert(kind);
+        // Its features against those of the same scene without emitters.
+        let own = on(&data);
+        data.emitters.clear();
+        assert!(!own.is_subset(&on(&data)), "{t:?} turns on no feature of its own: {own:?}");
+    }
+    assert_eq!(reached.len(), kinds.len(), "every kind is some TOML type's or an emitting shape's");
 }

@@ -8,11 +8,11 @@
 //! not both.
 //! Kernel: `shaders/shared/emitter/directional.wgsl`.
 
-use super::{average, LightKind, MitsubaEmitter, MitsubaPlugin, Result, TomlType};
+use super::{average, given_or_to_world, LightKind, MitsubaEmitter, MitsubaPlugin, Result, TomlType};
 use crate::layout::{Emitter, Features};
 use crate::scene::param::{self, Bound, Invalid};
 use crate::scene::toml_table::{put_str, put_vec3, Table, Value};
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 
 /// [`Emitter::kind`] of a directional light.
 pub const EMITTER_DIRECTIONAL: u32 = 2;
@@ -33,11 +33,7 @@ pub(super) const MITSUBA: MitsubaPlugin = MitsubaPlugin { name: "directional", r
 
 fn from_mitsuba(p: &dyn MitsubaEmitter) -> Result<LightKind> {
     let irradiance = p.colour("irradiance")?.unwrap_or(Vec3::ONE);
-    let direction = match (p.vec3("direction")?, p.to_world()) {
-        (Some(_), Some(_)) => return Err(p.error("direction", "give `direction` or `to_world`, not both".into())),
-        (Some(d), None) => d,
-        (None, m) => m.unwrap_or(Mat4::IDENTITY).transform_vector3(Vec3::Z),
-    };
+    let direction = given_or_to_world(p, "direction", |m| m.transform_vector3(Vec3::Z))?;
     let direction = direction.try_normalize().ok_or_else(|| p.error("direction", "the light's direction is zero".into()))?;
     Ok(LightKind::Directional { direction, irradiance })
 }

@@ -259,6 +259,16 @@ pub(crate) trait MitsubaEmitter {
     fn error_at(&self, name: &str, message: String) -> SceneError;
 }
 
+/// A point or direction that Mitsuba gives as parameter `name` or through `to_world` (`of`
+/// takes it from the matrix, the identity when neither is given), not both.
+fn given_or_to_world(p: &dyn MitsubaEmitter, name: &'static str, of: fn(Mat4) -> Vec3) -> Result<Vec3> {
+    match (p.vec3(name)?, p.to_world()) {
+        (Some(_), Some(_)) => Err(p.error(name, format!("give `{name}` or `to_world`, not both"))),
+        (Some(v), None) => Ok(v),
+        (None, m) => Ok(of(m.unwrap_or(Mat4::IDENTITY))),
+    }
+}
+
 /// A kind's Mitsuba plugin: its name, the mapping that reads it, and the names Mitsuba gives
 /// the parameters that the kind's check names as TOML does.
 pub(super) struct MitsubaPlugin {

@@ -5,11 +5,11 @@
 //! the position as `position` or as `to_world`'s origin, not both.
 //! Kernel: `shaders/shared/emitter/point.wgsl`.
 
-use super::{average, LightKind, MitsubaEmitter, MitsubaPlugin, Result, TomlType};
+use super::{average, given_or_to_world, LightKind, MitsubaEmitter, MitsubaPlugin, Result, TomlType};
 use crate::layout::{Emitter, Features};
 use crate::scene::param::{self, Bound, Invalid};
 use crate::scene::toml_table::{put_str, put_vec3, Table, Value};
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 
 /// [`Emitter::kind`] of a point light.
 pub const EMITTER_POINT: u32 = 1;
@@ -27,11 +27,7 @@ pub(super) const MITSUBA: MitsubaPlugin = MitsubaPlugin { name: "point", read: f
 
 fn from_mitsuba(p: &dyn MitsubaEmitter) -> Result<LightKind> {
     let intensity = p.colour("intensity")?.unwrap_or(Vec3::ONE);
-    let position = match (p.vec3("position")?, p.to_world()) {
-        (Some(_), Some(_)) => return Err(p.error("position", "give `position` or `to_world`, not both".into())),
-        (Some(x), None) => x,
-        (None, m) => m.unwrap_or(Mat4::IDENTITY).transform_point3(Vec3::ZERO),
-    };
+    let position = given_or_to_world(p, "position", |m| m.transform_point3(Vec3::ZERO))?;
     Ok(LightKind::Point { position, intensity })
 }
 
