@@ -1,7 +1,7 @@
 //! Emitters: the lights a scene can have, one file a kind, as Mitsuba 3 keeps one plugin a
 //! file and pbrt-v4 keeps a light's `Create` beside its sampling. A kind's file documents its
 //! model and parameters at the top and owns what the host does with it: its TOML type and
-//! keys, its Mitsuba plugin (through [`MitsubaEmitter`]), the checks of its parameters
+//! keys, its Mitsuba plugin (through `MitsubaEmitter`), the checks of its parameters
 //! (written once, for every reader and [`super::SceneBuilder`]), its name in `info`, its keys
 //! in a converted TOML scene, its `EMITTER_*` kind, its GPU packing ([`Emitter`]) and power,
 //! and the kernel features it turns on ([`Features`]). Its kernel is
@@ -11,8 +11,8 @@
 //! The kinds: `area` (the shapes with an `emission`), `point`, `spot`, `directional` and
 //! `environment` (`constant` and `envmap`); every kind but the area lights is a [`Light`], a
 //! `[[lights]]` entry. This file dispatches to them: a new kind is its variant, an arm in each
-//! `match` (the compiler lists those that lack it) and its entries in [`TOML_TYPES`] and
-//! [`MITSUBA_PLUGINS`] (`tests/suite/dispatch.rs` checks that every kind is in each
+//! `match` (the compiler lists those that lack it) and its entries in `TOML_TYPES` and
+//! `MITSUBA_PLUGINS` (`tests/suite/dispatch.rs` checks that every kind is in each
 //! dispatcher).
 
 mod area;

@@ -79,7 +79,7 @@ pub(super) fn check(
     if !(cutoff_angle > 0.0 && cutoff_angle <= 180.0) {
         return Err(Invalid::new("cutoff_angle", format!("must be more than 0 and at most 180 degrees, found {cutoff_angle}")));
     }
-    if !(param::float("beam_width", beam_width, Bound::Any)? >= 0.0) {
+    if param::float("beam_width", beam_width, Bound::Any)? < 0.0 {
         return Err(Invalid::new("beam_width", format!("must be at least 0 degrees, found {beam_width}")));
     }
     Ok(())

@@ -6,8 +6,8 @@
 //! Parameters: `ior` > 0, of the inside relative to the outside (Mitsuba: `int_ior` / `ext_ior`,
 //! numbers or named media, by default bk7 over air; they must differ); `roughness` (alpha in
 //! [0, 1], 0 smooth; Mitsuba's `alpha`, 0.1) and `distribution`; `reflectance` and
-//! `transmittance` in [0, 1] (Mitsuba's `specular_reflectance` and `specular_transmittance`,
-//! 1) scaling each lobe.
+//! `transmittance` in [0, 1], each 1 unless given (Mitsuba's `specular_reflectance` and
+//! `specular_transmittance`), scaling each lobe.
 //! Kernel: `shaders/shared/bsdf/dielectric.wgsl`.
 
 use super::{

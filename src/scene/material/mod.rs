@@ -1,15 +1,15 @@
 //! Materials: the scattering models a surface can have, one file a BSDF family, as Mitsuba 3
 //! keeps one plugin a file. A family's file documents its model and parameters at the top and
 //! owns what the host does with it: its TOML types and their keys, its Mitsuba plugins
-//! (through [`MitsubaBsdf`]), the checks of its parameters (written once, for every reader
+//! (through `MitsubaBsdf`), the checks of its parameters (written once, for every reader
 //! and [`super::SceneBuilder`]), its name in `info`, its keys in a converted TOML scene, its
 //! `MATERIAL_*` kind, its GPU packing ([`GpuMaterial`]) and the kernel features it turns on
 //! ([`Features`]). Its kernel is `shaders/shared/bsdf/<family>.wgsl`, called through the
 //! dispatcher `shaders/shared/bsdf.wgsl`.
 //!
 //! This file dispatches to them: a new family is its variant, an arm in each `match` (the
-//! compiler lists those that lack it) and its entries in [`TOML_TYPES`] and
-//! [`MITSUBA_PLUGINS`] (`tests/suite/dispatch.rs` checks that every family is in each
+//! compiler lists those that lack it) and its entries in `TOML_TYPES` and
+//! `MITSUBA_PLUGINS` (`tests/suite/dispatch.rs` checks that every family is in each
 //! dispatcher).
 
 mod conductor;

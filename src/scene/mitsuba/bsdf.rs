@@ -416,7 +416,7 @@ fn ior_rgb(p: &Props, name: &str, default: f32) -> Result<Vec3> {
 /// A rough plugin's `alpha`: more than 0 (its smooth counterpart has none); the family's
 /// check takes it from there.
 fn check_alpha(p: &Props, alpha: f32) -> Result<f32> {
-    if !(alpha > 0.0) {
+    if alpha.is_nan() || alpha <= 0.0 {
         let at = p.get("alpha").unwrap_or(p.node);
         return Err(at.error(Some("alpha"), format!("alpha {alpha}: a rough plugin's alpha is more than 0")));
     }
