@@ -151,7 +151,7 @@ struct Material {
     // MATERIAL_PLASTIC: the coating's specular_reflectance; MATERIAL_THIN_DIELECTRIC: the
     // slab's specular_reflectance.
     specular: vec3f,
-    // MATERIAL_PLASTIC: Mitsuba's specular_sampling_weight (shared/coating.wgsl).
+    // MATERIAL_PLASTIC: Mitsuba's specular_sampling_weight (shared/bsdf/plastic.wgsl).
     coat_weight: f32,
     // MATERIAL_THIN_DIELECTRIC: the slab's specular_transmittance.
     transmittance: vec3f,

@@ -1,10 +1,11 @@
 //! Assembling a [`Scene`] in code instead of a TOML file.
 //!
 //! [`SceneBuilder`] takes the same things a scene file holds (render settings, a camera,
-//! named materials, quads, spheres, cubes and meshes with optional emission, point and
-//! directional lights) and turns them into the same world-space primitives through the
+//! named materials of every family, quads, spheres, cubes and meshes with optional emission,
+//! lights of every kind) and turns them into the same world-space primitives through the
 //! loader's own tessellation, so a scene built here and the same scene loaded from a file
-//! have identical triangles. Every value is checked as the loader checks it; the first
+//! have identical triangles. Every value is checked as the loader checks it (a material or a
+//! light by its model's own check, [`super::material`], [`super::emitter`]); the first
 //! problem comes back from [`SceneBuilder::build`] as a [`SceneError`] naming the key in
 //! the file's dotted form (`shapes[3].radius`, `materials.white.albedo`). Nothing panics.
 //!
@@ -394,31 +395,34 @@ impl SceneBuilder {
         self
     }
 
-    /// A point light of radiant `intensity` (W/sr, each channel >= 0).
-    pub fn point_light(mut self, position: impl Into<Vec3>, intensity: impl Into<Vec3>) -> Self {
-        self.lights.push(LightKind::Point { position: position.into(), intensity: intensity.into() });
+    /// A light of any kind (a `[[lights]]` entry), checked by [`SceneBuilder::build`] as a
+    /// file's is; its direction, if it has one, is made unit length there.
+    pub fn light(mut self, kind: LightKind) -> Self {
+        self.lights.push(kind);
         self
+    }
+
+    /// A point light of radiant `intensity` (W/sr, each channel >= 0).
+    pub fn point_light(self, position: impl Into<Vec3>, intensity: impl Into<Vec3>) -> Self {
+        self.light(LightKind::Point { position: position.into(), intensity: intensity.into() })
     }
 
     /// Parallel light travelling along `direction` (nonzero; normalized here), giving
     /// `irradiance` on a surface facing it.
-    pub fn directional_light(mut self, direction: impl Into<Vec3>, irradiance: impl Into<Vec3>) -> Self {
-        self.lights.push(LightKind::Directional { direction: direction.into(), irradiance: irradiance.into() });
-        self
+    pub fn directional_light(self, direction: impl Into<Vec3>, irradiance: impl Into<Vec3>) -> Self {
+        self.light(LightKind::Directional { direction: direction.into(), irradiance: irradiance.into() })
     }
 
     /// A constant environment: `radiance` (each channel >= 0) from every direction, at
     /// infinity (Mitsuba 3's `constant`). A scene has at most one.
-    pub fn constant_environment(mut self, radiance: impl Into<Vec3>) -> Self {
-        self.lights.push(LightKind::Constant { radiance: radiance.into() });
-        self
+    pub fn constant_environment(self, radiance: impl Into<Vec3>) -> Self {
+        self.light(LightKind::Constant { radiance: radiance.into() })
     }
 
     /// An environment map (Mitsuba 3's `envmap`, already checked by
     /// [`super::envmap::Envmap::new`]), at infinity. A scene has at most one environment.
-    pub fn envmap_environment(mut self, map: super::envmap::Envmap) -> Self {
-        self.lights.push(LightKind::Envmap(std::sync::Arc::new(map)));
-        self
+    pub fn envmap_environment(self, map: super::envmap::Envmap) -> Self {
+        self.light(LightKind::Envmap(std::sync::Arc::new(map)))
     }
 
     /// A spot light at `position` whose cone's axis points along `direction` (nonzero;
@@ -427,21 +431,20 @@ impl SceneBuilder {
     /// degrees (in (0, 180]), as Mitsuba 3's `spot` (whose default beam width is 3/4 of the
     /// cutoff); see [`LightKind::Spot`].
     pub fn spot_light(
-        mut self,
+        self,
         position: impl Into<Vec3>,
         direction: impl Into<Vec3>,
         intensity: impl Into<Vec3>,
         cutoff_angle: f32,
         beam_width: f32,
     ) -> Self {
-        self.lights.push(LightKind::Spot {
+        self.light(LightKind::Spot {
             position: position.into(),
             direction: direction.into(),
             intensity: intensity.into(),
             cutoff_angle,
             beam_width,
-        });
-        self
+        })
     }
 
     /// Check everything and make the scene: the first error, with the key it concerns, or
