@@ -54,12 +54,14 @@ impl fmt::Display for Bound {
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Invalid {
     pub key: &'static str,
+    /// The channel of a colour or vector that is out, where it is one.
+    pub channel: Option<usize>,
     pub message: String,
 }
 
 impl Invalid {
     pub(crate) fn new(key: &'static str, message: impl Into<String>) -> Self {
-        Invalid { key, message: message.into() }
+        Invalid { key, channel: None, message: message.into() }
     }
 }
 
@@ -84,8 +86,8 @@ pub(crate) fn float(key: &'static str, x: f32, bound: Bound) -> Result<f32, Inva
 
 /// `v`, when each channel is finite and within `bound`.
 pub(crate) fn rgb(key: &'static str, v: Vec3, bound: Bound) -> Result<Vec3, Invalid> {
-    for x in v.to_array() {
-        float(key, x, bound)?;
+    for (channel, x) in v.to_array().into_iter().enumerate() {
+        float(key, x, bound).map_err(|e| Invalid { channel: Some(channel), ..e })?;
     }
     Ok(v)
 }

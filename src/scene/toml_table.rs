@@ -3,7 +3,7 @@
 //! its type, [`Value::f32_in`], [`Value::rgb`]), and the writer's keys (`convert`). The readers
 //! of the scene file (`load.rs`) and of each model (`material/`, `emitter/`) stand on them.
 
-use super::param::{out_of, Bound};
+use super::param::{out_of, Bound, Invalid};
 use super::{Medium, SceneError};
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
@@ -85,6 +85,16 @@ impl<'a, 'i> Table<'a, 'i> {
     pub(super) fn error_at(&self, name: &str, message: impl Into<String>) -> SceneError {
         let line = self.get(name).map(|v| v.line).or(self.line);
         self.source.error(line, Some(&self.child_key(name)), message)
+    }
+
+    /// The error for a parameter that a model's check refuses: at the line of the channel that
+    /// is out, where the value is an array over lines, else at the key's.
+    pub(super) fn invalid(&self, e: Invalid) -> SceneError {
+        let item = e.channel.zip(self.get(e.key)).and_then(|(i, v)| v.elements().ok()?.into_iter().nth(i));
+        match item {
+            Some(item) => self.source.error(Some(item.line), Some(&self.child_key(e.key)), e.message),
+            None => self.error_at(e.key, e.message),
+        }
     }
 
     pub(super) fn require(&self, name: &str) -> Result<Value<'a, 'i>> {

@@ -25,7 +25,7 @@ pub(super) const POWER: &str = "its emission times its area times pi";
 /// A `[[shapes]]` entry's `emission`, checked.
 pub(super) fn read_toml(t: &Table) -> Result<Option<Vec3>> {
     let emission = t.opt("emission", |v| v.rgb(Bound::Any))?;
-    emission.map(|e| check(e).map_err(|e| t.error_at(e.key, e.message))).transpose()
+    emission.map(|e| check(e).map_err(|e| t.invalid(e))).transpose()
 }
 
 pub(super) fn from_mitsuba(p: &dyn MitsubaEmitter) -> Result<Vec3> {

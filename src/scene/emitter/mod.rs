@@ -224,7 +224,7 @@ pub(super) fn read_toml(entry: &Value) -> Result<Light> {
     let types: Vec<_> = TOML_TYPES.iter().map(|k| (k.name, k.read, k.keys)).collect();
     let read = t.typed("light type", &types, &["type"])?;
     let kind = read(&t)?;
-    kind.check().map_err(|e| t.error_at(e.key, e.message))?;
+    kind.check().map_err(|e| t.invalid(e))?;
     Ok(Light { kind: kind.with_unit_direction(), line: entry.line })
 }
 

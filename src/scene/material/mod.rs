@@ -283,7 +283,7 @@ pub(super) fn read_toml(name: &str, entry: &Value, textures: &mut Vec<Texture>) 
     let types: Vec<_> = TOML_TYPES.iter().map(|f| (f.name, f.read, f.keys)).collect();
     let read = t.typed("material type", &types, &["type", "one_sided"])?;
     let kind = read(&t, textures)?;
-    kind.check().map_err(|e| t.error_at(e.key, e.message))?;
+    kind.check().map_err(|e| t.invalid(e))?;
     // Black seen from behind, as Mitsuba's BSDFs unless wrapped in `twosided`.
     let one_sided = t.or("one_sided", false, Value::bool)?;
     if one_sided && kind.two_sided_by_nature() {
