@@ -1,5 +1,5 @@
 // Light tracing (`--method lt`; Veach 1997 sec. 10.2, Arvo & Kirk's particle tracing): light
-// subpaths leave the emitters as SPPM's photons do (emission.wgsl) and scatter as they do;
+// subpaths leave the emitters as SPPM's photons do (emit_light, shared/lights.wgsl) and scatter as they do;
 // every vertex whose BSDF can be evaluated, and the point an area light emits from, is joined
 // to the camera by a shadow ray, and what it sends the camera is splatted into the pixels
 // around where it lands (camera_importance.wgsl, splat.wgsl). frame.photon_count subpaths a
@@ -19,7 +19,6 @@
 #import bsdf
 #import lights
 #import medium
-#import emission
 #import camera
 #import splat
 #import camera_importance
@@ -59,12 +58,16 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     var rng = rng_new(frame.seed, frame.pass_index, STREAM_LIGHT, index);
     let per_seed = max(0xffffffffu / max(frame.photon_count, 1u), 1u);
     rng_sobol(&rng, (frame.pass_index % per_seed) * frame.photon_count + index, sobol_seed(frame.seed, STREAM_LIGHT, frame.pass_index / per_seed));
-    var ph = emit_photon(&rng, EnvironmentAim(vec3f(0.0), 0.0, 0.0));
-    // emit_photon's flux is relative to the total power; per subpath of the pass.
+    // A light chosen by power and a photon leaving it, as photon_pass draws them; its flux is
+    // relative to the total power, here per subpath of the pass.
+    let e = emitters[find_emitter(rng_next(&rng))];
+    let u_pos = rng_next2(&rng);
+    let u_dir = rng_next2(&rng);
+    let ph = emit_light(e, u_pos, u_dir, EnvironmentAim(0.0, 0.0, vec3f(0.0), vec3f(0.0)));
     let scale = frame.power_total / f32(frame.photon_count);
     var beta = ph.beta * scale;
     // The point an area light emits from, seen by the camera: Le cos_x / (pmf pdf_pos), which
-    // is beta / pi (emit_photon draws the direction by cosine), from the light's front.
+    // is beta / pi (area_emit draws the direction by cosine), from the light's front.
     if any(ph.n != vec3f(0.0)) {
         let view = camera_view(ph.o);
         let cos_x = dot(view.wi, ph.n);

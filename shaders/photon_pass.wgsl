@@ -23,7 +23,6 @@
 #import gather
 #import flux
 #import medium
-#import emission
 
 @group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
 // The grid's parameters, then camera_pass's words on the visible points (their largest
@@ -125,18 +124,36 @@ fn deposit(deposits: bool, p: vec3f, d: vec3f, beta: vec3f, depth: u32, normal: 
 // Photons each thread traces, one after another.
 const PHOTONS_PER_THREAD: u32 = 16u;
 
-// This pass's aim for environment photons (emission.wgsl's environment_origin): with
-// frame.env_aim = f > 0, the sphere about the visible points (the box of their positions from
-// camera_pass's words, widened by their largest radius); none otherwise.
-fn photon_aim() -> EnvironmentAim {
-    let f = frame.env_aim;
-    let max_r = bitcast<f32>(grid.bounds_a.x);
-    if !USES_ENVIRONMENT || !(f > 0.0) || !(max_r > 0.0) {
-        return EnvironmentAim(vec3f(0.0), 0.0, 0.0);
+struct Photon {
+    o: vec3f,
+    d: vec3f,
+    beta: vec3f,
+    depth: u32,
+    // The medium it travels through (shared/medium.wgsl).
+    medium: u32,
+}
+
+// Choose a light in proportion to power and a photon leaving it (emit_light, shared/lights.wgsl),
+// an environment's aimed at this pass's visible points where frame.env_aim says.
+fn emit_photon(rng: ptr<function, Rng>) -> Photon {
+    let e = emitters[find_emitter(rng_next(rng))];
+    let u_pos = rng_next2(rng);
+    let u_dir = rng_next2(rng);
+    var aim = EnvironmentAim(0.0, 0.0, vec3f(0.0), vec3f(0.0));
+    if USES_ENVIRONMENT {
+        aim = environment_aim();
     }
+    let p = emit_light(e, u_pos, u_dir, aim);
+    return Photon(p.o, p.d, p.beta, 0u, p.medium);
+}
+
+// The visible points an environment's photons are aimed at: frame.env_aim of them, at the
+// box of the points' positions widened by their largest radius, from camera_pass's words
+// after the grid's (see `grid`).
+fn environment_aim() -> EnvironmentAim {
     let hi = vec3f(from_order_key(grid.bounds_a.y), from_order_key(grid.bounds_a.z), from_order_key(grid.bounds_a.w));
     let lo = vec3f(from_order_key(~grid.bounds_b.x), from_order_key(~grid.bounds_b.y), from_order_key(~grid.bounds_b.z));
-    return EnvironmentAim(0.5 * (lo + hi), 0.5 * length(hi - lo) + max_r, f);
+    return EnvironmentAim(frame.env_aim, bitcast<f32>(grid.bounds_a.x), lo, hi);
 }
 
 // What became of a photon after a bounce.
@@ -282,7 +299,7 @@ fn photon_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         let b = photon_suspended[4u * thread + 1u];
         let c = photon_suspended[4u * thread + 2u];
         let depth = select(a.w, a.w & 0xffffu, USES_MEDIA);
-        ph = Photon(bitcast<vec3f>(a.xyz), bitcast<vec3f>(b.xyz), bitcast<vec3f>(c.xyz), depth, select(NO_MEDIUM, a.w >> 16u, USES_MEDIA), vec3f(0.0));
+        ph = Photon(bitcast<vec3f>(a.xyz), bitcast<vec3f>(b.xyz), bitcast<vec3f>(c.xyz), depth, select(NO_MEDIUM, a.w >> 16u, USES_MEDIA));
         let e = photon_suspended[4u * thread + 3u];
         rng = Rng(b.w, e.y, e.z, e.w);
         next = c.w;
@@ -300,7 +317,7 @@ fn photon_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             let per_seed = max(0xffffffffu / max(frame.photon_count, 1u), 1u);
             let key = frame.pass_index / per_seed;
             rng_sobol(&rng, (frame.pass_index % per_seed) * frame.photon_count + next, sobol_seed(frame.seed, STREAM_PHOTON, key));
-            ph = emit_photon(&rng, photon_aim());
+            ph = emit_photon(&rng);
             next += 1u;
         }
         let after = photon_bounce(&ph, &rng);

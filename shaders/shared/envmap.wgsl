@@ -11,7 +11,7 @@
 //     running sum over cells 0..x of row y of P(cell | row), the last 1;
 //   then the running sums of P(row) over the H - 1 rows, four to an entry, the last 1.
 
-// Whether the scene's environment is an image (src/gpu/features.rs); see scene.wgsl.
+// Whether the scene's environment is an image (src/scene/emitter/environment.rs).
 override USES_ENVMAP: bool = true;
 
 // Whether environment emitter e is an image, without a load where the scene says.

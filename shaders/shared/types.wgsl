@@ -127,6 +127,7 @@ struct Sphere {
 
 struct Material {
     albedo: vec3f,
+    // The family's MATERIAL_* (shared/bsdf/<family>.wgsl).
     kind: u32,
     ior: f32,
     roughness: f32,
@@ -138,11 +139,11 @@ struct Material {
     // 1 when black seen from behind ns and for directions behind it (Mitsuba 3's BSDFs
     // unless wrapped in `twosided`); 0 when two-sided, and always for dielectrics.
     one_sided: u32,
-    // MICROFACET_GGX or MICROFACET_BECKMANN (glossy conductors, rough dielectrics).
+    // MICROFACET_GGX or MICROFACET_BECKMANN (rough conductors, dielectrics and plastics).
     distribution: u32,
     _pad: array<u32, 2>,
-    // A mirror's or glossy conductor's complex index of refraction eta + i k, whose Fresnel
-    // term scales albedo when fresnel is 1; fresnel 0 is Fresnel 1.
+    // A conductor's complex index of refraction eta + i k, whose Fresnel term scales albedo
+    // when fresnel is 1; fresnel 0 is Fresnel 1.
     eta: vec3f,
     fresnel: u32,
     k: vec3f,
@@ -150,7 +151,7 @@ struct Material {
     // MATERIAL_PLASTIC: the coating's specular_reflectance; MATERIAL_THIN_DIELECTRIC: the
     // slab's specular_reflectance.
     specular: vec3f,
-    // MATERIAL_PLASTIC: Mitsuba's specular_sampling_weight (shared/coating.wgsl).
+    // MATERIAL_PLASTIC: Mitsuba's specular_sampling_weight (shared/bsdf/plastic.wgsl).
     coat_weight: f32,
     // MATERIAL_THIN_DIELECTRIC: the slab's specular_transmittance.
     transmittance: vec3f,
@@ -175,9 +176,10 @@ struct Shape {
     media: u32,
 }
 
-// One light, chosen with probability pmf (proportional to its power): an emitting primitive,
-// a point light or a directional light.
+// One light, chosen with probability pmf (proportional to its power), as its kind packs it
+// (shared/emitter/<kind>.wgsl says what each field holds for it).
 struct Emitter {
+    // The kind's EMITTER_*.
     kind: u32,
     prim_ref: u32,
     // Inclusive running sum of pmf over the emitters up to this one.
@@ -276,23 +278,14 @@ const LEAF_FIRST_MASK: u32 = 0x07ffffffu;
 const HAS_NORMALS: u32 = 0x80000000u;
 const HAS_UVS: u32 = 0x40000000u;
 const ATTRIBUTE_INDEX_MASK: u32 = 0x3fffffffu;
-const EMITTER_AREA: u32 = 0u;
-const EMITTER_POINT: u32 = 1u;
-const EMITTER_DIRECTIONAL: u32 = 2u;
-const EMITTER_SPOT: u32 = 3u;
-const EMITTER_ENVIRONMENT: u32 = 4u;
+// An Emitter's kind, EMITTER_*, is declared by its kind in shared/emitter/.
 const NO_TEXTURE: u32 = 0xffffffffu;
 const TEXTURE_NEAREST: u32 = 1u;
 const TEXTURE_MIRROR: u32 = 2u;
 const TEXTURE_CLAMP: u32 = 4u;
 const SPHERE_BIT: u32 = 0x80000000u;
 
-const MATERIAL_DIFFUSE: u32 = 0u;
-const MATERIAL_MIRROR: u32 = 1u;
-const MATERIAL_DIELECTRIC: u32 = 2u;
-const MATERIAL_GLOSSY: u32 = 3u;
-const MATERIAL_PLASTIC: u32 = 4u;
-const MATERIAL_THIN_DIELECTRIC: u32 = 5u;
+// A Material's kind, MATERIAL_*, is declared by its family in shared/bsdf/.
 const COAT_TABLE_SIZE: u32 = 64u;
 const MICROFACET_GGX: u32 = 0u;
 const MICROFACET_BECKMANN: u32 = 1u;

@@ -46,9 +46,7 @@ pub struct BvhNode {
     pub count: u32,
 }
 
-/// Marks a primitive reference as a sphere: a `prim_ref` is either a triangle index, or a
-/// sphere index with this bit set.
-pub const SPHERE_BIT: u32 = 0x8000_0000;
+pub use crate::layout::SPHERE_BIT;
 
 /// Entries in the traversal stack, here and in the kernels. [`build_bvh`] guarantees that
 /// trees are shallow enough for it (depth below `STACK_SIZE`).

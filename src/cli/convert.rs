@@ -8,7 +8,7 @@
 //! scene. Nothing that exists is overwritten.
 
 use sppm_gpu::image_io::Rgb32Image;
-use sppm_gpu::scene::{LightKind, Named, Phase, PixelFilter, Scene, Texture, TextureFilter, TextureWrap, Triangle};
+use sppm_gpu::scene::{Named, Phase, PixelFilter, Scene, Texture, TextureFilter, TextureWrap, Triangle};
 use sppm_gpu::Error;
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -72,7 +72,8 @@ fn float(x: f32) -> Value {
     Value::Float(if shortest as f32 == x { shortest } else { x as f64 })
 }
 
-/// Every float of `value` that is an f32 (the keys a material wrote) as [`float`] writes it.
+/// Every float of `value` that is an f32 (the keys a material or light wrote) as [`float`]
+/// writes it.
 fn shortest_floats(value: &mut Value) {
     match value {
         Value::Float(x) if (*x as f32) as f64 == *x => *value = float(*x as f32),
@@ -256,7 +257,8 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
         }
         t.insert("material".into(), Value::String(names[shape.material as usize].clone()));
         if let Some(e) = shape.emission {
-            t.insert("emission".into(), vec3(e));
+            sppm_gpu::scene::emitter::emission_toml_keys(&mut t, e);
+            t.get_mut("emission").into_iter().for_each(shortest_floats);
         }
         if let Some(m) = shape.interior {
             t.insert("interior".into(), medium_name(m));
@@ -271,49 +273,8 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
     let mut lights = Vec::new();
     for l in &scene.lights {
         let mut t = Table::new();
-        match &l.kind {
-            &LightKind::Point { position, intensity } => {
-                t.insert("type".into(), Value::String("point".into()));
-                t.insert("position".into(), vec3(position));
-                t.insert("intensity".into(), vec3(intensity));
-            }
-            &LightKind::Directional { direction, irradiance } => {
-                t.insert("type".into(), Value::String("directional".into()));
-                t.insert("direction".into(), vec3(direction));
-                t.insert("irradiance".into(), vec3(irradiance));
-            }
-            &LightKind::Spot { position, direction, intensity, cutoff_angle, beam_width } => {
-                t.insert("type".into(), Value::String("spot".into()));
-                t.insert("position".into(), vec3(position));
-                t.insert("direction".into(), vec3(direction));
-                t.insert("intensity".into(), vec3(intensity));
-                t.insert("cutoff_angle".into(), float(cutoff_angle));
-                t.insert("beam_width".into(), float(beam_width));
-            }
-            &LightKind::Constant { radiance } => {
-                t.insert("type".into(), Value::String("constant".into()));
-                t.insert("radiance".into(), vec3(radiance));
-            }
-            LightKind::Envmap(m) => {
-                // The image stays where it is, named by its absolute path; to_world as the
-                // angles of rotate (R = Rz Ry Rx, degrees).
-                let r = m.to_world;
-                if r.determinant() < 0.0 {
-                    return Err("an environment map mirrored by its to_world cannot be written in TOML".into());
-                }
-                let b = (-r.x_axis.z).clamp(-1.0, 1.0).asin();
-                let (a, c) = if r.x_axis.z.abs() < 0.9999 {
-                    (r.y_axis.z.atan2(r.z_axis.z), r.x_axis.y.atan2(r.x_axis.x))
-                } else {
-                    (0.0, (-r.y_axis.x).atan2(r.y_axis.y))
-                };
-                let file = std::path::absolute(&m.path).unwrap_or_else(|_| m.path.clone());
-                t.insert("type".into(), Value::String("envmap".into()));
-                t.insert("file".into(), Value::String(file.to_string_lossy().into_owned()));
-                t.insert("scale".into(), float(m.scale));
-                t.insert("rotate".into(), vec3(glam::Vec3::new(a, b, c) * (180.0 / std::f32::consts::PI)));
-            }
-        }
+        l.kind.toml_keys(&mut t)?;
+        t.iter_mut().for_each(|(_, v)| shortest_floats(v));
         lights.push(Value::Table(t));
     }
     if !lights.is_empty() {

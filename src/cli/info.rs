@@ -4,7 +4,7 @@
 
 use sppm_gpu::gpu::scene_buffers::SceneData;
 use sppm_gpu::layout::Features;
-use sppm_gpu::scene::{LightKind, Method, Named, Phase, PixelFilter, Scene, ShapeKind};
+use sppm_gpu::scene::{Method, Named, Phase, PixelFilter, Scene, ShapeKind};
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
@@ -86,18 +86,7 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
         scene.textures.len()
     );
     let mut lights = BTreeMap::new();
-    let area = scene.shapes.iter().filter(|s| s.emission.is_some_and(|e| e.max_element() > 0.0)).count();
-    if area > 0 {
-        lights.insert("area", area);
-    }
-    for l in &scene.lights {
-        let kind = match l.kind {
-            LightKind::Point { .. } => "point",
-            LightKind::Directional { .. } => "directional",
-            LightKind::Spot { .. } => "spot",
-            LightKind::Constant { .. } => "constant",
-            LightKind::Envmap(_) => "envmap",
-        };
+    for kind in sppm_gpu::scene::emitter::names(scene) {
         *lights.entry(kind).or_insert(0) += 1;
     }
     let _ = writeln!(out, "lights:     {} ({})", lights.values().sum::<usize>(), counts(&lights));

@@ -2,18 +2,12 @@
 //! small scene, its BVH as code.
 
 use super::scene_buffers::SceneData;
-use crate::accel::SPHERE_BIT;
-use crate::layout::{
-    Features, EMITTER_AREA, EMITTER_DIRECTIONAL, EMITTER_ENVIRONMENT, EMITTER_POINT, EMITTER_SPOT, HAS_NORMALS, HAS_UVS,
-    NO_TEXTURE,
-};
+use crate::layout::{Features, HAS_NORMALS, HAS_UVS, NO_TEXTURE};
 
 impl Features {
-    /// The features `data` uses.
+    /// The features `data` uses: its primitives and media, and those each material's family
+    /// and each emitter's kind turns on (src/scene/material/, src/scene/emitter/).
     pub fn of(data: &SceneData) -> Self {
-        let emitter = |kind: u32, sphere: bool| {
-            data.emitters.iter().any(|e| e.kind == kind && (kind != EMITTER_AREA || ((e.prim_ref & SPHERE_BIT) != 0) == sphere))
-        };
         let mut f = Features {
             triangles: !data.triangles.is_empty(),
             spheres: !data.spheres.is_empty(),
@@ -31,18 +25,20 @@ impl Features {
             one_sided: false,
             conductor_fresnel: false,
             beckmann: false,
-            triangle_lights: emitter(EMITTER_AREA, false),
-            sphere_lights: emitter(EMITTER_AREA, true),
-            point_lights: emitter(EMITTER_POINT, false),
-            directional_lights: emitter(EMITTER_DIRECTIONAL, false),
-            spot_lights: emitter(EMITTER_SPOT, false),
-            environment: emitter(EMITTER_ENVIRONMENT, false),
-            envmap: data.emitters.iter().any(|e| e.kind == EMITTER_ENVIRONMENT && e.prim_ref != NO_TEXTURE),
+            triangle_lights: false,
+            sphere_lights: false,
+            point_lights: false,
+            directional_lights: false,
+            spot_lights: false,
+            environment: false,
+            envmap: false,
             media: data.media,
         };
-        // Each material's family turns on its own (src/scene/material/).
         for m in &data.materials {
             crate::scene::material::turn_on_features(m, &mut f);
+        }
+        for e in &data.emitters {
+            crate::scene::emitter::turn_on_features(e, &mut f);
         }
         f
     }

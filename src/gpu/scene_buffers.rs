@@ -4,7 +4,7 @@
 use crate::accel::bvh::PackedBvh;
 use crate::accel::{Bvh, SPHERE_BIT};
 use crate::layout::*;
-use crate::scene::{spot_solid_angle, LightKind, Scene, SceneError, TextureFilter, TextureWrap, TOML_SPHERE_FRAME};
+use crate::scene::{Scene, SceneError, TextureFilter, TextureWrap, TOML_SPHERE_FRAME};
 use glam::Vec3;
 use wgpu::util::DeviceExt;
 
@@ -65,185 +65,7 @@ fn material_of(scene: &Scene, shape: u32) -> u32 {
     scene.shapes[shape as usize].material
 }
 
-/// Most `texels` entries with an environment map: 128 MiB, lavapipe's (and WebGPU's
-/// default) largest storage buffer binding.
-const ENVMAP_MAX_ENTRIES: usize = (128 << 20) / 16;
-
-/// The average over RGB, summed in f64: three channels near f32's largest overflow its sum.
-fn average(v: Vec3) -> f64 {
-    (v.x as f64 + v.y as f64 + v.z as f64) / 3.0
-}
-
-/// The most radiance, intensity or irradiance a light may have in a channel (for an
-/// environment map, its brightest texel times its scale). The kernels sum such values over a
-/// path's vertices and a pixel's passes in f32, and guard the sums by zeroing what overflows:
-/// at 1e18, the sum of 3.4e20 passes, or a value's square, still fits under f32's 3.4e38.
-/// Brighter lights are refused rather than rendered black.
-pub const MAX_EMISSION: f64 = 1e18;
-
-/// The most power the lights may emit together. Photon flux is kept relative to it (the f32
-/// [`Frame::power_total`]), SPPM's estimate multiplies it by a point's gathered flux tau
-/// (shared/estimate.wgsl), and a next-event estimate of a light of small pmf is about
-/// power_total / (pi d^2) (shared/lights.wgsl): 1e28 leaves ten orders of magnitude below
-/// f32's 3.4e38.
-pub const MAX_LIGHT_POWER: f64 = 1e28;
-
-/// What gives light: a shape with `emission`, or a `[[lights]]` entry (indices into
-/// [`Scene::shapes`] and [`Scene::lights`]).
-#[derive(Clone, Copy, PartialEq)]
-enum LightSource {
-    Shape(usize),
-    Light(usize),
-}
-
-/// Why a light's values are refused.
-fn beyond(bound: f64) -> String {
-    format!("beyond what the renderer's 32-bit arithmetic holds: at most {bound:e}")
-}
-
-/// A value for a message, exactly: as written for moderate magnitudes (`4`, `0.5`), else in
-/// exponent form (`1e37`, `4.2535296e37`).
-pub(crate) fn number(x: f32) -> String {
-    if x == 0.0 || (1e-3..1e6).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
-
-/// A computed value for a message, to four digits (`3.142e29`), more where four would show
-/// `bound` for a value past it.
-fn rounded(x: f64, bound: f64) -> String {
-    if !x.is_finite() {
-        return format!("{x}");
-    }
-    let s = format!("{x:.3e}");
-    let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
-    let s = format!("{}e{exponent}", mantissa.trim_end_matches('0').trim_end_matches('.'));
-    if x != bound && s.parse::<f64>() == Ok(bound) {
-        format!("{x:e}")
-    } else {
-        s
-    }
-}
-
-/// An error at a light's record: its line (none for the builder's records, line 0) and the
-/// key of `name`, its value to blame, as TOML and the builder spell it (`lights[2].intensity`,
-/// `shapes[0].emission`), or as a Mitsuba XML parameter (`intensity`; an area emitter's
-/// `radiance`, at its shape's line).
-fn light_error(scene: &Scene, source: LightSource, name: &str, message: String) -> SceneError {
-    let xml = crate::scene::is_mitsuba_xml(&scene.path);
-    let (line, key) = match source {
-        LightSource::Shape(i) => (scene.shapes[i].line, if xml { "radiance".into() } else { format!("shapes[{i}].{name}") }),
-        LightSource::Light(i) => {
-            let name = if xml && name == "file" { "filename" } else { name };
-            (scene.lights[i].line, if xml { name.to_owned() } else { format!("lights[{i}].{name}") })
-        }
-    };
-    SceneError { file: scene.path.clone(), line: (line > 0).then_some(line), key: Some(key), message }
-}
-
-/// A scene that gives no light: at the first emission or light in the file, all of them
-/// zero (its line and key), or, with none, at the file and the `lights` a light goes in.
-fn no_light_error(scene: &Scene) -> SceneError {
-    let message = "the scene has no light: give a shape an `emission` greater than zero, or add a [[lights]] entry \
-                   with positive intensity or irradiance";
-    let shape =
-        scene.shapes.iter().position(|s| s.emission.is_some()).map(|i| (scene.shapes[i].line, LightSource::Shape(i), "emission"));
-    let light = scene.lights.first().map(|l| (l.line, LightSource::Light(0), brightness_key(&l.kind)));
-    match shape.into_iter().chain(light).min_by_key(|&(line, ..)| line) {
-        Some((_, source, name)) => light_error(scene, source, name, message.into()),
-        None => SceneError { file: scene.path.clone(), line: None, key: Some("lights".into()), message: message.into() },
-    }
-}
-
-/// The parameter that sets a light's brightness, for messages and keys.
-fn brightness_key(kind: &LightKind) -> &'static str {
-    match kind {
-        LightKind::Point { .. } | LightKind::Spot { .. } => "intensity",
-        LightKind::Directional { .. } => "irradiance",
-        LightKind::Constant { .. } => "radiance",
-        LightKind::Envmap(_) => "scale",
-    }
-}
-
-/// Refuses a light brighter than [`MAX_EMISSION`] in some channel, naming it.
-fn check_emission(scene: &Scene) -> Result<(), SceneError> {
-    let too_bright = |v: Vec3| v.is_nan() || v.max_element() as f64 > MAX_EMISSION;
-    for (i, s) in scene.shapes.iter().enumerate() {
-        if let Some(e) = s.emission.filter(|&e| too_bright(e)) {
-            let message = format!("emission {} is {} in each channel", number(e.max_element()), beyond(MAX_EMISSION));
-            return Err(light_error(scene, LightSource::Shape(i), "emission", message));
-        }
-    }
-    for (i, light) in scene.lights.iter().enumerate() {
-        let name = brightness_key(&light.kind);
-        let at = LightSource::Light(i);
-        match &light.kind {
-            LightKind::Point { intensity: v, .. }
-            | LightKind::Spot { intensity: v, .. }
-            | LightKind::Directional { irradiance: v, .. }
-            | LightKind::Constant { radiance: v } => {
-                if too_bright(*v) {
-                    let message = format!("{name} {} is {} in each channel", number(v.max_element()), beyond(MAX_EMISSION));
-                    return Err(light_error(scene, at, name, message));
-                }
-            }
-            LightKind::Envmap(map) => {
-                let (texel, radiance) = (map.brightest_texel(), map.max_radiance());
-                if radiance.is_nan() || radiance > MAX_EMISSION {
-                    // The image alone, or the scale that brightens it.
-                    let key = if texel as f64 > MAX_EMISSION { "file" } else { "scale" };
-                    let message = format!(
-                        "the environment's radiance reaches {} (its brightest texel {} times scale {}), {} in each channel",
-                        rounded(radiance, MAX_EMISSION),
-                        number(texel),
-                        number(map.scale),
-                        beyond(MAX_EMISSION)
-                    );
-                    return Err(light_error(scene, at, key, message));
-                }
-            }
-        }
-    }
-    Ok(())
-}
-
-/// The error for lights whose power sums past [`MAX_LIGHT_POWER`]: at the light that gives
-/// the most, with how its power comes about (`radius`, that of the disk covering the scene,
-/// for a directional light and the environment).
-fn power_error(scene: &Scene, sources: &[LightSource], powers: &[f64], total: f64, radius: f32) -> SceneError {
-    let mut by_source: Vec<(LightSource, f64)> = Vec::new();
-    for (&source, &p) in sources.iter().zip(powers) {
-        match by_source.iter_mut().find(|(s, _)| *s == source) {
-            Some((_, sum)) => *sum += p,
-            None => by_source.push((source, p)),
-        }
-    }
-    let (source, power) = by_source.into_iter().max_by(|a, b| a.1.total_cmp(&b.1)).expect("a sum needs a term");
-    let (name, how) = match source {
-        LightSource::Shape(_) => ("emission", "its emission times its area times pi".to_owned()),
-        LightSource::Light(i) => {
-            let disk = format!("the area of the disk of radius {} that covers the scene", number(radius));
-            let kind = &scene.lights[i].kind;
-            let how = match kind {
-                LightKind::Point { .. } => "its intensity times 4 pi".to_owned(),
-                LightKind::Spot { .. } => "its intensity times its cone's solid angle".to_owned(),
-                LightKind::Directional { .. } => format!("its irradiance times {disk}"),
-                LightKind::Constant { .. } => format!("its radiance times 4 pi times {disk}"),
-                LightKind::Envmap(_) => format!("its radiance over the sphere of directions times {disk}"),
-            };
-            (brightness_key(kind), how)
-        }
-    };
-    let message = format!(
-        "the lights' power is {}, {} of it from this light ({how}): {}; dim the lights (the image scales with them)",
-        rounded(total, MAX_LIGHT_POWER),
-        rounded(power, MAX_LIGHT_POWER),
-        beyond(MAX_LIGHT_POWER)
-    );
-    light_error(scene, source, name, message)
-}
+pub use crate::scene::emitter::{MAX_EMISSION, MAX_LIGHT_POWER};
 
 impl SceneData {
     /// Build the BVH and the GPU arrays of `scene`, and the light distribution by power.
@@ -253,7 +75,7 @@ impl SceneData {
     /// or vertex attributes than [`ATTRIBUTE_INDEX_MASK`] addresses, or a texture larger than
     /// 65535 on a side.
     pub fn new(scene: &Scene) -> Result<Self, SceneError> {
-        check_emission(scene)?;
+        crate::scene::emitter::check_brightness(scene)?;
         let velocity = |shape: u32| scene.shapes[shape as usize].velocity.unwrap_or(Vec3::ZERO);
         let motion = scene.shapes.iter().any(|s| s.velocity.is_some_and(|v| v != Vec3::ZERO));
         let bvh = crate::accel::build_bvh_moving(&scene.triangles, &scene.spheres, velocity);
@@ -410,154 +232,12 @@ impl SceneData {
             .collect::<Vec<_>>();
         let (bounds_min, bounds_max) = scene.bounds();
 
-        // Lights, chosen in proportion to power: the average over RGB of Le * area * pi for an
-        // area light (a Lambertian emitter), I * 4 pi for a point light, E * pi R^2 for a
-        // directional light through a disk of radius R, I * Omega for a spot light, Omega
-        // the integral of its falloff over directions (spot_solid_angle, in closed form), and
-        // L * pi R^2 * 4 pi for a constant environment.
-        let mut emitters = Vec::new();
-        let mut powers = Vec::new();
-        // Each emitter's light, to name the brightest when the sum is too large.
-        let mut sources = Vec::new();
-        let emission = |shape: u32| scene.shapes[shape as usize].emission.unwrap_or(Vec3::ZERO);
-        let pi = std::f32::consts::PI;
-        for (i, t) in scene.triangles.iter().enumerate() {
-            let area = 0.5 * (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length();
-            let power = average(emission(t.shape)) * (area * pi) as f64;
-            if power > 0.0 {
-                emitters.push(Emitter { kind: EMITTER_AREA, prim_ref: i as u32, area, ..Emitter::default() });
-                powers.push(power);
-                sources.push(LightSource::Shape(t.shape as usize));
-            }
-        }
-        for (i, s) in scene.spheres.iter().enumerate() {
-            let area = 4.0 * pi * s.radius * s.radius;
-            let power = average(emission(s.shape)) * (area * pi) as f64;
-            if power > 0.0 {
-                emitters.push(Emitter { kind: EMITTER_AREA, prim_ref: i as u32 | SPHERE_BIT, area, ..Emitter::default() });
-                powers.push(power);
-                sources.push(LightSource::Shape(s.shape as usize));
-            }
-        }
-        // A directional light covers the scene's bounding sphere (moving shapes included)
-        // with a disk of photons that starts outside it.
+        // The lights, chosen in proportion to power. A directional light and the environment
+        // cover the scene's bounding sphere (moving shapes included) with a disk of photons.
         let (swept_min, swept_max) = swept_bounds(scene, bounds_min, bounds_max);
         let center = 0.5 * (swept_min + swept_max);
         let radius = (0.5 * (swept_max - swept_min).length()).max(1e-3);
-        for (i, light) in scene.lights.iter().enumerate() {
-            if !light.kind.is_environment() {
-                sources.push(LightSource::Light(i));
-            }
-            match light.kind {
-                LightKind::Point { position, intensity } => {
-                    emitters.push(Emitter {
-                        kind: EMITTER_POINT,
-                        position: position.into(),
-                        radiance: intensity.into(),
-                        ..Emitter::default()
-                    });
-                    powers.push(average(intensity) * 4.0 * std::f64::consts::PI);
-                }
-                LightKind::Directional { direction, irradiance } => {
-                    let d = direction.normalize();
-                    let area = pi * radius * radius;
-                    emitters.push(Emitter {
-                        kind: EMITTER_DIRECTIONAL,
-                        position: (center - 1.01 * radius * d).into(),
-                        area,
-                        radiance: irradiance.into(),
-                        radius,
-                        direction: d.into(),
-                        ..Emitter::default()
-                    });
-                    powers.push(average(irradiance) * area as f64);
-                }
-                LightKind::Spot { position, direction, intensity, cutoff_angle, beam_width } => {
-                    let cutoff = (cutoff_angle as f64).to_radians();
-                    let beam = (beam_width as f64).to_radians().min(cutoff);
-                    let omega = spot_solid_angle(cutoff, beam);
-                    emitters.push(Emitter {
-                        kind: EMITTER_SPOT,
-                        position: position.into(),
-                        area: omega as f32,
-                        radiance: intensity.into(),
-                        radius: cutoff as f32,
-                        direction: direction.normalize().into(),
-                        width: (cutoff - beam) as f32,
-                        ..Emitter::default()
-                    });
-                    powers.push(average(intensity) * omega);
-                }
-                // Last, after the loop.
-                LightKind::Constant { .. } | LightKind::Envmap(_) => {}
-            }
-        }
-        // The environment is the last emitter, where the kernels find it. Its photons cross
-        // the disk of radius R that covers the bounding sphere, from every direction: power
-        // pi R^2 times the integral of average(L) over the sphere, average(L) pi R^2 4 pi for
-        // a constant one. An envmap's image and distribution go at the end of `texels`, its
-        // `prim_ref` their header (NO_TEXTURE for a constant environment), its `radiance` the
-        // scale.
-        let environment = scene.lights.iter().enumerate().find(|(_, l)| l.kind.is_environment());
-        if let Some((i, light)) = environment {
-            let area = pi * radius * radius;
-            let mut e = Emitter {
-                kind: EMITTER_ENVIRONMENT,
-                prim_ref: NO_TEXTURE,
-                position: center.into(),
-                area,
-                radius,
-                ..Emitter::default()
-            };
-            let integral = match &light.kind {
-                LightKind::Envmap(map) => {
-                    let needed = texels.len() + crate::scene::envmap::EnvmapDistribution::packed_len(map);
-                    if needed > ENVMAP_MAX_ENTRIES {
-                        return Err(SceneError {
-                            file: map.path.clone(),
-                            line: Some(light.line),
-                            key: None,
-                            message: format!(
-                                "the environment map of {}x{} texels, with the textures, needs {} MiB, over the {} MiB of a storage buffer",
-                                map.width,
-                                map.height,
-                                (needed * 16) >> 20,
-                                (ENVMAP_MAX_ENTRIES * 16) >> 20
-                            ),
-                        });
-                    }
-                    let distribution = crate::scene::envmap::EnvmapDistribution::new(map);
-                    e.prim_ref = distribution.pack(map, &mut texels);
-                    e.radiance = [map.scale; 3];
-                    map.integral().iter().sum::<f64>() / 3.0
-                }
-                LightKind::Constant { radiance } => {
-                    e.radiance = (*radiance).into();
-                    average(*radiance) * 4.0 * std::f64::consts::PI
-                }
-                _ => unreachable!("is_environment"),
-            };
-            emitters.push(e);
-            powers.push(integral * area as f64);
-            sources.push(LightSource::Light(i));
-        }
-        let power_total: f64 = powers.iter().sum();
-        if power_total.is_nan() || power_total > MAX_LIGHT_POWER {
-            return Err(power_error(scene, &sources, &powers, power_total, radius));
-        }
-        if !power_total.is_finite() || power_total <= 0.0 {
-            return Err(no_light_error(scene));
-        }
-        let mut running = 0.0;
-        for (e, p) in emitters.iter_mut().zip(&powers) {
-            running += p;
-            e.pmf = (p / power_total) as f32;
-            e.cdf = (running / power_total) as f32;
-        }
-        // The last interval must hold every u < 1, whatever the rounding.
-        if let Some(last) = emitters.last_mut() {
-            last.cdf = f32::INFINITY;
-        }
+        let lights = crate::scene::emitter::pack(scene, center, radius, &mut texels)?;
 
         Ok(Self {
             packed_bvh: bvh.pack(),
@@ -572,8 +252,8 @@ impl SceneData {
             camera_medium: scene.camera.medium.unwrap_or(NO_MEDIUM),
             media: !scene.media.is_empty(),
             texels,
-            emitters,
-            power_total: power_total as f32,
+            emitters: lights.emitters,
+            power_total: lights.power_total,
             motion,
             bounds_min,
             bounds_max,

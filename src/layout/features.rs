@@ -23,9 +23,9 @@ pub struct Features {
     pub uvs: bool,
     /// Some material has a texture.
     pub textures: bool,
-    /// Some material is a mirror.
+    /// Some material is a smooth conductor (a mirror).
     pub mirror: bool,
-    /// Some material is a GGX glossy conductor.
+    /// Some material is a rough conductor.
     pub glossy: bool,
     /// Some material is a smooth dielectric.
     pub smooth_dielectric: bool,
@@ -40,9 +40,9 @@ pub struct Features {
     /// Some non-dielectric material is one-sided (black seen from behind, as Mitsuba 3's
     /// BSDFs are unless wrapped in `twosided`).
     pub one_sided: bool,
-    /// Some mirror or glossy conductor has a Fresnel term (a complex index of refraction).
+    /// Some conductor has a Fresnel term (a complex index of refraction).
     pub conductor_fresnel: bool,
-    /// Some glossy conductor, rough dielectric or rough plastic has Beckmann microfacets.
+    /// Some rough conductor, rough dielectric or rough plastic has Beckmann microfacets.
     pub beckmann: bool,
     /// Some emitter is an emitting triangle.
     pub triangle_lights: bool,

@@ -157,19 +157,21 @@ pub struct GpuSphere {
     pub _pad: u32,
 }
 
-/// A material's scattering model (see [`crate::scene::MaterialKind`]).
+/// A material's scattering model (see [`crate::scene::MaterialKind`]), as its family packs it
+/// (`src/scene/material/<family>.rs`): the fields its kind reads, the others 0.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct GpuMaterial {
-    /// Reflectance, linear RGB in [0, 1]: the Lambertian albedo (unused when textured), the
-    /// mirror's or glossy conductor's reflectance; `[1, 1, 1]` for a dielectric.
+    /// Reflectance, linear RGB in [0, 1]: the Lambertian albedo (unused when textured), a
+    /// conductor's reflectance, a plastic's base; `[1, 1, 1]` for a dielectric.
     pub albedo: [f32; 3],
-    /// [`MATERIAL_DIFFUSE`], [`MATERIAL_MIRROR`], [`MATERIAL_DIELECTRIC`] or
-    /// [`MATERIAL_GLOSSY`].
+    /// The family's `MATERIAL_*`, declared in its host file and its WGSL file
+    /// (`shaders/shared/bsdf/<family>.wgsl`).
     pub kind: u32,
-    /// Index of refraction of a dielectric, relative to the outside; 0 for other kinds.
+    /// Index of refraction of a dielectric, thin or not, or of a plastic's coating, relative
+    /// to the outside; 0 for other kinds.
     pub ior: f32,
-    /// Microfacet alpha of a glossy conductor or rough dielectric; 0 is smooth.
+    /// Microfacet alpha of a rough conductor, dielectric or plastic coating; 0 is smooth.
     pub roughness: f32,
     /// The texture that replaces `albedo`, whatever the kind, or [`NO_TEXTURE`]: the first of
     /// its two header entries in the `texels` buffer, (m00, m01, t0, first texel) and (m10,
@@ -184,38 +186,38 @@ pub struct GpuMaterial {
     /// behind it (Mitsuba 3's BSDFs unless wrapped in `twosided`); 0 for a two-sided
     /// material and always for a dielectric, which is two-sided by nature.
     pub one_sided: u32,
-    /// [`MICROFACET_GGX`] or [`MICROFACET_BECKMANN`]: the microfacet normals of a glossy
-    /// conductor or rough dielectric.
+    /// [`MICROFACET_GGX`] or [`MICROFACET_BECKMANN`]: the microfacet normals of a rough
+    /// conductor, dielectric or plastic coating.
     pub distribution: u32,
     /// Padding; always 0.
     pub _pad: [u32; 2],
-    /// Real part of a mirror's or glossy conductor's complex index of refraction (per RGB
-    /// channel), when `fresnel` is 1.
+    /// Real part of a conductor's complex index of refraction (per RGB channel), when
+    /// `fresnel` is 1.
     pub eta: [f32; 3],
-    /// 1 when a mirror's or glossy conductor's reflectance is scaled by the conductor Fresnel
-    /// term of `eta` + i `k`; 0 for Fresnel 1 (a perfect mirror), where none is computed.
+    /// 1 when a conductor's reflectance is scaled by the conductor Fresnel term of `eta` +
+    /// i `k`; 0 for Fresnel 1 (a perfect mirror), where none is computed.
     pub fresnel: u32,
     /// Imaginary part of the complex index of refraction, when `fresnel` is 1.
     pub k: [f32; 3],
     /// Padding; always 0.
     pub _pad1: u32,
-    /// [`MATERIAL_PLASTIC`]: the coating's `specular_reflectance`; [`MATERIAL_THIN_DIELECTRIC`]:
-    /// the slab's `specular_reflectance`.
+    /// A plastic: the coating's `specular_reflectance`; a dielectric, thin or not: its
+    /// `specular_reflectance`.
     pub specular: [f32; 3],
-    /// [`MATERIAL_PLASTIC`]: Mitsuba's `specular_sampling_weight`, mean(specular) /
+    /// A plastic: Mitsuba's `specular_sampling_weight`, mean(specular) /
     /// (mean(albedo) + mean(specular)), which with the coating's transmittance sets the
     /// probability of sampling the coating's lobe rather than the base's.
     pub coat_weight: f32,
-    /// [`MATERIAL_THIN_DIELECTRIC`]: the slab's `specular_transmittance`.
+    /// A dielectric, thin or not: its `specular_transmittance`.
     pub transmittance: [f32; 3],
-    /// [`MATERIAL_PLASTIC`]: Fdr, the coating's diffuse reflectance seen from inside
+    /// A plastic: Fdr, the coating's diffuse reflectance seen from inside
     /// ([`crate::scene::coating`]).
     pub coat_fdr: f32,
-    /// A rough [`MATERIAL_PLASTIC`]: the first of the [`COAT_TABLE_SIZE`] / 4 entries of the
+    /// A rough plastic: the first of the [`COAT_TABLE_SIZE`] / 4 entries of the
     /// `attributes` buffer that hold its coating's transmittance T(cos) at cos = k / 63, four
     /// values an entry.
     pub coat_table: u32,
-    /// [`MATERIAL_PLASTIC`]: 1 for Mitsuba's `nonlinear` (the base's trapped light scaled by
+    /// A plastic: 1 for Mitsuba's `nonlinear` (the base's trapped light scaled by
     /// 1 / (1 - albedo Fdr)), 0 for 1 / (1 - Fdr).
     pub nonlinear: u32,
     /// Padding to 128 bytes; always 0.
@@ -244,17 +246,16 @@ pub const NO_MEDIUM: u32 = 0xffff;
 /// [`GpuShape::media`] of a shape that bounds no medium.
 pub const NOT_A_BOUNDARY: u32 = 0xffff_ffff;
 
-/// One light photons can leave from: an emitting triangle or sphere, a point light, a
-/// directional light or a spot light, chosen with probability `pmf` in proportion to its
-/// power (average over RGB of Le * area * pi, I * 4 pi, E * pi R^2 or I * Omega, Omega the
-/// spot's [`crate::scene::spot_solid_angle`]).
+/// One light: what its kind (`src/scene/emitter/<kind>.rs`) packs for its kernel
+/// (`shaders/shared/emitter/<kind>.wgsl`), chosen with probability `pmf` in proportion to its
+/// power.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct Emitter {
-    /// [`EMITTER_AREA`], [`EMITTER_POINT`], [`EMITTER_DIRECTIONAL`], [`EMITTER_SPOT`] or
-    /// [`EMITTER_ENVIRONMENT`].
+    /// The kind's `EMITTER_*`, declared in its host file and its WGSL file.
     pub kind: u32,
-    /// The emitting primitive of an area emitter.
+    /// An area emitter's primitive (a sphere's index with [`SPHERE_BIT`]); an envmap's first
+    /// entry in `texels`, [`NO_TEXTURE`] for a constant environment.
     pub prim_ref: u32,
     /// Inclusive running sum of `pmf`; the last is infinite so that every u < 1 falls in.
     pub cdf: f32,
@@ -264,11 +265,11 @@ pub struct Emitter {
     /// from. Environment: the centre of the scene's bounding sphere.
     pub position: [f32; 3],
     /// Area of the primitive, or of the directional light's or environment's disk (pi R^2);
-    /// a spot light's Omega, the
-    /// integral of its falloff over directions (steradians; power I * Omega).
+    /// a spot light's Omega, the integral of its falloff over directions (steradians; power
+    /// I * Omega).
     pub area: f32,
     /// Point and spot light: intensity (W/sr; a spot's on its axis). Directional: irradiance.
-    /// Environment: radiance.
+    /// Environment: radiance, or an envmap's scale.
     pub radiance: [f32; 3],
     /// Radius R of the directional light's or environment's disk, the scene's bounding
     /// sphere's; a spot light's cutoff angle (radians).
@@ -393,16 +394,9 @@ pub const HAS_NORMALS: u32 = 1 << 31;
 pub const HAS_UVS: u32 = 1 << 30;
 /// The bits of [`GpuTriangle::attributes`] that hold the index of its first entry.
 pub const ATTRIBUTE_INDEX_MASK: u32 = HAS_UVS - 1;
-/// [`Emitter::kind`] of an emitting triangle or sphere (`prim_ref`).
-pub const EMITTER_AREA: u32 = 0;
-/// [`Emitter::kind`] of a point light.
-pub const EMITTER_POINT: u32 = 1;
-/// [`Emitter::kind`] of a directional light.
-pub const EMITTER_DIRECTIONAL: u32 = 2;
-/// [`Emitter::kind`] of a spot light.
-pub const EMITTER_SPOT: u32 = 3;
-/// [`Emitter::kind`] of a constant environment, always the last emitter.
-pub const EMITTER_ENVIRONMENT: u32 = 4;
+/// The bit of a primitive reference (a BVH leaf's, an area [`Emitter`]'s) that marks a sphere:
+/// `i | SPHERE_BIT` is sphere `i`, a reference without it a triangle.
+pub const SPHERE_BIT: u32 = 0x8000_0000;
 /// [`GpuMaterial::texture`] of a material without a texture.
 pub const NO_TEXTURE: u32 = u32::MAX;
 /// Texture header flag: nearest-texel lookups (else bilinear).
@@ -411,21 +405,6 @@ pub const TEXTURE_NEAREST: u32 = 1;
 pub const TEXTURE_MIRROR: u32 = 2;
 /// Texture header flag: edge texels extended.
 pub const TEXTURE_CLAMP: u32 = 4;
-/// [`GpuMaterial::kind`]: Lambertian, f = albedo / pi; the only kind SPPM leaves visible
-/// points on.
-pub const MATERIAL_DIFFUSE: u32 = 0;
-/// [`GpuMaterial::kind`]: perfect specular reflection times albedo.
-pub const MATERIAL_MIRROR: u32 = 1;
-/// [`GpuMaterial::kind`]: smooth dielectric (Fresnel reflection and refraction) or, with
-/// roughness > 0, rough dielectric (Walter et al. 2007).
-pub const MATERIAL_DIELECTRIC: u32 = 2;
-/// [`GpuMaterial::kind`]: microfacet conductor, sampled by visible normals.
-pub const MATERIAL_GLOSSY: u32 = 3;
-/// [`GpuMaterial::kind`]: Mitsuba 3's plastic, a dielectric coating (smooth, or with roughness >
-/// 0 of microfacets) over a Lambertian base.
-pub const MATERIAL_PLASTIC: u32 = 4;
-/// [`GpuMaterial::kind`]: Mitsuba 3's thin dielectric: reflection or straight transmission.
-pub const MATERIAL_THIN_DIELECTRIC: u32 = 5;
 /// Values in a rough plastic's table of its coating's transmittance ([`GpuMaterial::coat_table`]).
 pub const COAT_TABLE_SIZE: u32 = 64;
 /// [`GpuMaterial::distribution`]: GGX (Trowbridge-Reitz).

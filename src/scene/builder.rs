@@ -1,10 +1,11 @@
 //! Assembling a [`Scene`] in code instead of a TOML file.
 //!
 //! [`SceneBuilder`] takes the same things a scene file holds (render settings, a camera,
-//! named materials, quads, spheres, cubes and meshes with optional emission, point and
-//! directional lights) and turns them into the same world-space primitives through the
+//! named materials of every family, quads, spheres, cubes and meshes with optional emission,
+//! lights of every kind) and turns them into the same world-space primitives through the
 //! loader's own tessellation, so a scene built here and the same scene loaded from a file
-//! have identical triangles. Every value is checked as the loader checks it; the first
+//! have identical triangles. Every value is checked as the loader checks it (a material or a
+//! light by its model's own check, [`super::material`], [`super::emitter`]); the first
 //! problem comes back from [`SceneBuilder::build`] as a [`SceneError`] naming the key in
 //! the file's dotted form (`shapes[3].radius`, `materials.white.albedo`). Nothing panics.
 //!
@@ -23,11 +24,12 @@
 //! # Ok::<(), sppm_gpu::scene::SceneError>(())
 //! ```
 
-use super::load::{Bound, MAX_DIRECT_SAMPLES, MAX_RESOLUTION};
+use super::load::{MAX_DIRECT_SAMPLES, MAX_RESOLUTION};
 use super::mesh::{self, Transform};
+use super::param::{out_of, Bound};
 use super::{
-    Camera, ComplexIor, DirectLight, Light, LightKind, Material, MaterialKind, Method, Microfacet, RenderSettings, Scene,
-    SceneError, Shape, ShapeKind, Sphere, Texture,
+    Camera, DirectLight, Light, LightKind, Material, MaterialKind, Method, Microfacet, RenderSettings, Scene, SceneError, Shape,
+    ShapeKind, Sphere, Texture,
 };
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
@@ -252,14 +254,18 @@ impl SceneBuilder {
 
     /// A perfect mirror of reflectance `albedo`.
     pub fn mirror(self, name: impl Into<String>, albedo: impl Into<Vec3>) -> Self {
-        self.material(name, MaterialKind::Mirror { albedo: albedo.into(), texture: None, fresnel: None })
+        let (roughness, distribution) = (0.0, Microfacet::Ggx);
+        self.material(
+            name,
+            MaterialKind::Conductor { albedo: albedo.into(), texture: None, roughness, distribution, fresnel: None },
+        )
     }
 
     /// A GGX conductor of reflectance `albedo` and GGX alpha `roughness` (in [0, 1]).
     pub fn glossy(self, name: impl Into<String>, albedo: impl Into<Vec3>, roughness: f32) -> Self {
         self.material(
             name,
-            MaterialKind::Glossy {
+            MaterialKind::Conductor {
                 albedo: albedo.into(),
                 texture: None,
                 roughness,
@@ -389,31 +395,34 @@ impl SceneBuilder {
         self
     }
 
-    /// A point light of radiant `intensity` (W/sr, each channel >= 0).
-    pub fn point_light(mut self, position: impl Into<Vec3>, intensity: impl Into<Vec3>) -> Self {
-        self.lights.push(LightKind::Point { position: position.into(), intensity: intensity.into() });
+    /// A light of any kind (a `[[lights]]` entry), checked by [`SceneBuilder::build`] as a
+    /// file's is; its direction, if it has one, is made unit length there.
+    pub fn light(mut self, kind: LightKind) -> Self {
+        self.lights.push(kind);
         self
+    }
+
+    /// A point light of radiant `intensity` (W/sr, each channel >= 0).
+    pub fn point_light(self, position: impl Into<Vec3>, intensity: impl Into<Vec3>) -> Self {
+        self.light(LightKind::Point { position: position.into(), intensity: intensity.into() })
     }
 
     /// Parallel light travelling along `direction` (nonzero; normalized here), giving
     /// `irradiance` on a surface facing it.
-    pub fn directional_light(mut self, direction: impl Into<Vec3>, irradiance: impl Into<Vec3>) -> Self {
-        self.lights.push(LightKind::Directional { direction: direction.into(), irradiance: irradiance.into() });
-        self
+    pub fn directional_light(self, direction: impl Into<Vec3>, irradiance: impl Into<Vec3>) -> Self {
+        self.light(LightKind::Directional { direction: direction.into(), irradiance: irradiance.into() })
     }
 
     /// A constant environment: `radiance` (each channel >= 0) from every direction, at
     /// infinity (Mitsuba 3's `constant`). A scene has at most one.
-    pub fn constant_environment(mut self, radiance: impl Into<Vec3>) -> Self {
-        self.lights.push(LightKind::Constant { radiance: radiance.into() });
-        self
+    pub fn constant_environment(self, radiance: impl Into<Vec3>) -> Self {
+        self.light(LightKind::Constant { radiance: radiance.into() })
     }
 
     /// An environment map (Mitsuba 3's `envmap`, already checked by
     /// [`super::envmap::Envmap::new`]), at infinity. A scene has at most one environment.
-    pub fn envmap_environment(mut self, map: super::envmap::Envmap) -> Self {
-        self.lights.push(LightKind::Envmap(std::sync::Arc::new(map)));
-        self
+    pub fn envmap_environment(self, map: super::envmap::Envmap) -> Self {
+        self.light(LightKind::Envmap(std::sync::Arc::new(map)))
     }
 
     /// A spot light at `position` whose cone's axis points along `direction` (nonzero;
@@ -422,21 +431,20 @@ impl SceneBuilder {
     /// degrees (in (0, 180]), as Mitsuba 3's `spot` (whose default beam width is 3/4 of the
     /// cutoff); see [`LightKind::Spot`].
     pub fn spot_light(
-        mut self,
+        self,
         position: impl Into<Vec3>,
         direction: impl Into<Vec3>,
         intensity: impl Into<Vec3>,
         cutoff_angle: f32,
         beam_width: f32,
     ) -> Self {
-        self.lights.push(LightKind::Spot {
+        self.light(LightKind::Spot {
             position: position.into(),
             direction: direction.into(),
             intensity: intensity.into(),
             cutoff_angle,
             beam_width,
-        });
-        self
+        })
     }
 
     /// Check everything and make the scene: the first error, with the key it concerns, or
@@ -469,28 +477,15 @@ impl SceneBuilder {
             };
             materials.push(Material { name: name.to_owned(), kind, one_sided: false, line: 0 });
         }
-        let lights = self
-            .lights
-            .iter()
-            .enumerate()
-            .map(|(i, light)| Ok(Light { kind: check.light(&format!("lights[{i}]"), light)?, line: 0 }))
-            .collect::<Result<Vec<_>>>()?;
-        if let Some(i) = lights.iter().enumerate().filter(|(_, l)| l.kind.is_environment()).nth(1).map(|(i, _)| i) {
-            return Err(check.error(&format!("lights[{i}]"), "a scene has at most one environment light".into()));
+        let mut lights = Vec::new();
+        for (i, light) in self.lights.iter().enumerate() {
+            let kind = check.light(&format!("lights[{i}]"), light)?;
+            if let Some(why) = super::emitter::second_environment(&lights, &kind) {
+                return Err(check.error(&format!("lights[{i}]"), why));
+            }
+            lights.push(Light { kind, line: 0 });
         }
-        let mut scene = Scene {
-            path: self.path.clone(),
-            render,
-            camera,
-            materials,
-            textures,
-            shapes: Vec::new(),
-            triangles: Vec::new(),
-            spheres: Vec::new(),
-            lights,
-            media: Vec::new(),
-            inputs: Vec::new(),
-        };
+        let mut scene = Scene::new(self.path.clone(), render, camera, materials, textures, lights, Vec::new());
         let budget = mesh::PrimitiveBudget::new();
         for (index, entry) in self.shapes.iter().enumerate() {
             let shape = check.shape(index as u32, entry, &mut scene, &budget)?;
@@ -498,12 +493,9 @@ impl SceneBuilder {
         }
         if !scene.is_lit() {
             // At the first emission or light given, all zero; with none, where a light goes.
-            let key = match (scene.shapes.iter().position(|s| s.emission.is_some()), scene.lights.first().map(|l| &l.kind)) {
+            let key = match (scene.shapes.iter().position(|s| s.emission.is_some()), scene.lights.first()) {
                 (Some(i), _) => format!("shapes[{i}].emission"),
-                (None, Some(LightKind::Point { .. } | LightKind::Spot { .. })) => "lights[0].intensity".into(),
-                (None, Some(LightKind::Directional { .. })) => "lights[0].irradiance".into(),
-                (None, Some(LightKind::Constant { .. })) => "lights[0].radiance".into(),
-                (None, Some(LightKind::Envmap(_))) => "lights[0].scale".into(),
+                (None, Some(light)) => format!("lights[0].{}", light.kind.brightness_key()),
                 (None, None) => "lights".into(),
             };
             return Err(check.error(
@@ -536,17 +528,17 @@ impl Check<'_> {
     }
 
     fn f64(&self, key: &str, x: f64, bound: Bound) -> Result<f64> {
-        if !x.is_finite() {
-            Err(self.error(key, format!("must be a finite number, found {x}")))
-        } else if !bound.contains(x) {
-            Err(self.error(key, format!("must be {bound}, found {x}")))
-        } else {
-            Ok(x)
+        match out_of(x, &x, bound) {
+            Some(why) => Err(self.error(key, why)),
+            None => Ok(x),
         }
     }
 
     fn f32(&self, key: &str, x: f32, bound: Bound) -> Result<f32> {
-        self.f64(key, x as f64, bound).map(|_| x)
+        match out_of(x as f64, &x, bound) {
+            Some(why) => Err(self.error(key, why)),
+            None => Ok(x),
+        }
     }
 
     fn vec3(&self, key: &str, v: Vec3, bound: Bound) -> Result<Vec3> {
@@ -587,53 +579,15 @@ impl Check<'_> {
         Ok(camera)
     }
 
+    /// A material's kind, checked by its family ([`MaterialKind::check`]) as a file's is.
     fn material(&self, key: &str, kind: &MaterialKind) -> Result<MaterialKind> {
-        const UNIT: Bound = Bound::Closed(0.0, 1.0);
         if kind.texture().is_some() {
             return Err(
                 self.error(&format!("{key}.texture"), "a texture index cannot be given here; use SceneBuilder::textured".into())
             );
         }
-        match *kind {
-            MaterialKind::Diffuse { albedo, .. } => {
-                self.vec3(&format!("{key}.albedo"), albedo, UNIT)?;
-            }
-            MaterialKind::Mirror { albedo, fresnel, .. } => {
-                self.vec3(&format!("{key}.albedo"), albedo, UNIT)?;
-                self.fresnel(key, fresnel)?;
-            }
-            MaterialKind::Glossy { albedo, roughness, fresnel, .. } => {
-                self.vec3(&format!("{key}.albedo"), albedo, UNIT)?;
-                self.f32(&format!("{key}.roughness"), roughness, UNIT)?;
-                self.fresnel(key, fresnel)?;
-            }
-            MaterialKind::Dielectric { ior, roughness, .. } => {
-                self.f32(&format!("{key}.ior"), ior, Bound::Positive)?;
-                self.f32(&format!("{key}.roughness"), roughness, UNIT)?;
-            }
-            MaterialKind::Plastic { albedo, specular, ior, roughness, .. } => {
-                self.vec3(&format!("{key}.albedo"), albedo, UNIT)?;
-                self.vec3(&format!("{key}.specular"), specular, UNIT)?;
-                self.f32(&format!("{key}.ior"), ior, Bound::Positive)?;
-                self.f32(&format!("{key}.roughness"), roughness, UNIT)?;
-            }
-            MaterialKind::ThinDielectric { ior, reflectance, transmittance } => {
-                self.f32(&format!("{key}.ior"), ior, Bound::Positive)?;
-                self.vec3(&format!("{key}.reflectance"), reflectance, UNIT)?;
-                self.vec3(&format!("{key}.transmittance"), transmittance, UNIT)?;
-            }
-            MaterialKind::Null => {}
-        }
+        kind.check().map_err(|e| self.error(&format!("{key}.{}", e.key), e.message))?;
         Ok(kind.clone())
-    }
-
-    /// A conductor's complex index of refraction: both parts finite and >= 0.
-    fn fresnel(&self, key: &str, fresnel: Option<ComplexIor>) -> Result<()> {
-        if let Some(ComplexIor { eta, k }) = fresnel {
-            self.vec3(&format!("{key}.eta"), eta, Bound::NonNegative)?;
-            self.vec3(&format!("{key}.k"), k, Bound::NonNegative)?;
-        }
-        Ok(())
     }
 
     /// Index of the texture `file` names (relative to the scene's directory), read once per
@@ -654,50 +608,11 @@ impl Check<'_> {
         self.path.parent().unwrap_or(Path::new("")).join(file)
     }
 
+    /// A light, checked by its kind ([`LightKind::check`]) as a file's is, its direction made
+    /// unit length.
     fn light(&self, key: &str, light: &LightKind) -> Result<LightKind> {
-        Ok(match *light {
-            LightKind::Point { position, intensity } => LightKind::Point {
-                position: self.vec3(&format!("{key}.position"), position, Bound::Any)?,
-                intensity: self.vec3(&format!("{key}.intensity"), intensity, Bound::NonNegative)?,
-            },
-            LightKind::Directional { direction, irradiance } => {
-                let direction = self.vec3(&format!("{key}.direction"), direction, Bound::Any)?;
-                // Normalized in f64, so that no finite direction over- or underflows to zero.
-                let direction = direction.as_dvec3().normalize_or_zero().as_vec3();
-                if direction == Vec3::ZERO {
-                    return Err(self.error(&format!("{key}.direction"), "the direction must not be zero".into()));
-                }
-                LightKind::Directional {
-                    direction,
-                    irradiance: self.vec3(&format!("{key}.irradiance"), irradiance, Bound::NonNegative)?,
-                }
-            }
-            LightKind::Spot { position, direction, intensity, cutoff_angle, beam_width } => {
-                let direction = self.vec3(&format!("{key}.direction"), direction, Bound::Any)?;
-                let direction = direction.as_dvec3().normalize_or_zero().as_vec3();
-                if direction == Vec3::ZERO {
-                    return Err(self.error(&format!("{key}.direction"), "the direction must not be zero".into()));
-                }
-                let cutoff_angle = self.f32(&format!("{key}.cutoff_angle"), cutoff_angle, Bound::Positive)?;
-                if cutoff_angle > 180.0 {
-                    return Err(self.error(
-                        &format!("{key}.cutoff_angle"),
-                        format!("must be at most 180 (degrees from the axis), found {cutoff_angle}"),
-                    ));
-                }
-                LightKind::Spot {
-                    position: self.vec3(&format!("{key}.position"), position, Bound::Any)?,
-                    direction,
-                    intensity: self.vec3(&format!("{key}.intensity"), intensity, Bound::NonNegative)?,
-                    cutoff_angle,
-                    beam_width: self.f32(&format!("{key}.beam_width"), beam_width, Bound::NonNegative)?,
-                }
-            }
-            LightKind::Constant { radiance } => {
-                LightKind::Constant { radiance: self.vec3(&format!("{key}.radiance"), radiance, Bound::NonNegative)? }
-            }
-            LightKind::Envmap(ref m) => LightKind::Envmap(m.clone()),
-        })
+        light.check().map_err(|e| self.error(&format!("{key}.{}", e.key), e.message))?;
+        Ok(light.with_unit_direction())
     }
 
     fn transform(&self, key: &str, scale: Vec3, rotate: Vec3, translate: Vec3) -> Result<Transform> {
@@ -711,22 +626,15 @@ impl Check<'_> {
     /// Checks `shapes[index]` and appends its primitives to the scene, within `budget`.
     fn shape(&self, index: u32, entry: &ShapeEntry, scene: &mut Scene, budget: &mesh::PrimitiveBudget) -> Result<Shape> {
         let key = format!("shapes[{index}]");
-        let material = match scene.materials.iter().position(|m| m.name == entry.material) {
-            Some(i) => i as u32,
-            None => {
-                let names: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
-                let defined = if names.is_empty() {
-                    "no materials are defined".to_owned()
-                } else {
-                    format!("defined materials: {}", names.join(", "))
-                };
-                return Err(self.error(&format!("{key}.material"), format!("unknown material `{}`; {defined}", entry.material)));
-            }
-        };
+        let material =
+            super::material::index(&scene.materials, &entry.material).map_err(|e| self.error(&format!("{key}.material"), e))?;
         let shape = Shape {
             kind: entry.geometry.kind(),
             material,
-            emission: entry.emission.map(|e| self.vec3(&format!("{key}.emission"), e, Bound::NonNegative)).transpose()?,
+            emission: entry
+                .emission
+                .map(|e| super::emitter::check_emission(e).map_err(|e| self.error(&format!("{key}.{}", e.key), e.message)))
+                .transpose()?,
             velocity: entry.velocity.map(|v| self.vec3(&format!("{key}.velocity"), v, Bound::Any)).transpose()?,
             line: 0,
             velocity_line: None,

@@ -7,6 +7,7 @@
 
 mod builder;
 pub mod coating;
+pub mod emitter;
 pub mod envmap;
 mod error;
 pub mod files;
@@ -15,14 +16,18 @@ pub mod material;
 pub mod medium;
 mod mesh;
 pub mod mitsuba;
+mod param;
 mod ply;
 mod serialized;
+mod toml_table;
 
 pub use builder::SceneBuilder;
+pub use emitter::{spot_falloff, spot_solid_angle, Light, LightKind};
 pub use error::SceneError;
 pub use load::{load_str, MAX_DIRECT_SAMPLES};
 pub use material::{ComplexIor, Material, MaterialKind, Microfacet};
 pub use medium::{Medium, Phase};
+pub use param::number;
 
 /// Reads a scene file: Mitsuba scene XML when its name ends in `.xml`, our TOML otherwise.
 pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
@@ -478,104 +483,6 @@ pub struct Sphere {
     pub shape: u32,
 }
 
-/// `[[lights]]` entries that are not surfaces.
-#[derive(Clone, Debug, PartialEq)]
-pub enum LightKind {
-    /// Radiant intensity (W/sr) from a point.
-    Point {
-        /// World-space position.
-        position: Vec3,
-        /// Radiant intensity I, linear RGB (W/sr); power 4 pi I.
-        intensity: Vec3,
-    },
-    /// Parallel light travelling along `direction` (unit), `irradiance` on a facing surface.
-    Directional {
-        /// Unit direction the light travels in.
-        direction: Vec3,
-        /// Irradiance E on a surface facing the light, linear RGB.
-        irradiance: Vec3,
-    },
-    /// A spot light as Mitsuba 3's `spot`: a point that emits `intensity` (W/sr) within
-    /// `beam_width` of its axis, falls off linearly in the angle from there to zero at
-    /// `cutoff_angle`, and is dark beyond ([`spot_falloff`]). Angles in degrees, as Mitsuba's
-    /// and pbrt's scene files give them.
-    Spot {
-        /// World-space position.
-        position: Vec3,
-        /// Unit direction of the cone's axis.
-        direction: Vec3,
-        /// Radiant intensity I on the axis, linear RGB (W/sr); power I [`spot_solid_angle`].
-        intensity: Vec3,
-        /// Half-angle of the lit cone, degrees, in (0, 180].
-        cutoff_angle: f32,
-        /// Half-angle of the cone of full intensity, degrees, >= 0; at or past
-        /// `cutoff_angle` the cone's edge is hard.
-        beam_width: f32,
-    },
-    /// Mitsuba 3's `constant` environment: the same radiance from every direction, at
-    /// infinity. A scene has at most one environment.
-    Constant {
-        /// Radiance L, linear RGB; power average(L) pi R^2 4 pi through the disk of radius R
-        /// that covers the scene's bounding sphere.
-        radiance: Vec3,
-    },
-    /// Mitsuba 3's `envmap`: radiance from an equirectangular image ([`envmap::Envmap`]),
-    /// at infinity; the scene's one environment.
-    Envmap(std::sync::Arc<envmap::Envmap>),
-}
-
-impl LightKind {
-    /// Whether the light is an environment (at infinity, around the whole scene).
-    pub fn is_environment(&self) -> bool {
-        matches!(self, LightKind::Constant { .. } | LightKind::Envmap(_))
-    }
-}
-
-/// Mitsuba 3's spot falloff (its `spot` plugin's `falloff_curve`, checked against Mitsuba
-/// 3.9.1): 1 for `theta` <= `beam`, (`cutoff` - `theta`) / (`cutoff` - `beam`) between,
-/// 0 from `cutoff` on. Angles in radians; `theta` from the axis.
-pub fn spot_falloff(theta: f64, cutoff: f64, beam: f64) -> f64 {
-    if theta >= cutoff {
-        0.0
-    } else if theta <= beam {
-        1.0
-    } else {
-        (cutoff - theta) / (cutoff - beam)
-    }
-}
-
-/// The integral of [`spot_falloff`] over the sphere of directions (steradians): a spot
-/// light's power is its intensity times this. With c the cutoff, b the beam width (at most
-/// c) and w = c - b, the cone of full intensity gives 2 pi (1 - cos b) and the ring of
-/// falloff 2 pi / w integral_b^c (c - theta) sin(theta) d theta = 2 pi (cos b - (sin c -
-/// sin b) / w), since (c - theta) sin(theta) has the antiderivative -(c - theta) cos(theta) -
-/// sin(theta). Angles in radians; the ring's term is summed by its series where w is small,
-/// where the closed form cancels.
-pub fn spot_solid_angle(cutoff: f64, beam: f64) -> f64 {
-    let b = beam.clamp(0.0, cutoff);
-    let w = cutoff - b;
-    let inner = 4.0 * std::f64::consts::PI * (0.5 * b).sin().powi(2);
-    // cos b - (sin c - sin b) / w = cos b - (sin(b + w) - sin b) / w
-    //   = cos b (1 - sin(w) / w) + sin b (1 - cos w) / w.
-    let (s, t) = if w < 1e-3 {
-        // 1 - sin(w) / w and (1 - cos w) / w by their Taylor series.
-        (w * w / 6.0 - w.powi(4) / 120.0, w / 2.0 - w.powi(3) / 24.0)
-    } else {
-        (1.0 - w.sin() / w, (1.0 - w.cos()) / w)
-    };
-    inner + 2.0 * std::f64::consts::PI * (b.cos() * s + b.sin() * t)
-}
-
-/// One `[[lights]]` entry (a point, directional, spot or constant environment light; area
-/// lights are shapes with `emission`).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Light {
-    /// The light's type and parameters.
-    pub kind: LightKind,
-    /// Line of the `[[lights]]` header.
-    pub line: usize,
-}
-
 /// A loaded, validated scene.
 #[derive(Clone, Debug)]
 pub struct Scene {
@@ -608,6 +515,32 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene of these settings, camera, materials (with the textures they name), lights and
+    /// media, without shapes: each reader adds its shapes and their primitives.
+    pub fn new(
+        path: PathBuf,
+        render: RenderSettings,
+        camera: Camera,
+        materials: Vec<Material>,
+        textures: Vec<Texture>,
+        lights: Vec<Light>,
+        media: Vec<Medium>,
+    ) -> Self {
+        Scene {
+            path,
+            render,
+            camera,
+            materials,
+            textures,
+            shapes: Vec::new(),
+            triangles: Vec::new(),
+            spheres: Vec::new(),
+            lights,
+            media,
+            inputs: Vec::new(),
+        }
+    }
+
     /// The box around every surface at rest (time 0); zero for a scene with no surfaces.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         let mut lo = Vec3::INFINITY;
@@ -631,14 +564,7 @@ impl Scene {
     /// Whether anything gives light: an emitting shape, or a point, spot, directional or
     /// environment light, with some channel above zero.
     pub fn is_lit(&self) -> bool {
-        self.shapes.iter().any(|s| s.emission.is_some_and(|e| e.max_element() > 0.0))
-            || self.lights.iter().any(|l| match &l.kind {
-                LightKind::Point { intensity: e, .. }
-                | LightKind::Directional { irradiance: e, .. }
-                | LightKind::Spot { intensity: e, .. }
-                | LightKind::Constant { radiance: e } => e.max_element() > 0.0,
-                LightKind::Envmap(m) => m.scale > 0.0 && m.texels.iter().any(|t| t.max_element() > 0.0),
-            })
+        self.shapes.iter().any(|s| emitter::emission_gives_light(s.emission)) || self.lights.iter().any(|l| l.kind.gives_light())
     }
 
     /// Material of a shape.

@@ -14,12 +14,12 @@ const SAMPLER_COSINE: u32 = 0u;
 const SAMPLER_GLOSSY: u32 = 1u;
 const SAMPLER_ROUGH_DIELECTRIC: u32 = 2u;
 const SAMPLER_LIGHT: u32 = 3u;
-// sample_plastic against plastic_eval's mixture density; a smooth coating's mirror samples go
+// plastic_sample against plastic_eval's mixture density; a smooth coating's mirror samples go
 // to the unusable samples, whose share must be its probability.
 const SAMPLER_PLASTIC: u32 = 4u;
-// sample_thin_dielectric: each sample's direction and weight, the densities left at 0.
+// thin_dielectric_sample: each sample's direction and weight, the densities left at 0.
 const SAMPLER_THIN_DIELECTRIC: u32 = 5u;
-// sample_dielectric (smooth), the same way.
+// smooth_dielectric_sample, the same way.
 const SAMPLER_SMOOTH_DIELECTRIC: u32 = 6u;
 // sample_phase (shared/medium.wgsl) against phase_hg, g in `alpha`, travelling along -wo.
 const SAMPLER_PHASE: u32 = 7u;
@@ -109,12 +109,12 @@ fn traced_light(p: vec3f, w: vec3f) -> vec2f {
     return vec2f(light_pdf(p, hit.prim_ref, s.shape, hit.t, cos_l), shapes[s.shape].emission.x);
 }
 
-// The glossy conductor under test.
+// The rough conductor under test.
 fn test_glossy() -> Material {
     let q = test_params;
     var m: Material;
     m.albedo = vec3f(q.albedo);
-    m.kind = MATERIAL_GLOSSY;
+    m.kind = MATERIAL_CONDUCTOR;
     m.roughness = q.alpha;
     m.texture = NO_TEXTURE;
     m.distribution = q.distribution;
@@ -165,13 +165,13 @@ fn test_density(w: vec3f) -> f32 {
             return max(0.0, dot(w, q.ns)) * INV_PI;
         }
         case SAMPLER_GLOSSY: {
-            return glossy_eval(test_glossy(), q.wo, w, q.ns).pdf;
+            return rough_conductor_eval(test_glossy(), q.wo, w, q.ns).pdf;
         }
         case SAMPLER_ROUGH_DIELECTRIC: {
             return rough_dielectric_eval(q.ior, q.alpha, test_beckmann(), q.wo, w, q.ng, q.ns, q.radiance != 0u).pdf;
         }
         case SAMPLER_PLASTIC: {
-            return plastic_eval(test_coated(MATERIAL_PLASTIC), vec3f(q.albedo), q.wo, w, q.ns).pdf;
+            return plastic_eval(test_coated(MATERIAL_PLASTIC), vec3f(q.albedo), test_surface(), q.wo, w).pdf;
         }
         case SAMPLER_PHASE: {
             return phase_hg(dot(-q.wo, w), q.alpha);
@@ -214,14 +214,14 @@ fn draw_sample(i: u32) {
             b = BsdfEval(vec3f(INV_PI), test_density(s.wi));
         }
         case SAMPLER_GLOSSY: {
-            s = sample_glossy(test_glossy(), -q.wo, q.ns, u.xy);
-            b = glossy_eval(test_glossy(), q.wo, s.wi, q.ns);
+            s = rough_conductor_sample(test_glossy(), -q.wo, q.ns, u.xy);
+            b = rough_conductor_eval(test_glossy(), q.wo, s.wi, q.ns);
         }
         case SAMPLER_PLASTIC: {
             // The sampled lobe's f and probability times density against the weight; the
             // mirror of a smooth coating (a delta) among the unusable samples.
             let m = test_coated(MATERIAL_PLASTIC);
-            let c = sample_plastic(m, m.albedo, -q.wo, test_surface(), u);
+            let c = plastic_sample(m, m.albedo, -q.wo, test_surface(), u, true);
             let n = select(-q.ns, q.ns, dot(q.wo, q.ns) > 0.0);
             let l = plastic_lobes(m, m.albedo, q.wo, c.wi, n);
             let delta = !c.diffuse && q.alpha == 0.0;
@@ -232,7 +232,8 @@ fn draw_sample(i: u32) {
             }
         }
         case SAMPLER_THIN_DIELECTRIC: {
-            s = sample_thin_dielectric(test_coated(MATERIAL_THIN_DIELECTRIC), -q.wo, test_surface(), u.x);
+            let m = test_coated(MATERIAL_THIN_DIELECTRIC);
+            s = thin_dielectric_sample(m, m.albedo, -q.wo, test_surface(), vec3f(0.0, 0.0, u.x), true);
         }
         case SAMPLER_PHASE: {
             // Its weight is p / pdf, no cosine: f = p / |cos| puts it in the host's f |cos| / pdf.
@@ -241,11 +242,11 @@ fn draw_sample(i: u32) {
             b = BsdfEval(vec3f(p / max(abs(dot(s.wi, q.ns)), 1e-30)), test_density(s.wi));
         }
         case SAMPLER_SMOOTH_DIELECTRIC: {
-            s = sample_dielectric(-q.wo, q.ng, q.ns, q.ior, u.x, q.radiance != 0u);
+            s = smooth_dielectric_sample(-q.wo, q.ng, q.ns, q.ior, u.x, q.radiance != 0u);
         }
         default: {
             let radiance = q.radiance != 0u;
-            s = sample_rough_dielectric(-q.wo, q.ng, q.ns, q.ior, q.alpha, test_beckmann(), u, radiance);
+            s = rough_dielectric_sample(-q.wo, q.ng, q.ns, q.ior, q.alpha, test_beckmann(), u, radiance);
             b = rough_dielectric_eval(q.ior, q.alpha, test_beckmann(), q.wo, s.wi, q.ng, q.ns, radiance);
         }
     }

@@ -570,7 +570,7 @@ fn cosine_hemisphere_sampling() {
 /// Gold's complex index of refraction as Mitsuba 3 gives it in RGB (`material = "Au"`).
 const GOLD: ([f32; 3], [f32; 3]) = ([0.143_036, 0.375_307, 1.442_05], [3.983, 2.385_56, 1.603_36]);
 
-/// sample_glossy against glossy_eval's pdf, for rough to nearly smooth microfacets of
+/// rough_conductor_sample against rough_conductor_eval's pdf, for rough to nearly smooth microfacets of
 /// `distribution` and incident directions from near the normal to grazing, and once from
 /// below the shading normal; with `fresnel`, gold's Fresnel term in the weights and values.
 fn glossy_tests(distribution: u32, fresnel: Option<([f32; 3], [f32; 3])>, first_seed: u32) {
@@ -619,7 +619,7 @@ fn beckmann_conductor_sampling() {
     glossy_tests(MICROFACET_BECKMANN, Some(GOLD), 300);
 }
 
-/// sample_rough_dielectric against rough_dielectric_eval's pdf, microfacets of `distribution`:
+/// rough_dielectric_sample against rough_dielectric_eval's pdf, microfacets of `distribution`:
 /// glass of index 1.5 entered and left, reflection and refraction, for radiance and for
 /// photons, and with a shading normal tilted off the geometric one.
 fn rough_dielectric_tests(distribution: u32, first_seed: u32) {
@@ -682,7 +682,7 @@ fn beckmann_rough_dielectric_sampling() {
     rough_dielectric_tests(MICROFACET_BECKMANN, 400);
 }
 
-/// sample_plastic against plastic_eval's mixture density, coatings of index 1.5 over a base
+/// plastic_sample against plastic_eval's mixture density, coatings of index 1.5 over a base
 /// of albedo 0.6: smooth (the mirror's samples, a delta, must make up its probability q of the
 /// whole), and rough of `distribution`, with the lobe each sample came from weighed against
 /// its f and probability times density; `nonlinear` in every other case. A rough coating's
@@ -752,7 +752,7 @@ fn beckmann_plastic_sampling() {
     plastic_tests(MICROFACET_BECKMANN, 600);
 }
 
-/// sample_thin_dielectric, a choice between two deltas: every sample is the mirror direction
+/// thin_dielectric_sample, a choice between two deltas: every sample is the mirror direction
 /// about ns or the incident direction unbent, weighted by the tints (0.9 reflected, 0.7
 /// transmitted), and the reflected share is the slab's R' = 2R / (1 + R), R = F(|cos|) at
 /// index 1.5, by Pearson's statistic on the two counts; from either side.
@@ -824,7 +824,7 @@ fn specular_pair(wo: DVec3, n: DVec3, eta: f64) -> (DVec3, Option<DVec3>, f64) {
     (mirror, Some(-wo / eta + (c / eta - ct) * n), 0.5 * (r_par * r_par + r_perp * r_perp))
 }
 
-/// sample_dielectric, the smooth dielectric, on a smooth-shaded surface (ns 25 degrees off
+/// smooth_dielectric_sample, the smooth dielectric, on a smooth-shaded surface (ns 25 degrees off
 /// ng): every sample is the mirror direction about ns with weight 1, or the refraction about
 /// ns by Snell's law with weight 1 / eta^2 for radiance and 1 for photons, and the reflected
 /// share is F(wo.ns) by Pearson's statistic, entering and leaving. Mitsuba 3's dielectric works

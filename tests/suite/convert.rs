@@ -90,8 +90,7 @@ fn converted_scenes_load_back_to_the_same_scene() {
             let untextured = |k: &MaterialKind| {
                 let mut k = k.clone();
                 if let MaterialKind::Diffuse { texture, .. }
-                | MaterialKind::Mirror { texture, .. }
-                | MaterialKind::Glossy { texture, .. }
+                | MaterialKind::Conductor { texture, .. }
                 | MaterialKind::Plastic { texture, .. } = &mut k
                 {
                     *texture = texture.map(|_| 0);

@@ -22,6 +22,7 @@ mod convert;
 mod cwbvh;
 mod device_errors;
 mod direct_light;
+mod dispatch;
 mod docs_links;
 mod embed;
 mod environment;

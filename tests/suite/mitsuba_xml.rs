@@ -86,8 +86,14 @@ fn box_scene_reads_as_mitsuba_defines_it() {
     assert!((small.center - Vec3::new(0.35, 0.2, -0.45)).length() < 1e-6);
     let kinds: Vec<_> =
         s.spheres.iter().map(|sp| s.materials[s.shapes[sp.shape as usize].material as usize].kind.clone()).collect();
-    assert!(kinds.contains(&MaterialKind::Mirror { albedo: Vec3::splat(0.9), texture: None, fresnel: None }));
-    assert!(kinds.contains(&MaterialKind::Glossy {
+    assert!(kinds.contains(&MaterialKind::Conductor {
+        albedo: Vec3::splat(0.9),
+        texture: None,
+        roughness: 0.0,
+        distribution: Microfacet::Ggx,
+        fresnel: None
+    }));
+    assert!(kinds.contains(&MaterialKind::Conductor {
         albedo: Vec3::new(0.95, 0.75, 0.4),
         texture: None,
         roughness: 0.25,
@@ -742,11 +748,20 @@ fn metals_scene_reads_conductors_and_beckmann() {
         s.materials[s.shapes[sp.shape as usize].material as usize].kind.clone()
     };
     let gold = ComplexIor { eta: Vec3::new(0.143036, 0.375307, 1.44205), k: Vec3::new(3.983, 2.38556, 1.60336) };
-    assert_eq!(sphere(-0.5), MaterialKind::Mirror { albedo: Vec3::ONE, texture: None, fresnel: Some(gold) });
+    assert_eq!(
+        sphere(-0.5),
+        MaterialKind::Conductor {
+            albedo: Vec3::ONE,
+            texture: None,
+            roughness: 0.0,
+            distribution: Microfacet::Ggx,
+            fresnel: Some(gold)
+        }
+    );
     let copper = ComplexIor { eta: Vec3::new(0.201005, 0.92375, 1.10222), k: Vec3::new(3.91326, 2.45305, 2.14209) };
     assert_eq!(
         sphere(-0.4),
-        MaterialKind::Glossy {
+        MaterialKind::Conductor {
             albedo: Vec3::ONE,
             texture: None,
             roughness: 0.2,
@@ -757,7 +772,7 @@ fn metals_scene_reads_conductors_and_beckmann() {
     let given = ComplexIor { eta: Vec3::new(1.66, 0.88, 0.52), k: Vec3::new(9.22, 6.27, 4.84) };
     assert_eq!(
         sphere(0.45),
-        MaterialKind::Glossy {
+        MaterialKind::Conductor {
             albedo: Vec3::new(0.9, 0.8, 0.9),
             texture: None,
             roughness: 0.3,
@@ -783,7 +798,7 @@ fn metals_scene_reads_conductors_and_beckmann() {
     let kind = &s.materials[s.shapes[1].material as usize].kind;
     assert_eq!(
         kind,
-        &MaterialKind::Glossy {
+        &MaterialKind::Conductor {
             albedo: Vec3::ONE,
             texture: None,
             roughness: 0.1,
@@ -1599,10 +1614,12 @@ fn mitsuba_0_6_plugins_map_warn_or_refuse_each_parameter() {
     let (s, keys, _) = legacy_load("ext-eta", conductor, &[]);
     assert!(keys.is_empty(), "{keys:?}");
     let s = s.unwrap_or_else(|e| panic!("{e}"));
-    let MaterialKind::Mirror { fresnel: Some(ComplexIor { eta, k }), .. } = s.materials[s.shapes[1].material as usize].kind
+    let MaterialKind::Conductor { roughness, fresnel: Some(ComplexIor { eta, k }), .. } =
+        s.materials[s.shapes[1].material as usize].kind
     else {
         panic!("{:?}", s.materials)
     };
+    assert_eq!(roughness, 0.0);
     assert!(
         (eta - Vec3::splat(0.2)).abs().max_element() < 1e-6 && (k - Vec3::splat(2.0)).abs().max_element() < 1e-6,
         "{eta} {k}"

@@ -167,7 +167,7 @@ chrome = { type = "mirror", albedo = [0.9, 0.9, 0.9] }
     let kinds: Vec<&MaterialKind> = scene.materials.iter().map(|m| &m.kind).collect();
     assert_eq!(
         kinds[1],
-        &MaterialKind::Glossy {
+        &MaterialKind::Conductor {
             albedo: Vec3::new(1.0, 0.78, 0.34),
             texture: None,
             roughness: 0.2,
@@ -179,7 +179,16 @@ chrome = { type = "mirror", albedo = [0.9, 0.9, 0.9] }
     let ggx = Microfacet::Ggx;
     assert_eq!(kinds[2], &MaterialKind::Dielectric { ior: 1.5, roughness: 0.0, distribution: ggx, reflectance, transmittance });
     assert_eq!(kinds[3], &MaterialKind::Dielectric { ior: 1.31, roughness: 0.15, distribution: ggx, reflectance, transmittance });
-    assert_eq!(kinds[4], &MaterialKind::Mirror { albedo: Vec3::splat(0.9), texture: None, fresnel: None });
+    assert_eq!(
+        kinds[4],
+        &MaterialKind::Conductor {
+            albedo: Vec3::splat(0.9),
+            texture: None,
+            roughness: 0.0,
+            distribution: Microfacet::Ggx,
+            fresnel: None
+        }
+    );
     assert_eq!(scene.materials[4].line, 16);
 }
 
@@ -745,7 +754,7 @@ fn materials_lights_and_crop_beyond_v1() {
     let half = Vec3::splat(0.5);
     assert_eq!(
         material(r#"{ type = "glossy", albedo = [0.5, 0.5, 0.5], roughness = 0.2, distribution = "beckmann", eta = [0.2, 0.9, 1.1], k = [3, 2.5, 2] }"#).unwrap(),
-        MaterialKind::Glossy {
+        MaterialKind::Conductor {
             albedo: half,
             texture: None,
             roughness: 0.2,
@@ -926,8 +935,8 @@ fn a_single_number_is_a_grey_colour() {
     let material = |m: &str| load_ok(&edit("{ type = \"diffuse\", albedo = [0.5, 0.5, 0.5] }", m)).materials[0].kind.clone();
     assert_eq!(material("{ type = \"diffuse\", albedo = 0.6 }").albedo(), Some((grey, None)));
     match material("{ type = \"mirror\", albedo = 1, eta = 0.2, k = 3 }") {
-        MaterialKind::Mirror { albedo, fresnel: Some(f), .. } => {
-            assert_eq!((albedo, f.eta, f.k), (Vec3::ONE, Vec3::splat(0.2), Vec3::splat(3.0)))
+        MaterialKind::Conductor { albedo, roughness, fresnel: Some(f), .. } => {
+            assert_eq!((albedo, roughness, f.eta, f.k), (Vec3::ONE, 0.0, Vec3::splat(0.2), Vec3::splat(3.0)))
         }
         other => panic!("{other:?}"),
     }

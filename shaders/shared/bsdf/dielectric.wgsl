@@ -19,17 +19,19 @@
 #import bsdf/fresnel
 #import bsdf/microfacet
 
-// The dielectrics the scene has (src/gpu/features.rs).
+const MATERIAL_DIELECTRIC: u32 = 2u;
+
+// The scene has smooth dielectrics; rough ones (src/scene/material/dielectric.rs).
 override USES_SMOOTH_DIELECTRIC: bool = true;
 override USES_ROUGH_DIELECTRIC: bool = true;
 
-// Sample a smooth dielectric from direction of travel d at geometric normal ng and shading
+// The smooth lobes: sample a smooth dielectric from direction of travel d at geometric normal ng and shading
 // normal ns. Reflection or refraction is chosen with the Fresnel probability, so the weight
 // is 1, times 1 / eta^2 for refracted radiance (pbrt-v4 sec. 9.5.2); photons carry flux and
 // are not scaled. The side comes from ng, the law from ns, as in the rough case: Mitsuba 3's
 // dielectric works in the shading frame, so a smooth-shaded mesh refracts smoothly, not by
 // its facets. A direction at or below ns's horizon ends the path.
-fn sample_dielectric(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, u: f32, radiance: bool) -> BsdfSample {
+fn smooth_dielectric_sample(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, u: f32, radiance: bool) -> BsdfSample {
     let entering = dot(d, ng) < 0.0;
     let n = select(-ns, ns, entering);
     let eta = select(1.0 / ior, ior, entering);
@@ -48,11 +50,11 @@ fn sample_dielectric(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, u: f32, radiance:
     return bsdf_specular(wt, vec3f(scale));
 }
 
-// Sample a rough dielectric (Walter et al. 2007) from direction of travel d. A visible normal
+// The rough lobes: sample a rough dielectric (Walter et al. 2007) from direction of travel d. A visible normal
 // h is drawn, then reflection or refraction through h with the Fresnel probability, so the
 // weight is G1(wi) (times visible_g1_ratio for Beckmann), times 1 / eta^2 for refracted
 // radiance as in the smooth case.
-fn sample_rough_dielectric(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, alpha_in: f32, beckmann: bool, u: vec3f, radiance: bool) -> BsdfSample {
+fn rough_dielectric_sample(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, alpha_in: f32, beckmann: bool, u: vec3f, radiance: bool) -> BsdfSample {
     let alpha = max(alpha_in, MIN_ALPHA);
     let entering = dot(d, ng) < 0.0;
     let n = select(-ns, ns, entering);
@@ -92,13 +94,13 @@ fn sample_rough_dielectric(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, alpha_in: f
 }
 
 // Sample dielectric m at s from direction of travel d, u in [0, 1)^3.
-fn dielectric_sample(m: Material, d: vec3f, s: Surface, u: vec3f, radiance: bool) -> BsdfSample {
+fn dielectric_sample(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f, radiance: bool) -> BsdfSample {
     var next = bsdf_absorbed(d);
     if USES_ROUGH_DIELECTRIC && m.roughness > 0.0 {
-        next = sample_rough_dielectric(d, s.ng, s.ns, m.ior, m.roughness, is_beckmann(m), u, radiance);
+        next = rough_dielectric_sample(d, s.ng, s.ns, m.ior, m.roughness, is_beckmann(m), u, radiance);
     }
     if USES_SMOOTH_DIELECTRIC && m.roughness == 0.0 {
-        next = sample_dielectric(d, s.ng, s.ns, m.ior, u.z, radiance);
+        next = smooth_dielectric_sample(d, s.ng, s.ns, m.ior, u.z, radiance);
     }
     // Each lobe's factor (1 and 1 unless a scene asks otherwise), sampled as before.
     next.weight *= select(m.transmittance, m.specular, dot(next.wi, s.ng) * dot(d, s.ng) < 0.0);
@@ -107,7 +109,7 @@ fn dielectric_sample(m: Material, d: vec3f, s: Surface, u: vec3f, radiance: bool
 
 // Rough dielectric m's f (radiance) and dielectric_sample's density, with each lobe's factor
 // as dielectric_sample applies it.
-fn dielectric_eval(m: Material, s: Surface, wo: vec3f, wi: vec3f) -> BsdfEval {
+fn dielectric_eval(m: Material, albedo: vec3f, s: Surface, wo: vec3f, wi: vec3f) -> BsdfEval {
     var b = rough_dielectric_eval(m.ior, m.roughness, is_beckmann(m), wo, wi, s.ng, s.ns, true);
     b.f *= select(m.transmittance, m.specular, dot(wi, s.ng) * dot(wo, s.ng) > 0.0);
     return b;
@@ -125,7 +127,7 @@ fn refraction_eta2(m: Material, s: Surface, d: vec3f, wi: vec3f) -> f32 {
     return eta * eta;
 }
 
-// The rough dielectric's f and sample_rough_dielectric's density, for wo and wi pointing away
+// The rough dielectric's f and rough_dielectric_sample's density, for wo and wi pointing away
 // from the surface. As in the sampler, ng tells which side wo is on, the microfacets are about
 // ns turned to that side, and eta is the index of the side wo is not on over the one it is.
 // Reflection (wi.n > 0), h = normalize(wo + wi) (Walter et al. 2007, eq. 13):

@@ -11,16 +11,19 @@
 #import scene
 #import bsdf/lobe
 
-// Sample diffuse m of reflectance albedo at s from direction of travel d, u in [0, 1)^2.
-fn diffuse_sample(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec2f) -> BsdfSample {
+const MATERIAL_DIFFUSE: u32 = 0u;
+
+// Sample diffuse m of reflectance albedo at s from direction of travel d, u in [0, 1)^3 (u.xy
+// used).
+fn diffuse_sample(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f, radiance: bool) -> BsdfSample {
     let n_in = select(-s.ns, s.ns, dot(d, s.ng) < 0.0);
-    let wi = sample_cosine_hemisphere(n_in, u);
+    let wi = sample_cosine_hemisphere(n_in, u.xy);
     // A shading normal can send wi through the surface, or behind a one-sided ns.
     let ok = dot(wi, s.ng) * dot(d, s.ng) < 0.0 && !one_sided_culls(m, s, wi);
     return BsdfSample(wi, select(vec3f(0.0), albedo, ok), abs(dot(wi, s.ns)) * INV_PI, true, albedo * INV_PI);
 }
 
 // f and diffuse_sample's density of wi.
-fn diffuse_eval(albedo: vec3f, s: Surface, wi: vec3f) -> BsdfEval {
+fn diffuse_eval(m: Material, albedo: vec3f, s: Surface, wo: vec3f, wi: vec3f) -> BsdfEval {
     return BsdfEval(albedo * INV_PI, abs(dot(wi, s.ns)) * INV_PI);
 }

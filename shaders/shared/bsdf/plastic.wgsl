@@ -28,7 +28,9 @@
 #import bsdf/fresnel
 #import bsdf/microfacet
 
-// Some plastic has a smooth coating; some has a rough one (src/gpu/features.rs).
+const MATERIAL_PLASTIC: u32 = 4u;
+
+// Some plastic has a smooth coating; some has a rough one (src/scene/material/plastic.rs).
 override USES_PLASTIC: bool = true;
 override USES_ROUGH_PLASTIC: bool = true;
 
@@ -90,7 +92,7 @@ fn plastic_lobes(m: Material, albedo: vec3f, wo: vec3f, wi: vec3f, n: vec3f) -> 
     out.base = BsdfEval(plastic_base(m, albedo) * (t_o * coat_transmittance(m, cos_i)), (1.0 - q) * cos_i * INV_PI);
     if rough_coat(m) {
         // Walter et al. 2007, eq. 20, and the visible-normal density over the reflection's
-        // Jacobian, G1(wo) D / (4 cos_o), its G1 the exact one (as glossy_eval).
+        // Jacobian, G1(wo) D / (4 cos_o), its G1 the exact one (as rough_conductor_eval).
         let alpha = max(m.roughness, MIN_ALPHA);
         let beckmann = is_beckmann(m);
         let h = normalize(wo + wi);
@@ -108,8 +110,8 @@ fn plastic_lobes(m: Material, albedo: vec3f, wo: vec3f, wi: vec3f, n: vec3f) -> 
 }
 
 // Plastic m's f (both lobes) and the sampler's density of wi, for next-event estimation.
-fn plastic_eval(m: Material, albedo: vec3f, wo: vec3f, wi: vec3f, ns: vec3f) -> BsdfEval {
-    let n = select(-ns, ns, dot(wo, ns) > 0.0);
+fn plastic_eval(m: Material, albedo: vec3f, s: Surface, wo: vec3f, wi: vec3f) -> BsdfEval {
+    let n = select(-s.ns, s.ns, dot(wo, s.ns) > 0.0);
     let l = plastic_lobes(m, albedo, wo, wi, n);
     return BsdfEval(l.coat.f + l.base.f, l.coat.pdf + l.base.pdf);
 }
@@ -117,13 +119,13 @@ fn plastic_eval(m: Material, albedo: vec3f, wo: vec3f, wi: vec3f, ns: vec3f) -> 
 // Sample plastic m at s from direction of travel d (camera paths and photons alike): a lobe
 // with probability q (the coating) or 1 - q (the base), then its direction. Coating: the mirror
 // direction, weight specular F(cos_o) / q (plastic.cpp); rough, a visible normal h, weight
-// specular F(wo.h) G1(wi) / q (times visible_g1_ratio for Beckmann, as sample_glossy). Base: a
+// specular F(wo.h) G1(wi) / q (times visible_g1_ratio for Beckmann, as rough_conductor_sample). Base: a
 // cosine-distributed direction, weight pi f_base / (1 - q); there SPPM's visible point weighs
 // f_base / t(cos_i) over the base's probability, albedo / (1 - [albedo] Fdr) / (pi eta^2)
 // t(cos_o) / (1 - q): a photon arriving at cos_i brings t(cos_i) (plastic_deposit), so that
 // the point gathers f_base times the flux. The density is the mixture's (0 after a smooth
 // coating's mirror).
-fn sample_plastic(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f) -> BsdfSample {
+fn plastic_sample(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f, radiance: bool) -> BsdfSample {
     let wo = -d;
     let n = select(-s.ns, s.ns, dot(wo, s.ns) > 0.0);
     let cos_o = dot(wo, n);
@@ -171,7 +173,7 @@ fn sample_plastic(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f) ->
 }
 
 // What a photon arriving along d at plastic m brings to the visible points around it: t(cos_i)
-// of its flux, the part of f_base that depends on its direction (see sample_plastic).
+// of its flux, the part of f_base that depends on its direction (see plastic_sample).
 fn plastic_deposit(m: Material, s: Surface, d: vec3f) -> f32 {
     return coat_transmittance(m, abs(dot(d, s.ns)));
 }

@@ -12,7 +12,9 @@
 #import bsdf/lobe
 #import bsdf/fresnel
 
-// Some material is a thin dielectric or null (src/gpu/features.rs).
+const MATERIAL_THIN_DIELECTRIC: u32 = 5u;
+
+// Some material is a thin dielectric or null (src/scene/material/thin_dielectric.rs).
 override USES_THIN_DIELECTRIC: bool = true;
 
 // Sample thin dielectric m (Mitsuba 3's thindielectric) from direction of travel d at s:
@@ -20,10 +22,10 @@ override USES_THIN_DIELECTRIC: bool = true;
 // R = F(|cos|) at its index (thindielectric.cpp), else pass straight through, unbent. The
 // branch is chosen with its probability, so the weights are the tints; flux and radiance alike,
 // since nothing refracts. A reflection about ns that crosses ng ends the path.
-fn sample_thin_dielectric(m: Material, d: vec3f, s: Surface, u: f32) -> BsdfSample {
+fn thin_dielectric_sample(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f, radiance: bool) -> BsdfSample {
     // Index 1 (Mitsuba's null BSDF) reflects nothing; exactly, not by Fresnel's roundoff.
     let r = select(fresnel_dielectric(abs(dot(d, s.ns)), m.ior), 0.0, m.ior == 1.0);
-    if u < 2.0 * r / (1.0 + r) {
+    if u.z < 2.0 * r / (1.0 + r) {
         let n = select(-s.ns, s.ns, dot(d, s.ns) < 0.0);
         let wi = reflect(d, n);
         let weight = select(vec3f(0.0), m.specular, dot(wi, s.ng) * dot(d, s.ng) < 0.0);

@@ -66,7 +66,7 @@ pub fn check_radius(scene: &Scene, radius: f32) -> Result<(), Error> {
     }
     let (least, most) = (1e-6 * diagonal, 10.0 * diagonal);
     if !(least..=most).contains(&radius) {
-        let shown = crate::gpu::scene_buffers::number(radius);
+        let shown = crate::scene::number(radius);
         return Err(Error::Setting(format!(
             "{}: radius {shown} is outside what SPPM can estimate with in this scene (diagonal {diagonal:.4}): from a \
              millionth of the diagonal ({least:.3e}: below it the disc is under the positions' precision and its area \

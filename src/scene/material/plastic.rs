@@ -1,14 +1,28 @@
-//! Plastics (`plastic`; Mitsuba's `plastic` and `roughplastic`): a dielectric coating, smooth
-//! or of microfacets, over a Lambertian base, with the light trapped between them summed
-//! ([`crate::scene::coating`] computes what the kernels look up). Parameters: `albedo`
-//! (diffuse_reflectance) or a texture in its place; `specular` (specular_reflectance); `ior`
-//! of the coating; `roughness` (alpha, 0 smooth) and `distribution`; `nonlinear`;
-//! `one_sided`. Kernel: `shaders/shared/bsdf/plastic.wgsl`.
+//! Plastics (`plastic` in TOML; Mitsuba 3's `plastic` and `roughplastic`): a dielectric
+//! coating, smooth (roughness 0) or of microfacets, over a Lambertian base, with the light
+//! trapped between them summed ([`crate::scene::coating`] computes what the kernels look up:
+//! Fdr, and a rough coating's transmittance table).
+//!
+//! Parameters: `albedo` (Mitsuba's `diffuse_reflectance`, 0.5), linear RGB in [0, 1], or a
+//! `texture` in its place; `specular` in [0, 1] (`specular_reflectance`, 1); `ior` > 0 of the
+//! coating (`int_ior` / `ext_ior`, polypropylene over air), other than 1 for a rough coating;
+//! `roughness` (alpha in [0, 1], 0 smooth; Mitsuba's `alpha`, 0.1) and `distribution`;
+//! `nonlinear` (false); `one_sided`.
+//! Kernel: `shaders/shared/bsdf/plastic.wgsl`.
 
-use super::{microfacet, put_float, put_str, put_vec3, Features, GpuMaterial, Microfacet, Named, Table, Value, Vec3};
-use crate::layout::{MATERIAL_PLASTIC, MICROFACET_BECKMANN, NO_TEXTURE};
+use super::{
+    microfacet, put_float, put_str, put_vec3, read_albedo, read_distribution, read_tint, Features, GpuMaterial, MaterialKind,
+    Microfacet, MitsubaBsdf, MitsubaPlugins, Named, Result, TomlType,
+};
+use crate::layout::{MICROFACET_BECKMANN, NO_TEXTURE};
 use crate::scene::coating::{fresnel_diffuse_reflectance, rough_coating, RoughCoating};
+use crate::scene::param::{self, Bound, Invalid, UNIT};
+use crate::scene::toml_table::{Table, Value};
 use crate::scene::Texture;
+use glam::Vec3;
+
+/// [`GpuMaterial::kind`] of a plastic, its coating smooth (roughness 0) or rough.
+pub const MATERIAL_PLASTIC: u32 = 4;
 
 /// The plastic's parameters, as [`super::MaterialKind::Plastic`] holds them.
 pub(super) struct Plastic {
@@ -19,6 +33,79 @@ pub(super) struct Plastic {
     pub roughness: f32,
     pub distribution: Microfacet,
     pub nonlinear: bool,
+}
+
+pub(super) const TOML: TomlType = TomlType {
+    name: "plastic",
+    keys: &["albedo", "texture", "specular", "ior", "roughness", "distribution", "nonlinear"],
+    read: read_toml,
+};
+
+fn read_toml(t: &Table, textures: &mut Vec<Texture>) -> Result<MaterialKind> {
+    let (albedo, texture) = read_albedo(t, textures)?;
+    Ok(MaterialKind::Plastic {
+        albedo,
+        texture,
+        specular: read_tint(t, "specular")?,
+        ior: t.req("ior", |v| v.f32_in(Bound::Any))?,
+        roughness: t.or("roughness", 0.0, |v| v.f32_in(Bound::Any))?,
+        distribution: read_distribution(t)?,
+        nonlinear: t.or("nonlinear", false, Value::bool)?,
+    })
+}
+
+pub(super) const MITSUBA: MitsubaPlugins = MitsubaPlugins {
+    names: &["plastic", "roughplastic"],
+    read: from_mitsuba,
+    params: &[
+        ("albedo", "diffuse_reflectance"),
+        ("specular", "specular_reflectance"),
+        ("ior", "int_ior"),
+        ("roughness", "alpha"),
+    ],
+};
+
+fn from_mitsuba(p: &mut dyn MitsubaBsdf, plugin: &str) -> Result<MaterialKind> {
+    let rough = plugin == "roughplastic";
+    let ior = p.ior("int_ior", 1.49)? / p.ior("ext_ior", 1.000277)?;
+    // Mitsuba refuses a rough coating of matched indices; a smooth one is then invisible, and
+    // allowed.
+    if !(ior.is_finite() && ior > 0.0) || (ior == 1.0 && rough) {
+        return Err(p.error("int_ior", format!("int_ior / ext_ior = {ior}: an interface needs two different indices")));
+    }
+    let (albedo, texture) = p.reflectance("diffuse_reflectance", 0.5)?;
+    let specular = p.constant_reflectance("specular_reflectance", 1.0)?;
+    let nonlinear = p.boolean_or("nonlinear", false)?;
+    let (roughness, distribution) = if rough { p.microfacets()? } else { (0.0, Microfacet::Ggx) };
+    Ok(MaterialKind::Plastic { albedo, texture, specular, ior, roughness, distribution, nonlinear })
+}
+
+pub(super) fn check(p: &Plastic) -> std::result::Result<(), Invalid> {
+    param::rgb("albedo", p.albedo, UNIT)?;
+    param::rgb("specular", p.specular, UNIT)?;
+    param::float("ior", p.ior, Bound::Positive)?;
+    param::float("roughness", p.roughness, UNIT)?;
+    if p.ior == 1.0 && p.roughness > 0.0 {
+        return Err(Invalid::new("ior", "a rough coating needs an index other than 1"));
+    }
+    Ok(())
+}
+
+pub(super) fn describe(roughness: f32) -> &'static str {
+    if roughness > 0.0 {
+        "rough plastic"
+    } else {
+        "plastic"
+    }
+}
+
+pub(super) fn toml_keys(t: &mut toml::Table, p: &Plastic) {
+    put_str(t, "type", "plastic");
+    put_vec3(t, "specular", p.specular);
+    put_float(t, "ior", p.ior);
+    put_float(t, "roughness", p.roughness);
+    put_str(t, "distribution", p.distribution.name());
+    t.insert("nonlinear".into(), toml::Value::Boolean(p.nonlinear));
 }
 
 /// On the GPU (Mitsuba 3's `parameters_changed`): the probability weight of its coating's
@@ -70,26 +157,10 @@ fn rough_coating_cached(ior: f32, alpha: f32, distribution: Microfacet) -> Rough
     c
 }
 
+/// `USES_PLASTIC` and `USES_ROUGH_PLASTIC` (a smooth and a rough coating), `USES_BECKMANN`.
 pub(super) fn turn_on(m: &GpuMaterial, f: &mut Features) {
-    let rough = m.kind == MATERIAL_PLASTIC && m.roughness > 0.0;
-    f.plastic |= m.kind == MATERIAL_PLASTIC && m.roughness == 0.0;
+    let rough = m.roughness > 0.0;
+    f.plastic |= !rough;
     f.rough_plastic |= rough;
     f.beckmann |= rough && m.distribution == MICROFACET_BECKMANN;
-}
-
-pub(super) fn describe(roughness: f32) -> &'static str {
-    if roughness > 0.0 {
-        "rough plastic"
-    } else {
-        "plastic"
-    }
-}
-
-pub(super) fn toml_keys(t: &mut Table, p: &Plastic) {
-    put_str(t, "type", "plastic");
-    put_vec3(t, "specular", p.specular);
-    put_float(t, "ior", p.ior);
-    put_float(t, "roughness", p.roughness);
-    put_str(t, "distribution", p.distribution.name());
-    t.insert("nonlinear".into(), Value::Boolean(p.nonlinear));
 }

@@ -1,31 +1,19 @@
-//! Mitsuba 3's BSDF plugins, as our materials. Each plugin's parameters and defaults are
-//! Mitsuba 3's (its plugin reference, "BSDFs"):
+//! Mitsuba 3's BSDF plugins, as our materials: `twosided` (one nested BSDF, seen the same from
+//! both sides; every other BSDF here but the dielectrics is black seen from behind its shading
+//! normal, [`Material::one_sided`]) and the default BSDF of a shape without one are read here;
+//! every other plugin by its family in [`crate::scene::material`], whose file documents its
+//! plugins' parameters and defaults (Mitsuba 3's plugin reference, "BSDFs"). This file gives
+//! the families Mitsuba's types ([`MitsubaBsdf`]):
 //!
-//! - `diffuse`: `reflectance` (0.5; a colour or a texture, texture.rs). Lambertian, albedo / pi.
-//! - `twosided`: one nested BSDF, seen the same from both sides. Every other BSDF here but the
-//!   dielectrics is black seen from behind its shading normal ([`Material::one_sided`]).
-//! - `dielectric`: `int_ior` (`bk7`, 1.5046), `ext_ior` (`air`, 1.000277), each a number or a
-//!   named medium; our `ior` is their ratio. Smooth Fresnel reflection and refraction.
-//! - `roughdielectric`: as `dielectric`, with `distribution` (`beckmann` or `ggx`; Mitsuba's
-//!   default `beckmann`) and `alpha` (0.1); Walter et al. 2007 sampled by visible normals.
-//! - `conductor`: `material` (`none`: eta 0, k 1, a perfect mirror; or one of Mitsuba's named
-//!   metals, [`NAMED_CONDUCTORS`]) or `eta` (0) and `k` (1), not both, and
-//!   `specular_reflectance` (1; a colour or a texture): reflectance times the conductor
-//!   Fresnel term of eta + i k. Mitsuba 3's conductors have no `ext_eta`.
-//! - `roughconductor`: as `conductor`, with `distribution` (`beckmann`) and `alpha` (0.1), the
-//!   Fresnel term taken at the microfacet normal.
-//! - `plastic`: `diffuse_reflectance` (0.5), `specular_reflectance` (1), `nonlinear`
-//!   (false), `int_ior` (`polypropylene`, 1.49), `ext_ior` (`air`): a smooth dielectric
-//!   coating over a Lambertian base, the light trapped inside summed (Fdr by Mitsuba's fit;
-//!   `nonlinear` darkens and saturates the base by 1 / (1 - reflectance Fdr) rather than
-//!   1 / (1 - Fdr)), the coating's lobe sampled with Mitsuba's `specular_sampling_weight`
-//!   ([`crate::scene::coating`], `shaders/shared/bsdf/plastic.wgsl`).
-//! - `roughplastic`: as `plastic`, with `distribution` (`beckmann`) and `alpha` (0.1) for the
-//!   coating's microfacets; the base sees the rough coating's transmittance, tabulated at load
-//!   as Mitsuba 3 does. Refused for int_ior = ext_ior, as Mitsuba does.
-//! - `thindielectric`: `int_ior` (`bk7`), `ext_ior` (`air`), `specular_reflectance` (1) and
-//!   `specular_transmittance` (1): a slab reflecting with its summed reflectance 2R / (1 + R)
-//!   and transmitting the rest straight through; two-sided.
+//! - reflectances: colours in [0, 1], or textures where sppm-gpu textures them (texture.rs: a
+//!   diffuse `reflectance`, a plastic's `diffuse_reflectance`, a conductor's
+//!   `specular_reflectance`);
+//! - indices of refraction: numbers >= 1 or Mitsuba's named media ([`NAMED_IOR`]);
+//! - a rough plugin's `distribution` (`beckmann`, Mitsuba's default, or `ggx`) and isotropic
+//!   `alpha` (0.1, more than 0); `sample_visible` changes only the noise;
+//! - a conductor's `material` (`none`: eta 0, k 1, a perfect mirror; or one of Mitsuba's named
+//!   metals, [`NAMED_CONDUCTORS`]) or `eta` (0) and `k` (1), not both. Mitsuba 3's conductors
+//!   have no `ext_eta`.
 //!
 //! In a 0.x scene, Mitsuba 0.6's parameters too: `ensure_energy_conservation` of every BSDF
 //! (true: Mitsuba 0.6 scales down a reflectance above 1, which is refused here unless it is
@@ -34,7 +22,8 @@
 
 use super::props::{Props, Spectrum};
 use super::xml::Node;
-use super::{Result, SceneReader};
+use super::{Result, SceneError, SceneReader};
+use crate::scene::material::{self, MitsubaBsdf};
 use crate::scene::{ComplexIor, Material, MaterialKind, Microfacet};
 use glam::Vec3;
 
@@ -196,7 +185,8 @@ impl<'a> SceneReader<'a> {
         Ok(index)
     }
 
-    /// A BSDF element's scattering model and whether it is one-sided.
+    /// A BSDF element's scattering model and whether it is one-sided: `twosided` here, every
+    /// other plugin by its family ([`material::from_mitsuba`]).
     fn bsdf(&mut self, node: &'a Node) -> Result<(MaterialKind, bool)> {
         node.allow_attrs(&["type", "id", "name"])?;
         let kind = node.req_attr("type")?;
@@ -204,94 +194,84 @@ impl<'a> SceneReader<'a> {
         if node.legacy() {
             p.boolean_or("ensure_energy_conservation", true)?;
         }
-        let model = match kind {
-            "twosided" => {
-                let inner = p.all_objects();
-                let [inner] = inner.as_slice() else {
-                    return Err(node.error(
-                        None,
-                        format!("a twosided BSDF with {} nested BSDFs: sppm-gpu reads one, used on both sides", inner.len()),
-                    ));
-                };
-                let inner = self.deref(inner, "bsdf")?;
-                if inner.tag != "bsdf" || inner.attr("type") == Some("twosided") {
-                    return Err(inner.error(None, "twosided wraps one BSDF that is not itself twosided"));
-                }
-                p.finish()?;
-                let (model, _) = self.bsdf(inner)?;
-                return Ok((model, false));
+        if kind == "twosided" {
+            let inner = p.all_objects();
+            let [inner] = inner.as_slice() else {
+                return Err(node.error(
+                    None,
+                    format!("a twosided BSDF with {} nested BSDFs: sppm-gpu reads one, used on both sides", inner.len()),
+                ));
+            };
+            let inner = self.deref(inner, "bsdf")?;
+            if inner.tag != "bsdf" || inner.attr("type") == Some("twosided") {
+                return Err(inner.error(None, "twosided wraps one BSDF that is not itself twosided"));
             }
-            "diffuse" => {
-                // Mitsuba 0.6's diffuse takes its reflectance under either name.
-                let legacy_name = node.legacy() && !p.has("reflectance") && p.has("diffuse_reflectance");
-                let name = if legacy_name { "diffuse_reflectance" } else { "reflectance" };
-                let (albedo, texture) = self.reflectance(&p, name, 0.5)?;
-                MaterialKind::Diffuse { albedo, texture }
+            p.finish()?;
+            let (model, _) = self.bsdf(inner)?;
+            return Ok((model, false));
+        }
+        let model = match material::from_mitsuba(kind, &mut BsdfProps { reader: self, p: &p }) {
+            Some(model) => model?,
+            None if NOT_YET.contains(&kind) => {
+                return Err(node.error(Some("type"), format!("the `{kind}` BSDF is not modelled by sppm-gpu yet")))
             }
-            "dielectric" | "roughdielectric" => {
-                let ior = ior(&p, "int_ior", 1.5046)? / ior(&p, "ext_ior", 1.000277)?;
-                if !(ior.is_finite() && ior > 0.0) || ior == 1.0 {
-                    return Err(node
-                        .error(Some("int_ior"), format!("int_ior / ext_ior = {ior}: an interface needs two different indices")));
-                }
-                let reflectance = constant_reflectance(&p, "specular_reflectance", 1.0)?;
-                let transmittance = constant_reflectance(&p, "specular_transmittance", 1.0)?;
-                let (roughness, distribution) = if kind == "roughdielectric" { alpha(&p)? } else { (0.0, Microfacet::Ggx) };
-                MaterialKind::Dielectric { ior, roughness, distribution, reflectance, transmittance }
-            }
-            "conductor" | "roughconductor" => {
-                let fresnel = ext_eta(&p, conductor_ior(&p)?)?;
-                let (albedo, texture) = self.reflectance(&p, "specular_reflectance", 1.0)?;
-                if kind == "conductor" {
-                    MaterialKind::Mirror { albedo, texture, fresnel }
-                } else {
-                    let (roughness, distribution) = alpha(&p)?;
-                    MaterialKind::Glossy { albedo, texture, roughness, distribution, fresnel }
-                }
-            }
-            "plastic" | "roughplastic" => {
-                let ior = ior(&p, "int_ior", 1.49)? / ior(&p, "ext_ior", 1.000277)?;
-                // Mitsuba refuses a rough coating of matched indices; a smooth one is then
-                // invisible, and allowed.
-                if !(ior.is_finite() && ior > 0.0) || (ior == 1.0 && kind == "roughplastic") {
-                    return Err(node
-                        .error(Some("int_ior"), format!("int_ior / ext_ior = {ior}: an interface needs two different indices")));
-                }
-                let (albedo, texture) = self.reflectance(&p, "diffuse_reflectance", 0.5)?;
-                let specular = constant_reflectance(&p, "specular_reflectance", 1.0)?;
-                let nonlinear = p.boolean_or("nonlinear", false)?;
-                let (roughness, distribution) = if kind == "roughplastic" { alpha(&p)? } else { (0.0, Microfacet::Ggx) };
-                MaterialKind::Plastic { albedo, texture, specular, ior, roughness, distribution, nonlinear }
-            }
-            "thindielectric" => {
-                let ior = ior(&p, "int_ior", 1.5046)? / ior(&p, "ext_ior", 1.000277)?;
-                if !(ior.is_finite() && ior > 0.0) {
-                    return Err(node.error(Some("int_ior"), format!("int_ior / ext_ior = {ior} is not a ratio of indices")));
-                }
-                let reflectance = constant_reflectance(&p, "specular_reflectance", 1.0)?;
-                let transmittance = constant_reflectance(&p, "specular_transmittance", 1.0)?;
-                MaterialKind::ThinDielectric { ior, reflectance, transmittance }
-            }
-            "null" => MaterialKind::Null,
-            other if NOT_YET.contains(&other) => {
-                return Err(node.error(Some("type"), format!("the `{other}` BSDF is not modelled by sppm-gpu yet")))
-            }
-            other => return Err(node.error(Some("type"), format!("`{other}` is not a Mitsuba 3 BSDF plugin"))),
+            None => return Err(node.error(Some("type"), format!("`{kind}` is not a Mitsuba 3 BSDF plugin"))),
         };
         p.finish()?;
         // Dielectrics scatter from both sides; the flag means nothing to them.
-        let one_sided =
-            !matches!(model, MaterialKind::Dielectric { .. } | MaterialKind::ThinDielectric { .. } | MaterialKind::Null);
+        let one_sided = !model.two_sided_by_nature();
         Ok((model, one_sided))
     }
+}
 
-    /// A reflectance parameter that may be textured: a colour in [0, 1] and no texture, or
-    /// white and the index of the texture that replaces it (texture.rs).
-    fn reflectance(&mut self, p: &Props<'a>, name: &str, default: f32) -> Result<(Vec3, Option<u32>)> {
-        if let Some(Spectrum::Texture(node)) = p.spectrum(name)? {
-            return Ok((Vec3::ONE, Some(self.texture(node)?)));
+/// A BSDF plugin's parameters, as its family reads them.
+struct BsdfProps<'r, 'a> {
+    reader: &'r mut SceneReader<'a>,
+    p: &'r Props<'a>,
+}
+
+impl MitsubaBsdf for BsdfProps<'_, '_> {
+    fn legacy(&self) -> bool {
+        self.p.node.legacy()
+    }
+
+    fn has(&self, name: &str) -> bool {
+        self.p.has(name)
+    }
+
+    fn reflectance(&mut self, name: &str, default: f32) -> Result<(Vec3, Option<u32>)> {
+        if let Some(Spectrum::Texture(node)) = self.p.spectrum(name)? {
+            return Ok((Vec3::ONE, Some(self.reader.texture(node)?)));
         }
-        Ok((constant_reflectance(p, name, default)?, None))
+        Ok((constant_reflectance(self.p, name, default)?, None))
+    }
+
+    fn constant_reflectance(&self, name: &str, default: f32) -> Result<Vec3> {
+        constant_reflectance(self.p, name, default)
+    }
+
+    fn ior(&self, name: &str, default: f32) -> Result<f32> {
+        ior(self.p, name, default)
+    }
+
+    fn microfacets(&self) -> Result<(f32, Microfacet)> {
+        alpha(self.p)
+    }
+
+    fn complex_ior(&self) -> Result<Option<ComplexIor>> {
+        ext_eta(self.p, conductor_ior(self.p)?)
+    }
+
+    fn boolean_or(&self, name: &str, default: bool) -> Result<bool> {
+        self.p.boolean_or(name, default)
+    }
+
+    fn error(&self, name: &str, message: String) -> SceneError {
+        self.p.node.error(Some(name), message)
+    }
+
+    fn error_at(&self, name: &str, message: String) -> SceneError {
+        self.p.get(name).unwrap_or(self.p.node).error(Some(name), message)
     }
 }
 
@@ -433,10 +413,12 @@ fn ior_rgb(p: &Props, name: &str, default: f32) -> Result<Vec3> {
     }
 }
 
+/// A rough plugin's `alpha`: more than 0 (its smooth counterpart has none); the family's
+/// check takes it from there.
 fn check_alpha(p: &Props, alpha: f32) -> Result<f32> {
-    if !(alpha > 0.0 && alpha <= 1.0) {
+    if alpha.is_nan() || alpha <= 0.0 {
         let at = p.get("alpha").unwrap_or(p.node);
-        return Err(at.error(Some("alpha"), format!("alpha {alpha} is outside (0, 1]")));
+        return Err(at.error(Some("alpha"), format!("alpha {alpha}: a rough plugin's alpha is more than 0")));
     }
     Ok(alpha)
 }

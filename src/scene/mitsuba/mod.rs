@@ -20,8 +20,9 @@
 //!   `shapegroup` / `instance`, area emitters.
 //! - `texture.rs`: `bitmap` and `checkerboard`, on a diffuse `reflectance`, a conductor's
 //!   `specular_reflectance` or a plastic's `diffuse_reflectance`.
-//! - `sensor.rs`: `perspective`, `thinlens`, the film, its pixel filter and the sampler;
-//!   `point`, `directional`, `spot`, `constant` and `envmap` emitters.
+//! - `sensor.rs`: `perspective`, `thinlens`, the film, its pixel filter and the sampler.
+//! - `emitter.rs`: `point`, `directional`, `spot`, `constant` and `envmap` emitters (and the
+//!   `area` emitters of shape.rs), into [`crate::scene::emitter`]'s kinds.
 //! - `integrator.rs`: the integrator, as our method and render settings.
 //!
 //! Conventions taken from Mitsuba 3 (and checked against its renders, tests/suite/mitsuba_xml.rs):
@@ -30,6 +31,7 @@
 //! normals or else angle-weighted vertex normals; the default pixel filter is `gaussian`.
 
 mod bsdf;
+mod emitter;
 mod integrator;
 mod medium;
 mod props;
@@ -197,7 +199,7 @@ impl<'a> SceneReader<'a> {
                 "shape" => self.shape(node, glam::Mat4::IDENTITY)?,
                 // An area emitter declared apart, for the shapes that refer to it.
                 "emitter" if node.attr("type") == Some("area") && node.attr("id").is_some() => {}
-                "emitter" => sensor::light(node, &mut self.lights, &self.root)?,
+                "emitter" => emitter::light(node, &mut self.lights, &self.root)?,
                 "sensor" => {
                     if self.sensor.is_some() {
                         return Err(node.error(None, "a second <sensor>: sppm-gpu renders one camera"));
@@ -263,17 +265,10 @@ impl<'a> SceneReader<'a> {
         let shading_normals = self.triangles.iter().any(|t| t.n.is_some());
         let render = integrator::render_settings(&sensor, self.integrator, shading_normals)?;
         let mut scene = Scene {
-            path: path.to_path_buf(),
-            render,
-            camera: sensor.camera,
-            materials: self.materials,
-            textures: self.textures,
             shapes: self.shapes,
             triangles: self.triangles,
             spheres: self.spheres,
-            lights: self.lights,
-            media: self.media,
-            inputs: Vec::new(),
+            ..Scene::new(path.to_path_buf(), render, sensor.camera, self.materials, self.textures, self.lights, self.media)
         };
         // Our camera's look-at point sets the automatic SPPM radius (pixel footprints at its
         // distance); Mitsuba's `lookat` target is often one unit ahead. Look at the scene's

@@ -1,5 +1,5 @@
 //! The camera and how the image is made: Mitsuba 3's sensors, film, reconstruction filters and
-//! samplers (its plugin reference), and the emitters that are not shapes; the parameters of
+//! samplers (its plugin reference); the parameters of
 //! Mitsuba 0.5/0.6's that Mitsuba 3 lacks are read as said here (mod.rs).
 //!
 //! - `perspective`: `fov` with `fov_axis` (`x`, `y`, `diagonal`, `smaller`, `larger`; default
@@ -19,17 +19,11 @@
 //!   (`ldsampler`, `multijitter`, `stratified`, `orthogonal`, and Mitsuba 0.6's `sobol`,
 //!   `halton`, `hammersley`) our Sobol sampler; any other kind, or none, our default.
 //!   How a kind places its points (`scramble`, `dimension`, ...) changes only the noise.
-//! - `point`: `intensity` (1) at `position` or `to_world`'s origin. `directional`:
-//!   `irradiance` (1) along `direction` or `to_world`'s +z. `spot`: `intensity` (1),
-//!   `cutoff_angle` (20 degrees), `beam_width` (3/4 of the cutoff), at `to_world`'s origin
-//!   looking along its +z. `constant`: `radiance` (1) from every direction, one per scene.
-//!   `envmap` ([`envmap`]). Every emitter (and `area` in shape.rs) takes `sampling_weight`,
-//!   which changes only Mitsuba's noise ([`Props::emitter_sampling_weight`]).
 
-use super::props::{Props, Spectrum};
+use super::props::Props;
 use super::xml::Node;
 use super::Result;
-use crate::scene::{Camera, Light, LightKind, PixelFilter};
+use crate::scene::{Camera, PixelFilter};
 use glam::{Mat4, Vec3};
 
 /// What the sensor element says.
@@ -339,150 +333,4 @@ fn sampler(node: &Node) -> Result<(u32, u32, crate::sampler::Sampler)> {
     }
     p.finish()?;
     Ok((count as u32, seed, kind))
-}
-
-/// A top-level `<emitter>`: point, directional, spot, constant or envmap (whose `filename`
-/// is resolved against the file's directory, then `root`).
-pub(super) fn light(node: &Node, lights: &mut Vec<Light>, root: &[std::path::PathBuf]) -> Result<()> {
-    node.allow_attrs(&["type", "id", "name"])?;
-    let kind = node.req_attr("type")?;
-    let p = Props::new(node)?;
-    let rgb = |name: &str| -> Result<Vec3> {
-        match p.emitter_spectrum(name)? {
-            None => Ok(Vec3::ONE),
-            Some(Spectrum::Rgb(v)) if v.min_element() >= 0.0 => Ok(v),
-            Some(Spectrum::Rgb(_)) => Err(p.get(name).unwrap().error(Some(name), format!("{name} is negative"))),
-            Some(Spectrum::Texture(_)) => {
-                Err(p.get(name).unwrap().error(Some(name), format!("a textured {name} is not modelled")))
-            }
-        }
-    };
-    let to_world = p.transform("to_world")?;
-    let light = match kind {
-        "point" => {
-            let intensity = rgb("intensity")?;
-            let position = match (p.vec3("position")?, to_world) {
-                (Some(_), Some(_)) => return Err(node.error(Some("position"), "give `position` or `to_world`, not both")),
-                (Some(x), None) => x,
-                (None, m) => m.unwrap_or(Mat4::IDENTITY).transform_point3(Vec3::ZERO),
-            };
-            LightKind::Point { position, intensity }
-        }
-        "directional" => {
-            let irradiance = rgb("irradiance")?;
-            let direction = match (p.vec3("direction")?, to_world) {
-                (Some(_), Some(_)) => return Err(node.error(Some("direction"), "give `direction` or `to_world`, not both")),
-                (Some(d), None) => d,
-                (None, m) => m.unwrap_or(Mat4::IDENTITY).transform_vector3(Vec3::Z),
-            };
-            let direction =
-                direction.try_normalize().ok_or_else(|| node.error(Some("direction"), "the light's direction is zero"))?;
-            LightKind::Directional { direction, irradiance }
-        }
-        "spot" => {
-            if let Some(t) = p.get("texture") {
-                return Err(t.error(Some("texture"), "a spot light's `texture` (a projected image) is not modelled by sppm-gpu"));
-            }
-            let intensity = rgb("intensity")?;
-            let cutoff_angle = p.float_or("cutoff_angle", 20.0)?;
-            if cutoff_angle <= 0.0 || cutoff_angle > 180.0 {
-                return Err(p.get("cutoff_angle").unwrap().error(
-                    Some("cutoff_angle"),
-                    format!("cutoff_angle {cutoff_angle}: a spot's cutoff is more than 0 and at most 180 degrees"),
-                ));
-            }
-            // Mitsuba 3's default beam width.
-            let beam_width = p.float_or("beam_width", cutoff_angle * 3.0 / 4.0)?;
-            if beam_width < 0.0 {
-                return Err(p
-                    .get("beam_width")
-                    .unwrap()
-                    .error(Some("beam_width"), format!("beam_width {beam_width}: a spot's beam width is at least 0 degrees")));
-            }
-            // Mitsuba 3 takes the falloff of the direction carried back into the light's
-            // frame, normalized: the same cone under a rotation and a uniform scale, an
-            // elliptical one under any other linear map, which is not modelled.
-            let m = to_world.unwrap_or(Mat4::IDENTITY);
-            let linear = glam::Mat3::from_mat4(m);
-            let gram = linear.transpose() * linear;
-            let scale2 = (gram.x_axis.x + gram.y_axis.y + gram.z_axis.z) / 3.0;
-            let conformal =
-                (0..3).all(|i| (0..3).all(|j| (gram.col(i)[j] - if i == j { scale2 } else { 0.0 }).abs() <= 1e-4 * scale2));
-            if !(scale2 > 0.0 && conformal) {
-                return Err(p.get("to_world").unwrap().error(
-                    Some("to_world"),
-                    "a spot light's to_world that scales unevenly or shears (an elliptical cone) is not modelled by sppm-gpu",
-                ));
-            }
-            let position = m.transform_point3(Vec3::ZERO);
-            let direction = linear.mul_vec3(Vec3::Z).normalize();
-            LightKind::Spot { position, direction, intensity, cutoff_angle, beam_width }
-        }
-        "area" => return Err(node.error(Some("type"), "an area emitter belongs inside the <shape> that emits")),
-        "constant" => {
-            // At most one environment surrounds the scene, as in Mitsuba 3.
-            if let Some(first) = lights.iter().find(|l| l.kind.is_environment()) {
-                return Err(node.error(
-                    Some("type"),
-                    format!("a scene has at most one environment emitter; another is at line {}", first.line),
-                ));
-            }
-            LightKind::Constant { radiance: rgb("radiance")? }
-        }
-        "envmap" => {
-            if let Some(first) = lights.iter().find(|l| l.kind.is_environment()) {
-                return Err(node.error(
-                    Some("type"),
-                    format!("a scene has at most one environment emitter; another is at line {}", first.line),
-                ));
-            }
-            LightKind::Envmap(std::sync::Arc::new(envmap(&p, to_world, root)?))
-        }
-        "sunsky" | "skysun" | "sky" | "sun" => {
-            return Err(node.error(Some("type"), format!("the `{kind}` environment emitter is not modelled by sppm-gpu yet")))
-        }
-        "projector" => return Err(node.error(Some("type"), format!("the `{kind}` emitter is not modelled by sppm-gpu yet"))),
-        other => return Err(node.error(Some("type"), format!("`{other}` is not a Mitsuba 3 emitter plugin"))),
-    };
-    p.emitter_sampling_weight()?;
-    p.finish()?;
-    lights.push(Light { kind: light, line: node.line });
-    Ok(())
-}
-
-/// An `envmap` emitter: `filename` (required; an equirectangular EXR or HDR, linear, or an 8-
-/// or 16-bit image, sRGB-decoded, as Mitsuba 3's `Bitmap` reads them), `scale` (1),
-/// `to_world` (a rotation; its translation is ignored, as the map lies at infinity), and
-/// `mis_compensation`, which changes Mitsuba's sampling only. In a 0.x scene also Mitsuba
-/// 0.6's `gamma` ([`Props::legacy_gamma`]), `cache` (whether it kept its MIP map in a file:
-/// warned) and `intensity_scale` (refused there too: renamed `scale`). Errors name the
-/// parameter.
-fn envmap(p: &Props, to_world: Option<Mat4>, root: &[std::path::PathBuf]) -> Result<crate::scene::envmap::Envmap> {
-    let name = p.string("filename")?.ok_or_else(|| p.node.error(Some("filename"), "an envmap needs a `filename`"))?;
-    let at = p.get("filename").unwrap();
-    let path = super::xml::resolve(name, &p.node.file, root);
-    let scale = p.float_or("scale", 1.0)?;
-    if !(scale.is_finite() && scale >= 0.0) {
-        return Err(p.get("scale").unwrap().error(Some("scale"), format!("scale {scale}: an envmap's scale is at least 0")));
-    }
-    p.boolean_or("mis_compensation", false)?;
-    if p.node.legacy() && p.has("intensity_scale") {
-        let at = p.get("intensity_scale").unwrap();
-        return Err(at.error(Some("intensity_scale"), "intensity_scale is now `scale` (Mitsuba 0.6 refuses it too)"));
-    }
-    p.legacy_ignored(&["cache"], "it says whether Mitsuba 0.6 keeps the map's MIP map in a file, which changes the speed");
-    let raw = p.legacy_gamma(&path)?.unwrap_or(false);
-    let linear = glam::Mat3::from_mat4(to_world.unwrap_or(Mat4::IDENTITY));
-    let image =
-        crate::scene::mesh::read_image(&path, raw).map_err(|e| at.error(Some("filename"), format!("{}: {e}", path.display())))?;
-    crate::scene::envmap::Envmap::new(path, image.width, image.height, image.texels, scale, linear).map_err(|e| {
-        let (node, key) = if e.contains("to_world") {
-            (p.get("to_world").unwrap_or(p.node), "to_world")
-        } else if e.starts_with("scale") {
-            (p.get("scale").unwrap_or(p.node), "scale")
-        } else {
-            (at, "filename")
-        };
-        node.error(Some(key), e)
-    })
 }

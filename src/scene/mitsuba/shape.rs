@@ -28,7 +28,7 @@
 //! triangles: v is off by at most 1/512 near the centre, where a turn is short); `sphere`:
 //! (phi / 2 pi, theta / pi) of the object-space normal, theta from +z ([`Shape::sphere_frame`]).
 
-use super::props::{Props, Spectrum};
+use super::props::Props;
 use super::xml::Node;
 use super::{Result, SceneReader};
 use crate::scene::mesh::{self, IndexedMesh, Normals, Transform};
@@ -112,7 +112,7 @@ impl<'a> SceneReader<'a> {
             let target = self.deref(object, "")?;
             match target.tag.as_str() {
                 "bsdf" if bsdf.is_none() => bsdf = Some(object),
-                "emitter" if emission.is_none() => emission = Some(area_emitter(target)?),
+                "emitter" if emission.is_none() => emission = Some(super::emitter::area(target)?),
                 "bsdf" | "emitter" => return Err(object.error(None, format!("a second {} in one shape", target.describe()))),
                 "medium" => {
                     // The name on the nested element or the <ref> says which side it fills.
@@ -405,29 +405,6 @@ fn legacy_mesh(p: &Props, kind: &str, path: &Path, has_bsdf: bool) -> Result<()>
 fn read_mesh<T>(p: &Props, path: &Path, read: impl FnOnce(&Path) -> std::result::Result<T, String>) -> Result<T> {
     let at = p.get("filename").unwrap_or(p.node);
     read(path).map_err(|e| at.error(Some("filename"), format!("{}: {e}", path.display())))
-}
-
-/// An `<emitter type="area">` inside a shape: its `radiance`.
-fn area_emitter(node: &Node) -> Result<Vec3> {
-    node.allow_attrs(&["type", "id", "name"])?;
-    let kind = node.req_attr("type")?;
-    if kind != "area" {
-        return Err(node.error(Some("type"), format!("a `{kind}` emitter inside a shape: only `area` emitters belong there")));
-    }
-    let p = Props::new(node)?;
-    let radiance = match p.emitter_spectrum("radiance")? {
-        Some(Spectrum::Rgb(rgb)) => rgb,
-        Some(Spectrum::Texture(_)) => {
-            return Err(p.get("radiance").unwrap().error(Some("radiance"), "textured emission is not modelled by sppm-gpu"))
-        }
-        None => return Err(node.error(Some("radiance"), "an area emitter needs a `radiance`")),
-    };
-    if radiance.min_element() < 0.0 {
-        return Err(p.get("radiance").unwrap().error(Some("radiance"), "radiance is negative"));
-    }
-    p.emitter_sampling_weight()?;
-    p.finish()?;
-    Ok(radiance)
 }
 
 /// The factor of a similarity transform's linear part (rotation times a uniform scale,
