@@ -19,6 +19,7 @@
 #import bsdf
 #import lights
 #import medium
+#import direct
 #import camera
 #import splat
 #import camera_importance
@@ -36,16 +37,6 @@ fn connect_to_camera(p_offset: vec3f, view: CameraView, c: vec3f) {
         return;
     }
     splat_filtered(view.raster, c * view.importance);
-}
-
-// Whether nothing blocks the segment from p0 to p1 (direct.wgsl's test, without its imports).
-fn unoccluded(p0: vec3f, p1: vec3f) -> bool {
-    let to = p1 - p0;
-    let dist = length(to);
-    if !(dist > 0.0) {
-        return true;
-    }
-    return !occluded(p0, to / dist, dist * (1.0 - 1e-4));
 }
 
 @compute @workgroup_size(64)

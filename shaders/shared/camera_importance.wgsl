@@ -11,6 +11,8 @@
 // camera therefore adds g L cos_x / (d^2 cos^3 theta A_pix) dA to the pixel.
 
 #import types
+#import camera
+#import splat
 
 // A point as the camera sees it (a pinhole at frame.cam_position).
 struct CameraView {
