@@ -1,7 +1,7 @@
 // Light tracing (`--method lt`; Veach 1997 sec. 10.2, Arvo & Kirk's particle tracing): light
 // subpaths leave the emitters as SPPM's photons do (emit_light, shared/lights.wgsl) and scatter as they do;
 // every vertex whose BSDF can be evaluated, and the point an area light emits from, is joined
-// to the camera by a shadow ray, and what it sends the camera is splatted into the pixels
+// to the camera (a point of its lens) by a shadow ray, and what it sends the camera is splatted into the pixels
 // around where it lands (camera_importance.wgsl, splat.wgsl). frame.photon_count subpaths a
 // pass, each splat divided by their number: the pass's splats sum to one estimate of the
 // image, which splat_accumulate adds to the per-pixel sums the path tracers keep.
@@ -33,7 +33,7 @@ fn connect_to_camera(p_offset: vec3f, view: CameraView, c: vec3f) {
     if view.importance <= 0.0 || all(c == vec3f(0.0)) {
         return;
     }
-    if !unoccluded(p_offset, frame.cam_position) {
+    if !unoccluded(p_offset, view.lens) {
         return;
     }
     splat_filtered(view.raster, c * view.importance);
@@ -60,7 +60,11 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     // The point an area light emits from, seen by the camera: Le cos_x / (pmf pdf_pos), which
     // is beta / pi (area_emit draws the direction by cosine), from the light's front.
     if any(ph.n != vec3f(0.0)) {
-        let view = camera_view(ph.o);
+        var u_lens = vec2f(0.0);
+        if frame.lens_radius > 0.0 {
+            u_lens = rng_next2(&rng);
+        }
+        let view = camera_view(ph.o, lens_point(u_lens));
         let cos_x = dot(view.wi, ph.n);
         if cos_x > 0.0 {
             connect_to_camera(ph.o, view, beta * (cos_x * INV_PI));
@@ -87,8 +91,13 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             break;
         }
         // Join this vertex to the camera: wo towards the camera, the light arriving along d.
+        // With a thin lens, a lens point for each vertex (two numbers, drawn only then).
         if bsdf_samples_lights(m) {
-            let view = camera_view(s.p);
+            var u_lens = vec2f(0.0);
+            if frame.lens_radius > 0.0 {
+                u_lens = rng_next2(&rng);
+            }
+            let view = camera_view(s.p, lens_point(u_lens));
             let wo = view.wi;
             let wi = -d;
             let same_side = dot(wo, s.ng) * dot(wi, s.ng) > 0.0;

@@ -11,23 +11,44 @@
 // camera therefore adds g L cos_x / (d^2 cos^3 theta A_pix) dA to the pixel.
 
 #import types
+#import sampling
 #import camera
 #import splat
 
-// A point as the camera sees it (a pinhole at frame.cam_position).
+// A point as the camera sees it through one point of its lens (frame.cam_position for a
+// pinhole).
 struct CameraView {
     // Raster position: pixels from the image's top left corner (row 0 at +cam_up).
     raster: vec2f,
-    // Unit direction from the point to the camera, and the distance.
+    // Unit direction from the point to the lens point, and the distance.
     wi: vec3f,
     dist: f32,
     // 1 / (d^2 cos^3 theta A_pix): what g L cos_x is multiplied by (see the top); 0 where the
-    // point lies behind the camera.
+    // point lies behind the lens.
     importance: f32,
+    // The lens point the view is through.
+    lens: vec3f,
 }
 
-fn camera_view(p: vec3f) -> CameraView {
-    let v = p - frame.cam_position;
+// A point on the camera's lens for a view: the pinhole, or with a thin lens a point uniform on
+// its disk from u (camera_ray's, sample_disk over frame.lens_radius).
+fn lens_point(u: vec2f) -> vec3f {
+    if frame.lens_radius > 0.0 {
+        let q = frame.lens_radius * sample_disk(u);
+        return frame.cam_position + q.x * normalize(frame.cam_right) + q.y * normalize(frame.cam_up);
+    }
+    return frame.cam_position;
+}
+
+// Point p seen through lens point `lens`. A thin lens focuses the plane at axial distance
+// frame.focus_distance: the ray from the lens point through p crosses that plane where the
+// pinhole ray of the same image point does (camera_ray aims there), so p's image point is the
+// pinhole's view of that crossing. For a given lens point, image area maps to solid angle at
+// the lens point as for a pinhole there (dw = ds cos^3 theta, theta from the axis), and a lens
+// point drawn uniformly is the camera's own density over the lens: the importance is the
+// pinhole's, from the lens point.
+fn camera_view(p: vec3f, lens: vec3f) -> CameraView {
+    let v = p - lens;
     let dist = length(v);
     // The view axis: cam_right x cam_up point right and up, so up x right is forward; the
     // image plane's centre frame.cam_forward lies at distance 1 along it (off the axis only
@@ -35,17 +56,23 @@ fn camera_view(p: vec3f) -> CameraView {
     let axis = normalize(cross(frame.cam_up, frame.cam_right));
     let t = dot(v, axis);
     if !(t > 0.0) || !(dist > 0.0) {
-        return CameraView(vec2f(-1.0e9), vec3f(0.0), dist, 0.0);
+        return CameraView(vec2f(-1.0e9), vec3f(0.0), dist, 0.0, lens);
     }
-    // The point on the plane at distance 1 along the axis, in the image's coordinates sx, sy
-    // in [-1, 1] (camera_ray's).
-    let q = v / t - frame.cam_forward;
+    // The pinhole direction of p's image point, at distance 1 along the axis: v / t from a
+    // pinhole; from a lens point, towards where the ray crosses the plane in focus.
+    var dir = v / t;
+    if frame.lens_radius > 0.0 {
+        let fd = frame.focus_distance;
+        dir = ((lens - frame.cam_position) + v * (fd / t)) / fd;
+    }
+    // In the image's coordinates sx, sy in [-1, 1] (camera_ray's).
+    let q = dir - frame.cam_forward;
     let sx = dot(q, frame.cam_right) / dot(frame.cam_right, frame.cam_right);
     let sy = dot(q, frame.cam_up) / dot(frame.cam_up, frame.cam_up);
     let raster = vec2f(0.5 * (sx + 1.0) * f32(frame.width), 0.5 * (1.0 - sy) * f32(frame.image_height));
     // A pixel's area on the plane, and 1 / (d^2 cos^3) = d / t^3.
     let a_pix = 4.0 * length(frame.cam_right) * length(frame.cam_up) / (f32(frame.width) * f32(frame.image_height));
-    return CameraView(raster, -v / dist, dist, dist / (t * t * t * a_pix));
+    return CameraView(raster, -v / dist, dist, dist / (t * t * t * a_pix), lens);
 }
 
 // The integral of Mitsuba's gaussian over [0, 4] standard deviations, exp(-t^2 / 2) - exp(-8)

@@ -61,19 +61,12 @@ impl LightTracer {
     }
 
     /// What a light tracer cannot render of `scene`, as an error naming it: participating
-    /// media, a thin lens (light subpaths are joined to a pinhole) and an environment light
-    /// (seen directly only by camera paths).
+    /// media and an environment light (seen directly only by camera paths).
     pub fn check_scene(scene: &Scene) -> Result<(), Error> {
         let refuse =
             |what: String| Err(Error::Setting(format!("{}: method lt {what}; use pt-nee or sppm", scene.path.display())));
         if let Some(m) = scene.media.first() {
             return refuse(format!("does not render participating media yet (medium {:?})", m.name));
-        }
-        if scene.camera.aperture_radius > 0.0 {
-            return refuse(format!(
-                "joins light subpaths to a pinhole camera, not a thin lens (aperture radius {})",
-                scene.camera.aperture_radius
-            ));
         }
         if scene.lights.iter().any(|l| l.kind.is_environment()) {
             return refuse("cannot show an environment light seen directly".into());
@@ -197,9 +190,6 @@ impl Integrator for LightTracer {
     }
 
     fn set_camera(&mut self, camera: &crate::scene::Camera) -> Result<(), Error> {
-        if camera.aperture_radius > 0.0 {
-            return Err(Error::Setting("method lt joins light subpaths to a pinhole camera, not a thin lens".into()));
-        }
         super::set_frame_camera(&mut self.frame, camera)?;
         self.reset();
         Ok(())
