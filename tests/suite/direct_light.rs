@@ -645,12 +645,24 @@ fn check_kind(k: Kind, method: impl Into<Estimator>) {
     let Some(gpu) = common::gpu() else { return };
     let start = Instant::now();
     let mut outcomes = Vec::new();
+    // A light's probes differ only in the camera: their kernels are compiled once.
     for (b, lights, probes) in kind(k) {
-        for p in probes {
-            let scene = probe_scene(&b, p.at);
-            let all = Region { name: p.name.into(), pixels: (0..(PROBE_PIXELS * PROBE_PIXELS) as usize).collect() };
-            outcomes.extend(measure(&gpu, &format!("{k:?}"), &scene, &lights, &[all], method, p.samples, (TOLERANCE, MAX_SE)));
-        }
+        sppm_gpu::gpu::share_kernels(|| {
+            for p in probes {
+                let scene = probe_scene(&b, p.at);
+                let all = Region { name: p.name.into(), pixels: (0..(PROBE_PIXELS * PROBE_PIXELS) as usize).collect() };
+                outcomes.extend(measure(
+                    &gpu,
+                    &format!("{k:?}"),
+                    &scene,
+                    &lights,
+                    &[all],
+                    method,
+                    p.samples,
+                    (TOLERANCE, MAX_SE),
+                ));
+            }
+        });
     }
     eprintln!("{k:?} {method:?}: {:.1} s", start.elapsed().as_secs_f64());
     report(&format!("{k:?} {method:?}"), &outcomes, (TOLERANCE, MAX_SE));
