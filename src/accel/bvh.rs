@@ -17,6 +17,7 @@ use bytemuck::Zeroable;
 use glam::{Vec3, Vec3A};
 use obvhs::{aabb::Aabb, bvh2::builder::build_bvh2, bvh2::Bvh2, BvhBuildParams};
 
+pub use crate::layout::SPHERE_BIT;
 use crate::layout::{BvhParams, GpuBvhNode};
 use crate::scene::{Sphere, Triangle};
 
@@ -45,8 +46,6 @@ pub struct BvhNode {
     /// Primitives in a leaf (1 to [`MAX_PRIMS_PER_LEAF`]); 0 marks an interior node.
     pub count: u32,
 }
-
-pub use crate::layout::SPHERE_BIT;
 
 /// Entries in the traversal stack, here and in the kernels. [`build_bvh`] guarantees that
 /// trees are shallow enough for it (depth below `STACK_SIZE`).

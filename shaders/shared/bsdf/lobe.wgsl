@@ -38,7 +38,8 @@ fn bsdf_absorbed(d: vec3f) -> BsdfSample {
 
 // Whether material m at s scatters nothing to or from direction w (pointing away from the
 // surface): Mitsuba 3's BSDFs return zero for cos_theta <= 0 in the shading frame unless
-// wrapped in `twosided`. Dielectrics are two-sided by nature and ignore the flag.
+// wrapped in `twosided`. Dielectrics are two-sided by nature and ignore the flag
+// (MATERIAL_DIELECTRIC: bsdf/dielectric.wgsl, which bsdf.wgsl imports with every family).
 fn one_sided_culls(m: Material, s: Surface, w: vec3f) -> bool {
     return USES_ONE_SIDED && m.one_sided != 0u && m.kind != MATERIAL_DIELECTRIC && dot(w, s.ns) <= 0.0;
 }
