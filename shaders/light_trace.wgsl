@@ -33,10 +33,16 @@ fn connect_to_camera(p_offset: vec3f, view: CameraView, c: vec3f) {
     if view.importance <= 0.0 || all(c == vec3f(0.0)) {
         return;
     }
+    // What a fixed-point splat holds: a point grazing the lens plane would otherwise send an
+    // overflowing or infinite value.
+    let value = c * view.importance;
+    if !(all(value >= vec3f(0.0)) && all(value < vec3f(1.0e9))) {
+        return;
+    }
     if !unoccluded(p_offset, view.lens) {
         return;
     }
-    splat_filtered(view.raster, c * view.importance);
+    splat_filtered(view.raster, value);
 }
 
 @compute @workgroup_size(64)

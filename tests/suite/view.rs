@@ -98,27 +98,33 @@ impl Xvfb {
             if socket.exists() || Path::new(&format!("/tmp/.X{n}-lock")).exists() {
                 continue;
             }
+            // -displayfd: Xvfb writes the display's number to its stdout once it accepts
+            // connections (its socket appears earlier, before it is ready to serve them); an
+            // early end of that stream means another server took :n.
             let mut child = Command::new("Xvfb")
                 .arg(format!(":{n}"))
-                .args(["-screen", "0", "800x600x24", "-nolisten", "tcp"])
-                .stdout(Stdio::null())
+                .args(["-screen", "0", "800x600x24", "-nolisten", "tcp", "-displayfd", "1"])
+                .stdout(Stdio::piped())
                 .stderr(std::fs::File::create(log).unwrap())
                 .spawn()
                 .expect("Xvfb runs");
-            // Ready once its socket is there; an early exit means another server took :n.
-            let deadline = Instant::now() + Duration::from_secs(10);
-            loop {
-                if socket.exists() {
-                    return Self { child, display: format!(":{n}") };
-                }
-                if child.try_wait().unwrap().is_some() {
-                    break;
-                }
-                if Instant::now() > deadline {
+            let stdout = child.stdout.take().unwrap();
+            let (tx, rx) = std::sync::mpsc::channel();
+            std::thread::spawn(move || {
+                let mut line = String::new();
+                let _ = std::io::BufRead::read_line(&mut std::io::BufReader::new(stdout), &mut line);
+                let _ = tx.send(line);
+            });
+            match rx.recv_timeout(Duration::from_secs(10)) {
+                Ok(line) if line.trim() == n.to_string() => return Self { child, display: format!(":{n}") },
+                Ok(_) => {
                     stop(&mut child, Duration::from_secs(2));
-                    panic!("Xvfb :{n} did not start within 10 s; its log: {}", std::fs::read_to_string(log).unwrap_or_default());
+                    continue;
                 }
-                std::thread::sleep(POLL);
+                Err(_) => {
+                    stop(&mut child, Duration::from_secs(2));
+                    panic!("Xvfb :{n} was not ready within 10 s; its log: {}", std::fs::read_to_string(log).unwrap_or_default());
+                }
             }
         }
         panic!("no free X display from :91 to :199; last Xvfb log: {}", std::fs::read_to_string(log).unwrap_or_default())
