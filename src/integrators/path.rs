@@ -2,7 +2,7 @@
 //! naive (`method = "pt"`) or with next-event estimation and MIS (`"pt-nee"`). Each pass adds
 //! one sample per pixel (`path_trace`); the image is the running mean.
 
-use super::pixel_sums::PixelSums;
+use super::pixel_sums::{PixelSums, PIXEL_BYTES};
 use super::{shutter_time, Integrator, Part, PartSize, Work};
 use crate::error::Error;
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
@@ -53,10 +53,10 @@ impl PathTracer {
     }
 
     /// Bytes of the renderer's own buffers for a band of `rows` rows of `scene`'s image, as
-    /// [`Integrator::gpu_memory`] reports them: the sums per pixel and their read-back copy
-    /// (32 bytes a pixel), and the frame.
+    /// [`Integrator::gpu_memory`] reports them: the sums per pixel and their read-back copy,
+    /// and the frame.
     pub fn renderer_bytes(scene: &Scene, rows: u32) -> u64 {
-        scene.render.width as u64 * rows as u64 * 32 + std::mem::size_of::<Frame>() as u64
+        scene.render.width as u64 * rows as u64 * 2 * PIXEL_BYTES + std::mem::size_of::<Frame>() as u64
     }
 
     /// The path tracer for rows `rows` of the image only, on scene buffers already uploaded
@@ -74,7 +74,7 @@ impl PathTracer {
         let mut frame = super::band_frame(scene, data, &rows)?;
         let band_height = frame.height;
         let pixel_count = r.width.checked_mul(band_height).ok_or_else(|| Error::Setting("image too large".into()))?;
-        let bytes = pixel_count as u64 * 16;
+        let bytes = pixel_count as u64 * PIXEL_BYTES;
         if bytes > device.limits().max_storage_buffer_binding_size {
             return Err(Error::Setting(format!(
                 "{}x{} pixels need more memory than this device's buffers hold; render it in bands of at most {} rows",
