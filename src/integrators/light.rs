@@ -5,8 +5,8 @@
 //! it finds caustics seen directly, which a path tracer cannot, and the light arriving at the
 //! camera through nothing but diffuse surfaces, as a path tracer does.
 
-use super::pixel_sums::{PixelSums, PIXEL_BYTES};
-use super::{shutter_time, Integrator, Part, PartSize, Work};
+use super::pixel_sums::{PixelSums, Progress, PIXEL_BYTES};
+use super::{Integrator, Part, PartSize, Work};
 use crate::error::Error;
 use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
 use crate::gpu::{Kernel, Resource};
@@ -27,16 +27,13 @@ pub struct LightTracer {
     device: wgpu::Device,
     queue: wgpu::Queue,
     frame: Frame,
-    passes: u32,
     pixel_count: u32,
     light_trace: Kernel,
     trace_group: wgpu::BindGroup,
     splat_accumulate: Kernel,
     accumulate_group: wgpu::BindGroup,
-    /// The first pass this tracer runs ([`Integrator::start_at_pass`]).
-    first_pass: u32,
-    /// The first subpath of the next part of the pass under way (0: a new pass).
-    next_path: u32,
+    /// Passes done, the batch's first, the next part of the pass under way.
+    progress: Progress,
     frame_buffer: wgpu::Buffer,
     splat: wgpu::Buffer,
     sums: PixelSums,
@@ -124,14 +121,12 @@ impl LightTracer {
             device: device.clone(),
             queue: queue.clone(),
             frame,
-            passes: 0,
             pixel_count,
             light_trace,
             trace_group,
             splat_accumulate,
             accumulate_group,
-            first_pass: 0,
-            next_path: 0,
+            progress: Progress::default(),
             frame_buffer,
             splat,
             sums,
@@ -153,23 +148,15 @@ impl Integrator for LightTracer {
         self.submissions.submit(&self.device, &self.queue, encoder.finish())
     }
 
-    /// Subpaths `next_path..` of this pass, at most `size.photons` of them; after the last,
+    /// The pass's next subpaths, at most `size.photons` of them; after the last,
     /// the pass's splats become each pixel's estimate.
     fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> Part {
-        let first = self.next_path;
-        let end = first.saturating_add(size.photons.max(1)).min(self.paths());
-        self.frame.pass_index = self.passes;
-        self.frame.time = shutter_time(self.frame.seed, self.passes);
-        self.frame.work_first = first;
-        self.frame.work_end = end;
+        let paths = self.paths();
+        let (first, end, pass_done) = self.progress.next_part(&mut self.frame, size.photons, paths);
         super::record_upload(&self.device, &self.queue, encoder, &self.frame_buffer, bytemuck::bytes_of(&self.frame));
         self.light_trace.dispatch(encoder, &self.trace_group, end - first);
-        self.next_path = end;
-        let pass_done = end == self.paths();
         if pass_done {
             self.splat_accumulate.dispatch(encoder, &self.accumulate_group, self.pixel_count);
-            self.next_path = 0;
-            self.passes += 1;
         }
         Part { work: Work::Photons, items: end - first, pass_done }
     }
@@ -181,12 +168,7 @@ impl Integrator for LightTracer {
 
     /// Each pass's subpaths are keyed by the pass index, so a batch needs only its indices.
     fn start_at_pass(&mut self, first: u32) -> Result<(), Error> {
-        if self.passes != self.first_pass || self.next_path != 0 {
-            return Err(Error::Setting("start_at_pass: passes have run already".into()));
-        }
-        self.first_pass = first;
-        self.passes = first;
-        Ok(())
+        self.progress.start_at_pass(first)
     }
 
     fn set_camera(&mut self, camera: &crate::scene::Camera) -> Result<(), Error> {
@@ -199,12 +181,11 @@ impl Integrator for LightTracer {
     fn reset(&mut self) {
         self.sums.clear();
         self.queue.write_buffer(&self.splat, 0, &vec![0u8; self.splat.size() as usize]);
-        self.next_path = 0;
-        self.passes = self.first_pass;
+        self.progress.reset();
     }
 
     fn passes(&self) -> u32 {
-        self.passes
+        self.progress.passes
     }
 
     fn work_per_pass(&self) -> u64 {
@@ -228,7 +209,7 @@ impl Integrator for LightTracer {
     }
 
     fn state(&mut self) -> Result<Vec<u8>, Error> {
-        self.sums.state(self.passes, self.passes as u64 * self.paths() as u64)
+        self.sums.state(self.progress.passes, self.progress.passes as u64 * self.paths() as u64)
     }
 
     fn image_of_state(&self, state: &[u8]) -> Result<Rgb32Image, Error> {
@@ -238,8 +219,8 @@ impl Integrator for LightTracer {
     /// Refuses a state that no render could have left (see the path tracer's).
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
         let (width, rows) = (self.frame.width, self.frame.row_offset);
-        self.passes = self.sums.restore(state, self.first_pass, self.paths() as u64, width, rows)?;
-        self.next_path = 0;
+        let passes = self.sums.restore(state, self.progress.first_pass, self.paths() as u64, width, rows)?;
+        self.progress.restored(passes);
         Ok(())
     }
 }

@@ -2,8 +2,8 @@
 //! naive (`method = "pt"`) or with next-event estimation and MIS (`"pt-nee"`). Each pass adds
 //! one sample per pixel (`path_trace`); the image is the running mean.
 
-use super::pixel_sums::{PixelSums, PIXEL_BYTES};
-use super::{shutter_time, Integrator, Part, PartSize, Work};
+use super::pixel_sums::{PixelSums, Progress, PIXEL_BYTES};
+use super::{Integrator, Part, PartSize, Work};
 use crate::error::Error;
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
 use crate::gpu::{Kernel, Resource};
@@ -21,14 +21,11 @@ pub struct PathTracer {
     device: wgpu::Device,
     queue: wgpu::Queue,
     frame: Frame,
-    passes: u32,
     pixel_count: u32,
     path_trace: Kernel,
     group: wgpu::BindGroup,
-    /// The first pass this tracer runs ([`Integrator::start_at_pass`]).
-    first_pass: u32,
-    /// The first pixel of the next part of the pass under way (0: a new pass).
-    next_pixel: u32,
+    /// Passes done, the batch's first, the next part of the pass under way.
+    progress: Progress,
     frame_buffer: wgpu::Buffer,
     /// Each pixel's samples summed.
     sums: PixelSums,
@@ -101,12 +98,10 @@ impl PathTracer {
             device: device.clone(),
             queue: queue.clone(),
             frame,
-            passes: 0,
             pixel_count,
             path_trace,
             group,
-            first_pass: 0,
-            next_pixel: 0,
+            progress: Progress::default(),
             frame_buffer,
             sums,
             submissions: crate::gpu::submissions::Submissions::new(),
@@ -122,22 +117,11 @@ impl Integrator for PathTracer {
         self.submissions.submit(&self.device, &self.queue, encoder.finish())
     }
 
-    /// Pixels `next_pixel..` of this pass, at most `size.points` of them.
+    /// The pass's next pixels, at most `size.points` of them.
     fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> Part {
-        let first = self.next_pixel;
-        let end = first.saturating_add(size.points.max(1)).min(self.pixel_count);
-        self.frame.pass_index = self.passes;
-        self.frame.time = shutter_time(self.frame.seed, self.passes);
-        self.frame.work_first = first;
-        self.frame.work_end = end;
+        let (first, end, pass_done) = self.progress.next_part(&mut self.frame, size.points, self.pixel_count);
         super::record_upload(&self.device, &self.queue, encoder, &self.frame_buffer, bytemuck::bytes_of(&self.frame));
         self.path_trace.dispatch(encoder, &self.group, end - first);
-        self.next_pixel = end;
-        let pass_done = end == self.pixel_count;
-        if pass_done {
-            self.next_pixel = 0;
-            self.passes += 1;
-        }
         Part { work: Work::CameraPaths, items: end - first, pass_done }
     }
 
@@ -149,12 +133,7 @@ impl Integrator for PathTracer {
 
     /// Each pixel's sum counts its own samples, so a batch needs only its pass indices.
     fn start_at_pass(&mut self, first: u32) -> Result<(), Error> {
-        if self.passes != self.first_pass || self.next_pixel != 0 {
-            return Err(Error::Setting("start_at_pass: passes have run already".into()));
-        }
-        self.first_pass = first;
-        self.passes = first;
-        Ok(())
+        self.progress.start_at_pass(first)
     }
 
     fn set_camera(&mut self, camera: &crate::scene::Camera) -> Result<(), Error> {
@@ -166,12 +145,11 @@ impl Integrator for PathTracer {
     /// Start over: no sample in any pixel. The buffer is cleared at the next submission.
     fn reset(&mut self) {
         self.sums.clear();
-        self.next_pixel = 0;
-        self.passes = self.first_pass;
+        self.progress.reset();
     }
 
     fn passes(&self) -> u32 {
-        self.passes
+        self.progress.passes
     }
 
     fn work_per_pass(&self) -> u64 {
@@ -193,7 +171,7 @@ impl Integrator for PathTracer {
         }
     }
     fn state(&mut self) -> Result<Vec<u8>, Error> {
-        self.sums.state(self.passes, self.passes as u64 * self.pixel_count as u64)
+        self.sums.state(self.progress.passes, self.progress.passes as u64 * self.pixel_count as u64)
     }
     fn image_of_state(&self, state: &[u8]) -> Result<Rgb32Image, Error> {
         self.sums.image_of_state(state, self.frame.width, self.frame.height)
@@ -202,8 +180,8 @@ impl Integrator for PathTracer {
     /// sample counts other than its passes', or sums not finite or negative.
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
         let (width, rows) = (self.frame.width, self.frame.row_offset);
-        self.passes = self.sums.restore(state, self.first_pass, self.pixel_count as u64, width, rows)?;
-        self.next_pixel = 0;
+        let passes = self.sums.restore(state, self.progress.first_pass, self.pixel_count as u64, width, rows)?;
+        self.progress.restored(passes);
         Ok(())
     }
 }

@@ -2,7 +2,7 @@
 //! (the path tracers and the light tracer): `radiance`, the sum of the estimates (rgb) and
 //! their count (w), its read-back, its state for checkpoints and batches, and its resolve.
 
-use super::{decode_state, encode_state, resolve_kernel};
+use super::{decode_state, encode_state, resolve_kernel, shutter_time};
 use crate::error::Error;
 use crate::gpu::readback::{read_buffer, staging_buffer};
 use crate::gpu::{Kernel, Resource};
@@ -141,5 +141,58 @@ impl PixelSums {
         }
         self.queue.write_buffer(&self.radiance, 0, sums);
         Ok(passes)
+    }
+}
+
+/// Where an integrator of one estimate a pixel a pass stands: the passes recorded, the first
+/// pass of its batch ([`super::Integrator::start_at_pass`]) and the first item (pixel or light
+/// subpath) of the next part of the pass under way (0: a new pass).
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Progress {
+    pub(super) passes: u32,
+    pub(super) first_pass: u32,
+    next: u32,
+}
+
+impl Progress {
+    /// The next part of the pass, at most `size` of its `total` items: sets `frame`'s pass
+    /// index, shutter time and work range, and returns the items and whether they end the pass
+    /// (which then counts).
+    pub(super) fn next_part(&mut self, frame: &mut Frame, size: u32, total: u32) -> (u32, u32, bool) {
+        let first = self.next;
+        let end = first.saturating_add(size.max(1)).min(total);
+        frame.pass_index = self.passes;
+        frame.time = shutter_time(frame.seed, self.passes);
+        frame.work_first = first;
+        frame.work_end = end;
+        self.next = end;
+        let pass_done = end == total;
+        if pass_done {
+            self.next = 0;
+            self.passes += 1;
+        }
+        (first, end, pass_done)
+    }
+
+    /// Run passes `first`, `first + 1`, ...: only before any pass.
+    pub(super) fn start_at_pass(&mut self, first: u32) -> Result<(), Error> {
+        if self.passes != self.first_pass || self.next != 0 {
+            return Err(Error::Setting("start_at_pass: passes have run already".into()));
+        }
+        self.first_pass = first;
+        self.passes = first;
+        Ok(())
+    }
+
+    /// Start over: no pass done, none under way.
+    pub(super) fn reset(&mut self) {
+        self.next = 0;
+        self.passes = self.first_pass;
+    }
+
+    /// `passes` done, as a restored state says, none under way.
+    pub(super) fn restored(&mut self, passes: u32) {
+        self.next = 0;
+        self.passes = passes;
     }
 }
