@@ -6,20 +6,14 @@
 use crate::common;
 
 use sppm_gpu::image_io::Rgb32Image;
-use sppm_gpu::integrators::{self, Integrator};
+use sppm_gpu::integrators;
 use sppm_gpu::metrics::{compare, downsample_box};
 use sppm_gpu::scene::{Method, PixelFilter, Scene};
 
 const SIZE: u32 = 64;
 
 fn render(scene: &Scene, method: Method, passes: u32) -> Rgb32Image {
-    let gpu = common::gpu().expect("checked by the caller");
-    let mut scene = scene.clone();
-    scene.render.method = method;
-    scene.render.width = SIZE;
-    scene.render.height = SIZE;
-    let mut integrator: Box<dyn Integrator> = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
-    common::run_passes(&mut *integrator, passes)
+    common::render_at(scene, method, SIZE, passes)
 }
 
 /// relMSE and channel mean ratios against the 256x256 reference, both reduced to 8x8.

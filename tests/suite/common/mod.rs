@@ -127,6 +127,17 @@ pub fn run_passes(integrator: &mut dyn Integrator, passes: u32) -> Rgb32Image {
     img
 }
 
+/// `scene` rendered by `method` at `size` x `size` for `passes` passes ([`run_passes`]).
+pub fn render_at(scene: &Scene, method: sppm_gpu::scene::Method, size: u32, passes: u32) -> Rgb32Image {
+    let gpu = gpu().expect("checked by the caller");
+    let mut scene = scene.clone();
+    scene.render.method = method;
+    scene.render.width = size;
+    scene.render.height = size;
+    let mut integrator = sppm_gpu::integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
+    run_passes(&mut *integrator, passes)
+}
+
 /// SPPM on `scene` for its `iterations` passes ([`run_passes`]).
 pub fn render_sppm(gpu: &GpuContext, scene: &Scene) -> Rgb32Image {
     let mut sppm = Sppm::new(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
