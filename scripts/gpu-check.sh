@@ -1,22 +1,25 @@
 #!/usr/bin/env bash
 # The check a person runs on a machine with a Vulkan GPU, in one command, from the project's
 # root. It prints a table (also written to OUT/table.txt) of:
-#   1. the test suite with CI=true on that GPU (tests pick their adapter from SPPM_GPU_ADAPTER,
-#      as the command line's --adapter): `cargo test --release` where cargo is installed, else
-#      every prebuilt test binary in --tests DIR (a GPU machine may have no Rust toolchain);
-#   2. the canonical scenes at their own settings against tests/references (8x8 relMSE);
-#   3. pacing: pt-nee at 1024x1024 and SPPM with 1,000,000 photons a pass under
+#   1. the canonical scenes at their own settings against tests/references (8x8 relMSE);
+#   2. pacing: pt-nee at 1024x1024 and SPPM with 1,000,000 photons a pass under
 #      --time-limit 5 (the process's wall time; the check asks for the render's own time
 #      within 5% of the limit), and SIGINT during a render (exit within 0.5 s, image written);
-#   4. `bench` and pass throughput (sppm and pt-nee) at 256x256 and 1024x1024;
-#   5. where Python's `mitsuba` imports with its `cuda_ad_rgb` variant and --mitsuba-tools DIR
+#   3. `bench` and pass throughput (sppm, pt-nee and lt) at 256x256 and 1024x1024;
+#   4. where Python's `mitsuba` imports with its `cuda_ad_rgb` variant and --mitsuba-tools DIR
 #      names the folder of mitsuba_reference.py and mitsuba_timed.py: equal time against
-#      Mitsuba 3's CUDA path tracer on the canonical scenes, each against a reference Mitsuba
-#      renders on the same GPU (REF_SPP samples, default 16384), relMSE of both at SECONDS
-#      (default 10) seconds of wall time.
+#      Mitsuba 3's CUDA path tracer on the canonical scenes (sppm, pt-nee, lt), each against a
+#      reference Mitsuba renders on the same GPU (REF_SPP samples, default 16384), relMSE of
+#      both at SECONDS_EACH (default 10) seconds of wall time;
+#   5. equal-time error against SPPM's photons and camera samples a pass
+#      (scripts/measure/pass-work.sh, WORK_SECONDS each, default 3): the device's defaults;
+#   6. last, the test suite with CI=true on that GPU (tests pick their adapter from
+#      SPPM_GPU_ADAPTER, as the command line's --adapter): `cargo test --release` where cargo
+#      is installed, else every prebuilt test binary in --tests DIR (a GPU machine may have no
+#      Rust toolchain), each cut at TEST_S seconds (default 300).
 #
 #   bash scripts/gpu-check.sh [--bin SPPM_GPU] [--tests DIR] [--mitsuba-tools DIR] [--out DIR]
-#                             [--adapter SELECTOR] [--skip tests,scenes,pacing,bench,mitsuba]
+#                             [--adapter SELECTOR] [--skip scenes,pacing,bench,mitsuba,work,tests]
 #
 # --bin defaults to target/release/sppm-gpu (built with cargo if missing and cargo is there);
 # --adapter to the first adapter that is not a CPU device (an index or a part of its name, as
@@ -36,7 +39,7 @@ while [ $# -gt 0 ]; do
         --out) out=$2; shift 2 ;;
         --adapter) adapter=$2; shift 2 ;;
         --skip) skip=$2; shift 2 ;;
-        -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
+        -h|--help) sed -n '2,28p' "$0"; exit 0 ;;
         *) echo "gpu-check.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
     esac
 done
@@ -69,26 +72,7 @@ row "adapter" "$(grep "^$adapter:" "$out/adapters.txt" || echo "$adapter")"
 run() { "$bin" "$1" --adapter "$adapter" "${@:2}"; }
 summary() { grep -E " in [0-9.]+ s" | tail -1; }
 
-# 1. The tests on this GPU.
-if ! skipped tests; then
-    if [ -n "$tests" ]; then
-        for t in "$tests"/*; do
-            [ -x "$t" ] && [ -f "$t" ] || continue
-            n=$(basename "$t")
-            r=$(CI=true timeout "${TEST_S:-300}" "$t" 2>&1 | tee "$out/test-$n.log" | grep -E '^test result' | tail -1)
-            row "test $n" "${r:-no result (timeout or crash: $out/test-$n.log)}"
-        done
-    elif command -v cargo >/dev/null; then
-        CI=true cargo test --release --workspace >"$out/tests.log" 2>&1
-        code=$?
-        passed=$(grep -E '^test result' "$out/tests.log" | awk '{p += $4; f += $6} END {print p " passed, " f " failed"}')
-        row "cargo test (CI=true)" "exit $code: $passed ($out/tests.log)"
-    else
-        row "tests" "skipped: no cargo and no --tests DIR"
-    fi
-fi
-
-# 2. The canonical scenes against their references.
+# 1. The canonical scenes against their references.
 if ! skipped scenes; then
     for s in furnace cornell-box cornell-spheres cornell-glossy point-light textured depth-of-field; do
         ds=8
@@ -98,7 +82,7 @@ if ! skipped scenes; then
     done
 fi
 
-# 3. Pacing: the time limit and Ctrl-C on completed work.
+# 2. Pacing: the time limit and Ctrl-C on completed work.
 if ! skipped pacing; then
     for case in "pt-nee 1024" "sppm 256"; do
         set -- $case
@@ -130,19 +114,19 @@ if ! skipped pacing; then
     row "SIGINT after 4 s (pt-nee 1024)" "$verdict: exit $code after $took s, image written: $written"
 fi
 
-# 4. bench and throughput.
+# 3. bench and throughput.
 if ! skipped bench; then
     for size in 256 1024; do
         run_bench=$("$bin" bench scenes/cornell-box.toml --width $size --height $size --iterations 32 2>&1 | tee "$out/bench-$size.log" | grep -E 'total' | head -1)
         row "bench cornell-box ${size}x$size" "$run_bench"
-        for m in sppm pt-nee; do
+        for m in sppm pt-nee lt; do
             line=$(run scenes/cornell-box.toml -o "$out/t.exr" --width $size --height $size --method $m --iterations 256 2>&1 | summary)
             row "throughput $m ${size}x$size" "$(echo "$line" | sed 's/ ->.*//')"
         done
     done
 fi
 
-# 5. Equal time against Mitsuba 3's CUDA variant, where it is there.
+# 4. Equal time against Mitsuba 3's CUDA variant, where it is there.
 if ! skipped mitsuba; then
     if [ -n "$tools" ] && python3 -c 'import mitsuba as mi; mi.set_variant("cuda_ad_rgb")' 2>/dev/null; then
         secs=${SECONDS_EACH:-10}
@@ -153,7 +137,9 @@ if ! skipped mitsuba; then
             python3 "$tools/mitsuba_timed.py" "scenes/$s.toml" "$out/$s-mitsuba.exr" --variant cuda_ad_rgb --seconds "$secs" \
                 --chunk 64 >"$out/$s-mitsuba.log" 2>&1
             mi=$("$bin" diff "$out/$s-mitsuba.exr" "$ref" --downsample 8 2>&1 | tail -1 | awk '{print $2}')
-            for m in sppm pt-nee; do
+            methods="sppm pt-nee lt"
+            [ $s = cornell-spheres ] && methods="sppm pt-nee" # light tracing cannot see the glass
+            for m in $methods; do
                 run "scenes/$s.toml" -o "$out/$s-$m.exr" --method $m --iterations 100000000 --time-limit "$secs" >/dev/null 2>&1
                 ours=$("$bin" diff "$out/$s-$m.exr" "$ref" --downsample 8 2>&1 | tail -1 | awk '{print $2}')
                 row "equal time $secs s: $s $m" "relMSE $ours; Mitsuba cuda path $mi ($(tail -1 "$out/$s-mitsuba.log"))"
@@ -163,4 +149,31 @@ if ! skipped mitsuba; then
         row "equal time against Mitsuba" "skipped: needs --mitsuba-tools DIR and Python's mitsuba with cuda_ad_rgb"
     fi
 fi
+# 5. Equal-time error against the work of an SPPM pass (photons x camera samples), the
+#    measurement behind the device's defaults (GpuContext::pass_work).
+if ! skipped work; then
+    bash scripts/measure/pass-work.sh --bin "$bin" --out "$out" --adapter "$adapter" --seconds "${WORK_SECONDS:-3}" \
+        >"$out/pass-work.log" 2>&1
+    while read -r l; do row "pass work" "$l"; done <"$out/pass-work.txt"
+fi
+
+# 6. The tests on this GPU, last: the longest part, cut by TEST_S where time is short.
+if ! skipped tests; then
+    if [ -n "$tests" ]; then
+        for t in "$tests"/*; do
+            [ -x "$t" ] && [ -f "$t" ] || continue
+            n=$(basename "$t")
+            r=$(CI=true timeout "${TEST_S:-300}" "$t" 2>&1 | tee "$out/test-$n.log" | grep -E '^test result' | tail -1)
+            row "test $n" "${r:-no result (timeout or crash: $out/test-$n.log)}"
+        done
+    elif command -v cargo >/dev/null; then
+        CI=true cargo test --release --workspace >"$out/tests.log" 2>&1
+        code=$?
+        passed=$(grep -E '^test result' "$out/tests.log" | awk '{p += $4; f += $6} END {print p " passed, " f " failed"}')
+        row "cargo test (CI=true)" "exit $code: $passed ($out/tests.log)"
+    else
+        row "tests" "skipped: no cargo and no --tests DIR"
+    fi
+fi
+
 echo "table: $table"

@@ -13,7 +13,7 @@ pub(crate) fn diff(image: &Path, reference: &Path, downsample: u32, error_image:
     let b = image_io::read_image(reference)?;
     let c = sppm_gpu::metrics::compare(&a, &b, downsample).map_err(Error::Setting)?;
     say!(
-        "relMSE {:.6}  RMSE {:.6}  mean ratio {:.4} {:.4} {:.4}  (downsample {downsample})",
+        "relMSE {:.3e}  RMSE {:.3e}  mean ratio {:.4} {:.4} {:.4}  (downsample {downsample})",
         c.rel_mse,
         c.rmse,
         c.mean_ratio[0],
