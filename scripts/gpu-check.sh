@@ -60,6 +60,17 @@ if [ ! -x "$bin" ]; then
     fi
 fi
 "$bin" --list-adapters | tee "$out/adapters.txt"
+# A container whose NVIDIA Vulkan manifest names libGLX_nvidia.so.0 finds no driver without an
+# X server ("Could not get 'vkCreateInstance'", seen on an H200 2026-11-28); the EGL library
+# of the same driver serves Vulkan headless.
+egl=/usr/local/nvidia/lib64/libEGL_nvidia.so.0
+if ! grep -qv '(Cpu,' "$out/adapters.txt" && [ -f "$egl" ]; then
+    printf '{"file_format_version":"1.0.1","ICD":{"library_path":"%s","api_version":"1.3.0"}}\n' "$egl" >"$out/nvidia_egl_icd.json"
+    export VK_DRIVER_FILES=$PWD/$out/nvidia_egl_icd.json
+    [ "${out#/}" != "$out" ] && export VK_DRIVER_FILES=$out/nvidia_egl_icd.json
+    echo "gpu-check.sh: no GPU adapter; trying NVIDIA's driver through $egl" >&2
+    "$bin" --list-adapters | tee "$out/adapters.txt"
+fi
 if [ -z "$adapter" ]; then
     adapter=$(grep -v '(Cpu,' "$out/adapters.txt" | head -1 | cut -d: -f1)
 fi
@@ -70,7 +81,8 @@ fi
 export SPPM_GPU_ADAPTER=$adapter
 row "adapter" "$(grep "^$adapter:" "$out/adapters.txt" || echo "$adapter")"
 run() { "$bin" "$1" --adapter "$adapter" "${@:2}"; }
-summary() { grep -E " in [0-9.]+ s" | tail -1; }
+# The render's own summary line (not --stats' "kernels compiled in ..." line after it).
+summary() { grep -E " in [0-9.]+ s" | grep -v "^kernels compiled" | tail -1; }
 
 # 1. The canonical scenes against their references.
 if ! skipped scenes; then
@@ -161,7 +173,7 @@ fi
 if ! skipped tests; then
     if [ -n "$tests" ]; then
         for t in "$tests"/*; do
-            [ -x "$t" ] && [ -f "$t" ] || continue
+            [ -x "$t" ] && [ -f "$t" ] && [ "${t%.xz}" = "$t" ] || continue
             n=$(basename "$t")
             r=$(CI=true timeout "${TEST_S:-300}" "$t" 2>&1 | tee "$out/test-$n.log" | grep -E '^test result' | tail -1)
             row "test $n" "${r:-no result (timeout or crash: $out/test-$n.log)}"

@@ -176,15 +176,13 @@ impl GpuContext {
     }
 
     /// The work of an SPPM pass where the scene does not set it, by kind of device: a CPU
-    /// device (lavapipe) or a GPU. Chosen from the adapter, never from timings, so that one
-    /// scene and seed give one image on one machine. Today both are the values chosen on
-    /// lavapipe ([`crate::scene::PassWork::DEFAULT`]): the GPU's own are owed a measurement of
-    /// equal-time error against photons and samples a pass on a GPU (docs/journal/session-15.md, "Pacing:
-    /// time limit, Ctrl-C and throughput").
+    /// device (lavapipe) or a GPU ([`crate::scene::PassWork::DEFAULT`],
+    /// [`crate::scene::PassWork::GPU`]). Chosen from the adapter, never from timings, so that
+    /// one scene and seed give one image on one machine.
     pub fn pass_work(&self) -> crate::scene::PassWork {
         match self.adapter_info.device_type {
             wgpu::DeviceType::Cpu => crate::scene::PassWork::DEFAULT,
-            _ => crate::scene::PassWork::DEFAULT,
+            _ => crate::scene::PassWork::GPU,
         }
     }
 

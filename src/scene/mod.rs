@@ -279,9 +279,13 @@ pub struct PassWork {
 }
 
 impl PassWork {
-    /// The loader's defaults, chosen on a CPU device (lavapipe) and today also those of GPUs
-    /// (`gpu::GpuContext::pass_work`): 100,000 photons and one camera sample a pass.
+    /// The loader's defaults, chosen on a CPU device (lavapipe): 100,000 photons and one
+    /// camera sample a pass.
     pub const DEFAULT: PassWork = PassWork { photons: 100_000, spp: 1 };
+    /// A GPU's (`gpu::GpuContext::pass_work`): 400,000 photons and four camera samples a
+    /// pass, the lowest equal-time error of 4 x 2 choices on three canonical scenes on an
+    /// H200 (BENCHMARKS.md "GPU"): a GPU's pass has fixed costs that small passes repeat.
+    pub const GPU: PassWork = PassWork { photons: 400_000, spp: 4 };
 }
 
 impl Default for RenderSettings {
