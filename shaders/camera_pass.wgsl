@@ -18,6 +18,7 @@
 #import sampling
 #import camera
 #import grid
+#import bidir_connect_none
 #import camera_path
 
 @group(0) @binding(8) var<storage, read_write> visible_points: array<VisiblePoint>;

@@ -23,8 +23,18 @@
 #import camera
 #import splat
 #import camera_importance
+#import vcm
+#import bidir
+#import light_vertex
 
 const STREAM_LIGHT: u32 = 3u;
+
+// Bidirectional path tracing's light pass (method bpt, set by src/integrators/light.rs): each
+// subpath also keeps its MIS quantities (shared/vcm.wgsl) and stores its vertices for the
+// camera subpaths' connections (shared/light_vertex.wgsl), its joins to the camera are
+// weighted against the other strategies, and a light's own point is left to camera paths
+// that see it.
+override BIDIR: bool = false;
 
 // Join the point p (on surface s, when `on_surface`) to the camera and splat what it sends
 // there: `le` the light leaving p towards the camera per unit of importance (radiance times
@@ -63,9 +73,15 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     let ph = emit_light(e, u_pos, u_dir, EnvironmentAim(0.0, 0.0, vec3f(0.0), vec3f(0.0)));
     let scale = frame.power_total / f32(frame.photon_count);
     var beta = ph.beta * scale;
+    var lm = SubpathMis(0.0, 0.0, 0.0);
+    var stored = 0u;
+    if BIDIR {
+        let pdfs = emission_pdfs(e, ph);
+        lm = mis_light_start(pdfs.direct_pdf_a, pdfs.emission_pdf_w, pdfs.cos_light, pdfs.delta, bidir_factors());
+    }
     // The point an area light emits from, seen by the camera: Le cos_x / (pmf pdf_pos), which
     // is beta / pi (area_emit draws the direction by cosine), from the light's front.
-    if any(ph.n != vec3f(0.0)) {
+    if !BIDIR && any(ph.n != vec3f(0.0)) {
         var u_lens = vec2f(0.0);
         if frame.lens_radius > 0.0 {
             u_lens = rng_next2(&rng);
@@ -96,6 +112,15 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         if !finite {
             break;
         }
+        if BIDIR {
+            lm = mis_hit(lm, hit.t, dot(d, s.ns), true);
+            // Kept for the camera subpaths' connections, its throughput for one subpath.
+            if bsdf_samples_lights(m) {
+                light_vertices[index * frame.max_depth + stored] =
+                    LightVertex(s.p, s.material, s.ng, s.shape, s.ns, depth + 1u, -d, lm.d_vcm, beta * f32(frame.photon_count), lm.d_vc, s.uv, lm.d_vm, 0u);
+                stored += 1u;
+            }
+        }
         // Join this vertex to the camera: wo towards the camera, the light arriving along d.
         // With a thin lens, a lens point for each vertex (two numbers, drawn only then).
         if bsdf_samples_lights(m) {
@@ -110,7 +135,13 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             if view.importance > 0.0 && (same_side || m.kind == MATERIAL_DIELECTRIC) && !one_sided_culls(m, s, wo) {
                 let b = bsdf_eval(s, m, m.albedo, wo, wi);
                 let correction = abs(dot(wi, s.ns)) / max(abs(dot(wi, s.ng)), 1e-8);
-                let c = beta * b.f * (correction * abs(dot(wo, s.ng)));
+                var c = beta * b.f * (correction * abs(dot(wo, s.ng)));
+                if BIDIR {
+                    // The camera's density of this vertex: its direction's, per pixel area
+                    // (bidir.wgsl's camera_pdf_w), in area measure here.
+                    let camera_pdf_a = view.importance * abs(dot(wo, s.ns));
+                    c *= mis_weight_to_camera(lm, camera_pdf_a, b.pdf, f32(frame.photon_count), bidir_factors());
+                }
                 connect_to_camera(offset_origin(s.p, s.ng, wo), view, c);
             }
         }
@@ -120,9 +151,18 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         if m.kind != MATERIAL_DIFFUSE {
             u.z = rng_next(&rng);
         }
-        let next = bsdf_sample(s, m, m.albedo, d, u, false, false);
+        let next = bsdf_sample(s, m, m.albedo, d, u, false, BIDIR);
         if all(next.weight == vec3f(0.0)) {
             break;
+        }
+        if BIDIR {
+            // A delta lobe (mirror, smooth glass, a smooth plastic's coating) has no density.
+            let specular = !bsdf_samples_lights(m) || next.pdf <= 0.0;
+            var pdf_rev = 0.0;
+            if !specular {
+                pdf_rev = bsdf_eval(s, m, m.albedo, next.wi, -d).pdf;
+            }
+            lm = mis_scatter(lm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, bidir_factors());
         }
         // Russian roulette that keeps the subpath's largest channel constant.
         let beta_new = beta * next.weight;
@@ -136,5 +176,8 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         if !(USES_MEDIA && is_null(m)) {
             depth += 1u;
         }
+    }
+    if BIDIR {
+        light_path_length[index] = stored;
     }
 }

@@ -8,6 +8,7 @@
 #import types
 #import rng
 #import camera
+#import bidir_connect_none
 #import camera_path
 
 // Per pixel: the sum of the passes' samples (rgb) and the sample count (w).

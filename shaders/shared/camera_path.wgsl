@@ -19,6 +19,8 @@
 #import direct
 #import medium
 #import grid
+#import vcm
+#import bidir
 
 // Russian roulette after three scattering events (pt).
 const CAMERA_PATH_ROULETTE: u32 = 1u;
@@ -32,6 +34,13 @@ const CAMERA_PATH_VISIBLE_POINT: u32 = 4u;
 // The last segment, which only gathers emission, goes on through null boundaries of media, as
 // NEE's shadow rays do (shadow_transmittance) (SPPM).
 const CAMERA_PATH_LAST_THROUGH_NULL: u32 = 8u;
+
+// The camera subpath of the bidirectional methods (bpt): emission hit and next-event
+// estimation weighted by the balance heuristic over the whole family (shared/bidir.wgsl), and
+// at each vertex where a BSDF can be evaluated a connection to every vertex of the pass's
+// light subpath the kernel chose (connect_light_subpath: bidir_connect.wgsl, which only the
+// bidirectional kernel imports). Ask with nee, without media.
+const CAMERA_PATH_BIDIR: u32 = 16u;
 
 const CAMERA_PATH_PT: u32 = CAMERA_PATH_ROULETTE | CAMERA_PATH_SHARED_STREAMS;
 const CAMERA_PATH_SPPM: u32 = CAMERA_PATH_VISIBLE_POINT | CAMERA_PATH_LAST_THROUGH_NULL;
@@ -67,6 +76,7 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
     let shared_streams = (flags & CAMERA_PATH_SHARED_STREAMS) != 0u;
     let visible_point = (flags & CAMERA_PATH_VISIBLE_POINT) != 0u;
     let last_through_null = (flags & CAMERA_PATH_LAST_THROUGH_NULL) != 0u;
+    let bidir = (flags & CAMERA_PATH_BIDIR) != 0u;
     var path = CameraPath(vec3f(0.0), VisiblePoint(vec3f(0.0), 0.0, vec3f(0.0), 0u), false);
     var o = ray.o;
     var d = ray.d;
@@ -84,6 +94,11 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
     var mis_o = o;
     // Whether the path has left its visible point (CAMERA_PATH_VISIBLE_POINT with NEE).
     var past_vp = false;
+    // The bidirectional MIS quantities of the subpath so far (shared/vcm.wgsl).
+    var cm = SubpathMis(0.0, 0.0, 0.0);
+    if bidir {
+        cm = bidir_camera_start(d);
+    }
     // A path has at most max_depth scattering events, so max_depth + 1 segments; with
     // CAMERA_PATH_LAST_THROUGH_NULL the last one may cross null boundaries past that (the last
     // segment ends in a break or such a crossing).
@@ -138,11 +153,18 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
             break;
         }
         let s = surface_at(hit, o, d);
+        if bidir {
+            cm = mis_hit(cm, hit.t, dot(d, s.ns), true);
+        }
         // Emission is one-sided: only the front of the geometric normal emits. Without NEE it
         // counts whole (pdf_prev stays 0).
         let shape = shapes[s.shape];
         if shape.emits != 0u && dot(d, s.ng) < 0.0 {
-            path.l += beta * shape.emission * emission_weight(pdf_prev, mis_o, hit, s, d);
+            if bidir {
+                path.l += beta * shape.emission * bidir_emission_weight(cm, s.shape, -dot(d, s.ng), depth == 0u);
+            } else {
+                path.l += beta * shape.emission * emission_weight(pdf_prev, mis_o, hit, s, d);
+            }
         }
         if last {
             // Emission behind a null boundary of a medium, which NEE reached too: the segment
@@ -164,7 +186,10 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         // NEE where the BSDF can sample lights (mirrors and smooth glass cannot), from one
         // call site: the shadow ray's traversal is inlined once.
         let nee_here = nee && bsdf_samples_lights(m);
-        if nee_here {
+        if nee_here && bidir {
+            path.l += beta * bidir_direct_light(s, wo, m, albedo, cm, vec3f(rng_next(rng), rng_next2(rng)));
+            path.l += beta * connect_light_subpath(s, m, albedo, wo, cm, depth + 1u);
+        } else if nee_here {
             path.l += beta * direct_light(s, wo, m, albedo, medium, vec3f(rng_next(rng), rng_next2(rng)));
         } else if shared_streams && m.kind == MATERIAL_DIFFUSE {
             // The light sample's numbers, drawn and left (CAMERA_PATH_SHARED_STREAMS).
@@ -192,6 +217,15 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
             break;
         }
         beta *= next.weight;
+        if bidir {
+            // A delta lobe (mirror, smooth glass, a smooth plastic's coating) has no density.
+            let specular = !nee_here || next.pdf <= 0.0;
+            var pdf_rev = 0.0;
+            if !specular {
+                pdf_rev = bsdf_eval(s, m, albedo, next.wi, wo).pdf;
+            }
+            cm = mis_scatter(cm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, bidir_factors());
+        }
         if use_roulette {
             eta_scale *= refraction_eta2(m, s, d, next.wi);
         }

@@ -82,3 +82,39 @@ fn emit_light(e: Emitter, u_pos: vec2f, u_dir: vec2f, aim: EnvironmentAim) -> Em
     }
     return area_emit(e, u_pos, u_dir, scale);
 }
+
+// The MIS densities (EmissionPdfs) of photon ph that light e emitted (emit_light), for the
+// bidirectional methods, which take area and point lights (src/integrators/light.rs refuses
+// the others).
+fn emission_pdfs(e: Emitter, ph: EmittedPhoton) -> EmissionPdfs {
+    if USES_POINT_LIGHTS && e.kind == EMITTER_POINT {
+        return point_emission_pdfs(e);
+    }
+    return area_emission_pdfs(area_light_shape(e), dot(ph.d, ph.n));
+}
+
+// The shape of area emitter e's primitive.
+fn area_light_shape(e: Emitter) -> u32 {
+    if is_sphere_light(e.prim_ref) {
+        return spheres[e.prim_ref & ~SPHERE_BIT].shape;
+    }
+    return triangles[e.prim_ref].shape;
+}
+
+// A light sample for next-event estimation (sample_light's, the same numbers) with what the
+// bidirectional methods' MIS needs of it: pdfs.direct_pdf_a the density of the light's point
+// (area measure, light choice included; its pmf for a delta light), pdfs.emission_pdf_w that
+// of the light emitting towards p, pdfs.cos_light the cosine there.
+struct LightSampleMis {
+    ls: LightSample,
+    pdfs: EmissionPdfs,
+}
+
+fn sample_light_mis(p: vec3f, u: vec3f) -> LightSampleMis {
+    let e = emitters[find_emitter(u.x)];
+    if USES_POINT_LIGHTS && e.kind == EMITTER_POINT {
+        return LightSampleMis(point_sample(e, p, u), point_emission_pdfs(e));
+    }
+    let ls = area_sample(e, p, u);
+    return LightSampleMis(ls, area_emission_pdfs(area_light_shape(e), ls.cos_l));
+}

@@ -41,7 +41,7 @@ pub struct Variant {
 
 /// [`Variant::name`]s: a row per variant of [`Variant::ALL`], a column per sampler (the
 /// scene's, independent, sobol).
-const VARIANT_NAMES: [[&str; 3]; 7] = [
+const VARIANT_NAMES: [[&str; 3]; 8] = [
     ["sppm", "sppm/independent", "sppm/sobol"],
     ["sppm-photons", "sppm-photons/independent", "sppm-photons/sobol"],
     ["pt", "pt/independent", "pt/sobol"],
@@ -49,11 +49,12 @@ const VARIANT_NAMES: [[&str; 3]; 7] = [
     ["sppm-shrink", "sppm-shrink/independent", "sppm-shrink/sobol"],
     ["sppm-adaptive", "sppm-adaptive/independent", "sppm-adaptive/sobol"],
     ["lt", "lt/independent", "lt/sobol"],
+    ["bpt", "bpt/independent", "bpt/sobol"],
 ];
 
 impl Variant {
     /// Every variant, in the order of [`Variant::name`]'s list.
-    pub const ALL: [Variant; 7] = [
+    pub const ALL: [Variant; 8] = [
         Variant { method: Method::Sppm, direct: DirectLight::Sampled, sampler: None, radius_rule: None },
         Variant { method: Method::Sppm, direct: DirectLight::Photons, sampler: None, radius_rule: None },
         Variant { method: Method::Pt, direct: DirectLight::Sampled, sampler: None, radius_rule: None },
@@ -61,10 +62,11 @@ impl Variant {
         Variant { method: Method::Sppm, direct: DirectLight::Sampled, sampler: None, radius_rule: Some(RadiusRule::Shrink) },
         Variant { method: Method::Sppm, direct: DirectLight::Sampled, sampler: None, radius_rule: Some(RadiusRule::Adaptive) },
         Variant { method: Method::Lt, direct: DirectLight::Sampled, sampler: None, radius_rule: None },
+        Variant { method: Method::Bpt, direct: DirectLight::Sampled, sampler: None, radius_rule: None },
     ];
 
     /// From its name: `sppm`, `sppm-photons`, `pt`, `pt-nee`, `sppm-shrink`, `sppm-adaptive`
-    /// or `lt`, optionally followed by `/independent` or `/sobol`.
+    /// `lt` or `bpt`, optionally followed by `/independent` or `/sobol`.
     pub fn parse(name: &str) -> Result<Self, Error> {
         use crate::sampler::Sampler;
         [None, Some(Sampler::Independent), Some(Sampler::Sobol)]

@@ -27,6 +27,7 @@ pub const KERNELS: &[&str] = &[
     "path_trace",
     "path_resolve_texture",
     "light_trace",
+    "bidir_camera",
     "splat_accumulate",
 ];
 

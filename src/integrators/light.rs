@@ -4,6 +4,11 @@
 //! light half of the bidirectional family (Veach 1997 ch. 10; SmallVCM's light tracing mode):
 //! it finds caustics seen directly, which a path tracer cannot, and the light arriving at the
 //! camera through nothing but diffuse surfaces, as a path tracer does.
+//!
+//! Bidirectional path tracing (`method = "bpt"`) is the same light pass asked to keep its
+//! subpaths' vertices (`shaders/shared/light_vertex.wgsl`) and MIS quantities, followed by a
+//! camera pass (`shaders/bidir_camera.wgsl`) whose subpaths connect to them, every strategy
+//! weighted by the balance heuristic (`shaders/shared/vcm.wgsl`, SmallVCM's recursive form).
 
 use super::pixel_sums::{PixelSums, Progress, PIXEL_BYTES};
 use super::{Integrator, Part, PartSize, Work};
@@ -21,6 +26,28 @@ use wgpu::util::DeviceExt;
 /// `shaders/shared/splat.wgsl`).
 const SPLAT_BYTES: u64 = 24;
 
+/// Bytes of a stored light vertex (`LightVertex` in `shaders/shared/light_vertex.wgsl`).
+pub const LIGHT_VERTEX_BYTES: u64 = 96;
+
+/// Bytes the light-vertex store of bpt may take at most: a pass has one light subpath a pixel
+/// where `max_depth` vertices of each fit, fewer (pixels then share them) where not.
+const LIGHT_VERTEX_BUDGET: u64 = 256 << 20;
+
+/// Light subpaths a pass of `method` on `scene`, within `limit` bytes a buffer: one a pixel
+/// (of the whole image), for bpt as many as the light-vertex store holds (at least one).
+pub fn light_paths(scene: &Scene, limit: u64) -> Result<u32, Error> {
+    let r = &scene.render;
+    let pixels = r
+        .width
+        .checked_mul(r.height)
+        .ok_or_else(|| Error::Setting(format!("{}x{} pixels are more than 2^32 light subpaths a pass", r.width, r.height)))?;
+    if scene.render.method != crate::scene::Method::Bpt {
+        return Ok(pixels);
+    }
+    let per_path = r.max_depth.max(1) as u64 * LIGHT_VERTEX_BYTES;
+    Ok((LIGHT_VERTEX_BUDGET.min(limit) / per_path).clamp(1, pixels as u64) as u32)
+}
+
 /// A progressive light tracer: each pass traces one light subpath per pixel of the image and
 /// adds the pass's splats to each pixel's sums. Driven through [`Integrator`].
 pub struct LightTracer {
@@ -30,12 +57,17 @@ pub struct LightTracer {
     pixel_count: u32,
     light_trace: Kernel,
     trace_group: wgpu::BindGroup,
+    /// bpt's camera pass and its bindings.
+    bidir_camera: Option<(Kernel, wgpu::BindGroup)>,
     splat_accumulate: Kernel,
     accumulate_group: wgpu::BindGroup,
     /// Passes done, the batch's first, the next part of the pass under way.
     progress: Progress,
     frame_buffer: wgpu::Buffer,
     splat: wgpu::Buffer,
+    /// bpt's light vertices and each subpath's count (a word each for lt, which keeps none).
+    light_vertices: wgpu::Buffer,
+    light_path_length: wgpu::Buffer,
     sums: PixelSums,
     /// [`Integrator::run_pass`]'s submissions in flight.
     submissions: crate::gpu::submissions::Submissions,
@@ -54,19 +86,35 @@ impl LightTracer {
     /// [`Integrator::gpu_memory`] reports them: the sums per pixel and their read-back copy, the
     /// splats, and the frame.
     pub fn renderer_bytes(scene: &Scene, rows: u32) -> u64 {
-        scene.render.width as u64 * rows as u64 * (2 * PIXEL_BYTES + SPLAT_BYTES) + size_of::<Frame>() as u64
+        let store = match light_paths(scene, u64::MAX) {
+            Ok(n) if scene.render.method == crate::scene::Method::Bpt => {
+                n as u64 * (scene.render.max_depth as u64 * LIGHT_VERTEX_BYTES + 4)
+            }
+            _ => 8,
+        };
+        scene.render.width as u64 * rows as u64 * (2 * PIXEL_BYTES + SPLAT_BYTES) + size_of::<Frame>() as u64 + store
     }
 
-    /// What a light tracer cannot render of `scene`, as an error naming it: participating
-    /// media and an environment light (seen directly only by camera paths).
+    /// What a light tracer (or bpt) cannot render of `scene`, as an error naming it:
+    /// participating media and an environment light (seen directly only by camera paths);
+    /// for bpt also spot and directional lights (their emission densities are not written yet).
     pub fn check_scene(scene: &Scene) -> Result<(), Error> {
+        let method = crate::scene::Named::name(scene.render.method);
         let refuse =
-            |what: String| Err(Error::Setting(format!("{}: method lt {what}; use pt-nee or sppm", scene.path.display())));
+            |what: String| Err(Error::Setting(format!("{}: method {method} {what}; use pt-nee or sppm", scene.path.display())));
         if let Some(m) = scene.media.first() {
             return refuse(format!("does not render participating media yet (medium {:?})", m.name));
         }
         if scene.lights.iter().any(|l| l.kind.is_environment()) {
             return refuse("cannot show an environment light seen directly".into());
+        }
+        if scene.render.method == crate::scene::Method::Bpt {
+            use crate::scene::emitter::LightKind;
+            if let Some(l) =
+                scene.lights.iter().find(|l| matches!(l.kind, LightKind::Spot { .. } | LightKind::Directional { .. }))
+            {
+                return refuse(format!("does not take spot or directional lights yet (the light of line {})", l.line));
+            }
         }
         Ok(())
     }
@@ -94,13 +142,13 @@ impl LightTracer {
                 Self::max_rows(device, scene)
             )));
         }
-        // One light subpath a pixel of the whole image a pass.
-        frame.photon_count = r
-            .width
-            .checked_mul(r.height)
-            .ok_or_else(|| Error::Setting(format!("{}x{} pixels are more than 2^32 light subpaths a pass", r.width, r.height)))?;
+        // One light subpath a pixel of the whole image a pass (bpt: as many as the store holds).
+        let limit = device.limits().max_storage_buffer_binding_size;
+        frame.photon_count = light_paths(scene, limit)?;
+        let bidir = r.method == crate::scene::Method::Bpt;
 
-        let spec = super::specialization(scene, data);
+        let mut spec = super::specialization(scene, data);
+        spec.constants.push(("BIDIR", if bidir { 1.0 } else { 0.0 }));
         let light_trace = spec.kernel(device, "light_trace")?;
         let splat_accumulate = Kernel::new(device, "splat_accumulate")?;
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -110,11 +158,27 @@ impl LightTracer {
         });
         let splat = storage_buffer(device, "splat", &vec![0u32; pixel_count as usize * (SPLAT_BYTES / 4) as usize]);
         let sums = PixelSums::new(device, queue, pixel_count);
+        let (vertex_words, paths) = if bidir {
+            (frame.photon_count as usize * r.max_depth as usize * (LIGHT_VERTEX_BYTES / 4) as usize, frame.photon_count as usize)
+        } else {
+            (1, 1)
+        };
+        let light_vertices = storage_buffer(device, "light_vertices", &vec![0u32; vertex_words]);
+        let light_path_length = storage_buffer(device, "light_path_length", &vec![0u32; paths]);
         let mut resources = scene_buffers.resources();
         resources.push(Resource { name: "frame", buffer: &frame_buffer });
         resources.push(Resource { name: "splat", buffer: &splat });
         resources.push(Resource { name: "radiance", buffer: &sums.radiance });
+        resources.push(Resource { name: "light_vertices", buffer: &light_vertices });
+        resources.push(Resource { name: "light_path_length", buffer: &light_path_length });
         let trace_group = light_trace.bind_group(device, &resources)?;
+        let bidir_camera = if bidir {
+            let kernel = spec.kernel(device, "bidir_camera")?;
+            let group = kernel.bind_group(device, &resources)?;
+            Some((kernel, group))
+        } else {
+            None
+        };
         let accumulate_group = splat_accumulate.bind_group(device, &resources)?;
         drop(resources);
         Ok(Self {
@@ -124,11 +188,14 @@ impl LightTracer {
             pixel_count,
             light_trace,
             trace_group,
+            bidir_camera,
             splat_accumulate,
             accumulate_group,
             progress: Progress::default(),
             frame_buffer,
             splat,
+            light_vertices,
+            light_path_length,
             sums,
             submissions: crate::gpu::submissions::Submissions::new(),
             _scene: scene_buffers,
@@ -156,6 +223,9 @@ impl Integrator for LightTracer {
         super::record_upload(&self.device, &self.queue, encoder, &self.frame_buffer, bytemuck::bytes_of(&self.frame));
         self.light_trace.dispatch(encoder, &self.trace_group, end - first);
         if pass_done {
+            if let Some((kernel, group)) = &self.bidir_camera {
+                kernel.dispatch(encoder, group, self.pixel_count);
+            }
             self.splat_accumulate.dispatch(encoder, &self.accumulate_group, self.pixel_count);
         }
         Part { work: Work::Photons, items: end - first, pass_done }
@@ -201,7 +271,14 @@ impl Integrator for LightTracer {
     }
 
     fn gpu_memory(&self) -> super::GpuMemory {
-        let own = [("frame", &self.frame_buffer), ("splat", &self.splat)].into_iter().chain(self.sums.buffers());
+        let own = [
+            ("frame", &self.frame_buffer),
+            ("splat", &self.splat),
+            ("light_vertices", &self.light_vertices),
+            ("light_path_length", &self.light_path_length),
+        ]
+        .into_iter()
+        .chain(self.sums.buffers());
         super::GpuMemory {
             scene: super::sizes(self._scene.resources().iter().map(|r| (r.name, r.buffer))),
             renderer: super::sizes(own),

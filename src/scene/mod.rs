@@ -94,7 +94,7 @@ pub trait Named: Copy + PartialEq + Sized + 'static {
 impl Named for Method {
     const WHAT: &'static str = "method";
     const NAMES: &'static [(&'static str, Self)] =
-        &[("sppm", Method::Sppm), ("pt", Method::Pt), ("pt-nee", Method::PtNee), ("lt", Method::Lt)];
+        &[("sppm", Method::Sppm), ("pt", Method::Pt), ("pt-nee", Method::PtNee), ("lt", Method::Lt), ("bpt", Method::Bpt)];
     /// Mitsuba's and pbrt-v4's integrators of the same images: their `path` and `volpath`
     /// sample lights at each vertex with MIS, as pt-nee does; Mitsuba's `ppm` is SPPM's
     /// ancestor.
@@ -134,6 +134,9 @@ pub enum Method {
     PtNee,
     /// Light tracing: light subpaths joined to the camera.
     Lt,
+    /// Bidirectional path tracing: camera and light subpaths, every connection between them,
+    /// next-event estimation, emission hit and light tracing weighted by the balance heuristic.
+    Bpt,
 }
 
 /// Where SPPM's direct light comes from (`direct` in `[render]`).

@@ -137,3 +137,12 @@ fn area_emit(e: Emitter, u_pos: vec2f, u_dir: vec2f, scale: f32) -> EmittedPhoto
     }
     return EmittedPhoton(offset_origin(l.p, l.n, d), d, beta, medium, l.n);
 }
+
+// The MIS densities of area emitter light at a point of shape `shape` leaving (or hit) at
+// cosine cos_l to its normal (EmissionPdfs): the point by area, pmf / area (area_density; a
+// sphere's too, whose next-event estimation samples its cone: the weights stay a partition
+// of one, Veach 1997 sec. 9.2.2), and a cosine-distributed direction, cos_l / pi.
+fn area_emission_pdfs(shape: u32, cos_l: f32) -> EmissionPdfs {
+    let direct_pdf_a = area_density(shape);
+    return EmissionPdfs(direct_pdf_a, direct_pdf_a * max(cos_l, 0.0) * INV_PI, cos_l, false);
+}

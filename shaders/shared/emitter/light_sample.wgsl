@@ -33,3 +33,16 @@ struct EmittedPhoton {
     // point to the camera); zero from the other lights, which no camera sees.
     n: vec3f,
 }
+
+// What the bidirectional methods' MIS (shared/vcm.wgsl) needs of a light at one of its points:
+// the densities with which next-event estimation picks the point (direct_pdf_a, area measure,
+// the light's choice included; its pmf for a delta light) and a light subpath leaves it in a
+// direction (emission_pdf_w: point and direction, solid angle for the direction), the cosine
+// between that direction and the light's normal (1 for lights without a surface), and whether
+// the light is a delta light that no ray can hit.
+struct EmissionPdfs {
+    direct_pdf_a: f32,
+    emission_pdf_w: f32,
+    cos_light: f32,
+    delta: bool,
+}

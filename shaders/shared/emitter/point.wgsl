@@ -24,3 +24,9 @@ fn point_sample(e: Emitter, p: vec3f, u: vec3f) -> LightSample {
 fn point_emit(e: Emitter, u_pos: vec2f, u_dir: vec2f, scale: f32) -> EmittedPhoton {
     return EmittedPhoton(e.position, sample_uniform_sphere(u_dir), e.radiance * (4.0 * PI * scale), CAMERA_MEDIUM, vec3f(0.0));
 }
+
+// The MIS densities of point light e (EmissionPdfs): the point itself with its choice's
+// probability, a uniform direction 1 / 4 pi; a delta light.
+fn point_emission_pdfs(e: Emitter) -> EmissionPdfs {
+    return EmissionPdfs(e.pmf, e.pmf * INV_4PI, 1.0, true);
+}

@@ -1,0 +1,37 @@
+// Bidirectional path tracing's camera pass (`--method bpt`; Veach 1997 ch. 10, in SmallVCM's
+// recursive-MIS form, Georgiev 2012): after light_trace.wgsl has traced the pass's light
+// subpaths, stored their vertices and splatted their joins to the camera, each pixel traces
+// one camera subpath (shared/camera_path.wgsl under CAMERA_PATH_BIDIR) that at every vertex
+// where a BSDF can be evaluated samples a light and connects to each stored vertex of light
+// subpath (pixel mod n_light); emission it hits, next-event estimation, connections and light
+// tracing are weighted by the balance heuristic so that together they make one estimate.
+// Adds the camera subpath's light to `radiance` without counting a sample: splat_accumulate
+// then adds the pass's splats and counts it.
+
+#import types
+#import rng
+#import camera
+#import bidir_connect
+#import camera_path
+
+// Per pixel: the sum of the passes' estimates (rgb) and their count (w).
+@group(0) @binding(16) var<storage, read_write> radiance: array<vec4f>;
+
+const STREAM_BIDIR_CAMERA: u32 = 4u;
+
+@compute @workgroup_size(64)
+fn bidir_camera(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
+    let pixel = gid.x + gid.y * groups.x * 64u;
+    if pixel >= frame.width * frame.height {
+        return;
+    }
+    // Keyed by the pixel's index in the whole image (this may be a band of it).
+    let index = pixel + frame.row_offset * frame.width;
+    var rng = rng_new(frame.seed, frame.pass_index, STREAM_BIDIR_CAMERA, index);
+    rng_sobol(&rng, frame.pass_index, sobol_seed(frame.seed, STREAM_BIDIR_CAMERA, index));
+    bidir_light_path = index % max(frame.photon_count, 1u);
+    let ray = camera_ray(pixel % frame.width, pixel / frame.width, &rng);
+    let l = trace_camera_path(ray, CAMERA_PATH_BIDIR | CAMERA_PATH_ROULETTE, true, &rng).l;
+    let ok = all(l == l) && all(abs(l) < vec3f(3.0e38));
+    radiance[pixel] += vec4f(select(vec3f(0.0), l, ok), 0.0);
+}

@@ -1,0 +1,69 @@
+// The camera side of the bidirectional methods (bpt) that needs no light vertex: the camera
+// subpath's start, next-event estimation and emission hit weighted by the balance heuristic
+// over every strategy of the family (shared/vcm.wgsl), where pt-nee weighs only NEE against
+// BSDF sampling (shared/direct.wgsl). shared/camera_path.wgsl calls them under
+// CAMERA_PATH_BIDIR; the connections to light vertices are bidir_connect.wgsl's.
+
+#import types
+#import sampling
+#import scene
+#import bsdf
+#import lights
+#import direct
+#import vcm
+
+// The strategies bpt weighs: connections, no merging (vm 0; vc only scales dVM, unused).
+fn bidir_factors() -> MisFactors {
+    return MisFactors(0.0, 0.0);
+}
+
+// Solid-angle density, per unit of pixel area, with which the camera sends a ray along unit d
+// through its pixel: the image plane at distance 1 along the view axis, pixels of area
+// a_pix there, so 1 / (a_pix cos^3 theta) (camera_importance.wgsl's camera_view, whose
+// importance times cos_x is the same density in area measure at the point seen).
+fn camera_pdf_w(d: vec3f) -> f32 {
+    let axis = normalize(cross(frame.cam_up, frame.cam_right));
+    let cos_theta = max(dot(d, axis), 1e-8);
+    let a_pix = 4.0 * length(frame.cam_right) * length(frame.cam_up) / (f32(frame.width) * f32(frame.image_height));
+    return 1.0 / (a_pix * cos_theta * cos_theta * cos_theta);
+}
+
+// The camera subpath's MIS quantities as it leaves the camera along d, n_light light subpaths
+// a pass (frame.photon_count).
+fn bidir_camera_start(d: vec3f) -> SubpathMis {
+    return mis_camera_start(camera_pdf_w(d), f32(frame.photon_count));
+}
+
+// Weight of the emission a camera subpath (its quantities `camera`, updated at the hit) finds
+// on area light shape `shape` at cosine cos_l; seen straight from the camera, 1 (light tracing
+// does not join a light's own point to the camera in bpt).
+fn bidir_emission_weight(camera: SubpathMis, shape: u32, cos_l: f32, first_segment: bool) -> f32 {
+    if first_segment {
+        return 1.0;
+    }
+    let pdfs = area_emission_pdfs(shape, cos_l);
+    return mis_weight_emission(camera, pdfs.direct_pdf_a, pdfs.emission_pdf_w);
+}
+
+// Next-event estimate at surface s seen from wo (direct_light's, the same numbers and
+// visibility), weighted against every other strategy that makes the same path.
+fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera: SubpathMis, u: vec3f) -> vec3f {
+    let sample = sample_light_mis(s.p, u);
+    let ls = sample.ls;
+    let same_side = dot(ls.wi, s.ng) * dot(wo, s.ng) > 0.0;
+    if all(ls.li == vec3f(0.0)) || (!same_side && m.kind != MATERIAL_DIELECTRIC) || one_sided_culls(m, s, ls.wi) {
+        return vec3f(0.0);
+    }
+    let b = bsdf_eval(s, m, albedo, wo, ls.wi);
+    if all(b.f == vec3f(0.0)) || !unoccluded(offset_origin(s.p, s.ng, ls.wi), ls.p_light) {
+        return vec3f(0.0);
+    }
+    let p = sample.pdfs;
+    // The light point's density in solid angle from s, by area (a sphere's too: see
+    // area_emission_pdfs), and for a delta light its pmf times dist^2.
+    let direct_pdf_w = p.direct_pdf_a * ls.dist * ls.dist / max(p.cos_light, 1e-8);
+    let rev_pdf_w = bsdf_eval(s, m, albedo, ls.wi, wo).pdf;
+    let cos_to_light = dot(ls.wi, s.ns);
+    let weight = mis_weight_nee(camera, direct_pdf_w, p.emission_pdf_w, cos_to_light, p.cos_light, b.pdf, rev_pdf_w, p.delta, bidir_factors());
+    return b.f * abs(cos_to_light) * ls.li * weight;
+}

@@ -1,0 +1,36 @@
+// The light-vertex store of the bidirectional methods (bpt): each light subpath of a pass
+// (light_trace.wgsl) keeps its vertices where a BSDF can be evaluated, so that camera subpaths
+// (bidir_connect.wgsl) can connect to them (Veach 1997 sec. 10.2; SmallVCM's light vertices).
+// Subpath i's k-th stored vertex lies at i * frame.max_depth + k (a subpath has at most
+// max_depth of them); light_path_length[i] says how many it has. frame.photon_count subpaths a
+// pass, n_light; pixel j's camera subpath connects to subpath j mod n_light.
+
+// A light subpath's vertex, 96 bytes (LIGHT_VERTEX_BYTES in src/integrators/light.rs): the
+// surface it lies on (its material's albedo looked up again from uv), the direction back along
+// the subpath, the throughput (the flux estimate beta, over the whole power, not yet divided
+// by the number of subpaths), its segment count from the light, and its MIS quantities.
+struct LightVertex {
+    p: vec3f,
+    material: u32,
+    ng: vec3f,
+    shape: u32,
+    ns: vec3f,
+    // Segments from the light to this vertex.
+    length: u32,
+    // Unit direction towards the subpath's previous vertex.
+    w_prev: vec3f,
+    d_vcm: f32,
+    beta: vec3f,
+    d_vc: f32,
+    uv: vec2f,
+    d_vm: f32,
+    pad: u32,
+}
+
+@group(0) @binding(29) var<storage, read_write> light_vertices: array<LightVertex>;
+@group(0) @binding(30) var<storage, read_write> light_path_length: array<u32>;
+
+// The surface a stored vertex lies on.
+fn light_vertex_surface(v: LightVertex) -> Surface {
+    return Surface(v.p, v.ng, v.ns, v.material, v.shape, v.uv);
+}
