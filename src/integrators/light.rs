@@ -161,7 +161,8 @@ impl LightTracer {
         let (vertex_words, paths) = if bidir {
             (frame.photon_count as usize * r.max_depth as usize * (LIGHT_VERTEX_BYTES / 4) as usize, frame.photon_count as usize)
         } else {
-            (1, 1)
+            // One vertex: the smallest binding the kernel's declaration takes.
+            ((LIGHT_VERTEX_BYTES / 4) as usize, 1)
         };
         let light_vertices = storage_buffer(device, "light_vertices", &vec![0u32; vertex_words]);
         let light_path_length = storage_buffer(device, "light_path_length", &vec![0u32; paths]);

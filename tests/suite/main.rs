@@ -12,6 +12,7 @@ mod adaptive_radius;
 mod bad_input;
 mod bands;
 mod batch;
+mod bidir;
 mod bright_lights;
 mod builder;
 mod checkpoint;

@@ -1,0 +1,122 @@
+//! Bidirectional path tracing (`bpt`): it converges to the references on the canonical scenes,
+//! glass and mirrors included (where light tracing alone is black and pt-nee misses a point
+//! light's caustic), passes the furnace, agrees with pt-nee through a thin lens and a wide
+//! pixel filter, gives the same bits for the same seed, stays right where pixels share light
+//! subpaths (more pixels than the light-vertex store holds subpaths), and refuses what it cannot
+//! render before any work. The weights' sum over strategies is vcm.rs's oracle.
+
+use crate::common;
+
+use sppm_gpu::integrators;
+use sppm_gpu::metrics::{compare, downsample_box};
+use sppm_gpu::scene::{Method, PixelFilter, Scene};
+
+const SIZE: u32 = 64;
+
+/// relMSE and channel mean ratios against the 256x256 reference, both reduced to 8x8.
+fn check(scene: &Scene, name: &str, passes: u32, max_rel_mse: f64) {
+    let img = common::render_at(scene, Method::Bpt, SIZE, passes);
+    let reference = downsample_box(&common::reference(&format!("{name}.exr")), 256 / SIZE).unwrap();
+    let c = compare(&img, &reference, 8).unwrap();
+    eprintln!("{name} bpt {passes} passes (max_depth {}): {c:?}", scene.render.max_depth);
+    assert!(c.rel_mse < max_rel_mse, "{name} bpt: relMSE {}", c.rel_mse);
+    for r in c.mean_ratio {
+        assert!((r - 1.0).abs() < 0.01, "{name} bpt: channel mean ratios {:?}", c.mean_ratio);
+    }
+}
+
+#[test]
+fn bpt_matches_the_references() {
+    if common::gpu().is_none() {
+        return;
+    }
+    // Noise: cornell-spheres' caustics read relMSE 3.9e-4 at 64 passes, 2.2e-5 at 1,024.
+    for (name, passes) in
+        [("cornell-box", 32), ("cornell-spheres", 256), ("cornell-glossy", 64), ("point-light", 32), ("textured", 32)]
+    {
+        check(&common::load_scene(&format!("{name}.toml")), name, passes, 2e-4);
+    }
+}
+
+/// With max_depth 1024 the store holds 2,730 subpaths of 1024 vertices (256 MiB), fewer than
+/// the 4,096 pixels: pixel i connects to subpath i mod 2,730, and light tracing counts 2,730
+/// subpaths a pass. The image is the same one.
+#[test]
+fn bpt_with_pixels_sharing_light_subpaths() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let mut scene = common::load_scene("cornell-box.toml");
+    scene.render.method = Method::Bpt;
+    scene.render.max_depth = 1024;
+    scene.render.width = SIZE;
+    scene.render.height = SIZE;
+    let paths = integrators::light::light_paths(&scene, u64::MAX).unwrap();
+    assert!(paths < SIZE * SIZE, "{paths} light subpaths for {} pixels", SIZE * SIZE);
+    check(&scene, "cornell-box", 32, 2e-4);
+}
+
+/// Every surface has albedo 0.5 and emits 1 in a closed box: radiance 2 everywhere.
+#[test]
+fn bpt_passes_the_furnace() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let img = common::render_at(&common::load_scene("furnace.toml"), Method::Bpt, SIZE, 64);
+    let n = img.pixels.len() as f64;
+    for c in 0..3 {
+        let mean = img.pixels.iter().map(|p| p[c] as f64).sum::<f64>() / n;
+        eprintln!("furnace bpt: channel {c} mean {mean}");
+        assert!((mean / 2.0 - 1.0).abs() < 0.005, "furnace bpt: mean {mean}, expected 2");
+    }
+}
+
+/// Through a thin lens with a tent filter, the light-tracing joins and the camera's samples
+/// land alike: bpt against pt-nee, block by block.
+#[test]
+fn bpt_through_a_thin_lens_and_a_tent_filter() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let mut scene = common::load_scene("cornell-box.toml");
+    scene.camera.aperture_radius = 0.15;
+    scene.camera.focus_distance = 2.0;
+    scene.render.filter = PixelFilter::Tent { radius: 1.5 };
+    // Both converge (means within 0.05% of each other at 1,024 passes); at 64 and 256 they
+    // differ by about 1% of noise, so twice that.
+    let bpt = common::render_at(&scene, Method::Bpt, SIZE, 256);
+    let pt = common::render_at(&scene, Method::PtNee, SIZE, 512);
+    let c = compare(&bpt, &pt, 4).unwrap();
+    eprintln!("thin lens, tent: bpt against pt-nee {c:?}");
+    assert!(c.rel_mse < 1e-3, "relMSE {}", c.rel_mse);
+    for r in c.mean_ratio {
+        assert!((r - 1.0).abs() < 0.01, "channel mean ratios {:?}", c.mean_ratio);
+    }
+}
+
+/// The same seed gives the same bits; spot, directional and environment lights and media are
+/// refused before any pass, naming the scene.
+#[test]
+fn bpt_is_bit_exact_and_refuses_what_it_cannot_render() {
+    let Some(gpu) = common::gpu() else { return };
+    let scene = common::load_scene("cornell-box.toml");
+    let a = common::render_at(&scene, Method::Bpt, 32, 3);
+    assert!(a.pixels == common::render_at(&scene, Method::Bpt, 32, 3).pixels, "two renders of one seed differ");
+    let mut other = scene.clone();
+    other.render.seed += 1;
+    assert!(common::render_at(&other, Method::Bpt, 32, 3).pixels != a.pixels, "another seed gave the same image");
+    for (name, what) in [
+        ("media/fog-cornell.xml", "participating media"),
+        ("furnace-environment.toml", "environment light"),
+        ("mitsuba/spot.xml", "spot or directional"),
+        ("mitsuba/lights.xml", "spot or directional"),
+    ] {
+        let mut scene = common::load_scene(name);
+        scene.render.method = Method::Bpt;
+        let err = match integrators::create(&gpu.device, &gpu.queue, &scene) {
+            Ok(_) => panic!("{name}: rendered with bpt"),
+            Err(e) => e.to_string(),
+        };
+        assert!(err.contains(what) && err.contains("method bpt") && err.contains(name), "{name}: {err}");
+    }
+}
