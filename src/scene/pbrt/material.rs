@@ -217,7 +217,7 @@ impl Reader {
             let key = if p.has("vroughness") { "vroughness" } else { "uroughness" };
             return Err(p.error(key, "anisotropic roughness (uroughness != vroughness) is not modelled by sppm-gpu"));
         }
-        if !(u >= 0.0) {
+        if u.is_nan() || u < 0.0 {
             return Err(p.error("roughness", format!("roughness {u} is negative")));
         }
         let alpha = if p.bool_or("remaproughness", true)? { u.sqrt() } else { u };
@@ -238,10 +238,12 @@ impl Reader {
                 }
             }
         }
-        Ok(self.spectrum_or_image(p, "eta", SpectrumUse::Unbounded)?.map_or(Ok(Vec3::splat(default)), |c| {
-            c.map_err(|_| p.error("eta", "an image texture as eta is not modelled by sppm-gpu"))
-        })?)
-        .map(spectra::luminance)
+        let eta = match self.spectrum_or_image(p, "eta", SpectrumUse::Unbounded)? {
+            None => Vec3::splat(default),
+            Some(Ok(c)) => c,
+            Some(Err(_)) => return Err(p.error("eta", "an image texture as eta is not modelled by sppm-gpu")),
+        };
+        Ok(spectra::luminance(eta))
     }
 
     /// Makes the material of `ty` (the material's `name` for `MakeNamedMaterial`) and gives
