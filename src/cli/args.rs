@@ -113,9 +113,9 @@ pub(crate) fn parse_define(text: &str) -> Result<(String, String), String> {
 /// Load a scene and apply the command line's overrides; also its name (the file stem).
 pub(crate) fn load_scene(path: &Path, overrides: &Overrides) -> Result<(scene::Scene, String), Error> {
     let mut scene = scene::load_with(path, &overrides.defines)?;
-    // A Mitsuba film's size sets its field of view along one axis: one of --width and
-    // --height alone keeps the file's aspect ratio, and so the framing.
-    if scene::is_mitsuba_xml(path) {
+    // A Mitsuba or pbrt film's size sets its field of view along one axis: one of --width
+    // and --height alone keeps the file's aspect ratio, and so the framing.
+    if scene::is_foreign(path) {
         let (w, h) = (scene.render.width as f64, scene.render.height as f64);
         match (overrides.width, overrides.height) {
             (Some(width), None) => scene.render.height = ((width as f64 * h / w).round() as u32).max(1),

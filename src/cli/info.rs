@@ -12,7 +12,13 @@ use std::fmt::Write;
 pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
     let mut out = String::new();
     let r = &scene.render;
-    let format = if sppm_gpu::scene::is_mitsuba_xml(&scene.path) { "Mitsuba scene XML" } else { "TOML" };
+    let format = if sppm_gpu::scene::is_mitsuba_xml(&scene.path) {
+        "Mitsuba scene XML"
+    } else if sppm_gpu::scene::is_pbrt(&scene.path) {
+        "pbrt-v4"
+    } else {
+        "TOML"
+    };
     let _ = writeln!(out, "scene:      {} ({format})", scene.path.display());
     let filter = match r.filter {
         PixelFilter::Box => "box".to_string(),

@@ -194,10 +194,11 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         scene.render.iterations = u32::MAX;
     }
     inputs.extend(scene.inputs.iter().cloned());
-    let why = match (cli.overrides.method.is_some(), scene::is_mitsuba_xml(scene_path)) {
-        (true, _) => "--method",
-        (false, true) => "the file's <integrator>; --method picks another",
-        (false, false) => "the scene's `method`; --method picks another",
+    let why = match (cli.overrides.method.is_some(), scene::is_mitsuba_xml(scene_path), scene::is_pbrt(scene_path)) {
+        (true, _, _) => "--method",
+        (false, true, _) => "the file's <integrator>; --method picks another",
+        (false, _, true) => "the file's Integrator; --method picks another",
+        (false, false, false) => "the scene's `method`; --method picks another",
     };
     eprintln!("rendering {} with {} ({why})", scene_path.display(), scene.render.method.name());
     for &(path, kind) in &writes {

@@ -17,6 +17,7 @@ pub mod medium;
 mod mesh;
 pub mod mitsuba;
 mod param;
+pub mod pbrt;
 mod ply;
 mod serialized;
 mod toml_table;
@@ -29,7 +30,8 @@ pub use material::{ComplexIor, Material, MaterialKind, Microfacet};
 pub use medium::{Medium, Phase};
 pub use param::number;
 
-/// Reads a scene file: Mitsuba scene XML when its name ends in `.xml`, our TOML otherwise.
+/// Reads a scene file: Mitsuba scene XML when its name ends in `.xml`, a pbrt-v4 scene when
+/// it ends in `.pbrt` ([`pbrt`]), our TOML otherwise.
 pub fn load(path: &std::path::Path) -> Result<Scene, SceneError> {
     load_with(path, &[])
 }
@@ -43,11 +45,23 @@ pub fn load_with(path: &std::path::Path, defines: &[(String, String)]) -> Result
                 path,
                 None,
                 Some(name),
-                "-D sets parameters of Mitsuba XML scenes; this is a TOML scene",
+                if is_pbrt(path) {
+                    "-D sets parameters of Mitsuba XML scenes; this is a pbrt-v4 scene"
+                } else {
+                    "-D sets parameters of Mitsuba XML scenes; this is a TOML scene"
+                },
             ));
         }
     }
-    let (scene, inputs) = files::collect(|| if is_mitsuba_xml(path) { mitsuba::load(path, defines) } else { load::load(path) });
+    let (scene, inputs) = files::collect(|| {
+        if is_mitsuba_xml(path) {
+            mitsuba::load(path, defines)
+        } else if is_pbrt(path) {
+            pbrt::load(path)
+        } else {
+            load::load(path)
+        }
+    });
     let mut scene = scene?;
     scene.inputs = inputs;
     Ok(scene)
@@ -56,6 +70,17 @@ pub fn load_with(path: &std::path::Path, defines: &[(String, String)]) -> Result
 /// Whether `path` names a Mitsuba XML scene (by its extension, in any case).
 pub fn is_mitsuba_xml(path: &std::path::Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("xml"))
+}
+
+/// Whether `path` names a pbrt-v4 scene (by its extension `.pbrt`, in any case).
+pub fn is_pbrt(path: &std::path::Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("pbrt"))
+}
+
+/// Whether `path` names a scene of another renderer (Mitsuba XML or pbrt-v4), whose camera
+/// and film are read rather than written back.
+pub fn is_foreign(path: &std::path::Path) -> bool {
+    is_mitsuba_xml(path) || is_pbrt(path)
 }
 
 use glam::{Vec2, Vec3};

@@ -441,10 +441,10 @@ impl App {
         let passes = renderer.passes();
         let mut render = self.options.scene.render.clone();
         render.method = view.method;
-        if sppm_gpu::scene::is_mitsuba_xml(&self.options.scene_path) {
+        if sppm_gpu::scene::is_foreign(&self.options.scene_path) {
             let saved = save::save(&self.options.scene_path, &image, None)?;
             say!(
-                "saved {} and {} ({} passes of {}; the camera of a Mitsuba XML scene is not written back)",
+                "saved {} and {} ({} passes of {}; the camera of a Mitsuba XML or pbrt-v4 scene is not written back)",
                 saved.exr.display(),
                 saved.png.display(),
                 passes,

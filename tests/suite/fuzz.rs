@@ -808,3 +808,66 @@ proptest! {
         }
     }
 }
+
+/// Tokens that a token of a pbrt-v4 scene is replaced with.
+const ODD_PBRT_TOKENS: &[&str] = &[
+    "",
+    "[",
+    "]",
+    "\"",
+    "nan",
+    "1e39",
+    "-1",
+    "0",
+    "\"float\"",
+    "\"float x\"",
+    "Shape",
+    "AttributeEnd",
+    "WorldBegin",
+    "\"texture reflectance\" \"x\"",
+    "#",
+    "\"spectrum eta\" \"glass-BK7\"",
+    "\"blackbody L\" [ 0 ]",
+    "ObjectInstance \"cube\"",
+];
+
+proptest! {
+    #![proptest_config(Config { cases: 1024, ..config() })]
+
+    /// Mutated pbrt-v4 scenes (lines, numbers, tokens) through the tokenizer and reader: a
+    /// scene or an error that names the scene or its included file, and a line inside it,
+    /// never a panic.
+    #[test]
+    fn mutated_pbrt_scenes_never_panic(
+        mutations in prop::collection::vec(mutation(), 0..3),
+        token in any::<Index>(),
+        value in any::<Index>(),
+        edit_token in any::<bool>(),
+    ) {
+        let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/scenes/pbrt"));
+        let path = dir.join("cornell-box.pbrt");
+        let original = std::fs::read_to_string(&path).unwrap();
+        let mut text = mutations.iter().fold(original, |text, m| apply(&text, m));
+        if edit_token {
+            let starts: Vec<(usize, usize)> = text
+                .split_whitespace()
+                .map(|w| (w.as_ptr() as usize - text.as_ptr() as usize, w.len()))
+                .collect();
+            if !starts.is_empty() {
+                let (at, len) = starts[token.index(starts.len())];
+                text = format!("{}{}{}", &text[..at], value.get(ODD_PBRT_TOKENS), &text[at + len..]);
+            }
+        }
+        let (result, _) = scene::pbrt::load_str(&text, &path);
+        match result {
+            Ok(scene) => check_scene(&scene)?,
+            Err(error) => {
+                prop_assert!(error.file.starts_with(dir), "{}", error);
+                prop_assert!(!error.message.is_empty());
+                if let (Some(line), true) = (error.line, error.file == path) {
+                    prop_assert!(line >= 1 && line <= text.lines().count() + 1, "line {} of {}: {}", line, text.lines().count(), error);
+                }
+            }
+        }
+    }
+}

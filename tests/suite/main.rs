@@ -47,6 +47,7 @@ mod one_sided;
 mod oracles;
 mod outputs;
 mod path;
+mod pbrt;
 mod pixel_filter;
 mod scene_load;
 mod shaders;

@@ -37,7 +37,7 @@ mod medium;
 mod props;
 mod sensor;
 mod shape;
-mod spectra;
+pub(crate) mod spectra;
 mod texture;
 mod xml;
 
@@ -48,6 +48,8 @@ use std::path::Path;
 use xml::Node;
 
 pub use xml::snake_case;
+
+pub(crate) use bsdf::NAMED_CONDUCTORS;
 
 type Result<T> = std::result::Result<T, SceneError>;
 

@@ -1,0 +1,277 @@
+//! pbrt-v4 scene files (src/scene/pbrt/): directives, parameter types and their mapping onto
+//! the scene, read from small texts (CPU only); errors with file and line; and the Cornell box
+//! in pbrt-v4's form (tests/scenes/pbrt/) read and rendered as scenes/cornell-box.toml.
+
+use crate::common;
+use glam::Vec3;
+use sppm_gpu::metrics::compare;
+use sppm_gpu::scene::{self, LightKind, MaterialKind, Method, PixelFilter, Scene, SceneError};
+use std::path::PathBuf;
+
+fn dir() -> PathBuf {
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/scenes/pbrt"))
+}
+
+/// `world` after a camera at the origin looking down +z (`Scale -1 1 1`: no mirror), with a
+/// point light unless `world` has its own.
+fn read(world: &str) -> (Result<Scene, SceneError>, Vec<SceneError>) {
+    let light = if world.contains("LightSource") { "" } else { "LightSource \"point\" \"rgb I\" [ 1 1 1 ]\n" };
+    let text = format!("Scale -1 1 1\nLookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\"\nWorldBegin\n{light}{world}");
+    scene::pbrt::load_str(&text, &dir().join("inline.pbrt"))
+}
+
+fn load(world: &str) -> Scene {
+    read(world).0.unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn error(text: &str) -> SceneError {
+    match scene::pbrt::load_str(text, &dir().join("inline.pbrt")).0 {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+fn close(a: Vec3, b: Vec3) -> bool {
+    (a - b).abs().max_element() < 1e-4
+}
+
+#[test]
+fn cornell_box_reads_as_the_toml_scene() {
+    let pbrt = scene::load(&dir().join("cornell-box.pbrt")).unwrap();
+    let toml = common::load_scene("cornell-box.toml");
+    assert_eq!(pbrt.triangles.len(), toml.triangles.len());
+    assert!(close(pbrt.bounds().0, toml.bounds().0) && close(pbrt.bounds().1, toml.bounds().1));
+    assert!(close(pbrt.camera.position, toml.camera.position) && (pbrt.camera.fov - toml.camera.fov).abs() < 1e-4);
+    let r = &pbrt.render;
+    assert_eq!((r.width, r.height, r.method, r.iterations, r.photons, r.max_depth), (256, 256, Method::Sppm, 64, 200_000, 64));
+    assert_eq!(r.filter, PixelFilter::Box);
+    // The light faces down, as the TOML scene's.
+    let light = pbrt.shapes.iter().position(|s| s.emission.is_some()).unwrap() as u32;
+    for t in pbrt.triangles.iter().filter(|t| t.shape == light) {
+        assert!((t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).y < 0.0);
+    }
+    assert_eq!(pbrt.shapes[light as usize].emission, Some(Vec3::new(17.0, 12.0, 4.0)));
+    // The files it was read from: the scene and its include.
+    assert!(pbrt.inputs.iter().any(|p| p.ends_with("cornell-walls.pbrt")));
+}
+
+#[test]
+fn cornell_box_renders_as_the_toml_scene() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let pbrt = scene::load(&dir().join("cornell-box.pbrt")).unwrap();
+    let toml = common::load_scene("cornell-box.toml");
+    let a = common::render_at(&pbrt, Method::PtNee, 32, 16);
+    let b = common::render_at(&toml, Method::PtNee, 32, 16);
+    let c = compare(&a, &b, 8).unwrap();
+    eprintln!("pbrt against TOML, pt-nee 32x32, 16 spp: {c:?}");
+    // The same triangles, materials and light: the same image but for rounding.
+    assert!(c.rel_mse < 1e-4, "relMSE {}", c.rel_mse);
+    assert!(c.mean_ratio.iter().all(|r| (r - 1.0).abs() < 0.005), "{:?}", c.mean_ratio);
+}
+
+#[test]
+fn transforms_and_attributes() {
+    let s = load(
+        "AttributeBegin\n Translate 1 2 3\n Shape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n\
+         AttributeBegin\n Scale 2 2 2\n Rotate 90 0 0 1\n Translate 1 0 0\n Shape \"sphere\"\nAttributeEnd\n\
+         TransformBegin\n Transform [ 1 0 0 0  0 1 0 0  0 0 1 0  5 6 7 1 ]\n CoordinateSystem \"here\"\nTransformEnd\n\
+         AttributeBegin\n CoordSysTransform \"here\"\n ConcatTransform [ 1 0 0 0  0 1 0 0  0 0 1 0  1 0 0 1 ]\n Shape \"sphere\"\nAttributeEnd\n\
+         Shape \"sphere\" \"float radius\" 3\n",
+    );
+    let centres: Vec<(Vec3, f32)> = s.spheres.iter().map(|s| (s.center, s.radius)).collect();
+    assert!(close(centres[0].0, Vec3::new(1.0, 2.0, 3.0)) && centres[0].1 == 0.5);
+    assert!(close(centres[1].0, Vec3::new(0.0, 2.0, 0.0)) && (centres[1].1 - 2.0).abs() < 1e-5, "{centres:?}");
+    assert!(close(centres[2].0, Vec3::new(6.0, 6.0, 7.0)), "{centres:?}");
+    // AttributeEnd restored the identity.
+    assert!(close(centres[3].0, Vec3::ZERO) && centres[3].1 == 3.0);
+    // TransformBegin is pbrt-v4's deprecated form: warned.
+    let (_, warnings) = read("TransformBegin\nTransformEnd\n");
+    assert!(warnings.iter().any(|w| w.message.contains("deprecated")), "{warnings:?}");
+}
+
+#[test]
+fn orientation_follows_winding_normals_and_reverse_orientation() {
+    let quad = "\"point3 P\" [ 0 0 5  1 0 5  1 1 5 ]";
+    let facing = |world: &str| {
+        let s = load(world);
+        let t = &s.triangles[0];
+        (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).normalize()
+    };
+    assert!(close(facing(&format!("Shape \"trianglemesh\" {quad}")), Vec3::Z));
+    assert!(close(facing(&format!("ReverseOrientation\nShape \"trianglemesh\" {quad}")), Vec3::NEG_Z));
+    let n = "\"normal N\" [ 0 0 -1  0 0 -1  0 0 -1 ]";
+    assert!(close(facing(&format!("Shape \"trianglemesh\" {quad} {n}")), Vec3::NEG_Z));
+    // A mirroring transform keeps pbrt's front.
+    assert!(close(facing(&format!("Scale -1 1 1\nShape \"trianglemesh\" {quad}")), Vec3::Z));
+    // Bilinear patches face dpdu x dpdv; a disk +z.
+    let s = load("Shape \"bilinearmesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0  1 1 0 ]\nShape \"disk\" \"float radius\" 2");
+    assert_eq!(s.triangles.iter().filter(|t| t.shape == 0).count(), 2);
+    for t in &s.triangles {
+        assert!((t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).z > 0.0);
+    }
+    let area: f32 =
+        s.triangles.iter().filter(|t| t.shape == 1).map(|t| (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length() / 2.0).sum();
+    assert!((area / (4.0 * std::f32::consts::PI) - 1.0).abs() < 1e-3, "{area}");
+}
+
+#[test]
+fn camera_fov_spans_the_shorter_axis_and_the_world_is_mirrored() {
+    let text = |film: &str, mirror: &str| {
+        format!(
+            "Film \"rgb\" {film}\n{mirror}LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\" \"float fov\" 60\nWorldBegin\n\
+             LightSource \"point\"\nShape \"sphere\" \"float radius\" 0.1\n  Translate 1 0 5 Shape \"sphere\"\n"
+        )
+    };
+    let path = dir().join("inline.pbrt");
+    let wide = scene::pbrt::load_str(&text("\"integer xresolution\" 200 \"integer yresolution\" 100", "Scale -1 1 1\n"), &path)
+        .0
+        .unwrap();
+    assert_eq!((wide.render.width, wide.render.height), (200, 100));
+    assert!((wide.camera.fov - 60.0).abs() < 1e-4);
+    let tall = scene::pbrt::load_str(&text("\"integer xresolution\" 100 \"integer yresolution\" 200", "Scale -1 1 1\n"), &path)
+        .0
+        .unwrap();
+    let expected = 2.0 * ((30f32).to_radians().tan() * 2.0).atan().to_degrees();
+    assert!((tall.camera.fov - expected).abs() < 1e-3, "{}", tall.camera.fov);
+    // pbrt's camera x runs along the image; without the mirror in the file the world is
+    // mirrored so that our camera sees pbrt's image.
+    assert!(close(wide.spheres[1].center, Vec3::new(1.0, 0.0, 5.0)));
+    let plain = scene::pbrt::load_str(&text("", ""), &path).0.unwrap();
+    assert!(close(plain.spheres[1].center, Vec3::new(-1.0, 0.0, 5.0)), "{:?}", plain.spheres[1]);
+    assert_eq!((plain.render.width, plain.render.height), (1280, 720));
+}
+
+#[test]
+fn materials_map_to_our_families() {
+    let s = load(
+        "Material \"diffuse\" \"rgb reflectance\" [ 0.2 0.3 0.4 ]\nShape \"sphere\"\n\
+         Material \"conductor\" \"spectrum eta\" \"metal-Au-eta\" \"spectrum k\" \"metal-Au-k\" \"float roughness\" 0.04\nShape \"sphere\"\n\
+         Material \"dielectric\" \"spectrum eta\" \"glass-BK7\"\nShape \"sphere\"\n\
+         MakeNamedMaterial \"coat\" \"string type\" \"coateddiffuse\" \"rgb reflectance\" [ 0.5 0.1 0.1 ] \"float roughness\" 0\n\
+         NamedMaterial \"coat\"\nShape \"sphere\"\n\
+         Material \"thindielectric\" \"float eta\" 1.33\nShape \"sphere\"\n\
+         Material \"interface\"\nShape \"sphere\"\n\
+         Material \"conductor\" \"rgb reflectance\" [ 0.9 0.5 0.2 ] \"bool remaproughness\" false \"float roughness\" 0.3\nShape \"sphere\"\n\
+         AttributeBegin\nShape \"sphere\"\nAttributeEnd\n",
+    );
+    let kind = |i: usize| &s.shape_material(i as u32).kind;
+    assert_eq!(kind(0), &MaterialKind::Diffuse { albedo: Vec3::new(0.2, 0.3, 0.4), texture: None });
+    let MaterialKind::Conductor { roughness, fresnel: Some(f), .. } = kind(1) else { panic!("{:?}", kind(1)) };
+    assert!((roughness - 0.2).abs() < 1e-6 && f.eta.z > f.eta.x, "{roughness} {f:?}");
+    assert!(matches!(kind(2), MaterialKind::Dielectric { ior, roughness: 0.0, .. } if (ior - 1.5168).abs() < 1e-4));
+    assert!(matches!(kind(3), MaterialKind::Plastic { ior: 1.5, roughness: 0.0, nonlinear: true, .. }), "{:?}", kind(3));
+    assert!(matches!(kind(4), MaterialKind::ThinDielectric { ior, .. } if (ior - 1.33).abs() < 1e-6));
+    assert_eq!(kind(5), &MaterialKind::Null);
+    let MaterialKind::Conductor { roughness, fresnel: Some(f), .. } = kind(6) else { panic!() };
+    assert!((roughness - 0.3).abs() < 1e-6 && f.eta == Vec3::ONE);
+    // Normal-incidence reflectance of eta 1 and k: the reflectance given.
+    let r0 = f.k * f.k / (4.0 + f.k * f.k);
+    assert!(close(r0, Vec3::new(0.9, 0.5, 0.2)), "{r0}");
+    // Inside an AttributeBegin the material is the one before it; pbrt's default is a diffuse 0.5.
+    assert!(matches!(kind(7), MaterialKind::Conductor { .. }));
+    assert_eq!(
+        load("Shape \"sphere\"").shape_material(0).kind,
+        MaterialKind::Diffuse { albedo: Vec3::splat(0.5), texture: None }
+    );
+}
+
+#[test]
+fn textures() {
+    let s = load(
+        "Texture \"checks\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [ 1 0 0 ] \"rgb tex2\" [ 0 0 1 ] \"float uscale\" 4 \"float vscale\" 4\n\
+         Texture \"grey\" \"spectrum\" \"constant\" \"rgb value\" [ 0.25 0.25 0.25 ]\n\
+         Texture \"half\" \"spectrum\" \"scale\" \"texture tex\" \"grey\" \"float scale\" 2\n\
+         Texture \"rough\" \"float\" \"constant\" \"float value\" 0.09\n\
+         Material \"diffuse\" \"texture reflectance\" \"checks\"\nShape \"trianglemesh\" \"point3 P\" [ 0 0 5  1 0 5  1 1 5 ]\n\
+         Material \"diffuse\" \"texture reflectance\" \"half\"\nShape \"sphere\"\n\
+         Material \"conductor\" \"texture roughness\" \"rough\"\nShape \"sphere\"\n",
+    );
+    let MaterialKind::Diffuse { texture: Some(t), .. } = s.shape_material(0).kind else { panic!() };
+    let t = &s.textures[t as usize];
+    assert_eq!((t.width, t.height), (2, 2));
+    assert_eq!(t.texels[0], Vec3::X);
+    // The triangle without uv takes pbrt's (0, 0), (1, 0), (1, 1).
+    assert_eq!(s.triangles[0].uv.unwrap()[2], glam::Vec2::ONE);
+    assert_eq!(s.shape_material(1).kind, MaterialKind::Diffuse { albedo: Vec3::splat(0.5), texture: None });
+    assert!(matches!(s.shape_material(2).kind, MaterialKind::Conductor { roughness, .. } if (roughness - 0.3).abs() < 1e-6));
+}
+
+#[test]
+fn lights() {
+    let s = load(
+        "LightSource \"point\" \"rgb I\" [ 1 2 3 ] \"point3 from\" [ 0 1 0 ] \"float scale\" 2\n\
+         LightSource \"point\" \"blackbody I\" 3000 \"float power\" 100\n\
+         LightSource \"spot\" \"point3 from\" [ 0 0 0 ] \"point3 to\" [ 0 -1 0 ] \"float coneangle\" 40 \"float conedelta\" 10\n\
+         LightSource \"distant\" \"point3 from\" [ 0 1 0 ] \"point3 to\" [ 0 0 0 ] \"rgb L\" [ 3 3 3 ]\n\
+         LightSource \"infinite\" \"rgb L\" [ 0.5 0.5 0.5 ]\n\
+         AttributeBegin\nAreaLightSource \"diffuse\" \"blackbody L\" 6500 \"float scale\" 4\nShape \"sphere\"\nAttributeEnd\nShape \"sphere\"\n",
+    );
+    let LightKind::Point { position, intensity } = s.lights[0].kind else { panic!() };
+    assert!(close(position, Vec3::Y) && close(intensity, Vec3::new(2.0, 4.0, 6.0)));
+    let LightKind::Point { intensity, .. } = s.lights[1].kind else { panic!() };
+    let luminance = 0.2126 * intensity.x + 0.7152 * intensity.y + 0.0722 * intensity.z;
+    assert!((luminance - 100.0 / (4.0 * std::f32::consts::PI)).abs() < 0.2, "{intensity}");
+    assert!(intensity.x > intensity.z);
+    let LightKind::Spot { direction, cutoff_angle, beam_width, .. } = s.lights[2].kind else { panic!() };
+    assert!(close(direction, Vec3::NEG_Y) && cutoff_angle == 40.0 && beam_width == 30.0);
+    let LightKind::Directional { direction, irradiance } = s.lights[3].kind else { panic!() };
+    assert!(close(direction, Vec3::NEG_Y) && irradiance == Vec3::splat(3.0));
+    assert_eq!(s.lights[4].kind, LightKind::Constant { radiance: Vec3::splat(0.5) });
+    let e = s.shapes[0].emission.unwrap();
+    assert!((0.2126 * e.x + 0.7152 * e.y + 0.0722 * e.z - 4.0).abs() < 0.05, "{e}");
+    assert_eq!(s.shapes[1].emission, None);
+}
+
+#[test]
+fn integrators_and_samplers() {
+    let settings = |header: &str| {
+        let text = format!("{header}\nCamera \"perspective\"\nWorldBegin\nLightSource \"point\"\nShape \"sphere\"");
+        scene::pbrt::load_str(&text, &dir().join("inline.pbrt"))
+    };
+    let r = settings("").0.unwrap().render;
+    // pbrt-v4's defaults: volpath of depth 5, 16 samples a pixel, 1280x720, a Gaussian filter.
+    assert_eq!((r.method, r.max_depth, r.iterations), (Method::PtNee, 5, 16));
+    assert_eq!(r.filter, PixelFilter::Gaussian { stddev: 0.5 });
+    let r = settings("Integrator \"sppm\" \"float radius\" 0.1 \"integer maxdepth\" 8\nSampler \"independent\" \"integer pixelsamples\" 4\nFilm \"rgb\" \"integer xresolution\" 10 \"integer yresolution\" 10").0.unwrap().render;
+    assert_eq!((r.method, r.max_depth, r.iterations, r.photons, r.radius), (Method::Sppm, 8, 4, 100, Some(0.1)));
+    assert_eq!(settings("Integrator \"lightpath\"").0.unwrap().render.method, Method::Lt);
+    let (bdpt, warnings) = settings("Integrator \"bdpt\"");
+    assert_eq!(bdpt.unwrap().render.method, Method::PtNee);
+    assert!(warnings.iter().any(|w| w.message.contains("pt-nee")));
+    let r = settings("Sampler \"stratified\" \"integer xsamples\" 2 \"integer ysamples\" 3\nPixelFilter \"triangle\"")
+        .0
+        .unwrap()
+        .render;
+    assert_eq!((r.iterations, r.filter), (6, PixelFilter::Tent { radius: 2.0 }));
+}
+
+#[test]
+fn errors_name_file_line_and_directive_or_parameter() {
+    let world = "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\n";
+    let e = error(&format!("{world}Shape \"sphere\" \"float radius\" 1 \"float bogus\" 2\n"));
+    assert_eq!((e.line, e.key.as_deref()), (Some(4), Some("bogus")));
+    assert!(e.to_string().contains("inline.pbrt:4") && e.message.contains("unused parameter"), "{e}");
+    let e = error(&format!("{world}\nFrobnicate 1 2 3\n"));
+    assert_eq!((e.line, e.key.as_deref()), (Some(5), Some("Frobnicate")));
+    let e = error(&format!("{world}NamedMaterial \"nope\"\n"));
+    assert!(e.message.contains("not defined") && e.line == Some(4), "{e}");
+    let e = error(&format!("{world}Shape \"loopsubdiv\"\n"));
+    assert!(e.message.contains("not modelled"), "{e}");
+    let e = error(&format!("{world}Material \"mix\"\n"));
+    assert!(e.message.contains("mix"), "{e}");
+    let e = error(&format!("{world}Shape \"sphere\" \"float radius\" [ 1 2 \n"));
+    assert!(e.message.contains("]") && e.line == Some(4), "{e}");
+    let e = error(&format!("{world}AttributeEnd\n"));
+    assert!(e.message.contains("unmatched"), "{e}");
+    let e = error(&format!("{world}AreaLightSource \"diffuse\" \"bool twosided\" true\n"));
+    assert_eq!(e.key.as_deref(), Some("twosided"));
+    let e = error("WorldBegin\nLightSource \"point\"\nShape \"sphere\"\nAttributeBegin\n");
+    assert!(e.message.contains("not ended") && e.line == Some(4), "{e}");
+    // In an included file, that file and its line.
+    let e = error(&format!("{world}Include \"missing-file.pbrt\"\n"));
+    assert!(e.line == Some(4) && e.message.contains("missing-file.pbrt"), "{e}");
+    let e = error(&format!("{world}Include \"bad-include.pbrt\"\n"));
+    assert!(e.file.ends_with("bad-include.pbrt") && e.line == Some(3), "{e}");
+}
