@@ -75,9 +75,11 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     var beta = ph.beta * scale;
     var lm = SubpathMis(0.0, 0.0, 0.0);
     var stored = 0u;
+    var finite_light = true;
     if BIDIR {
         let pdfs = emission_pdfs(e, ph);
         lm = mis_light_start(pdfs.direct_pdf_a, pdfs.emission_pdf_w, pdfs.cos_light, pdfs.delta, bidir_factors());
+        finite_light = pdfs.finite;
     }
     // The point an area light emits from, seen by the camera: Le cos_x / (pmf pdf_pos), which
     // is beta / pi (area_emit draws the direction by cosine), from the light's front.
@@ -113,7 +115,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             break;
         }
         if BIDIR {
-            lm = mis_hit(lm, hit.t, dot(d, s.ns), true);
+            lm = mis_hit(lm, hit.t, dot(d, s.ns), depth > 0u || finite_light);
             // Kept for the camera subpaths' connections, its throughput for one subpath.
             if bsdf_samples_lights(m) {
                 light_vertices[index * frame.max_depth + stored] =

@@ -60,8 +60,12 @@ fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera:
     }
     let p = sample.pdfs;
     // The light point's density in solid angle from s, by area (a sphere's too: see
-    // area_emission_pdfs), and for a delta light its pmf times dist^2.
-    let direct_pdf_w = p.direct_pdf_a * ls.dist * ls.dist / max(p.cos_light, 1e-8);
+    // area_emission_pdfs), and for a delta light its pmf times dist^2; a light at infinity's
+    // is its pmf (SmallVCM's directional light).
+    var direct_pdf_w = p.direct_pdf_a;
+    if p.finite {
+        direct_pdf_w *= ls.dist * ls.dist / max(p.cos_light, 1e-8);
+    }
     let rev_pdf_w = bsdf_eval(s, m, albedo, ls.wi, wo).pdf;
     let cos_to_light = dot(ls.wi, s.ns);
     let weight = mis_weight_nee(camera, direct_pdf_w, p.emission_pdf_w, cos_to_light, p.cos_light, b.pdf, rev_pdf_w, p.delta, bidir_factors());

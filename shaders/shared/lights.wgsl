@@ -84,11 +84,17 @@ fn emit_light(e: Emitter, u_pos: vec2f, u_dir: vec2f, aim: EnvironmentAim) -> Em
 }
 
 // The MIS densities (EmissionPdfs) of photon ph that light e emitted (emit_light), for the
-// bidirectional methods, which take area and point lights (src/integrators/light.rs refuses
-// the others).
+// bidirectional methods, which take every kind but the environment (src/integrators/light.rs
+// refuses it).
 fn emission_pdfs(e: Emitter, ph: EmittedPhoton) -> EmissionPdfs {
     if USES_POINT_LIGHTS && e.kind == EMITTER_POINT {
         return point_emission_pdfs(e);
+    }
+    if USES_SPOT_LIGHTS && e.kind == EMITTER_SPOT {
+        return spot_emission_pdfs(e, ph.d);
+    }
+    if USES_DIRECTIONAL_LIGHTS && e.kind == EMITTER_DIRECTIONAL {
+        return directional_emission_pdfs(e);
     }
     return area_emission_pdfs(area_light_shape(e), dot(ph.d, ph.n));
 }
@@ -114,6 +120,13 @@ fn sample_light_mis(p: vec3f, u: vec3f) -> LightSampleMis {
     let e = emitters[find_emitter(u.x)];
     if USES_POINT_LIGHTS && e.kind == EMITTER_POINT {
         return LightSampleMis(point_sample(e, p, u), point_emission_pdfs(e));
+    }
+    if USES_SPOT_LIGHTS && e.kind == EMITTER_SPOT {
+        let ls = spot_sample(e, p, u);
+        return LightSampleMis(ls, spot_emission_pdfs(e, -ls.wi));
+    }
+    if USES_DIRECTIONAL_LIGHTS && e.kind == EMITTER_DIRECTIONAL {
+        return LightSampleMis(directional_sample(e, p, u), directional_emission_pdfs(e));
     }
     let ls = area_sample(e, p, u);
     return LightSampleMis(ls, area_emission_pdfs(area_light_shape(e), ls.cos_l));

@@ -96,8 +96,7 @@ impl LightTracer {
     }
 
     /// What a light tracer (or bpt) cannot render of `scene`, as an error naming it:
-    /// participating media and an environment light (seen directly only by camera paths);
-    /// for bpt also spot and directional lights (their emission densities are not written yet).
+    /// participating media and an environment light (seen directly only by camera paths).
     pub fn check_scene(scene: &Scene) -> Result<(), Error> {
         let method = crate::scene::Named::name(scene.render.method);
         let refuse =
@@ -107,14 +106,6 @@ impl LightTracer {
         }
         if scene.lights.iter().any(|l| l.kind.is_environment()) {
             return refuse("cannot show an environment light seen directly".into());
-        }
-        if scene.render.method == crate::scene::Method::Bpt {
-            use crate::scene::emitter::LightKind;
-            if let Some(l) =
-                scene.lights.iter().find(|l| matches!(l.kind, LightKind::Spot { .. } | LightKind::Directional { .. }))
-            {
-                return refuse(format!("does not take spot or directional lights yet (the light of line {})", l.line));
-            }
         }
         Ok(())
     }

@@ -144,5 +144,5 @@ fn area_emit(e: Emitter, u_pos: vec2f, u_dir: vec2f, scale: f32) -> EmittedPhoto
 // of one, Veach 1997 sec. 9.2.2), and a cosine-distributed direction, cos_l / pi.
 fn area_emission_pdfs(shape: u32, cos_l: f32) -> EmissionPdfs {
     let direct_pdf_a = area_density(shape);
-    return EmissionPdfs(direct_pdf_a, direct_pdf_a * max(cos_l, 0.0) * INV_PI, cos_l, false);
+    return EmissionPdfs(direct_pdf_a, direct_pdf_a * max(cos_l, 0.0) * INV_PI, cos_l, false, true);
 }

@@ -30,3 +30,9 @@ fn directional_emit(e: Emitter, u_pos: vec2f, u_dir: vec2f, scale: f32) -> Emitt
     let p = e.position + b[0] * q.x + b[1] * q.y;
     return EmittedPhoton(p, e.direction, e.radiance * (e.area * scale), CAMERA_MEDIUM, vec3f(0.0));
 }
+
+// The MIS densities of directional light e (EmissionPdfs): a delta direction with its
+// choice's probability, a point uniform on its disk of area e.area; at infinity.
+fn directional_emission_pdfs(e: Emitter) -> EmissionPdfs {
+    return EmissionPdfs(e.pmf, e.pmf / e.area, 1.0, true, false);
+}

@@ -38,11 +38,14 @@ struct EmittedPhoton {
 // the densities with which next-event estimation picks the point (direct_pdf_a, area measure,
 // the light's choice included; its pmf for a delta light) and a light subpath leaves it in a
 // direction (emission_pdf_w: point and direction, solid angle for the direction), the cosine
-// between that direction and the light's normal (1 for lights without a surface), and whether
-// the light is a delta light that no ray can hit.
+// between that direction and the light's normal (1 for lights without a surface), whether
+// the light is a delta light that no ray can hit, and whether it lies at a finite distance (a
+// directional light does not: its emission density is per unit area of its disk, and its
+// first segment's length does not enter the MIS quantities; SmallVCM's isFinite).
 struct EmissionPdfs {
     direct_pdf_a: f32,
     emission_pdf_w: f32,
     cos_light: f32,
     delta: bool,
+    finite: bool,
 }

@@ -28,5 +28,5 @@ fn point_emit(e: Emitter, u_pos: vec2f, u_dir: vec2f, scale: f32) -> EmittedPhot
 // The MIS densities of point light e (EmissionPdfs): the point itself with its choice's
 // probability, a uniform direction 1 / 4 pi; a delta light.
 fn point_emission_pdfs(e: Emitter) -> EmissionPdfs {
-    return EmissionPdfs(e.pmf, e.pmf * INV_4PI, 1.0, true);
+    return EmissionPdfs(e.pmf, e.pmf * INV_4PI, 1.0, true, true);
 }

@@ -81,3 +81,28 @@ fn spot_emit(e: Emitter, u_pos: vec2f, u_dir: vec2f, scale: f32) -> EmittedPhoto
     let s = spot_direction(e, u_pos.x, u_dir);
     return EmittedPhoton(e.position, s.d, e.radiance * (s.weight * scale), CAMERA_MEDIUM, vec3f(0.0));
 }
+
+// The density with which spot_direction draws unit direction d (solid angle): p_beam / A in
+// the cone of full intensity, (1 - p_beam) 2 phi / (w^2 2 pi sin(theta)) in the ring of
+// falloff (phi = cutoff - theta), 0 beyond the cutoff.
+fn spot_direction_pdf(e: Emitter, d: vec3f) -> f32 {
+    let theta = atan2(length(cross(d, e.direction)), dot(d, e.direction));
+    if theta >= e.radius {
+        return 0.0;
+    }
+    let half_beam = 0.5 * max(e.radius - e.width, 0.0);
+    let sin_half = sin(half_beam);
+    let beam_solid_angle = 4.0 * PI * sin_half * sin_half;
+    let p_beam = min(beam_solid_angle / e.area, 1.0);
+    if theta <= e.radius - e.width {
+        return p_beam / beam_solid_angle;
+    }
+    let phi = e.radius - theta;
+    return (1.0 - p_beam) * phi / (e.width * e.width * PI * max(sin(theta), 1e-8));
+}
+
+// The MIS densities of spot light e emitting along d (EmissionPdfs): the point with its
+// choice's probability, the direction spot_direction's; a delta light.
+fn spot_emission_pdfs(e: Emitter, d: vec3f) -> EmissionPdfs {
+    return EmissionPdfs(e.pmf, e.pmf * spot_direction_pdf(e, d), 1.0, true, true);
+}
