@@ -12,8 +12,22 @@
 #import direct
 #import vcm
 
-// The strategies bpt weighs: connections, no merging (vm 0; vc only scales dVM, unused).
+// vcm (src/integrators/light.rs sets it): camera subpaths also merge with the light vertices
+// within the pass's radius frame.global_radius (Georgiev et al. 2012; Hachisuka et al. 2012).
+override VCM_MERGE: bool = false;
+
+// eta_vcm = pi r^2 n_light: merging's density relative to a connection's (shared/vcm.wgsl).
+fn eta_vcm() -> f32 {
+    return PI * frame.global_radius * frame.global_radius * f32(frame.photon_count);
+}
+
+// The strategies weighed: bpt's connections only (vm 0; vc then only scales dVM, unused), or
+// vcm's connections and merging.
 fn bidir_factors() -> MisFactors {
+    if VCM_MERGE {
+        let eta = eta_vcm();
+        return MisFactors(mis(1.0 / eta), mis(eta));
+    }
     return MisFactors(0.0, 0.0);
 }
 

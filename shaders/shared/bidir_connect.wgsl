@@ -13,6 +13,12 @@
 #import vcm
 #import bidir
 #import light_vertex
+#import grid
+
+// The hashed grid of the pass's light vertices (vcm), built by SPPM's grid kernels.
+@group(0) @binding(31) var<storage, read> grid_params: GridParams;
+@group(0) @binding(12) var<storage, read> grid_cell_start: array<u32>;
+@group(0) @binding(13) var<storage, read> grid_entries: array<u32>;
 
 // The light subpath the camera subpath being traced connects to.
 var<private> bidir_light_path: u32;
@@ -69,4 +75,41 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
         }
     }
     return sum;
+}
+
+// Vertex merging (Georgiev et al. 2012, sec. 4; SmallVCM's RangeQuery): the light vertices
+// within the pass's radius r of surface point s, each the density estimate
+// f(wo, w_prev) beta / (pi r^2 n_light) of the light arriving at s, weighted against the other
+// strategies; without the camera subpath's throughput. Every vertex within r lies in the
+// bucket of s's own cell (each is listed in the cells its box of radius r overlaps). Only light
+// arriving on the side of the surface that wo sees merges, as SmallVCM's BSDF evaluation
+// decides: a thin shell's other side does not, and across a crease (a room's corner) a vertex
+// of the other surface counts where its light could have reached s, so that the band of
+// width r along the crease is not darkened.
+fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32) -> vec3f {
+    let h = bucket_of(grid_params, s.p);
+    if h == NO_BUCKET {
+        return vec3f(0.0);
+    }
+    let r = frame.global_radius;
+    var sum = vec3f(0.0);
+    for (var e = grid_cell_start[h]; e < grid_cell_start[h + 1u]; e++) {
+        let slot = grid_entries[e];
+        let v = light_vertices[slot];
+        if camera_length + v.length > frame.max_depth + 1u || !within_radius(s.p, r, v.p) {
+            continue;
+        }
+        let wi = v.w_prev;
+        if dot(wi, s.ng) * dot(wo, s.ng) <= 0.0 || one_sided_culls(m, s, wi) {
+            continue;
+        }
+        let b = bsdf_eval(s, m, albedo, wo, wi);
+        if all(b.f == vec3f(0.0)) {
+            continue;
+        }
+        let rev_pdf_w = bsdf_eval(s, m, albedo, wi, wo).pdf;
+        let weight = mis_weight_merge(camera, SubpathMis(v.d_vcm, v.d_vc, v.d_vm), b.pdf, rev_pdf_w, bidir_factors());
+        sum += b.f * v.beta * weight;
+    }
+    return sum / eta_vcm();
 }

@@ -189,6 +189,9 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         if nee_here && bidir {
             path.l += beta * bidir_direct_light(s, wo, m, albedo, cm, vec3f(rng_next(rng), rng_next2(rng)));
             path.l += beta * connect_light_subpath(s, m, albedo, wo, cm, depth + 1u);
+            if VCM_MERGE {
+                path.l += beta * merge_light_vertices(s, m, albedo, wo, cm, depth + 1u);
+            }
         } else if nee_here {
             path.l += beta * direct_light(s, wo, m, albedo, medium, vec3f(rng_next(rng), rng_next2(rng)));
         } else if shared_streams && m.kind == MATERIAL_DIFFUSE {

@@ -29,6 +29,10 @@ struct LightVertex {
 
 @group(0) @binding(29) var<storage, read_write> light_vertices: array<LightVertex>;
 @group(0) @binding(30) var<storage, read_write> light_path_length: array<u32>;
+// vcm: each stored vertex as a point of the radius (frame.global_radius) at the same index,
+// which SPPM's grid build (grid_count.wgsl, grid_fill.wgsl) lists in the hashed grid's buckets
+// for merging (bidir_connect.wgsl); radius 0 where a slot holds no vertex this pass.
+@group(0) @binding(8) var<storage, read_write> visible_points: array<VisiblePoint>;
 
 // The surface a stored vertex lies on.
 fn light_vertex_surface(v: LightVertex) -> Surface {

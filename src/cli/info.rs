@@ -42,7 +42,7 @@ pub fn report(scene: &Scene) -> Result<String, sppm_gpu::scene::SceneError> {
             "render:     {method}, {} samples a pixel{limit}, max depth {}, seed {}",
             r.iterations, r.max_depth, r.seed
         ),
-        Method::Lt | Method::Bpt => writeln!(
+        Method::Lt | Method::Bpt | Method::Vcm => writeln!(
             out,
             "render:     {method}, {} passes of a light subpath a pixel{limit}, max depth {}, seed {}",
             r.iterations, r.max_depth, r.seed

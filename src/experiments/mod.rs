@@ -41,7 +41,7 @@ pub struct Variant {
 
 /// [`Variant::name`]s: a row per variant of [`Variant::ALL`], a column per sampler (the
 /// scene's, independent, sobol).
-const VARIANT_NAMES: [[&str; 3]; 8] = [
+const VARIANT_NAMES: [[&str; 3]; 9] = [
     ["sppm", "sppm/independent", "sppm/sobol"],
     ["sppm-photons", "sppm-photons/independent", "sppm-photons/sobol"],
     ["pt", "pt/independent", "pt/sobol"],
@@ -50,11 +50,12 @@ const VARIANT_NAMES: [[&str; 3]; 8] = [
     ["sppm-adaptive", "sppm-adaptive/independent", "sppm-adaptive/sobol"],
     ["lt", "lt/independent", "lt/sobol"],
     ["bpt", "bpt/independent", "bpt/sobol"],
+    ["vcm", "vcm/independent", "vcm/sobol"],
 ];
 
 impl Variant {
     /// Every variant, in the order of [`Variant::name`]'s list.
-    pub const ALL: [Variant; 8] = [
+    pub const ALL: [Variant; 9] = [
         Variant { method: Method::Sppm, direct: DirectLight::Sampled, sampler: None, radius_rule: None },
         Variant { method: Method::Sppm, direct: DirectLight::Photons, sampler: None, radius_rule: None },
         Variant { method: Method::Pt, direct: DirectLight::Sampled, sampler: None, radius_rule: None },
@@ -63,10 +64,11 @@ impl Variant {
         Variant { method: Method::Sppm, direct: DirectLight::Sampled, sampler: None, radius_rule: Some(RadiusRule::Adaptive) },
         Variant { method: Method::Lt, direct: DirectLight::Sampled, sampler: None, radius_rule: None },
         Variant { method: Method::Bpt, direct: DirectLight::Sampled, sampler: None, radius_rule: None },
+        Variant { method: Method::Vcm, direct: DirectLight::Sampled, sampler: None, radius_rule: None },
     ];
 
     /// From its name: `sppm`, `sppm-photons`, `pt`, `pt-nee`, `sppm-shrink`, `sppm-adaptive`
-    /// `lt` or `bpt`, optionally followed by `/independent` or `/sobol`.
+    /// `lt`, `bpt` or `vcm`, optionally followed by `/independent` or `/sobol`.
     pub fn parse(name: &str) -> Result<Self, Error> {
         use crate::sampler::Sampler;
         [None, Some(Sampler::Independent), Some(Sampler::Sobol)]

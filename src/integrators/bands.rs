@@ -59,7 +59,7 @@ impl Bands {
                     Method::Pt | Method::PtNee => {
                         Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, shared, rows)?)
                     }
-                    Method::Lt | Method::Bpt => {
+                    Method::Lt | Method::Bpt | Method::Vcm => {
                         Box::new(super::LightTracer::with_scene_buffers(device, queue, scene, data, shared, rows)?)
                     }
                 })
@@ -106,7 +106,7 @@ impl Integrator for Bands {
     /// sample per pixel of every band for the path tracers.
     fn work_per_pass(&self) -> u64 {
         match self.method {
-            Method::Sppm | Method::Lt | Method::Bpt => self.bands[0].work_per_pass(),
+            Method::Sppm | Method::Lt | Method::Bpt | Method::Vcm => self.bands[0].work_per_pass(),
             Method::Pt | Method::PtNee => self.bands.iter().map(|b| b.work_per_pass()).sum(),
         }
     }

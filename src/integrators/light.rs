@@ -9,6 +9,9 @@
 //! subpaths' vertices (`shaders/shared/light_vertex.wgsl`) and MIS quantities, followed by a
 //! camera pass (`shaders/bidir_camera.wgsl`) whose subpaths connect to them, every strategy
 //! weighted by the balance heuristic (`shaders/shared/vcm.wgsl`, SmallVCM's recursive form).
+//! Vertex connection and merging (`method = "vcm"`) adds merging: the light vertices are also
+//! points of the pass's radius, listed in a hashed grid by SPPM's grid kernels, and each camera
+//! vertex merges with those within the radius, weighted with the other strategies.
 
 use super::pixel_sums::{PixelSums, Progress, PIXEL_BYTES};
 use super::{Integrator, Part, PartSize, Work};
@@ -16,7 +19,8 @@ use crate::error::Error;
 use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
 use crate::gpu::{Kernel, Resource};
 use crate::image_io::Rgb32Image;
-use crate::layout::Frame;
+use crate::layout::{Frame, GridParams, GridScene, VisiblePoint};
+use crate::scene::Method;
 use crate::scene::Scene;
 use std::ops::Range;
 use std::sync::Arc;
@@ -41,11 +45,34 @@ pub fn light_paths(scene: &Scene, limit: u64) -> Result<u32, Error> {
         .width
         .checked_mul(r.height)
         .ok_or_else(|| Error::Setting(format!("{}x{} pixels are more than 2^32 light subpaths a pass", r.width, r.height)))?;
-    if scene.render.method != crate::scene::Method::Bpt {
+    if !is_bidirectional(scene.render.method) {
         return Ok(pixels);
     }
     let per_path = r.max_depth.max(1) as u64 * LIGHT_VERTEX_BYTES;
     Ok((LIGHT_VERTEX_BUDGET.min(limit) / per_path).clamp(1, pixels as u64) as u32)
+}
+
+/// Whether `method` keeps light vertices (bpt, vcm).
+fn is_bidirectional(method: Method) -> bool {
+    matches!(method, Method::Bpt | Method::Vcm)
+}
+
+/// The radius of vcm's pass `pass` (from 0): r_1 i^((alpha - 1) / 2) with i = pass + 1
+/// (Georgiev et al. 2012, sec. 5.1; Knaus & Zwicker 2011), r_1 the scene's `radius` or SPPM's
+/// automatic one.
+pub fn vcm_radius(scene: &Scene, pass: u32) -> f32 {
+    let r1 = scene.render.radius.unwrap_or_else(|| super::sppm::auto_radius(scene)) as f64;
+    (r1 * ((pass as f64 + 1.0).powf(0.5 * (scene.render.alpha as f64 - 1.0)))) as f32
+}
+
+/// vcm's hashed grid of light vertices: SPPM's grid kernels over the light vertices' slots.
+struct MergeGrid {
+    setup: (Kernel, wgpu::BindGroup),
+    count: (Kernel, wgpu::BindGroup),
+    scan: (Kernel, wgpu::BindGroup),
+    fill: (Kernel, wgpu::BindGroup),
+    /// Slots of light vertices, each listed where its radius reaches.
+    slots: u32,
 }
 
 /// A progressive light tracer: each pass traces one light subpath per pixel of the image and
@@ -57,8 +84,12 @@ pub struct LightTracer {
     pixel_count: u32,
     light_trace: Kernel,
     trace_group: wgpu::BindGroup,
-    /// bpt's camera pass and its bindings.
+    /// bpt's and vcm's camera pass and its bindings.
     bidir_camera: Option<(Kernel, wgpu::BindGroup)>,
+    /// vcm's grid of light vertices.
+    merge_grid: Option<MergeGrid>,
+    /// The scene, for vcm's radius of each pass.
+    scene: Scene,
     splat_accumulate: Kernel,
     accumulate_group: wgpu::BindGroup,
     /// Passes done, the batch's first, the next part of the pass under way.
@@ -68,6 +99,9 @@ pub struct LightTracer {
     /// bpt's light vertices and each subpath's count (a word each for lt, which keeps none).
     light_vertices: wgpu::Buffer,
     light_path_length: wgpu::Buffer,
+    /// vcm's grid: its points (one a light-vertex slot), parameters and lists (a word each
+    /// otherwise).
+    grid_buffers: Vec<(&'static str, wgpu::Buffer)>,
     sums: PixelSums,
     /// [`Integrator::run_pass`]'s submissions in flight.
     submissions: crate::gpu::submissions::Submissions,
@@ -87,8 +121,8 @@ impl LightTracer {
     /// splats, and the frame.
     pub fn renderer_bytes(scene: &Scene, rows: u32) -> u64 {
         let store = match light_paths(scene, u64::MAX) {
-            Ok(n) if scene.render.method == crate::scene::Method::Bpt => {
-                n as u64 * (scene.render.max_depth as u64 * LIGHT_VERTEX_BYTES + 4)
+            Ok(n) if is_bidirectional(scene.render.method) => {
+                n as u64 * (scene.render.max_depth as u64 * (LIGHT_VERTEX_BYTES + merge_bytes(scene)) + 4)
             }
             _ => 8,
         };
@@ -136,10 +170,12 @@ impl LightTracer {
         // One light subpath a pixel of the whole image a pass (bpt: as many as the store holds).
         let limit = device.limits().max_storage_buffer_binding_size;
         frame.photon_count = light_paths(scene, limit)?;
-        let bidir = r.method == crate::scene::Method::Bpt;
+        let bidir = is_bidirectional(r.method);
+        let merge = r.method == Method::Vcm;
 
         let mut spec = super::specialization(scene, data);
         spec.constants.push(("BIDIR", if bidir { 1.0 } else { 0.0 }));
+        spec.constants.push(("VCM_MERGE", if merge { 1.0 } else { 0.0 }));
         let light_trace = spec.kernel(device, "light_trace")?;
         let splat_accumulate = Kernel::new(device, "splat_accumulate")?;
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -157,13 +193,35 @@ impl LightTracer {
         };
         let light_vertices = storage_buffer(device, "light_vertices", &vec![0u32; vertex_words]);
         let light_path_length = storage_buffer(device, "light_path_length", &vec![0u32; paths]);
+        let slots = if merge { (vertex_words / (LIGHT_VERTEX_BYTES / 4) as usize) as u32 } else { 1 };
+        frame.vp_count = if merge { slots } else { 0 };
+        let grid_buffers = grid_buffers(device, scene, data, slots);
         let mut resources = scene_buffers.resources();
         resources.push(Resource { name: "frame", buffer: &frame_buffer });
         resources.push(Resource { name: "splat", buffer: &splat });
         resources.push(Resource { name: "radiance", buffer: &sums.radiance });
         resources.push(Resource { name: "light_vertices", buffer: &light_vertices });
         resources.push(Resource { name: "light_path_length", buffer: &light_path_length });
+        for (name, buffer) in &grid_buffers {
+            resources.push(Resource { name, buffer });
+        }
         let trace_group = light_trace.bind_group(device, &resources)?;
+        let merge_grid = if merge {
+            let stage = |name: &'static str| -> Result<(Kernel, wgpu::BindGroup), Error> {
+                let kernel = spec.kernel(device, name)?;
+                let group = kernel.bind_group(device, &resources)?;
+                Ok((kernel, group))
+            };
+            Some(MergeGrid {
+                setup: stage("grid_setup")?,
+                count: stage("grid_count")?,
+                scan: stage("grid_scan")?,
+                fill: stage("grid_fill")?,
+                slots,
+            })
+        } else {
+            None
+        };
         let bidir_camera = if bidir {
             let kernel = spec.kernel(device, "bidir_camera")?;
             let group = kernel.bind_group(device, &resources)?;
@@ -181,6 +239,8 @@ impl LightTracer {
             light_trace,
             trace_group,
             bidir_camera,
+            merge_grid,
+            scene: scene.clone(),
             splat_accumulate,
             accumulate_group,
             progress: Progress::default(),
@@ -188,10 +248,16 @@ impl LightTracer {
             splat,
             light_vertices,
             light_path_length,
+            grid_buffers,
             sums,
             submissions: crate::gpu::submissions::Submissions::new(),
             _scene: scene_buffers,
         })
+    }
+
+    /// vcm's grid buffer `name`.
+    fn grid_buffer(&self, name: &str) -> &wgpu::Buffer {
+        &self.grid_buffers.iter().find(|(n, _)| *n == name).expect("a grid buffer").1
     }
 
     /// Light subpaths a pass.
@@ -212,8 +278,26 @@ impl Integrator for LightTracer {
     fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> Part {
         let paths = self.paths();
         let (first, end, pass_done) = self.progress.next_part(&mut self.frame, size.photons, paths);
+        if self.merge_grid.is_some() {
+            self.frame.global_radius = vcm_radius(&self.scene, self.frame.pass_index);
+            if first == 0 {
+                // No slot is a point of this pass until its subpath stores a vertex there.
+                encoder.clear_buffer(self.grid_buffer("visible_points"), 0, None);
+            }
+        }
         super::record_upload(&self.device, &self.queue, encoder, &self.frame_buffer, bytemuck::bytes_of(&self.frame));
         self.light_trace.dispatch(encoder, &self.trace_group, end - first);
+        if let (true, Some(grid)) = (pass_done, &self.merge_grid) {
+            // The grid sized by the pass's radius (grid_setup reads it as the largest), then
+            // the light vertices listed in its buckets (SPPM's record_point_grid).
+            let r = self.frame.global_radius.to_bits();
+            super::record_upload(&self.device, &self.queue, encoder, self.grid_buffer("grid_max_radius"), bytemuck::bytes_of(&r));
+            grid.setup.0.dispatch_groups(encoder, &grid.setup.1, 1);
+            encoder.clear_buffer(self.grid_buffer("grid_cell_count"), 0, None);
+            grid.count.0.dispatch(encoder, &grid.count.1, grid.slots);
+            grid.scan.0.dispatch_groups(encoder, &grid.scan.1, 1);
+            grid.fill.0.dispatch(encoder, &grid.fill.1, grid.slots);
+        }
         if pass_done {
             if let Some((kernel, group)) = &self.bidir_camera {
                 kernel.dispatch(encoder, group, self.pixel_count);
@@ -270,6 +354,7 @@ impl Integrator for LightTracer {
             ("light_path_length", &self.light_path_length),
         ]
         .into_iter()
+        .chain(self.grid_buffers.iter().map(|(name, buffer)| (*name, buffer)))
         .chain(self.sums.buffers());
         super::GpuMemory {
             scene: super::sizes(self._scene.resources().iter().map(|r| (r.name, r.buffer))),
@@ -292,4 +377,32 @@ impl Integrator for LightTracer {
         self.progress.restored(passes);
         Ok(())
     }
+}
+
+/// Bytes of vcm's grid a light-vertex slot (its point, 8 grid entries, about 2 buckets).
+fn merge_bytes(scene: &Scene) -> u64 {
+    if scene.render.method == Method::Vcm {
+        size_of::<VisiblePoint>() as u64 + 8 * 4 + 2 * 4
+    } else {
+        0
+    }
+}
+
+/// vcm's grid over `slots` light-vertex slots (a word each where `slots` is 1): the slots'
+/// points, the box of the scene's surfaces, the pass's radius, the grid's parameters, a count
+/// and a start a bucket, and room for each point in 8 buckets.
+fn grid_buffers(device: &wgpu::Device, scene: &Scene, data: &SceneData, slots: u32) -> Vec<(&'static str, wgpu::Buffer)> {
+    let table_size = (slots.max(2) / 2).next_power_of_two();
+    let (lo, hi) = super::sppm::grid_bounds(scene, data);
+    let grid_scene = GridScene { lo: lo.into(), table_size, hi: hi.into(), _pad: 0 };
+    let words = |n: usize| vec![0u32; n.max(1)];
+    vec![
+        ("visible_points", storage_buffer(device, "visible_points", &vec![0u32; slots as usize * size_of::<VisiblePoint>() / 4])),
+        ("grid_scene", storage_buffer(device, "grid_scene", bytemuck::bytes_of(&grid_scene))),
+        ("grid_max_radius", storage_buffer(device, "grid_max_radius", &words(8))),
+        ("grid_params", storage_buffer(device, "grid_params", &words(size_of::<GridParams>() / 4))),
+        ("grid_cell_count", storage_buffer(device, "grid_cell_count", &words(table_size as usize))),
+        ("grid_cell_start", storage_buffer(device, "grid_cell_start", &words(table_size as usize + 1))),
+        ("grid_entries", storage_buffer(device, "grid_entries", &words(8 * slots as usize))),
+    ]
 }

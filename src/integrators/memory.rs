@@ -71,7 +71,7 @@ pub fn memory_need(device: &wgpu::Device, scene: &Scene) -> MemoryNeed {
         .map(|band| match r.method {
             Method::Sppm => Sppm::renderer_bytes(scene, band, device.limits().max_storage_buffer_binding_size),
             Method::Pt | Method::PtNee => PathTracer::renderer_bytes(scene, band),
-            Method::Lt | Method::Bpt => LightTracer::renderer_bytes(scene, band),
+            Method::Lt | Method::Bpt | Method::Vcm => LightTracer::renderer_bytes(scene, band),
         })
         .sum();
     // Per triangle: itself, its reference in `prim_refs` and a BVH node at most, shading
@@ -147,6 +147,6 @@ pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
     match scene.render.method {
         Method::Sppm => Sppm::max_rows(device, scene),
         Method::Pt | Method::PtNee => PathTracer::max_rows(device, scene),
-        Method::Lt | Method::Bpt => LightTracer::max_rows(device, scene),
+        Method::Lt | Method::Bpt | Method::Vcm => LightTracer::max_rows(device, scene),
     }
 }

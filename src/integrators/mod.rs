@@ -174,7 +174,9 @@ fn create_on(
         _ if rows < height => Box::new(Bands::with_scene_buffers(device, queue, scene, data, buffers, rows)?),
         Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?),
         Method::Pt | Method::PtNee => Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
-        Method::Lt | Method::Bpt => Box::new(LightTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
+        Method::Lt | Method::Bpt | Method::Vcm => {
+            Box::new(LightTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?)
+        }
     })
 }
 

@@ -118,8 +118,14 @@ pub trait Named: Copy + PartialEq + Sized + 'static {
 
 impl Named for Method {
     const WHAT: &'static str = "method";
-    const NAMES: &'static [(&'static str, Self)] =
-        &[("sppm", Method::Sppm), ("pt", Method::Pt), ("pt-nee", Method::PtNee), ("lt", Method::Lt), ("bpt", Method::Bpt)];
+    const NAMES: &'static [(&'static str, Self)] = &[
+        ("sppm", Method::Sppm),
+        ("pt", Method::Pt),
+        ("pt-nee", Method::PtNee),
+        ("lt", Method::Lt),
+        ("bpt", Method::Bpt),
+        ("vcm", Method::Vcm),
+    ];
     /// Mitsuba's and pbrt-v4's integrators of the same images: their `path` and `volpath`
     /// sample lights at each vertex with MIS, as pt-nee does; Mitsuba's `ppm` is SPPM's
     /// ancestor.
@@ -162,6 +168,9 @@ pub enum Method {
     /// Bidirectional path tracing: camera and light subpaths, every connection between them,
     /// next-event estimation, emission hit and light tracing weighted by the balance heuristic.
     Bpt,
+    /// Vertex connection and merging: bpt's strategies and photon merging at every camera
+    /// vertex, one estimator (Georgiev et al. 2012).
+    Vcm,
 }
 
 /// Where SPPM's direct light comes from (`direct` in `[render]`).

@@ -48,7 +48,7 @@ const READOUT_SECONDS: f64 = 1.0;
 
 /// The keys, as `H` prints them.
 pub const KEYS: &str = "\
-keys: 1 sppm, 2 pt-nee, 3 pt, 4 lt, 5 bpt | arrows orbit, shift+arrows pan, page up/down zoom (mouse: left drag orbit, \
+keys: 1 sppm, 2 pt-nee, 3 pt, 4 lt, 5 bpt, 6 vcm | arrows orbit, shift+arrows pan, page up/down zoom (mouse: left drag orbit, \
 right or middle drag pan, wheel zoom), r the scene's camera | + and - exposure | e error map (with --reference) | \
 space pause | s save (EXR, PNG and the scene as TOML, next to the scene) | h these keys | q or escape quit";
 
@@ -396,9 +396,9 @@ impl App {
             Key::Named(NamedKey::Space) => view.set_paused(!view.paused),
             Key::Character(c) => match c.as_str() {
                 "q" => event_loop.exit(),
-                "1" | "2" | "3" | "4" | "5" => {
-                    let method =
-                        [Method::Sppm, Method::PtNee, Method::Pt, Method::Lt, Method::Bpt][(c.as_bytes()[0] - b'1') as usize];
+                "1" | "2" | "3" | "4" | "5" | "6" => {
+                    let method = [Method::Sppm, Method::PtNee, Method::Pt, Method::Lt, Method::Bpt, Method::Vcm]
+                        [(c.as_bytes()[0] - b'1') as usize];
                     if method != view.next_method {
                         view.next_method = method;
                         view.restart = Some(now);

@@ -121,7 +121,7 @@ pub fn direct_samples(render: &crate::scene::RenderSettings) -> u32 {
 /// point outside the grid would gather nothing. With media the box also holds the camera and
 /// reaches MEDIUM_MARGIN mean free paths of the thinnest scattering medium past both; a path
 /// scatters beyond that with probability e^-MEDIUM_MARGIN.
-fn grid_bounds(scene: &Scene, data: &SceneData) -> (glam::Vec3, glam::Vec3) {
+pub(super) fn grid_bounds(scene: &Scene, data: &SceneData) -> (glam::Vec3, glam::Vec3) {
     const MEDIUM_MARGIN: f32 = 12.0;
     let (mut lo, mut hi) = data.swept_bounds();
     let thinnest = scene
