@@ -1,17 +1,16 @@
 //! Bidirectional path tracing (`bpt`) and vertex connection and merging (`vcm`, bpt with
 //! merging: `vcm_*` tests). bpt: it converges to the references on the canonical scenes,
 //! glass and mirrors included (where light tracing alone is black and pt-nee misses a point
-//! light's caustic), passes the furnace, agrees with pt-nee through a thin lens and a wide
-//! pixel filter, gives the same bits for the same seed, stays right where pixels share light
-//! subpaths (more pixels than the light-vertex store holds subpaths), takes every light kind but
-//! the environment, and refuses what it cannot render before any work. The weights' sum over
-//! strategies is vcm.rs's oracle.
+//! light's caustic) and depth of field, passes the furnace, gives the same bits for the same
+//! seed, stays right where pixels share light subpaths (more pixels than the light-vertex store
+//! holds subpaths), takes every light kind but the environment, and refuses what it cannot
+//! render before any work. The weights' sum over strategies is vcm.rs's oracle.
 
 use crate::common;
 
 use sppm_gpu::integrators;
 use sppm_gpu::metrics::{compare, downsample_box};
-use sppm_gpu::scene::{Method, PixelFilter, Scene};
+use sppm_gpu::scene::{Method, Scene};
 
 const SIZE: u32 = 64;
 
@@ -36,11 +35,18 @@ fn bpt_matches_the_references() {
     if common::gpu().is_none() {
         return;
     }
-    // Noise: cornell-spheres' caustics read relMSE 3.9e-4 at 64 passes, 2.2e-5 at 1,024.
-    for (name, passes) in
-        [("cornell-box", 32), ("cornell-spheres", 256), ("cornell-glossy", 64), ("point-light", 32), ("textured", 32)]
-    {
-        check(&common::load_scene(&format!("{name}.toml")), name, passes, 2e-4);
+    // Noise: cornell-spheres' caustics read relMSE 3.9e-4 at 64 passes, 2.2e-5 at 1,024 (so
+    // about 2e-4 at 128); depth-of-field's thin lens (connections and light tracing through
+    // points of the lens) 2.4e-5 at 1,024.
+    for (name, passes, max_rel_mse) in [
+        ("cornell-box", 32, 2e-4),
+        ("cornell-spheres", 128, 4e-4),
+        ("cornell-glossy", 64, 2e-4),
+        ("point-light", 32, 2e-4),
+        ("textured", 32, 2e-4),
+        ("depth-of-field", 64, 4e-4),
+    ] {
+        check(&common::load_scene(&format!("{name}.toml")), name, passes, max_rel_mse);
     }
 }
 
@@ -97,29 +103,6 @@ fn bpt_passes_the_furnace() {
     }
 }
 
-/// Through a thin lens with a tent filter, the light-tracing joins and the camera's samples
-/// land alike: bpt against pt-nee, block by block.
-#[test]
-fn bpt_through_a_thin_lens_and_a_tent_filter() {
-    if common::gpu().is_none() {
-        return;
-    }
-    let mut scene = common::load_scene("cornell-box.toml");
-    scene.camera.aperture_radius = 0.15;
-    scene.camera.focus_distance = 2.0;
-    scene.render.filter = PixelFilter::Tent { radius: 1.5 };
-    // Both converge (means within 0.05% of each other at 1,024 passes); at 64 and 256 they
-    // differ by about 1% of noise, so twice that.
-    let bpt = common::render_at(&scene, Method::Bpt, SIZE, 256);
-    let pt = common::render_at(&scene, Method::PtNee, SIZE, 512);
-    let c = compare(&bpt, &pt, 4).unwrap();
-    eprintln!("thin lens, tent: bpt against pt-nee {c:?}");
-    assert!(c.rel_mse < 1e-3, "relMSE {}", c.rel_mse);
-    for r in c.mean_ratio {
-        assert!((r - 1.0).abs() < 0.01, "channel mean ratios {:?}", c.mean_ratio);
-    }
-}
-
 /// The same seed gives the same bits; environment lights and media are refused before any
 /// pass, naming the scene.
 #[test]
@@ -171,10 +154,11 @@ fn vcm_error_falls_with_the_radius() {
         scene.render.radius = Some(radius);
         // alpha near 1: the radius stays near its start over the passes.
         scene.render.alpha = 0.999;
-        let c = compare(&common::render_at(&scene, Method::Vcm, SIZE, 64), &reference, 8).unwrap();
+        let c = compare(&common::render_at(&scene, Method::Vcm, SIZE, 16), &reference, 8).unwrap();
         eprintln!("vcm radius {radius}: {c:?}");
         c.rel_mse
     };
+    // relMSE 9.3e-3 against 2.3e-4 at 16 passes.
     let (wide, narrow) = (error(0.4), error(0.05));
     assert!(wide > 4.0 * narrow, "relMSE {wide} at radius 0.4, {narrow} at 0.05");
 }
