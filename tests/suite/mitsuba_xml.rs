@@ -167,7 +167,9 @@ fn other_integrators_keep_their_depth() {
     assert_eq!(depth_of(r#"<integrator type="direct"><integer name="emitter_samples" value="4"/></integrator>"#), 1);
     assert_eq!(depth_of(r#"<integrator type="path_guiding_integrator"><integer name="max_depth" value="5"/></integrator>"#), 4);
     let default = load_files("integrators", &[("s.xml", &scene_with(""))], &[]).unwrap().render.max_depth;
-    assert_eq!(depth_of(r#"<integrator type="bdpt"/>"#), default);
+    assert_eq!(depth_of(r#"<integrator type="ptracer"/>"#), default);
+    // bdpt is our bpt, whose depth reads as path's.
+    assert_eq!(depth_of(r#"<integrator type="bdpt"/>"#), depth_of(r#"<integrator type="path"/>"#));
 }
 
 /// What public scenes write and Mitsuba 3 reads: a 0.x `<default>` whose camelCase name its
@@ -1468,7 +1470,7 @@ fn mitsuba_0_6_integrators_map_warn_or_refuse_each_parameter() {
         (
             "bdpt",
             r#"<integrator type="bdpt"><integer name="maxDepth" value="5"/><boolean name="lightImage" value="false"/></integrator>"#,
-            Ok((4, 100_000, 0.6667, 4, &["type"])),
+            Ok((4, 100_000, 0.6667, 4, &["light_image"])),
         ),
     ];
     for (test, body, expected) in cases {

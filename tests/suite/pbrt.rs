@@ -237,8 +237,9 @@ fn integrators_and_samplers() {
     let r = settings("Integrator \"sppm\" \"float radius\" 0.1 \"integer maxdepth\" 8\nSampler \"independent\" \"integer pixelsamples\" 4\nFilm \"rgb\" \"integer xresolution\" 10 \"integer yresolution\" 10").0.unwrap().render;
     assert_eq!((r.method, r.max_depth, r.iterations, r.photons, r.radius), (Method::Sppm, 8, 4, 100, Some(0.1)));
     assert_eq!(settings("Integrator \"lightpath\"").0.unwrap().render.method, Method::Lt);
-    let (bdpt, warnings) = settings("Integrator \"bdpt\"");
-    assert_eq!(bdpt.unwrap().render.method, Method::PtNee);
+    assert_eq!(settings("Integrator \"bdpt\"").0.unwrap().render.method, Method::Bpt);
+    let (mlt, warnings) = settings("Integrator \"mlt\"");
+    assert_eq!(mlt.unwrap().render.method, Method::PtNee);
     assert!(warnings.iter().any(|w| w.message.contains("pt-nee")));
     let r = settings("Sampler \"stratified\" \"integer xsamples\" 2 \"integer ysamples\" 3\nPixelFilter \"triangle\"")
         .0

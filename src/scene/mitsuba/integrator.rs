@@ -30,7 +30,9 @@
 //!   nested integrator of bounded depth is refused, and so are `indirect_only` and `debug`.
 //! - `ao`, `field`, `multichannel`, `motion` (0.6) are refused: they render no light
 //!   transport, or several images.
-//! - Any other integrator (0.6's `bdpt`, `ptracer`, `pssmlt`, `mlt`, `erpt`, which converge to
+//! - `bdpt` (0.6): our bpt, `max_depth` as `path`'s; `lightImage` and `sampleDirect` false
+//!   (strategies left out: the same image) warned.
+//! - Any other integrator (0.6's `ptracer`, `pssmlt`, `mlt`, `erpt`, which converge to
 //!   `path`'s image; another project's path guider) is a warning, and our default method
 //!   renders, at the integrator's `max_depth` if it has one (as `path`'s); its other
 //!   parameters, how it samples, are not read.
@@ -228,6 +230,21 @@ fn read_integrator(node: &Node, render: &mut RenderSettings, shading_normals: bo
                      images, motion): not modelled by sppm-gpu"
                 ),
             ))
+        }
+        "bdpt" => {
+            // Mitsuba 0.6's bidirectional path tracer: our bpt, its max_depth as path's. Which
+            // strategies it keeps (lightImage, sampleDirect) changes the noise, not the image.
+            render.method = Method::Bpt;
+            render.max_depth = max_depth(&p, -1)?;
+            rr_depth(&p)?;
+            for name in ["light_image", "sample_direct"] {
+                if p.get(name).is_some() && !p.boolean_or(name, true)? {
+                    p.get(name).unwrap().warn(
+                        Some(name),
+                        format!("{name} false leaves strategies out of Mitsuba's bdpt; sppm-gpu's bpt keeps them all (the same image)"),
+                    );
+                }
+            }
         }
         other => {
             // A plugin of another project (a path guider, a bidirectional tracer) that says

@@ -14,7 +14,7 @@
 //!   `mitchell` and `sinc` are rendered with the Gaussian, warned.
 //! - `Sampler`: `pixelsamples` (16; `stratified`: `xsamples` x `ysamples`, 4 x 4) is our
 //!   passes, `seed` our seed; `independent` is ours, every other kind our Sobol sampler.
-//! - `Integrator` (default `volpath`): `path`, `volpath` as pt-nee; `bdpt`, `mlt`, `pssmlt`
+//! - `Integrator` (default `volpath`): `path`, `volpath` as pt-nee; `bdpt` as bpt; `mlt`, `pssmlt`
 //!   (which converge to the same image) as pt-nee, warned; `lightpath` as lt; `randomwalk`
 //!   and `simplepath` without light samples as pt; `sppm` as SPPM: `photonsperiteration`
 //!   (-1: one a pixel), `radius` (when given; else our automatic choice, as the radius
@@ -224,7 +224,7 @@ pub(super) fn settings(r: &mut Reader) -> Result<(Camera, RenderSettings)> {
     }
     render.method = match integrator_kind.as_str() {
         "path" | "volpath" => Method::PtNee,
-        "bdpt" | "mlt" | "pssmlt" => {
+        "bdpt" => {
             for name in ["visualizestrategies", "visualizeweights"] {
                 if integrator.bool_or(name, false)? {
                     return Err(
@@ -232,6 +232,9 @@ pub(super) fn settings(r: &mut Reader) -> Result<(Camera, RenderSettings)> {
                     );
                 }
             }
+            Method::Bpt
+        }
+        "mlt" | "pssmlt" => {
             integrator.pass_over(&["bootstrapsamples", "chains", "mutationsperpixel", "largestepprobability", "sigma"]);
             r.warnings.push(integrator.directive_error(format!(
                 "the \"{integrator_kind}\" integrator is rendered by pt-nee, which converges to the same image"
