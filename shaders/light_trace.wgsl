@@ -122,7 +122,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
                 light_vertices[slot] =
                     LightVertex(s.p, s.material, s.ng, s.shape, s.ns, depth + 1u, -d, lm.d_vcm, beta * f32(frame.photon_count), lm.d_vc, s.uv, lm.d_vm, 0u);
                 if VCM_MERGE {
-                    visible_points[slot] = VisiblePoint(s.p, frame.global_radius, vec3f(0.0), 0u);
+                    visible_points[atomicAdd(&merge_count[0], 1u)] = VisiblePoint(s.p, frame.global_radius, vec3f(0.0), slot);
                 }
                 stored += 1u;
             }

@@ -94,9 +94,12 @@ fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camer
     let r = frame.global_radius;
     var sum = vec3f(0.0);
     for (var e = grid_cell_start[h]; e < grid_cell_start[h + 1u]; e++) {
-        let slot = grid_entries[e];
-        let v = light_vertices[slot];
-        if camera_length + v.length > frame.max_depth + 1u || !within_radius(s.p, r, v.p) {
+        let point = visible_points[grid_entries[e]];
+        if !within_radius(s.p, r, point.p) {
+            continue;
+        }
+        let v = light_vertices[point.normal];
+        if camera_length + v.length > frame.max_depth + 1u {
             continue;
         }
         let wi = v.w_prev;

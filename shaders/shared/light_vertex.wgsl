@@ -5,6 +5,9 @@
 // max_depth of them); light_path_length[i] says how many it has. frame.photon_count subpaths a
 // pass, n_light; pixel j's camera subpath connects to subpath j mod n_light.
 
+#import types
+#import scene
+
 // A light subpath's vertex, 96 bytes (LIGHT_VERTEX_BYTES in src/integrators/light.rs): the
 // surface it lies on (its material's albedo looked up again from uv), the direction back along
 // the subpath, the throughput (the flux estimate beta, over the whole power, not yet divided
@@ -29,10 +32,12 @@ struct LightVertex {
 
 @group(0) @binding(29) var<storage, read_write> light_vertices: array<LightVertex>;
 @group(0) @binding(30) var<storage, read_write> light_path_length: array<u32>;
-// vcm: each stored vertex as a point of the radius (frame.global_radius) at the same index,
-// which SPPM's grid build (grid_count.wgsl, grid_fill.wgsl) lists in the hashed grid's buckets
-// for merging (bidir_connect.wgsl); radius 0 where a slot holds no vertex this pass.
+// vcm: each stored vertex also as a point of the radius (frame.global_radius), appended
+// (merge_count of them this pass; `normal` holds the vertex's index in light_vertices), which
+// SPPM's grid build (grid_count.wgsl, grid_fill.wgsl) lists in the hashed grid's buckets for
+// merging (bidir_connect.wgsl), over the dispatch merge_setup.wgsl sizes.
 @group(0) @binding(8) var<storage, read_write> visible_points: array<VisiblePoint>;
+@group(0) @binding(32) var<storage, read_write> merge_count: array<atomic<u32>>;
 
 // The surface a stored vertex lies on.
 fn light_vertex_surface(v: LightVertex) -> Surface {

@@ -28,6 +28,7 @@ pub const KERNELS: &[&str] = &[
     "path_resolve_texture",
     "light_trace",
     "bidir_camera",
+    "merge_setup",
     "splat_accumulate",
 ];
 

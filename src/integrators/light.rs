@@ -67,12 +67,11 @@ pub fn vcm_radius(scene: &Scene, pass: u32) -> f32 {
 
 /// vcm's hashed grid of light vertices: SPPM's grid kernels over the light vertices' slots.
 struct MergeGrid {
+    merge_setup: (Kernel, wgpu::BindGroup),
     setup: (Kernel, wgpu::BindGroup),
     count: (Kernel, wgpu::BindGroup),
     scan: (Kernel, wgpu::BindGroup),
     fill: (Kernel, wgpu::BindGroup),
-    /// Slots of light vertices, each listed where its radius reaches.
-    slots: u32,
 }
 
 /// A progressive light tracer: each pass traces one light subpath per pixel of the image and
@@ -195,7 +194,7 @@ impl LightTracer {
         let light_path_length = storage_buffer(device, "light_path_length", &vec![0u32; paths]);
         let slots = if merge { (vertex_words / (LIGHT_VERTEX_BYTES / 4) as usize) as u32 } else { 1 };
         frame.vp_count = if merge { slots } else { 0 };
-        let grid_buffers = grid_buffers(device, scene, data, slots);
+        let grid_buffers = grid_buffers(device, scene, data, slots, paths as u32);
         let mut resources = scene_buffers.resources();
         resources.push(Resource { name: "frame", buffer: &frame_buffer });
         resources.push(Resource { name: "splat", buffer: &splat });
@@ -213,11 +212,11 @@ impl LightTracer {
                 Ok((kernel, group))
             };
             Some(MergeGrid {
+                merge_setup: stage("merge_setup")?,
                 setup: stage("grid_setup")?,
                 count: stage("grid_count")?,
                 scan: stage("grid_scan")?,
                 fill: stage("grid_fill")?,
-                slots,
             })
         } else {
             None
@@ -281,8 +280,8 @@ impl Integrator for LightTracer {
         if self.merge_grid.is_some() {
             self.frame.global_radius = vcm_radius(&self.scene, self.frame.pass_index);
             if first == 0 {
-                // No slot is a point of this pass until its subpath stores a vertex there.
-                encoder.clear_buffer(self.grid_buffer("visible_points"), 0, None);
+                // The pass's merge points are appended from the first.
+                encoder.clear_buffer(self.grid_buffer("merge_count"), 0, None);
             }
         }
         super::record_upload(&self.device, &self.queue, encoder, &self.frame_buffer, bytemuck::bytes_of(&self.frame));
@@ -292,11 +291,13 @@ impl Integrator for LightTracer {
             // the light vertices listed in its buckets (SPPM's record_point_grid).
             let r = self.frame.global_radius.to_bits();
             super::record_upload(&self.device, &self.queue, encoder, self.grid_buffer("grid_max_radius"), bytemuck::bytes_of(&r));
+            grid.merge_setup.0.dispatch_groups(encoder, &grid.merge_setup.1, 1);
             grid.setup.0.dispatch_groups(encoder, &grid.setup.1, 1);
             encoder.clear_buffer(self.grid_buffer("grid_cell_count"), 0, None);
-            grid.count.0.dispatch(encoder, &grid.count.1, grid.slots);
+            let args = self.grid_buffer("merge_args");
+            grid.count.0.dispatch_indirect(encoder, &grid.count.1, args, 0);
             grid.scan.0.dispatch_groups(encoder, &grid.scan.1, 1);
-            grid.fill.0.dispatch(encoder, &grid.fill.1, grid.slots);
+            grid.fill.0.dispatch_indirect(encoder, &grid.fill.1, args, 0);
         }
         if pass_done {
             if let Some((kernel, group)) = &self.bidir_camera {
@@ -379,25 +380,43 @@ impl Integrator for LightTracer {
     }
 }
 
-/// Bytes of vcm's grid a light-vertex slot (its point, 8 grid entries, about 2 buckets).
+/// Bytes of vcm's grid a light-vertex slot (its point, 8 grid entries; the buckets, 4 a
+/// subpath, are in the margin).
 fn merge_bytes(scene: &Scene) -> u64 {
     if scene.render.method == Method::Vcm {
-        size_of::<VisiblePoint>() as u64 + 8 * 4 + 2 * 4
+        size_of::<VisiblePoint>() as u64 + 8 * 4 + 4
     } else {
         0
     }
 }
 
-/// vcm's grid over `slots` light-vertex slots (a word each where `slots` is 1): the slots'
-/// points, the box of the scene's surfaces, the pass's radius, the grid's parameters, a count
-/// and a start a bucket, and room for each point in 8 buckets.
-fn grid_buffers(device: &wgpu::Device, scene: &Scene, data: &SceneData, slots: u32) -> Vec<(&'static str, wgpu::Buffer)> {
-    let table_size = (slots.max(2) / 2).next_power_of_two();
+/// vcm's grid over `slots` light-vertex slots of `paths` subpaths (a word each where `slots`
+/// is 1): room for a point a slot and their count, the grid build's dispatch, the box of the
+/// scene's surfaces, the pass's radius, the grid's parameters, a count and a start a bucket (4
+/// buckets a subpath: a pass stores a few vertices a subpath), and room for each point in 8
+/// buckets.
+fn grid_buffers(
+    device: &wgpu::Device,
+    scene: &Scene,
+    data: &SceneData,
+    slots: u32,
+    paths: u32,
+) -> Vec<(&'static str, wgpu::Buffer)> {
+    let table_size = if slots > 1 { paths.saturating_mul(4).next_power_of_two() } else { 1 };
     let (lo, hi) = super::sppm::grid_bounds(scene, data);
     let grid_scene = GridScene { lo: lo.into(), table_size, hi: hi.into(), _pad: 0 };
     let words = |n: usize| vec![0u32; n.max(1)];
     vec![
         ("visible_points", storage_buffer(device, "visible_points", &vec![0u32; slots as usize * size_of::<VisiblePoint>() / 4])),
+        ("merge_count", storage_buffer(device, "merge_count", &words(1))),
+        (
+            "merge_args",
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("merge_args"),
+                contents: bytemuck::cast_slice(&[0u32; 3]),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+            }),
+        ),
         ("grid_scene", storage_buffer(device, "grid_scene", bytemuck::bytes_of(&grid_scene))),
         ("grid_max_radius", storage_buffer(device, "grid_max_radius", &words(8))),
         ("grid_params", storage_buffer(device, "grid_params", &words(size_of::<GridParams>() / 4))),
