@@ -83,9 +83,8 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
 // strategies; without the camera subpath's throughput. Every vertex within r lies in the
 // bucket of s's own cell (each is listed in the cells its box of radius r overlaps). Only light
 // arriving on the side of the surface that wo sees merges, as SmallVCM's BSDF evaluation
-// decides: a thin shell's other side does not, and across a crease (a room's corner) a vertex
-// of the other surface counts where its light could have reached s, so that the band of
-// width r along the crease is not darkened.
+// decides (a thin shell's other side does not), on the same surface or one facing it (below).
+// The bias of the rest, the density estimate's over the radius, vanishes with it.
 fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32) -> vec3f {
     let h = bucket_of(grid_params, s.p);
     if h == NO_BUCKET {
@@ -104,6 +103,16 @@ fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camer
         }
         let wi = v.w_prev;
         if dot(wi, s.ng) * dot(wo, s.ng) <= 0.0 || one_sided_culls(m, s, wi) {
+            continue;
+        }
+        // One surface (normals within 60 degrees), or two that face each other (a room's
+        // corner: each vertex in front of the other's surface). Two faces of a block that turn
+        // away from each other do not merge: the band of width r along its edge would take the
+        // light of the other face (on cornell-box its lit top into the front's top rows).
+        let n = select(-s.ng, s.ng, dot(wo, s.ng) > 0.0);
+        let n_light = select(-v.ng, v.ng, dot(wi, v.ng) > 0.0);
+        let to = v.p - s.p;
+        if dot(n, n_light) < 0.5 && !(dot(to, n) > 0.0 && dot(to, n_light) < 0.0) {
             continue;
         }
         let b = bsdf_eval(s, m, albedo, wo, wi);

@@ -126,9 +126,9 @@ fn bpt_is_bit_exact_and_refuses_what_it_cannot_render() {
 }
 
 /// vcm converges to the references: merging's bias (the density estimate's blur over the
-/// radius, near creases an overestimate) shrinks with the radius, which falls as
+/// radius, at a surface's edge an underestimate) shrinks with the radius, which falls as
 /// i^((alpha - 1) / 2). At 64x64 the automatic radius spans four times the scene that it
-/// spans at 256x256: cornell-box's means read 1.0034 at 64 passes and 1.0022 at 512,
+/// spans at 256x256: cornell-box's means read 0.9949 at 64 passes and 0.9969 at 512,
 /// cornell-spheres' 0.997 and 0.999.
 #[test]
 fn vcm_matches_the_references() {
