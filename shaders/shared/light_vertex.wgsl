@@ -8,7 +8,7 @@
 #import types
 #import scene
 
-// A light subpath's vertex, 96 bytes (LIGHT_VERTEX_BYTES in src/integrators/light.rs): the
+// A light subpath's vertex, 96 bytes (LightVertex in src/layout/records.rs): the
 // surface it lies on (its material's albedo looked up again from uv), the direction back along
 // the subpath, the throughput (the flux estimate beta, over the whole power, not yet divided
 // by the number of subpaths), its segment count from the light, and its MIS quantities.

@@ -30,8 +30,8 @@ use wgpu::util::DeviceExt;
 /// `shaders/shared/splat.wgsl`).
 const SPLAT_BYTES: u64 = 24;
 
-/// Bytes of a stored light vertex (`LightVertex` in `shaders/shared/light_vertex.wgsl`).
-pub const LIGHT_VERTEX_BYTES: u64 = 96;
+/// Bytes of a stored light vertex ([`crate::layout::LightVertex`]).
+pub const LIGHT_VERTEX_BYTES: u64 = size_of::<crate::layout::LightVertex>() as u64;
 
 /// Bytes the light-vertex store of bpt may take at most: a pass has one light subpath a pixel
 /// where `max_depth` vertices of each fit, fewer (pixels then share them) where not.

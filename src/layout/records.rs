@@ -324,6 +324,40 @@ pub struct PhotonHit {
     pub normal: u32,
 }
 
+/// A light subpath's vertex where a BSDF can be evaluated, kept for the bidirectional methods'
+/// connections and merging (`LightVertex` in `shaders/shared/light_vertex.wgsl`), 96 bytes.
+/// Written and read only by the kernels; the host sizes their buffers by it.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct LightVertex {
+    /// Position.
+    pub p: [f32; 3],
+    /// The surface's material index.
+    pub material: u32,
+    /// Geometric normal.
+    pub ng: [f32; 3],
+    /// The surface's shape index.
+    pub shape: u32,
+    /// Shading normal.
+    pub ns: [f32; 3],
+    /// Segments from the light to the vertex.
+    pub length: u32,
+    /// Unit direction towards the subpath's previous vertex.
+    pub w_prev: [f32; 3],
+    /// SmallVCM's dVCM (`shaders/shared/vcm.wgsl`).
+    pub d_vcm: f32,
+    /// The throughput: the flux estimate of one subpath.
+    pub beta: [f32; 3],
+    /// SmallVCM's dVC.
+    pub d_vc: f32,
+    /// Texture coordinates of the surface point.
+    pub uv: [f32; 2],
+    /// SmallVCM's dVM.
+    pub d_vm: f32,
+    /// Padding to 96 bytes; 0.
+    pub pad: u32,
+}
+
 /// Where a camera path of the current pass ended on a diffuse surface (Hachisuka & Jensen
 /// 2009, sec. 4), in 32 bytes, so that what a photon's deposit reads (position, radius,
 /// normal) lies in one cache line.

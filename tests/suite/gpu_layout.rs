@@ -108,6 +108,13 @@ fn gpu_structs_match_wgsl() {
     check!(module, GridScene, "GridScene", [lo, table_size, hi, _pad]);
 }
 
+/// The bidirectional methods' light vertex, declared beside the kernels that keep it.
+#[test]
+fn light_vertex_matches_wgsl() {
+    let module = naga::front::wgsl::parse_str(&shader_source("light_trace").unwrap()).unwrap();
+    check!(module, LightVertex, "LightVertex", [p, material, ng, shape, ns, length, w_prev, d_vcm, beta, d_vc, uv, d_vm, pad]);
+}
+
 #[test]
 fn wgsl_constants_match_rust() {
     let module = naga::front::wgsl::parse_str(&shader_source("types").unwrap()).unwrap();
