@@ -5,10 +5,10 @@
 #   2. pacing: pt-nee at 1024x1024 and SPPM with 1,000,000 photons a pass under
 #      --time-limit 5 (the process's wall time; the check asks for the render's own time
 #      within 5% of the limit), and SIGINT during a render (exit within 0.5 s, image written);
-#   3. `bench` and pass throughput (sppm, pt-nee and lt) at 256x256 and 1024x1024;
+#   3. `bench` and pass throughput (sppm, pt-nee, lt, bpt and vcm) at 256x256 and 1024x1024;
 #   4. where Python's `mitsuba` imports with its `cuda_ad_rgb` variant and --mitsuba-tools DIR
 #      names the folder of mitsuba_reference.py and mitsuba_timed.py: equal time against
-#      Mitsuba 3's CUDA path tracer on the canonical scenes (sppm, pt-nee, lt), each against a
+#      Mitsuba 3's CUDA path tracer on the canonical scenes (sppm, pt-nee, lt, bpt, vcm), each against a
 #      reference Mitsuba renders on the same GPU (REF_SPP samples, default 16384), relMSE of
 #      both at SECONDS_EACH (default 10) seconds of wall time;
 #   5. equal-time error against SPPM's photons and camera samples a pass
@@ -131,7 +131,7 @@ if ! skipped bench; then
     for size in 256 1024; do
         run_bench=$("$bin" bench scenes/cornell-box.toml --width $size --height $size --iterations 32 2>&1 | tee "$out/bench-$size.log" | grep -E 'total' | head -1)
         row "bench cornell-box ${size}x$size" "$run_bench"
-        for m in sppm pt-nee lt; do
+        for m in sppm pt-nee lt bpt vcm; do
             line=$(run scenes/cornell-box.toml -o "$out/t.exr" --width $size --height $size --method $m --iterations 256 2>&1 | summary)
             row "throughput $m ${size}x$size" "$(echo "$line" | sed 's/ ->.*//')"
         done
@@ -149,8 +149,8 @@ if ! skipped mitsuba; then
             python3 "$tools/mitsuba_timed.py" "scenes/$s.toml" "$out/$s-mitsuba.exr" --variant cuda_ad_rgb --seconds "$secs" \
                 --chunk 64 >"$out/$s-mitsuba.log" 2>&1
             mi=$("$bin" diff "$out/$s-mitsuba.exr" "$ref" --downsample 8 2>&1 | tail -1 | awk '{print $2}')
-            methods="sppm pt-nee lt"
-            [ $s = cornell-spheres ] && methods="sppm pt-nee" # light tracing cannot see the glass
+            methods="sppm pt-nee lt bpt vcm"
+            [ $s = cornell-spheres ] && methods="sppm pt-nee bpt vcm" # light tracing cannot see the glass
             for m in $methods; do
                 run "scenes/$s.toml" -o "$out/$s-$m.exr" --method $m --iterations 100000000 --time-limit "$secs" >/dev/null 2>&1
                 ours=$("$bin" diff "$out/$s-$m.exr" "$ref" --downsample 8 2>&1 | tail -1 | awk '{print $2}')
