@@ -582,6 +582,20 @@ impl Scene {
         }
     }
 
+    /// Move the camera's look-at point along its view to the depth of the scene's centre (the
+    /// same view), and return that depth: the automatic SPPM radius follows pixel footprints
+    /// at the look-at point, and a file's own target (Mitsuba's `lookat`, often one unit
+    /// ahead; pbrt's) need not lie near the scene. Behind the camera, the box's diagonal.
+    pub fn look_at_scene_depth(&mut self) -> f32 {
+        let (lo, hi) = self.bounds();
+        let c = &mut self.camera;
+        let forward = (c.look_at - c.position).normalize();
+        let depth = forward.dot((lo + hi) * 0.5 - c.position);
+        let depth = if depth > 0.0 { depth } else { (hi - lo).length().max(1.0) };
+        c.look_at = c.position + forward * depth;
+        depth
+    }
+
     /// The box around every surface at rest (time 0); zero for a scene with no surfaces.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         let mut lo = Vec3::INFINITY;

@@ -273,14 +273,8 @@ impl<'a> SceneReader<'a> {
             ..Scene::new(path.to_path_buf(), render, sensor.camera, self.materials, self.textures, self.lights, self.media)
         };
         // Our camera's look-at point sets the automatic SPPM radius (pixel footprints at its
-        // distance); Mitsuba's `lookat` target is often one unit ahead. Look at the scene's
-        // centre's depth instead: the same view.
-        let (lo, hi) = scene.bounds();
-        let c = &mut scene.camera;
-        let forward = (c.look_at - c.position).normalize();
-        let depth = forward.dot((lo + hi) * 0.5 - c.position);
-        let depth = if depth > 0.0 { depth } else { (hi - lo).length().max(1.0) };
-        c.look_at = c.position + forward * depth;
+        // distance); Mitsuba's `lookat` target is often one unit ahead.
+        scene.look_at_scene_depth();
         if !scene.is_lit() {
             return Err(SceneError::new(
                 path,

@@ -510,16 +510,10 @@ impl Reader {
                 Vec::new(),
             )
         };
-        // The automatic SPPM radius follows pixel footprints at the look-at point: look at
-        // the depth of the scene's centre (the same view).
-        let (lo, hi) = scene.bounds();
-        let c = &mut scene.camera;
-        let forward = (c.look_at - c.position).normalize();
-        let depth = forward.dot((lo + hi) * 0.5 - c.position);
-        let depth = if depth > 0.0 { depth } else { (hi - lo).length().max(1.0) };
-        c.look_at = c.position + forward * depth;
-        if c.aperture_radius == 0.0 {
-            c.focus_distance = depth;
+        // The automatic SPPM radius follows pixel footprints at the look-at point.
+        let depth = scene.look_at_scene_depth();
+        if scene.camera.aperture_radius == 0.0 {
+            scene.camera.focus_distance = depth;
         }
         if !scene.is_lit() {
             return Err(SceneError::new(
