@@ -11,6 +11,7 @@
 #import lights
 #import direct
 #import vcm
+#import camera_importance
 
 // vcm (src/integrators/light.rs sets it): camera subpaths also merge with the light vertices
 // within the pass's radius frame.global_radius (Georgiev et al. 2012; Hachisuka et al. 2012).
@@ -36,10 +37,8 @@ fn bidir_factors() -> MisFactors {
 // a_pix there, so 1 / (a_pix cos^3 theta) (camera_importance.wgsl's camera_view, whose
 // importance times cos_x is the same density in area measure at the point seen).
 fn camera_pdf_w(d: vec3f) -> f32 {
-    let axis = normalize(cross(frame.cam_up, frame.cam_right));
-    let cos_theta = max(dot(d, axis), 1e-8);
-    let a_pix = 4.0 * length(frame.cam_right) * length(frame.cam_up) / (f32(frame.width) * f32(frame.image_height));
-    return 1.0 / (a_pix * cos_theta * cos_theta * cos_theta);
+    let cos_theta = max(dot(d, view_axis()), 1e-8);
+    return 1.0 / (pixel_area() * cos_theta * cos_theta * cos_theta);
 }
 
 // The camera subpath's MIS quantities as it leaves the camera along d, n_light light subpaths

@@ -40,6 +40,18 @@ fn lens_point(u: vec2f) -> vec3f {
     return frame.cam_position;
 }
 
+// The view axis: cam_right x cam_up point right and up, so up x right is forward; the image
+// plane's centre frame.cam_forward lies at distance 1 along it (off the axis only for a crop
+// window).
+fn view_axis() -> vec3f {
+    return normalize(cross(frame.cam_up, frame.cam_right));
+}
+
+// A pixel's area on the image plane at distance 1.
+fn pixel_area() -> f32 {
+    return 4.0 * length(frame.cam_right) * length(frame.cam_up) / (f32(frame.width) * f32(frame.image_height));
+}
+
 // Point p seen through lens point `lens`. A thin lens focuses the plane at axial distance
 // frame.focus_distance: the ray from the lens point through p crosses that plane where the
 // pinhole ray of the same image point does (camera_ray aims there), so p's image point is the
@@ -50,10 +62,7 @@ fn lens_point(u: vec2f) -> vec3f {
 fn camera_view(p: vec3f, lens: vec3f) -> CameraView {
     let v = p - lens;
     let dist = length(v);
-    // The view axis: cam_right x cam_up point right and up, so up x right is forward; the
-    // image plane's centre frame.cam_forward lies at distance 1 along it (off the axis only
-    // for a crop window).
-    let axis = normalize(cross(frame.cam_up, frame.cam_right));
+    let axis = view_axis();
     let t = dot(v, axis);
     if !(t > 0.0) || !(dist > 0.0) {
         return CameraView(vec2f(-1.0e9), vec3f(0.0), dist, 0.0, lens);
@@ -70,9 +79,8 @@ fn camera_view(p: vec3f, lens: vec3f) -> CameraView {
     let sx = dot(q, frame.cam_right) / dot(frame.cam_right, frame.cam_right);
     let sy = dot(q, frame.cam_up) / dot(frame.cam_up, frame.cam_up);
     let raster = vec2f(0.5 * (sx + 1.0) * f32(frame.width), 0.5 * (1.0 - sy) * f32(frame.image_height));
-    // A pixel's area on the plane, and 1 / (d^2 cos^3) = d / t^3.
-    let a_pix = 4.0 * length(frame.cam_right) * length(frame.cam_up) / (f32(frame.width) * f32(frame.image_height));
-    return CameraView(raster, -v / dist, dist, dist / (t * t * t * a_pix), lens);
+    // 1 / (d^2 cos^3 A_pix) = d / (t^3 A_pix).
+    return CameraView(raster, -v / dist, dist, dist / (t * t * t * pixel_area()), lens);
 }
 
 // The integral of Mitsuba's gaussian over [0, 4] standard deviations, exp(-t^2 / 2) - exp(-8)
