@@ -137,8 +137,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             let view = camera_view(s.p, lens_point(u_lens));
             let wo = view.wi;
             let wi = -d;
-            let same_side = dot(wo, s.ng) * dot(wi, s.ng) > 0.0;
-            if view.importance > 0.0 && (same_side || m.kind == MATERIAL_DIELECTRIC) && !one_sided_culls(m, s, wo) {
+            if view.importance > 0.0 && bsdf_joins(m, s, wi, wo) {
                 let b = bsdf_eval(s, m, m.albedo, wo, wi);
                 let correction = abs(dot(wi, s.ns)) / max(abs(dot(wi, s.ng)), 1e-8);
                 var c = beta * b.f * (correction * abs(dot(wo, s.ng)));

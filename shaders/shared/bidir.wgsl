@@ -63,8 +63,7 @@ fn bidir_emission_weight(camera: SubpathMis, shape: u32, cos_l: f32, first_segme
 fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera: SubpathMis, u: vec3f) -> vec3f {
     let sample = sample_light_mis(s.p, u);
     let ls = sample.ls;
-    let same_side = dot(ls.wi, s.ng) * dot(wo, s.ng) > 0.0;
-    if all(ls.li == vec3f(0.0)) || (!same_side && m.kind != MATERIAL_DIELECTRIC) || one_sided_culls(m, s, ls.wi) {
+    if all(ls.li == vec3f(0.0)) || !bsdf_joins(m, s, wo, ls.wi) {
         return vec3f(0.0);
     }
     let b = bsdf_eval(s, m, albedo, wo, ls.wi);

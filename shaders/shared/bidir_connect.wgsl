@@ -46,13 +46,13 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
         }
         let dist = sqrt(dist2);
         let w = to / dist;
-        if (dot(w, s.ng) * dot(wo, s.ng) <= 0.0 && m.kind != MATERIAL_DIELECTRIC) || one_sided_culls(m, s, w) {
+        if !bsdf_joins(m, s, wo, w) {
             continue;
         }
         let sl = light_vertex_surface(v);
         let ml = material_at(sl);
         let wl = -w;
-        if (dot(wl, sl.ng) * dot(v.w_prev, sl.ng) <= 0.0 && ml.kind != MATERIAL_DIELECTRIC) || one_sided_culls(ml, sl, wl) {
+        if !bsdf_joins(ml, sl, v.w_prev, wl) {
             continue;
         }
         let bc = bsdf_eval(s, m, albedo, wo, w);

@@ -28,6 +28,13 @@ fn bsdf_samples_lights(m: Material) -> bool {
         || (USES_ROUGH_DIELECTRIC && m.kind == MATERIAL_DIELECTRIC && m.roughness > 0.0) || is_plastic(m);
 }
 
+// Whether material m at s scatters between w, a direction the path takes there, and w_new,
+// one joined to it (a light sample, a connection, the camera): w_new on w's side of the
+// geometric normal (a dielectric also transmits) and not behind a one-sided surface.
+fn bsdf_joins(m: Material, s: Surface, w: vec3f, w_new: vec3f) -> bool {
+    return (dot(w_new, s.ng) * dot(w, s.ng) > 0.0 || m.kind == MATERIAL_DIELECTRIC) && !one_sided_culls(m, s, w_new);
+}
+
 // f (radiance) and the sampler's density of wi given wo, at surface s of material m with
 // `albedo` (its texture looked up), where bsdf_samples_lights(m).
 fn bsdf_eval(s: Surface, m: Material, albedo: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {

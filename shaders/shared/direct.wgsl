@@ -38,8 +38,7 @@ fn direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, medium: u32, 
     let ls = sample_light(s.p, u);
     // Only the side the path arrived on receives light, but for a dielectric, which also
     // transmits it; a one-sided material only from in front of ns.
-    let same_side = dot(ls.wi, s.ng) * dot(wo, s.ng) > 0.0;
-    if all(ls.li == vec3f(0.0)) || (!same_side && m.kind != MATERIAL_DIELECTRIC) || one_sided_culls(m, s, ls.wi) {
+    if all(ls.li == vec3f(0.0)) || !bsdf_joins(m, s, wo, ls.wi) {
         return vec3f(0.0);
     }
     let b = bsdf_eval(s, m, albedo, wo, ls.wi);
