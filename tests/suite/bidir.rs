@@ -75,16 +75,7 @@ fn bpt_matches_mitsuba_for_every_light_kind() {
     let Some(gpu) = common::gpu() else { return };
     // relMSE 1.3e-5 (spot) and 9.4e-6 (lights) at 256 passes.
     for name in ["spot", "lights"] {
-        let mut scene = common::load_scene(&format!("mitsuba/{name}.xml"));
-        scene.render.method = Method::Bpt;
-        let mut integrator = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
-        let img = common::run_passes(&mut *integrator, 32);
-        let c = compare(&img, &common::reference(&format!("mitsuba/{name}.exr")), 8).unwrap();
-        eprintln!("{name} bpt 32 passes: {c:?}");
-        assert!(c.rel_mse < 3e-4, "{name} bpt: relMSE {}", c.rel_mse);
-        for r in c.mean_ratio {
-            assert!((r - 1.0).abs() < 0.01, "{name} bpt: channel mean ratios {:?}", c.mean_ratio);
-        }
+        common::check_mitsuba_reference(&gpu, name, Method::Bpt, 32, 3e-4);
     }
 }
 

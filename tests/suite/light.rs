@@ -49,16 +49,7 @@ fn light_tracing_matches_mitsuba_for_every_light_kind() {
     let Some(gpu) = common::gpu() else { return };
     // lights.xml: relMSE 5.7e-4 at 128 passes, 1.5e-4 at 512 (noise, falling as 1 / passes).
     for (name, passes) in [("spot", 128), ("lights", 512), ("textures", 64)] {
-        let mut scene = common::load_scene(&format!("mitsuba/{name}.xml"));
-        scene.render.method = Method::Lt;
-        let mut integrator = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
-        let img = common::run_passes(&mut *integrator, passes);
-        let c = compare(&img, &common::reference(&format!("mitsuba/{name}.exr")), 8).unwrap();
-        eprintln!("{name} lt {passes} passes: {c:?}");
-        assert!(c.rel_mse < 3e-4, "{name} lt: relMSE {}", c.rel_mse);
-        for r in c.mean_ratio {
-            assert!((r - 1.0).abs() < 0.01, "{name} lt: channel mean ratios {:?}", c.mean_ratio);
-        }
+        common::check_mitsuba_reference(&gpu, name, Method::Lt, passes, 3e-4);
     }
 }
 

@@ -138,6 +138,22 @@ pub fn render_at(scene: &Scene, method: sppm_gpu::scene::Method, size: u32, pass
     run_passes(&mut *integrator, passes)
 }
 
+/// Mitsuba's test scene `mitsuba/NAME.xml` rendered by `method` for `passes` passes at its own
+/// size, against Mitsuba 3's render of it (`tests/references/mitsuba/NAME.exr`), both reduced
+/// to 8x8: relMSE below `max_rel_mse` and every channel mean within 1%.
+pub fn check_mitsuba_reference(gpu: &GpuContext, name: &str, method: sppm_gpu::scene::Method, passes: u32, max_rel_mse: f64) {
+    let mut scene = load_scene(&format!("mitsuba/{name}.xml"));
+    scene.render.method = method;
+    let mut integrator = sppm_gpu::integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
+    let img = run_passes(&mut *integrator, passes);
+    let c = sppm_gpu::metrics::compare(&img, &reference(&format!("mitsuba/{name}.exr")), 8).unwrap();
+    eprintln!("{name} {method:?} {passes} passes: {c:?}");
+    assert!(c.rel_mse < max_rel_mse, "{name} {method:?}: relMSE {}", c.rel_mse);
+    for r in c.mean_ratio {
+        assert!((r - 1.0).abs() < 0.01, "{name} {method:?}: channel mean ratios {:?}", c.mean_ratio);
+    }
+}
+
 /// SPPM on `scene` for its `iterations` passes ([`run_passes`]).
 pub fn render_sppm(gpu: &GpuContext, scene: &Scene) -> Rgb32Image {
     let mut sppm = Sppm::new(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
