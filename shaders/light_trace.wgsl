@@ -145,7 +145,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
                     // The camera's density of this vertex: its direction's, per pixel area
                     // (bidir.wgsl's camera_pdf_w), in area measure here.
                     let camera_pdf_a = view.importance * abs(dot(wo, s.ns));
-                    c *= mis_weight_to_camera(lm, camera_pdf_a, b.pdf, f32(frame.photon_count), bidir_factors());
+                    c *= mis_weight_to_camera(lm, camera_pdf_a, b.pdf, f32(frame.photon_count), bidir_factors()) * kept(STRATEGY_LIGHT_TRACE);
                 }
                 connect_to_camera(offset_origin(s.p, s.ng, wo), view, c);
             }

@@ -64,7 +64,7 @@ impl Fingerprint {
         let r = &scene.render;
         let settings = format!(
             "width = {}\nheight = {}\nmethod = {:?}\nspp = {}\nphotons = {}\nradius = {:?}\nalpha = {}\nmax_depth = {}\n\
-             seed = {}\ndirect = {:?}\ndirect_samples = {:?}\nradius_schedule = {:?}\nradius_rule = {:?}\nfilter = {:?}\nsampler = {:?}\n",
+             seed = {}\ndirect = {:?}\ndirect_samples = {:?}\nlight_paths = {:?}\nradius_schedule = {:?}\nradius_rule = {:?}\nfilter = {:?}\nsampler = {:?}\n",
             r.width,
             r.height,
             r.method,
@@ -76,6 +76,7 @@ impl Fingerprint {
             r.seed,
             r.direct,
             r.direct_samples,
+            r.light_paths,
             r.radius_schedule,
             r.radius_rule,
             r.filter,

@@ -17,6 +17,20 @@
 // within the pass's radius frame.global_radius (Georgiev et al. 2012; Hachisuka et al. 2012).
 override VCM_MERGE: bool = false;
 
+// The strategies whose weighted contributions a pass keeps (frame.strategies: all but for
+// `--strategy-images`): each is still weighed against every strategy of the method, so that
+// the images of the strategies add up to the method's image. Bits as src/layout/records.rs's.
+const STRATEGY_EMISSION: u32 = 1u;
+const STRATEGY_NEE: u32 = 2u;
+const STRATEGY_CONNECT: u32 = 4u;
+const STRATEGY_MERGE: u32 = 8u;
+const STRATEGY_LIGHT_TRACE: u32 = 16u;
+
+// 1 where `strategy` is kept, else 0.
+fn kept(strategy: u32) -> f32 {
+    return select(0.0, 1.0, (frame.strategies & strategy) != 0u);
+}
+
 // eta_vcm = pi r^2 n_light: merging's density relative to a connection's (shared/vcm.wgsl).
 fn eta_vcm() -> f32 {
     return PI * frame.global_radius * frame.global_radius * f32(frame.photon_count);

@@ -161,7 +161,7 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         let shape = shapes[s.shape];
         if shape.emits != 0u && dot(d, s.ng) < 0.0 {
             if bidir {
-                path.l += beta * shape.emission * bidir_emission_weight(cm, s.shape, -dot(d, s.ng), depth == 0u);
+                path.l += beta * shape.emission * (bidir_emission_weight(cm, s.shape, -dot(d, s.ng), depth == 0u) * kept(STRATEGY_EMISSION));
             } else {
                 path.l += beta * shape.emission * emission_weight(pdf_prev, mis_o, hit, s, d);
             }
@@ -187,9 +187,11 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         // call site: the shadow ray's traversal is inlined once.
         let nee_here = nee && bsdf_samples_lights(m);
         if nee_here && bidir {
-            path.l += beta * bidir_direct_light(s, wo, m, albedo, cm, vec3f(rng_next(rng), rng_next2(rng)));
-            path.l += beta * connect_light_subpath(s, m, albedo, wo, cm, depth + 1u);
-            if VCM_MERGE {
+            path.l += beta * bidir_direct_light(s, wo, m, albedo, cm, vec3f(rng_next(rng), rng_next2(rng))) * kept(STRATEGY_NEE);
+            if (frame.strategies & STRATEGY_CONNECT) != 0u {
+                path.l += beta * connect_light_subpath(s, m, albedo, wo, cm, depth + 1u);
+            }
+            if VCM_MERGE && (frame.strategies & STRATEGY_MERGE) != 0u {
                 path.l += beta * merge_light_vertices(s, m, albedo, wo, cm, depth + 1u);
             }
         } else if nee_here {

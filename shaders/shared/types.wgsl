@@ -65,7 +65,7 @@ struct Frame {
     // SPPM with an environment light: the share of its photons aimed at this pass's visible
     // points (photon_pass.wgsl, emit_photon); 0 for none.
     env_aim: f32,
-    _pad3: u32,
+    strategies: u32,
     _pad4: u32,
     // FILTER_GAUSSIAN: the CDF of the filter's density on [0, 4] standard deviations at the
     // ends of FILTER_TABLE_SIZE equal intervals, C_1..C_256 (C_0 = 0, C_256 = 1), four a vec4f.

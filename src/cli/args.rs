@@ -54,6 +54,10 @@ pub(crate) struct Overrides {
     /// direct light (overrides render.direct_samples; default automatic).
     #[arg(long)]
     pub(crate) direct_samples: Option<u32>,
+    /// bpt and vcm: light subpaths a pass (overrides render.light_paths; default one for
+    /// every 16 pixels).
+    #[arg(long)]
+    pub(crate) light_paths: Option<u32>,
     /// SPPM's radius schedule: per-point (each visible point's radius shrinks with its
     /// photons; default) or global (the radius of pass i depends on i alone, so passes can
     /// run in batches; Knaus & Zwicker 2011) (overrides render.radius_schedule).
@@ -164,6 +168,11 @@ pub(crate) fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSetting
         let mut n = 1;
         positive("direct-samples", cli.direct_samples, scene::MAX_DIRECT_SAMPLES, &mut n)?;
         render.direct_samples = Some(n);
+    }
+    if cli.light_paths.is_some() {
+        let mut n = 1;
+        positive("light-paths", cli.light_paths, u32::MAX, &mut n)?;
+        render.light_paths = Some(n);
     }
     if let Some(r) = cli.radius {
         if !(r > 0.0 && r.is_finite()) {

@@ -151,6 +151,9 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
     if let Some(n) = r.direct_samples {
         render.insert("direct_samples".into(), int(n));
     }
+    if let Some(n) = r.light_paths {
+        render.insert("light_paths".into(), int(n));
+    }
     render.insert("radius_schedule".into(), Value::String(r.radius_schedule.name().into()));
     render.insert("radius_rule".into(), Value::String(r.radius_rule.name().into()));
     render.insert("sampler".into(), Value::String(r.sampler.name().into()));

@@ -66,6 +66,11 @@ pub(crate) struct Cli {
     /// Go on from a checkpoint of the same scene and settings, up to --iterations passes in all.
     #[arg(long)]
     resume: Option<PathBuf>,
+    /// bpt and vcm: also write each strategy's weighted share of the image beside it
+    /// (OUT-emission, -nee, -connect, -merge for vcm, -lt), each rendered again for the same
+    /// passes and seed; the shares add up to the image.
+    #[arg(long)]
+    strategy_images: bool,
     #[command(flatten)]
     overrides: Overrides,
 }

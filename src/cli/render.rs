@@ -156,6 +156,13 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     if cli.passes.is_some() && (cli.checkpoint.is_some() || cli.resume.is_some()) {
         return Err(Error::Setting("--passes renders a batch: it takes no --checkpoint or --resume".into()));
     }
+    if cli.strategy_images && (cli.partial.is_some() || cli.passes.is_some() || cli.checkpoint.is_some() || cli.resume.is_some())
+    {
+        return Err(Error::Setting(
+            "--strategy-images renders a whole image again per strategy: it takes no --passes, --partial, --checkpoint or --resume"
+                .into(),
+        ));
+    }
     if !(cli.checkpoint_every >= 0.0 && cli.checkpoint_every.is_finite()) {
         return Err(Error::Setting(format!(
             "--checkpoint-every must be a number of seconds, 0 or more, got {}",
@@ -201,7 +208,13 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         (false, false, false) => "the scene's `method`; --method picks another",
     };
     eprintln!("rendering {} with {} ({why})", scene_path.display(), scene.render.method.name());
-    for &(path, kind) in &writes {
+    let strategy_outputs = match (cli.strategy_images, output) {
+        (true, Some(output)) => strategy_outputs(output, scene.render.method)?,
+        _ => Vec::new(),
+    };
+    let mut checks = writes.clone();
+    checks.extend(strategy_outputs.iter().map(|(_, p)| (p.as_path(), Kind::Image)));
+    for &(path, kind) in &checks {
         output::check(path, kind, &inputs)?;
     }
     interrupt.stage("starting the GPU");
@@ -379,6 +392,16 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         sppm_gpu::batch::write_partial(partial, &image, first_pass, integrator.passes(), &fingerprint)?;
         written.push(format!("{} (passes {first_pass}..{})", partial.display(), integrator.passes()));
     }
+    if !strategy_outputs.is_empty() && interrupt.received().is_none() {
+        for (strategy, path) in &strategy_outputs {
+            let share = strategy_image(&gpu, &scene, *strategy, integrator.passes())?;
+            if path.exists() {
+                eprintln!("note: replacing {}", path.display());
+            }
+            image_io::write_image(path, &share)?;
+            written.push(path.display().to_string());
+        }
+    }
     let work = (integrator.passes() - first_pass) as u64 * integrator.work_per_pass();
     let ended = match (interrupt.received(), r.time_limit) {
         (Some((name, _)), _) => format!("ended by {name}"),
@@ -433,6 +456,54 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         );
     }
     Ok(interrupted.map(|(_, code)| code))
+}
+
+/// The strategies of `method` and the file each one's share of `output` goes to
+/// (`--strategy-images`): `OUT-emission.exr` beside `OUT.exr`, and so on.
+fn strategy_outputs(output: &Path, method: Method) -> Result<Vec<(u32, std::path::PathBuf)>, Error> {
+    use sppm_gpu::layout::{STRATEGY_CONNECT, STRATEGY_EMISSION, STRATEGY_LIGHT_TRACE, STRATEGY_MERGE, STRATEGY_NEE};
+    let names: &[(u32, &str)] = match method {
+        Method::Bpt => {
+            &[(STRATEGY_EMISSION, "emission"), (STRATEGY_NEE, "nee"), (STRATEGY_CONNECT, "connect"), (STRATEGY_LIGHT_TRACE, "lt")]
+        }
+        Method::Vcm => &[
+            (STRATEGY_EMISSION, "emission"),
+            (STRATEGY_NEE, "nee"),
+            (STRATEGY_CONNECT, "connect"),
+            (STRATEGY_MERGE, "merge"),
+            (STRATEGY_LIGHT_TRACE, "lt"),
+        ],
+        other => {
+            return Err(Error::Setting(format!(
+                "--strategy-images: method {} has no strategies to weigh against each other; use bpt or vcm",
+                other.name()
+            )))
+        }
+    };
+    let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let ext = output.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default();
+    Ok(names.iter().map(|&(bit, name)| (bit, output.with_file_name(format!("{stem}-{name}.{ext}")))).collect())
+}
+
+/// `passes` passes of `scene` keeping only `strategy`'s weighted contributions: its share of
+/// the image the same passes and seed give.
+fn strategy_image(
+    gpu: &GpuContext,
+    scene: &sppm_gpu::scene::Scene,
+    strategy: u32,
+    passes: u32,
+) -> Result<image_io::Rgb32Image, Error> {
+    let mut scene = scene.clone();
+    scene.render.strategies = strategy;
+    scene.render.iterations = passes;
+    scene.render.time_limit = None;
+    let mut integrator = integrators::create(&gpu.device, &gpu.queue, &scene)?;
+    for _ in 0..passes {
+        integrator.run_pass()?;
+    }
+    let image = integrator.image()?;
+    gpu.check()?;
+    Ok(image)
 }
 
 /// The default output of `scene`: its name with `.exr` in the current directory, or the first

@@ -73,6 +73,7 @@ pub fn camera_frame(scene: &Scene) -> Frame {
         seed: r.seed,
         max_depth: r.max_depth,
         alpha: r.alpha,
+        strategies: r.strategies,
         ..camera_frame_for(&scene.camera, r.width, r.height)
     }
 }

@@ -37,8 +37,17 @@ pub const LIGHT_VERTEX_BYTES: u64 = size_of::<crate::layout::LightVertex>() as u
 /// where `max_depth` vertices of each fit, fewer (pixels then share them) where not.
 const LIGHT_VERTEX_BUDGET: u64 = 256 << 20;
 
-/// Light subpaths a pass of `method` on `scene`, within `limit` bytes a buffer: one a pixel
-/// (of the whole image), for bpt as many as the light-vertex store holds (at least one).
+/// Pixels for each light subpath of a bpt or vcm pass unless `light_paths` says otherwise.
+/// Light subpaths cost as much as camera subpaths, and on the diffuse canonical scenes the
+/// strategies they feed (light tracing, merging) pay less than the camera's: at one for 16
+/// pixels vcm's error times CPU time at 128x128 was 1.5x to 2.7x lower than at one a pixel
+/// on cornell-box, cornell-glossy, cornell-spheres and veach-bidir (BENCHMARKS.md "VCM").
+pub const PIXELS_PER_LIGHT_PATH: u32 = 16;
+
+/// Light subpaths a pass of `method` on `scene`, within `limit` bytes a buffer: lt one a pixel
+/// (of the whole image); bpt and vcm `light_paths`, or one for every
+/// [`PIXELS_PER_LIGHT_PATH`] pixels, at most as many as the light-vertex store holds (at
+/// least one).
 pub fn light_paths(scene: &Scene, limit: u64) -> Result<u32, Error> {
     let r = &scene.render;
     let pixels = r
@@ -49,7 +58,8 @@ pub fn light_paths(scene: &Scene, limit: u64) -> Result<u32, Error> {
         return Ok(pixels);
     }
     let per_path = r.max_depth.max(1) as u64 * LIGHT_VERTEX_BYTES;
-    Ok((LIGHT_VERTEX_BUDGET.min(limit) / per_path).clamp(1, pixels as u64) as u32)
+    let wanted = r.light_paths.unwrap_or((pixels / PIXELS_PER_LIGHT_PATH).max(1));
+    Ok((LIGHT_VERTEX_BUDGET.min(limit) / per_path).clamp(1, wanted as u64) as u32)
 }
 
 /// Whether `method` keeps light vertices (bpt, vcm).

@@ -100,8 +100,10 @@ pub struct Frame {
     /// points (from a disk covering their bounding sphere; the rest from the disk covering the
     /// scene, with weights of the mixture); 0 for none (`integrators::sppm::ENV_AIM`).
     pub env_aim: f32,
-    /// Padding; always 0.
-    pub _pad3: u32,
+    /// bpt and vcm: the strategies whose weighted contributions the pass keeps (bits of
+    /// [`STRATEGY_EMISSION`] and its siblings; [`STRATEGIES_ALL`] but for
+    /// `--strategy-images`).
+    pub strategies: u32,
     /// Padding; always 0.
     pub _pad4: u32,
     /// [`FILTER_GAUSSIAN`]: the CDF of the filter's density on [0, 4] standard deviations at
@@ -474,6 +476,20 @@ pub const FILTER_TENT: u32 = 1;
 pub const FILTER_GAUSSIAN: u32 = 2;
 /// Intervals of [`Frame::filter_cdf`].
 pub const FILTER_TABLE_SIZE: u32 = 256;
+/// The bidirectional methods' strategies (`shaders/shared/bidir.wgsl`), as bits of the set
+/// whose weighted contributions a render keeps (`RenderSettings::strategies`): emission hit by
+/// the camera subpath.
+pub const STRATEGY_EMISSION: u32 = 1;
+/// Next-event estimation at a camera vertex.
+pub const STRATEGY_NEE: u32 = 2;
+/// A camera vertex connected to the vertices of a light subpath.
+pub const STRATEGY_CONNECT: u32 = 4;
+/// A camera vertex merged with the light vertices within the radius (vcm).
+pub const STRATEGY_MERGE: u32 = 8;
+/// A light vertex joined to the camera (light tracing).
+pub const STRATEGY_LIGHT_TRACE: u32 = 16;
+/// Every strategy: a render's default.
+pub const STRATEGIES_ALL: u32 = 31;
 
 /// One interior node as the kernels read it (32 bytes): the boxes of its two children,
 /// quantized to 16 bits per coordinate on a grid over the root's box ([`BvhParams`]), and a

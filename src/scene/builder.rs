@@ -558,6 +558,9 @@ impl Check<'_> {
         if let Some(paths) = r.direct_samples {
             self.count("render.direct_samples", paths, MAX_DIRECT_SAMPLES)?;
         }
+        if let Some(paths) = r.light_paths {
+            self.count("render.light_paths", paths, u32::MAX)?;
+        }
         if let Some(radius) = r.radius {
             self.f32("render.radius", radius, Bound::Positive)?;
         }

@@ -182,6 +182,7 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         "time_limit",
         "direct",
         "direct_samples",
+        "light_paths",
         "radius_schedule",
         "radius_rule",
         "filter",
@@ -204,11 +205,13 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         time_limit: t.opt("time_limit", |v| v.f64_in(Bound::Positive))?,
         direct: t.or("direct", d.direct, Value::named)?,
         direct_samples: t.opt("direct_samples", |v| v.u32_in(1, MAX_DIRECT_SAMPLES))?,
+        light_paths: t.opt("light_paths", |v| v.u32_in(1, u32::MAX))?,
         radius_schedule: t.or("radius_schedule", d.radius_schedule, Value::named)?,
         radius_rule: read_radius_rule(t)?,
         filter: read_filter(t)?,
         sampler: t.or("sampler", d.sampler, Value::named)?,
         work_given: super::WorkGiven { photons: t.get("photons").is_some(), spp: t.get("spp").is_some() },
+        strategies: d.strategies,
     })
 }
 

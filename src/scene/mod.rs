@@ -276,6 +276,9 @@ pub struct RenderSettings {
     /// SPPM with sampled direct light: camera paths per visible point per pass that gather
     /// direct light (`direct_samples`); `None` asks for the automatic choice.
     pub direct_samples: Option<u32>,
+    /// bpt's and vcm's light subpaths a pass (`light_paths`); `None` asks for the automatic
+    /// choice, one for every [`crate::integrators::light::PIXELS_PER_LIGHT_PATH`] pixels.
+    pub light_paths: Option<u32>,
     /// SPPM's radius schedule (`radius_schedule`: `"per-point"`, the default, or `"global"`).
     pub radius_schedule: RadiusSchedule,
     /// How a visible point's radius shrinks under [`RadiusSchedule::PerPoint`]
@@ -290,6 +293,11 @@ pub struct RenderSettings {
     /// the others are the loader's defaults until [`RenderSettings::fit_pass_work`] sets them
     /// for the device.
     pub work_given: WorkGiven,
+    /// The strategies of bpt and vcm whose weighted contributions the image keeps (bits of
+    /// [`crate::layout::STRATEGY_EMISSION`] and its siblings; default
+    /// [`crate::layout::STRATEGIES_ALL`]): one alone gives that strategy's share of the image
+    /// (`--strategy-images`). Not a scene key.
+    pub strategies: u32,
 }
 
 /// Which of [`PassWork`]'s settings a scene gave.
@@ -343,11 +351,13 @@ impl Default for RenderSettings {
             time_limit: None,
             direct: DirectLight::Sampled,
             direct_samples: None,
+            light_paths: None,
             radius_schedule: RadiusSchedule::PerPoint,
             radius_rule: RadiusRule::Shrink,
             filter: PixelFilter::Box,
             sampler: crate::sampler::Sampler::DEFAULT,
             work_given: WorkGiven::default(),
+            strategies: crate::layout::STRATEGIES_ALL,
         }
     }
 }

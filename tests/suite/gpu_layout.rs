@@ -62,7 +62,7 @@ fn gpu_structs_match_wgsl() {
             pixel_filter,
             filter_width,
             env_aim,
-            _pad3,
+            strategies,
             _pad4,
             filter_cdf,
         ]
@@ -156,6 +156,31 @@ fn wgsl_constants_match_rust() {
     assert_eq!(constant("FILTER_TENT"), FILTER_TENT);
     assert_eq!(constant("FILTER_GAUSSIAN"), FILTER_GAUSSIAN);
     assert_eq!(constant("FILTER_TABLE_SIZE"), FILTER_TABLE_SIZE);
+}
+
+/// The bidirectional strategies' bits (`--strategy-images`), in shared/bidir.wgsl and the
+/// layout.
+#[test]
+fn strategy_bits_match_rust() {
+    use sppm_gpu::layout::{
+        STRATEGIES_ALL, STRATEGY_CONNECT, STRATEGY_EMISSION, STRATEGY_LIGHT_TRACE, STRATEGY_MERGE, STRATEGY_NEE,
+    };
+    let module = naga::front::wgsl::parse_str(&shader_source("bidir_camera").unwrap()).unwrap();
+    let bits = [
+        ("STRATEGY_EMISSION", STRATEGY_EMISSION),
+        ("STRATEGY_NEE", STRATEGY_NEE),
+        ("STRATEGY_CONNECT", STRATEGY_CONNECT),
+        ("STRATEGY_MERGE", STRATEGY_MERGE),
+        ("STRATEGY_LIGHT_TRACE", STRATEGY_LIGHT_TRACE),
+    ];
+    for (name, value) in bits {
+        let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some(name)).unwrap();
+        match module.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => assert_eq!(v, value, "{name}"),
+            ref e => panic!("{name}: {e:?}"),
+        }
+    }
+    assert_eq!(bits.iter().fold(0, |all, (_, bit)| all | bit), STRATEGIES_ALL);
 }
 
 /// Each BSDF family's `MATERIAL_*` and each emitter kind's `EMITTER_*`, declared in its host
