@@ -13,13 +13,14 @@
 #      both at SECONDS_EACH (default 10) seconds of wall time;
 #   5. equal-time error against SPPM's photons and camera samples a pass
 #      (scripts/measure/pass-work.sh, WORK_SECONDS each, default 3): the device's defaults;
+#      and against bpt's and vcm's light subpaths a pass (scripts/measure/light-paths.sh);
 #   6. last, the test suite with CI=true on that GPU (tests pick their adapter from
 #      SPPM_GPU_ADAPTER, as the command line's --adapter): `cargo test --release` where cargo
 #      is installed, else every prebuilt test binary in --tests DIR (a GPU machine may have no
 #      Rust toolchain), each cut at TEST_S seconds (default 300).
 #
 #   bash scripts/gpu-check.sh [--bin SPPM_GPU] [--tests DIR] [--mitsuba-tools DIR] [--out DIR]
-#                             [--adapter SELECTOR] [--skip scenes,pacing,bench,mitsuba,work,tests]
+#                             [--adapter SELECTOR] [--skip scenes,pacing,bench,mitsuba,work,lightpaths,tests]
 #
 # --bin defaults to target/release/sppm-gpu (built with cargo if missing and cargo is there);
 # --adapter to the first adapter that is not a CPU device (an index or a part of its name, as
@@ -167,6 +168,14 @@ if ! skipped work; then
     bash scripts/measure/pass-work.sh --bin "$bin" --out "$out" --adapter "$adapter" --seconds "${WORK_SECONDS:-3}" \
         >"$out/pass-work.log" 2>&1
     while read -r l; do row "pass work" "$l"; done <"$out/pass-work.txt"
+fi
+
+# 5b. Equal-time error against bpt's and vcm's light subpaths a pass (light_paths), the
+#     measurement behind their default (integrators::light::PIXELS_PER_LIGHT_PATH).
+if ! skipped lightpaths; then
+    bash scripts/measure/light-paths.sh --bin "$bin" --out "$out" --adapter "$adapter" --seconds "${WORK_SECONDS:-3}" \
+        --paths "${LIGHT_PATHS:-1024 4096 16384 65536}" >"$out/light-paths.log" 2>&1
+    while read -r l; do row "light paths" "$l"; done <"$out/light-paths.txt"
 fi
 
 # 6. The tests on this GPU, last: the longest part, cut by TEST_S where time is short.
