@@ -130,9 +130,16 @@ fn global_radius_follows_the_schedule() {
 /// either sampler (the Sobol sampler's photons are numbered across passes).
 #[test]
 fn batches_merge_to_the_whole_render() {
-    use sppm_gpu::sampler::Sampler;
     let Some(gpu) = common::gpu() else { return };
     let dir = temp_dir("merge");
+    // Every integrator of one scene, method and sampler makes the same kernels: made once.
+    sppm_gpu::gpu::share_kernels(|| merges(&gpu, &dir));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// [`batches_merge_to_the_whole_render`]'s renders and checks, in `dir`.
+fn merges(gpu: &sppm_gpu::gpu::GpuContext, dir: &std::path::Path) {
+    use sppm_gpu::sampler::Sampler;
     for (method, sampler) in [
         (Method::Sppm, Sampler::Independent),
         (Method::PtNee, Sampler::Independent),
@@ -142,14 +149,14 @@ fn batches_merge_to_the_whole_render() {
         let mut scene = global("cornell-spheres.toml", 48, 20_000);
         scene.render.method = method;
         scene.render.sampler = sampler;
-        let whole = batch(&gpu, &scene, 0, 12);
+        let whole = batch(gpu, &scene, 0, 12);
         let fingerprint = Fingerprint::of(&scene);
         let ranges = [(0, 3), (3, 4), (4, 9), (9, 12)];
         let mut parts: Vec<Partial> = ranges
             .iter()
             .map(|&(a, b)| {
                 let path = dir.join(format!("{method:?}-{sampler:?}-{a}-{b}.exr"));
-                write_partial(&path, &batch(&gpu, &scene, a, b), a, b, &fingerprint).unwrap();
+                write_partial(&path, &batch(gpu, &scene, a, b), a, b, &fingerprint).unwrap();
                 read_partial(&path).unwrap_or_else(|e| panic!("{e}"))
             })
             .collect();
@@ -176,22 +183,21 @@ fn batches_merge_to_the_whole_render() {
     let mut scene = global("cornell-spheres.toml", 48, 20_000);
     let a = dir.join("seed0.exr");
     let b = dir.join("seed1.exr");
-    write_partial(&a, &batch(&gpu, &scene, 0, 1), 0, 1, &Fingerprint::of(&scene)).unwrap();
+    write_partial(&a, &batch(gpu, &scene, 0, 1), 0, 1, &Fingerprint::of(&scene)).unwrap();
     scene.render.seed = 1;
-    write_partial(&b, &batch(&gpu, &scene, 1, 2), 1, 2, &Fingerprint::of(&scene)).unwrap();
+    write_partial(&b, &batch(gpu, &scene, 1, 2), 1, 2, &Fingerprint::of(&scene)).unwrap();
     let e = merge(&[read_partial(&a).unwrap(), read_partial(&b).unwrap()]).unwrap_err().to_string();
     assert!(e.contains("seed 0 (now 1)"), "{e}");
     // Another sampler's part: refused too.
     scene.render.seed = 0;
     scene.render.sampler = if scene.render.sampler == Sampler::Sobol { Sampler::Independent } else { Sampler::Sobol };
-    write_partial(&b, &batch(&gpu, &scene, 1, 2), 1, 2, &Fingerprint::of(&scene)).unwrap();
+    write_partial(&b, &batch(gpu, &scene, 1, 2), 1, 2, &Fingerprint::of(&scene)).unwrap();
     let e = merge(&[read_partial(&a).unwrap(), read_partial(&b).unwrap()]).unwrap_err().to_string();
     assert!(e.contains("sampler"), "{e}");
     // An image that is not a partial.
     let plain = dir.join("plain.exr");
     sppm_gpu::image_io::write_exr(&plain, &Rgb32Image::new(4, 4)).unwrap();
     assert!(read_partial(&plain).unwrap_err().to_string().contains("not a partial image"));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 fn binary() -> Command {
