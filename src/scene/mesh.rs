@@ -486,14 +486,16 @@ pub(super) fn read_texture(path: &Path) -> Result<Texture, String> {
     Ok(texture)
 }
 
-/// Reads an image (PNG, JPEG, OpenEXR, Radiance HDR) into a texture of linear RGB, row 0 at
+/// Reads an image (PNG, JPEG, OpenEXR, Radiance HDR, or Targa, which has no signature and is
+/// known by its `.tga` extension) into a texture of linear RGB, row 0 at
 /// the top, sampled bilinearly with repeat and an identity `to_uv`. As Mitsuba 3's `bitmap`
 /// decides it: integer images (8 or 16 bits) are sRGB-encoded and decoded here, floating-point
 /// images (EXR, HDR) are linear; `raw` keeps every value as stored. Alpha is dropped, a grey
 /// image gives grey texels.
 pub(super) fn read_image(path: &Path, raw: bool) -> Result<Texture, String> {
     let bytes = super::files::read(path)?;
-    let image = image::load_from_memory(&bytes).map_err(|e| e.to_string())?;
+    let format = image::guess_format(&bytes).or_else(|e| image::ImageFormat::from_path(path).map_err(|_| e));
+    let image = format.and_then(|f| image::load_from_memory_with_format(&bytes, f)).map_err(|e| e.to_string())?;
     let linear = raw || matches!(image, image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_));
     let image = image.into_rgb32f();
     let decode = |c: f32| if linear { c } else { srgb_to_linear(c) };
