@@ -359,3 +359,20 @@ fn media_and_medium_interfaces() {
     let e = error(&format!("{world}MakeNamedMedium \"c\" \"string type\" \"homogeneous\" \"float g\" 1\n"));
     assert_eq!(e.key.as_deref(), Some("g"), "{e}");
 }
+
+#[test]
+fn pfm_images_as_pbrt_reads_them() {
+    // grid.pfm: 2 x 2, little-endian, its bottom row (0.1 0.2 0.3) (0.4 0.5 0.6) stored first.
+    let s = load(
+        "Texture \"g\" \"spectrum\" \"imagemap\" \"string filename\" \"grid.pfm\"\n\
+         Material \"diffuse\" \"texture reflectance\" \"g\"\nShape \"sphere\"\n",
+    );
+    let MaterialKind::Diffuse { texture: Some(t), .. } = s.shape_material(0).kind else { panic!() };
+    let t = &s.textures[t as usize];
+    assert_eq!((t.width, t.height), (2, 2));
+    // Row 0 is the top; a float image is linear whatever the encoding says for 8-bit ones.
+    assert_eq!(
+        t.texels,
+        [Vec3::new(1.0, 2.0, 3.0), Vec3::new(4.0, 5.0, 6.0), Vec3::new(0.1, 0.2, 0.3), Vec3::new(0.4, 0.5, 0.6)]
+    );
+}
