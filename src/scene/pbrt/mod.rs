@@ -16,8 +16,8 @@
 //!   `NamedMaterial`, `Material`, `Texture` (material.rs); `LightSource`, `AreaLightSource`
 //!   (light.rs); `Shape` (shape.rs); `Camera`, `Film`, `PixelFilter`, `Sampler`,
 //!   `Integrator` (camera.rs); `Accelerator` (the speed: passed over), `ColorSpace` (`srgb`
-//!   only), `Option` (warned). Participating media (`MakeNamedMedium`, a `MediumInterface`
-//!   naming one) and `Attribute` are refused.
+//!   only), `Option` (warned); `MakeNamedMedium` and `MediumInterface` (medium.rs).
+//!   `Attribute` is refused. `loopsubdiv` is subdivided in subdiv.rs.
 //!
 //! Handedness: pbrt's camera space is left-handed, its raster x running along camera +x; ours
 //! is right-handed. Where the camera's transform does not mirror (a plain `LookAt`), pbrt's
