@@ -291,8 +291,11 @@ fn loopsubdiv_is_subdivided_to_the_limit_surface() {
             .flat_map(|t| (0..3).map(move |k| (t, k)))
             .find(|(t, k)| (t.p[*k] - 0.5 * axis).length() < 1e-5)
             .unwrap_or_else(|| panic!("no vertex at {}", 0.5 * axis));
+        // pbrt-v4's cross(S, T) over its one-ring walk (which turns clockwise seen from the
+        // side a counter-clockwise winding faces) points into this outward-wound octahedron.
         let n = t.n.expect("shading normals")[k];
-        assert!(n.dot(axis).abs() > 0.999, "{n} at {axis}");
+        assert!(n.dot(axis) < -0.999, "{n} at {axis}");
+        assert!((t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).dot(n) > 0.0, "fronts follow N");
     }
     // Every vertex lies between the limit's extremes, none outside the octahedron.
     assert!(s.triangles.iter().flat_map(|t| t.p).all(|p| p.abs().element_sum() <= 1.0 + 1e-5 && p.length() >= 0.4));

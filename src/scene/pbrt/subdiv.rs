@@ -12,6 +12,9 @@
 //!   beta)); boundary 3/5 v + 1/5 (the two boundary neighbours);
 //! - limit normals: cross(S, T) of the tangents over the one-ring in pbrt's order (interior:
 //!   S = sum cos(2 pi j / n) p_j, T = sum sin(2 pi j / n) p_j; boundary: pbrt's closed forms).
+//!   pbrt's walk (next vertex, then the face across the edge to it) turns clockwise seen from
+//!   the side a counter-clockwise winding faces, so these normals point against the winding,
+//!   and the mesh's front with them (the reader's triangles face `N`), as in pbrt-v4.
 
 use glam::Vec3;
 use std::collections::HashMap;
