@@ -506,7 +506,11 @@ pub(super) fn read_image(path: &Path, raw: bool) -> Result<Texture, String> {
             to_uv: glam::Affine2::IDENTITY,
         });
     }
-    let format = image::guess_format(&bytes).or_else(|e| image::ImageFormat::from_path(path).map_err(|_| e));
+    // Targa has no signature: known by its extension alone (other formats by their bytes).
+    let format = image::guess_format(&bytes).or_else(|e| match image::ImageFormat::from_path(path) {
+        Ok(f @ image::ImageFormat::Tga) => Ok(f),
+        _ => Err(e),
+    });
     let image = format.and_then(|f| image::load_from_memory_with_format(&bytes, f)).map_err(|e| e.to_string())?;
     let linear = raw || matches!(image, image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_));
     let image = image.into_rgb32f();
