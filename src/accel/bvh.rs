@@ -104,9 +104,9 @@ pub struct Hit {
 /// (references `i | SPHERE_BIT`).
 ///
 /// # Panics
-/// If there are `SPHERE_BIT` or more triangles or spheres, or if the tree is too deep for the
-/// traversal stack (depth `STACK_SIZE` or more; PLOC trees are far shallower than that for
-/// any scene whose coordinates are representable in `f32`).
+/// If there are `SPHERE_BIT` or more triangles or spheres. A PLOC tree too deep for the
+/// traversal stack (many coincident primitives chain it) has its deep subtrees rebuilt by
+/// median splits (see `flatten`).
 pub fn build_bvh(triangles: &[Triangle], spheres: &[Sphere]) -> Bvh {
     build_bvh_moving(triangles, spheres, |_| Vec3::ZERO)
 }
@@ -131,7 +131,7 @@ pub fn build_bvh_moving(triangles: &[Triangle], spheres: &[Sphere], velocity: im
     let params = BvhBuildParams { max_prims_per_leaf: MAX_PRIMS_PER_LEAF, ..BvhBuildParams::medium_build() };
     let bvh2 = build_bvh2(&aabbs, params, &mut Duration::default());
 
-    flatten(&bvh2, triangles.len() as u32)
+    flatten(&bvh2, &aabbs, triangles.len() as u32)
 }
 
 /// The boxes of `triangles` then `spheres` (primitive i of the obvhs builds), swept over the
@@ -156,6 +156,11 @@ fn aabb(min: Vec3, max: Vec3) -> Aabb {
     Aabb::new(Vec3A::from(min), Vec3A::from(max))
 }
 
+/// Depth at which a subtree too deep for the traversal stack is rebuilt by median splits: a
+/// median tree of fewer than 2^31 primitives, 4 a leaf, has at most 29 interior levels, so
+/// its interior nodes stay above depth `STACK_SIZE - 2` (see `flatten`).
+const REBUILD_DEPTH: usize = STACK_SIZE - 32;
+
 /// Lays out an obvhs tree depth first from its root, children of a node in adjacent slots,
 /// and maps its primitive ids (triangles first, then spheres) to primitive references.
 ///
@@ -163,7 +168,12 @@ fn aabb(min: Vec3, max: Vec3) -> Aabb {
 /// order and leaves index through `primitive_indices`; rebuilding the layout makes the
 /// invariants hold by construction and puts each leaf's references contiguously in
 /// traversal order.
-fn flatten(bvh2: &Bvh2, triangle_count: u32) -> Bvh {
+///
+/// Interior nodes must lie above depth `STACK_SIZE - 1` (the traversal pushes two children
+/// where it popped one). PLOC makes chains of coincident primitives (meshes given twice):
+/// a subtree that would reach that depth is rebuilt from its primitives' `aabbs` by median
+/// splits where it starts at `REBUILD_DEPTH`.
+fn flatten(bvh2: &Bvh2, aabbs: &[Aabb], triangle_count: u32) -> Bvh {
     let to_ref = |id: u32| {
         if id < triangle_count {
             id
@@ -171,6 +181,7 @@ fn flatten(bvh2: &Bvh2, triangle_count: u32) -> Bvh {
             (id - triangle_count) | SPHERE_BIT
         }
     };
+    let height = subtree_heights(bvh2);
     let mut nodes = Vec::with_capacity(bvh2.nodes.len());
     let mut prim_refs = Vec::with_capacity(bvh2.primitive_indices.len());
     nodes.push(BvhNode::zeroed());
@@ -178,13 +189,18 @@ fn flatten(bvh2: &Bvh2, triangle_count: u32) -> Bvh {
     let mut todo = vec![(0usize, 0usize, 0usize)];
     while let Some((src, dst, depth)) = todo.pop() {
         let node = &bvh2.nodes[src];
+        if !node.is_leaf() && depth >= REBUILD_DEPTH && depth + height[src] >= STACK_SIZE {
+            let mut ids = subtree_primitives(bvh2, src);
+            median_tree(&mut ids, aabbs, dst, &mut nodes, &mut prim_refs, &to_ref);
+            continue;
+        }
         let (first, count) = if node.is_leaf() {
             let first = prim_refs.len() as u32;
             let ids = node.first_index as usize..(node.first_index + node.prim_count) as usize;
             prim_refs.extend(bvh2.primitive_indices[ids].iter().map(|&id| to_ref(id)));
             (first, node.prim_count)
         } else {
-            assert!(depth + 1 < STACK_SIZE, "BVH deeper than the traversal stack");
+            debug_assert!(depth + 1 < STACK_SIZE);
             let first = nodes.len();
             nodes.extend([BvhNode::zeroed(); 2]);
             let child = node.first_index as usize;
@@ -198,6 +214,92 @@ fn flatten(bvh2: &Bvh2, triangle_count: u32) -> Bvh {
         nodes[dst] = BvhNode { min: Vec3::from(b.min).to_array(), first, max: Vec3::from(b.max).to_array(), count };
     }
     Bvh { nodes, prim_refs }
+}
+
+/// Interior levels under each obvhs node: 0 for a leaf, 1 + the larger child's otherwise.
+fn subtree_heights(bvh2: &Bvh2) -> Vec<usize> {
+    let mut height = vec![0usize; bvh2.nodes.len()];
+    if bvh2.nodes.is_empty() {
+        return height;
+    }
+    // Pre-order, so that children come after their parent; heights are summed in reverse.
+    let mut order = Vec::with_capacity(bvh2.nodes.len());
+    let mut todo = vec![0usize];
+    while let Some(i) = todo.pop() {
+        order.push(i);
+        let node = &bvh2.nodes[i];
+        if !node.is_leaf() {
+            todo.extend([node.first_index as usize, node.first_index as usize + 1]);
+        }
+    }
+    for &i in order.iter().rev() {
+        let node = &bvh2.nodes[i];
+        if !node.is_leaf() {
+            let c = node.first_index as usize;
+            height[i] = 1 + height[c].max(height[c + 1]);
+        }
+    }
+    height
+}
+
+/// The primitive ids under an obvhs node.
+fn subtree_primitives(bvh2: &Bvh2, root: usize) -> Vec<u32> {
+    let mut ids = Vec::new();
+    let mut todo = vec![root];
+    while let Some(i) = todo.pop() {
+        let node = &bvh2.nodes[i];
+        if node.is_leaf() {
+            let r = node.first_index as usize..(node.first_index + node.prim_count) as usize;
+            ids.extend_from_slice(&bvh2.primitive_indices[r]);
+        } else {
+            todo.extend([node.first_index as usize, node.first_index as usize + 1]);
+        }
+    }
+    ids
+}
+
+/// Writes a tree over primitive `ids` at slot `dst`: a leaf of up to `MAX_PRIMS_PER_LEAF`,
+/// else two halves split at the median centroid along the longest axis of the centroids'
+/// box (an object median: ceil(log2(n / 4)) interior levels whatever the boxes).
+fn median_tree(
+    ids: &mut [u32],
+    aabbs: &[Aabb],
+    dst: usize,
+    nodes: &mut Vec<BvhNode>,
+    prim_refs: &mut Vec<u32>,
+    to_ref: &impl Fn(u32) -> u32,
+) {
+    let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+    let (mut c_lo, mut c_hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+    for &id in ids.iter() {
+        let b = &aabbs[id as usize];
+        let (min, max) = (Vec3::from(b.min), Vec3::from(b.max));
+        lo = lo.min(min);
+        hi = hi.max(max);
+        let c = 0.5 * (min + max);
+        c_lo = c_lo.min(c);
+        c_hi = c_hi.max(c);
+    }
+    let (first, count) = if ids.len() <= MAX_PRIMS_PER_LEAF as usize {
+        let first = prim_refs.len() as u32;
+        prim_refs.extend(ids.iter().map(|&id| to_ref(id)));
+        (first, ids.len() as u32)
+    } else {
+        let axis = (c_hi - c_lo).max_position();
+        let centre = |id: &u32| {
+            let b = &aabbs[*id as usize];
+            b.min[axis] + b.max[axis]
+        };
+        let mid = ids.len() / 2;
+        ids.select_nth_unstable_by(mid, |a, b| centre(a).total_cmp(&centre(b)));
+        let first = nodes.len();
+        nodes.extend([BvhNode::zeroed(); 2]);
+        let (left, right) = ids.split_at_mut(mid);
+        median_tree(left, aabbs, first, nodes, prim_refs, to_ref);
+        median_tree(right, aabbs, first + 1, nodes, prim_refs, to_ref);
+        (first as u32, 0)
+    };
+    nodes[dst] = BvhNode { min: lo.to_array(), first, max: hi.to_array(), count };
 }
 
 impl Bvh {
@@ -529,6 +631,50 @@ mod tests {
         ];
         for (o, d, expected) in cases {
             assert_eq!(slab_test(min, max, o, 1.0 / d, f32::INFINITY), expected, "{o} {d}");
+        }
+    }
+
+    /// Depth of the deepest node of a host tree.
+    fn tree_depth(bvh: &Bvh) -> usize {
+        let (mut deepest, mut todo) = (0, vec![(0usize, 0usize)]);
+        while let Some((i, d)) = todo.pop() {
+            deepest = deepest.max(d);
+            let n = bvh.nodes[i];
+            if n.count == 0 && !bvh.prim_refs.is_empty() {
+                todo.extend([(n.first as usize, d + 1), (n.first as usize + 1, d + 1)]);
+            }
+        }
+        deepest
+    }
+
+    #[test]
+    fn coincident_triangles_stay_within_the_stack() {
+        // Meshes given many times over (Bitterli's coffee has some) chain a PLOC tree; the
+        // rebuilt subtrees must keep every interior node above depth STACK_SIZE - 1 and find
+        // the same hits as brute force.
+        let tri = |k: u32, z: f32| Triangle {
+            p: [Vec3::new(0.0, 0.0, z), Vec3::new(1.0, 0.0, z), Vec3::new(0.0, 1.0, z)],
+            n: None,
+            uv: None,
+            shape: k,
+        };
+        let mut triangles: Vec<Triangle> = (0..3000).map(|k| tri(k, 0.0)).collect();
+        // And a chain of nested sizes, each box inside the last.
+        triangles.extend((0..3000).map(|k| {
+            let s = 1.0 + k as f32 * 1e-3;
+            Triangle { p: [Vec3::new(-s, -s, 1.0), Vec3::new(s, -s, 1.0), Vec3::new(0.0, s, 1.0)], ..tri(k, 1.0) }
+        }));
+        let bvh = build_bvh(&triangles, &[]);
+        assert!(tree_depth(&bvh) < STACK_SIZE, "depth {}", tree_depth(&bvh));
+        let mut refs = bvh.prim_refs.clone();
+        refs.sort_unstable();
+        assert_eq!(refs, (0..triangles.len() as u32).collect::<Vec<_>>());
+        for (o, d) in
+            [(Vec3::new(0.2, 0.2, 5.0), -Vec3::Z), (Vec3::new(0.2, 0.2, 0.5), -Vec3::Z), (Vec3::new(2.5, 0.0, 5.0), -Vec3::Z)]
+        {
+            let a = bvh.intersect(&triangles, &[], o, d, f32::INFINITY).map(|h| h.t);
+            let b = brute_force_intersect(&triangles, &[], o, d, f32::INFINITY).map(|h| h.t);
+            assert_eq!(a, b, "{o} {d}");
         }
     }
 }

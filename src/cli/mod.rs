@@ -24,8 +24,8 @@ use std::process::ExitCode;
 pub(crate) struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
-    /// Scene file: TOML (format version 1), or Mitsuba scene XML (`.xml`, versions 0.5/0.6
-    /// and 2/3).
+    /// Scene file: TOML (format version 1), Mitsuba scene XML (`.xml`, versions 0.5/0.6
+    /// and 2/3), or pbrt-v4 (`.pbrt`).
     #[arg(required_unless_present = "list_adapters")]
     scene: Option<PathBuf>,
     /// Output image: .png (sRGB, clamped) or .exr (linear float RGB). Without it (and without
@@ -186,7 +186,7 @@ pub(crate) enum Command {
         #[command(flatten)]
         overrides: Overrides,
     },
-    /// What a scene holds as loaded (TOML or Mitsuba XML): image and settings, camera,
+    /// What a scene holds as loaded (TOML, Mitsuba XML or pbrt-v4): image and settings, camera,
     /// shapes, triangles, materials and lights by kind, and the kernel features it turns on.
     Info {
         scene: PathBuf,

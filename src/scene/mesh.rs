@@ -486,14 +486,32 @@ pub(super) fn read_texture(path: &Path) -> Result<Texture, String> {
     Ok(texture)
 }
 
-/// Reads an image (PNG, JPEG, OpenEXR, Radiance HDR) into a texture of linear RGB, row 0 at
+/// Reads an image (PNG, JPEG, OpenEXR, Radiance HDR, portable float map ([`read_pfm`]), or
+/// Targa, which has no signature and is known by its `.tga` extension) into a texture of linear RGB, row 0 at
 /// the top, sampled bilinearly with repeat and an identity `to_uv`. As Mitsuba 3's `bitmap`
 /// decides it: integer images (8 or 16 bits) are sRGB-encoded and decoded here, floating-point
 /// images (EXR, HDR) are linear; `raw` keeps every value as stored. Alpha is dropped, a grey
 /// image gives grey texels.
 pub(super) fn read_image(path: &Path, raw: bool) -> Result<Texture, String> {
     let bytes = super::files::read(path)?;
-    let image = image::load_from_memory(&bytes).map_err(|e| e.to_string())?;
+    if bytes.starts_with(b"PF") || bytes.starts_with(b"Pf") {
+        let (width, height, texels) = read_pfm(&bytes)?;
+        return Ok(Texture {
+            path: path.to_path_buf(),
+            width,
+            height,
+            texels,
+            filter: super::TextureFilter::Bilinear,
+            wrap: super::TextureWrap::Repeat,
+            to_uv: glam::Affine2::IDENTITY,
+        });
+    }
+    // Targa has no signature: known by its extension alone (other formats by their bytes).
+    let format = image::guess_format(&bytes).or_else(|e| match image::ImageFormat::from_path(path) {
+        Ok(f @ image::ImageFormat::Tga) => Ok(f),
+        _ => Err(e),
+    });
+    let image = format.and_then(|f| image::load_from_memory_with_format(&bytes, f)).map_err(|e| e.to_string())?;
     let linear = raw || matches!(image, image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_));
     let image = image.into_rgb32f();
     let decode = |c: f32| if linear { c } else { srgb_to_linear(c) };
@@ -512,6 +530,64 @@ pub(super) fn read_image(path: &Path, raw: bool) -> Result<Texture, String> {
     })
 }
 
+/// A portable float map (`PF`: RGB, `Pf`: grey), as pbrt-v4 reads it: a text header of the
+/// kind, width, height and a scale whose sign is the byte order (negative: little-endian),
+/// one whitespace byte, then 32-bit floats row by row from the bottom row up. Linear RGB
+/// texels, row 0 at the top; the scale's magnitude is not applied (pbrt-v4 does not).
+fn read_pfm(bytes: &[u8]) -> Result<(u32, u32, Vec<Vec3>), String> {
+    // Four whitespace-separated header words, then the single whitespace byte.
+    let mut words = Vec::new();
+    let mut at = 0;
+    while words.len() < 4 {
+        while at < bytes.len() && bytes[at].is_ascii_whitespace() {
+            at += 1;
+        }
+        let start = at;
+        while at < bytes.len() && !bytes[at].is_ascii_whitespace() {
+            at += 1;
+        }
+        if start == at || at - start > 32 {
+            return Err("not a portable float map: its header is cut short or malformed".into());
+        }
+        words.push(std::str::from_utf8(&bytes[start..at]).map_err(|_| "a PFM header that is not text")?);
+    }
+    let channels = if words[0] == "PF" { 3 } else { 1 };
+    let dim =
+        |w: &str| w.parse::<u32>().ok().filter(|&n| n > 0).ok_or_else(|| format!("PFM size `{w}` is not a positive integer"));
+    let (width, height) = (dim(words[1])?, dim(words[2])?);
+    let scale: f32 = words[3].parse().map_err(|_| format!("PFM scale `{}` is not a number", words[3]))?;
+    if scale == 0.0 || !scale.is_finite() {
+        return Err(format!("PFM scale {scale} is neither positive nor negative"));
+    }
+    let data = bytes.get(at + 1..).unwrap_or_default();
+    let count = (width as usize).checked_mul(height as usize).and_then(|n| n.checked_mul(channels));
+    if count.is_none_or(|n| data.len() / 4 < n) {
+        return Err(format!("the PFM holds {} floats, fewer than its {width} x {height} x {channels}", data.len() / 4));
+    }
+    let float = |k: usize| {
+        let b = [data[4 * k], data[4 * k + 1], data[4 * k + 2], data[4 * k + 3]];
+        if scale < 0.0 {
+            f32::from_le_bytes(b)
+        } else {
+            f32::from_be_bytes(b)
+        }
+    };
+    let (w, h) = (width as usize, height as usize);
+    let mut texels = Vec::with_capacity(w * h);
+    for y in 0..h {
+        // Stored bottom row first.
+        let row = (h - 1 - y) * w;
+        for x in 0..w {
+            let k = (row + x) * channels;
+            texels.push(if channels == 3 { Vec3::new(float(k), float(k + 1), float(k + 2)) } else { Vec3::splat(float(k)) });
+        }
+    }
+    if !texels.iter().all(|t| t.is_finite()) {
+        return Err("a texel is not a finite number".into());
+    }
+    Ok((width, height, texels))
+}
+
 /// The sRGB electro-optical transfer function (IEC 61966-2-1), for values in [0, 1].
 pub(super) fn srgb_to_linear(c: f32) -> f32 {
     if c <= 0.04045 {
@@ -524,6 +600,27 @@ pub(super) fn srgb_to_linear(c: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pfm_rows_bottom_up_in_either_byte_order() {
+        // 2 x 2 RGB, little-endian: bottom row (1, 2, 3) (4, 5, 6), top row (7, 8, 9) (10, 11, 12).
+        let mut le = b"PF\n2 2\n-1.0\n".to_vec();
+        le.extend((1..=12).flat_map(|v| (v as f32).to_le_bytes()));
+        let (w, h, t) = read_pfm(&le).unwrap();
+        assert_eq!((w, h), (2, 2));
+        assert_eq!(
+            t,
+            [Vec3::new(7.0, 8.0, 9.0), Vec3::new(10.0, 11.0, 12.0), Vec3::new(1.0, 2.0, 3.0), Vec3::new(4.0, 5.0, 6.0)]
+        );
+        // Grey, big-endian, one row.
+        let mut be = b"Pf 2 1 1\n".to_vec();
+        be.extend([0.5f32, 2.0].iter().flat_map(|v| v.to_be_bytes()));
+        assert_eq!(read_pfm(&be).unwrap().2, [Vec3::splat(0.5), Vec3::splat(2.0)]);
+        // Cut short, or with no data at all: errors, not panics.
+        assert!(read_pfm(&le[..le.len() - 1]).unwrap_err().contains("fewer"));
+        assert!(read_pfm(b"PF\n2 2\n-1.0").is_err());
+        assert!(read_pfm(b"PF\n4294967295 4294967295\n-1\n").is_err());
+    }
     use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
 
     fn identity() -> Transform {

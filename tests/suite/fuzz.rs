@@ -829,7 +829,14 @@ const ODD_PBRT_TOKENS: &[&str] = &[
     "\"spectrum eta\" \"glass-BK7\"",
     "\"blackbody L\" [ 0 ]",
     "ObjectInstance \"cube\"",
+    "MediumInterface \"fog\" \"\"",
+    "\"float power\" 2",
+    "\"string materials\" [ \"red\" ]",
 ];
+
+/// The pbrt-v4 scenes mutated: the Cornell box (includes, instances) and the files of
+/// loopsubdiv, area-light power, mix and media.
+const PBRT_SEEDS: &[&str] = &["cornell-box.pbrt", "loopsubdiv.pbrt", "area-power.pbrt", "mix.pbrt", "media.pbrt"];
 
 proptest! {
     #![proptest_config(Config { cases: 1024, ..config() })]
@@ -839,13 +846,14 @@ proptest! {
     /// never a panic.
     #[test]
     fn mutated_pbrt_scenes_never_panic(
+        seed in any::<Index>(),
         mutations in prop::collection::vec(mutation(), 0..3),
         token in any::<Index>(),
         value in any::<Index>(),
         edit_token in any::<bool>(),
     ) {
         let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/scenes/pbrt"));
-        let path = dir.join("cornell-box.pbrt");
+        let path = dir.join(seed.get(PBRT_SEEDS));
         let original = std::fs::read_to_string(&path).unwrap();
         let mut text = mutations.iter().fold(original, |text, m| apply(&text, m));
         if edit_token {

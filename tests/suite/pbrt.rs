@@ -5,7 +5,7 @@
 use crate::common;
 use glam::Vec3;
 use sppm_gpu::metrics::compare;
-use sppm_gpu::scene::{self, LightKind, MaterialKind, Method, PixelFilter, Scene, SceneError};
+use sppm_gpu::scene::{self, LightKind, MaterialKind, Method, Phase, PixelFilter, Scene, SceneError};
 use std::path::PathBuf;
 
 fn dir() -> PathBuf {
@@ -259,9 +259,9 @@ fn errors_name_file_line_and_directive_or_parameter() {
     let e = error(&format!("{world}NamedMaterial \"nope\"\n"));
     assert!(e.message.contains("not defined") && e.line == Some(4), "{e}");
     let e = error(&format!("{world}Shape \"loopsubdiv\"\n"));
-    assert!(e.message.contains("not modelled"), "{e}");
+    assert!(e.key.as_deref() == Some("P") && e.message.contains("not provided"), "{e}");
     let e = error(&format!("{world}Material \"mix\"\n"));
-    assert!(e.message.contains("mix"), "{e}");
+    assert!(e.key.as_deref() == Some("materials") && e.message.contains("mix"), "{e}");
     let e = error(&format!("{world}Shape \"sphere\" \"float radius\" [ 1 2 \n"));
     assert!(e.message.contains("]") && e.line == Some(4), "{e}");
     let e = error(&format!("{world}AttributeEnd\n"));
@@ -275,4 +275,107 @@ fn errors_name_file_line_and_directive_or_parameter() {
     assert!(e.line == Some(4) && e.message.contains("missing-file.pbrt"), "{e}");
     let e = error(&format!("{world}Include \"bad-include.pbrt\"\n"));
     assert!(e.file.ends_with("bad-include.pbrt") && e.line == Some(3), "{e}");
+}
+
+#[test]
+fn loopsubdiv_is_subdivided_to_the_limit_surface() {
+    let s = scene::load(&dir().join("loopsubdiv.pbrt")).unwrap();
+    // 8 faces, four of each a level.
+    assert_eq!(s.triangles.len(), 8 * 16);
+    // The octahedron's vertices end at half their distance (subdiv.rs's test works it out),
+    // with the limit surface's normal along the axis.
+    for axis in [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z] {
+        let (t, k) = s
+            .triangles
+            .iter()
+            .flat_map(|t| (0..3).map(move |k| (t, k)))
+            .find(|(t, k)| (t.p[*k] - 0.5 * axis).length() < 1e-5)
+            .unwrap_or_else(|| panic!("no vertex at {}", 0.5 * axis));
+        // pbrt-v4's cross(S, T) over its one-ring walk (which turns clockwise seen from the
+        // side a counter-clockwise winding faces) points into this outward-wound octahedron.
+        let n = t.n.expect("shading normals")[k];
+        assert!(n.dot(axis) < -0.999, "{n} at {axis}");
+        assert!((t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).dot(n) > 0.0, "fronts follow N");
+    }
+    // Every vertex lies between the limit's extremes, none outside the octahedron.
+    assert!(s.triangles.iter().flat_map(|t| t.p).all(|p| p.abs().element_sum() <= 1.0 + 1e-5 && p.length() >= 0.4));
+    let world = "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\n";
+    let tri = "\"point3 P\" [ 0 0 0  1 0 0  0 1 0  0 0 1 ]";
+    let e = error(&format!("{world}Shape \"loopsubdiv\" \"integer levels\" -1 {tri} \"integer indices\" [ 0 1 2 ]\n"));
+    assert_eq!((e.line, e.key.as_deref()), (Some(4), Some("levels")), "{e}");
+    // An edge of three faces (two of them run it the same way), named at the parameter's line.
+    let e = error(&format!("{world}Shape \"loopsubdiv\" {tri}\n \"integer indices\" [ 0 1 2  1 0 3  0 1 3 ]\n"));
+    assert!(e.line == Some(5) && e.key.as_deref() == Some("indices") && e.message.contains("not manifold"), "{e}");
+}
+
+#[test]
+fn area_light_power() {
+    use std::f32::consts::PI;
+    let s = scene::load(&dir().join("area-power.pbrt")).unwrap();
+    let e: Vec<Vec3> = s.shapes.iter().map(|s| s.emission.unwrap()).collect();
+    assert!(close(e[0], Vec3::splat(0.5 * 10.0 / (2.0 * PI))), "{}", e[0]);
+    assert!(close(e[1], Vec3::splat(2.0 * 20.0 / (PI * PI))), "{}", e[1]);
+    assert!(close(e[2], Vec3::splat(3.0 / (0.75 * PI * PI))), "{}", e[2]);
+    // Triangles of different areas would each emit the power: refused, naming the parameter.
+    let e = error(
+        "Camera \"perspective\"\nWorldBegin\nAreaLightSource \"diffuse\" \"float power\" 1\n\
+         Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0  2 2 0 ] \"integer indices\" [ 0 1 2  1 3 2 ]\n",
+    );
+    assert!(e.line == Some(4) && e.key.as_deref() == Some("power") && e.message.contains("differ"), "{e}");
+}
+
+#[test]
+fn mix_of_amount_zero_or_one_is_that_material() {
+    let s = scene::load(&dir().join("mix.pbrt")).unwrap();
+    let kind = |shape: usize| &s.materials[s.shapes[shape].material as usize].kind;
+    assert!(matches!(kind(0), MaterialKind::Dielectric { ior, .. } if (*ior - 1.33).abs() < 1e-6), "{:?}", kind(0));
+    assert!(matches!(kind(1), MaterialKind::Diffuse { albedo, .. } if close(*albedo, Vec3::new(0.8, 0.1, 0.1))), "{:?}", kind(1));
+    let defs = "MakeNamedMaterial \"a\" \"string type\" \"diffuse\"\nMakeNamedMaterial \"b\" \"string type\" \"conductor\"\n";
+    let e = error(&format!(
+        "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\n{defs}Material \"mix\" \"string materials\" [ \"a\" \"b\" ] \"float amount\" 0.3\n"
+    ));
+    assert!(e.line == Some(6) && e.key.as_deref() == Some("amount") && e.message.contains("at random"), "{e}");
+    let e = error(&format!("Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\n{defs}Material \"mix\" \"string materials\" [ \"a\" \"c\" ] \"float amount\" 1\n"));
+    assert!(e.line == Some(6) && e.message.contains("c: named material not found"), "{e}");
+}
+
+#[test]
+fn media_and_medium_interfaces() {
+    let s = scene::load(&dir().join("media.pbrt")).unwrap();
+    assert_eq!(s.media.len(), 2);
+    let (fog, water) = (&s.media[0], &s.media[1]);
+    assert!(close(fog.sigma_a, Vec3::new(0.02, 0.04, 0.06)) && close(fog.sigma_s, Vec3::splat(0.2)));
+    assert_eq!(fog.phase, Phase::Isotropic);
+    // pbrt-v4's defaults: sigma_a = sigma_s = 1.
+    assert!(close(water.sigma_a, Vec3::ONE) && close(water.sigma_s, Vec3::ONE));
+    assert_eq!(water.phase, Phase::HenyeyGreenstein { g: 0.5 });
+    assert_eq!(s.camera.medium, Some(0));
+    let sides: Vec<_> = s.shapes.iter().map(|s| (s.interior, s.exterior)).collect();
+    assert_eq!(sides, [(Some(1), Some(0)), (Some(0), Some(1)), (Some(0), None), (None, None)]);
+    let world = "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\n";
+    let e = error(&format!("{world}MediumInterface \"smoke\" \"\"\nShape \"sphere\"\n"));
+    assert!(e.line == Some(5) && e.message.contains("smoke: medium not defined"), "{e}");
+    let e = error(&format!("{world}MakeNamedMedium \"c\" \"string type\" \"cloud\"\n"));
+    assert!(e.line == Some(4) && e.key.as_deref() == Some("type") && e.message.contains("not modelled"), "{e}");
+    let e = error(&format!("{world}MakeNamedMedium \"c\" \"string type\" \"homogeneous\" \"rgb Le\" [ 1 1 1 ]\n"));
+    assert_eq!(e.key.as_deref(), Some("Le"), "{e}");
+    let e = error(&format!("{world}MakeNamedMedium \"c\" \"string type\" \"homogeneous\" \"float g\" 1\n"));
+    assert_eq!(e.key.as_deref(), Some("g"), "{e}");
+}
+
+#[test]
+fn pfm_images_as_pbrt_reads_them() {
+    // grid.pfm: 2 x 2, little-endian, its bottom row (0.1 0.2 0.3) (0.4 0.5 0.6) stored first.
+    let s = load(
+        "Texture \"g\" \"spectrum\" \"imagemap\" \"string filename\" \"grid.pfm\"\n\
+         Material \"diffuse\" \"texture reflectance\" \"g\"\nShape \"sphere\"\n",
+    );
+    let MaterialKind::Diffuse { texture: Some(t), .. } = s.shape_material(0).kind else { panic!() };
+    let t = &s.textures[t as usize];
+    assert_eq!((t.width, t.height), (2, 2));
+    // Row 0 is the top; a float image is linear whatever the encoding says for 8-bit ones.
+    assert_eq!(
+        t.texels,
+        [Vec3::new(1.0, 2.0, 3.0), Vec3::new(4.0, 5.0, 6.0), Vec3::new(0.1, 0.2, 0.3), Vec3::new(0.4, 0.5, 0.6)]
+    );
 }

@@ -3,8 +3,11 @@
 //! `scale` (1); its position and direction go through the CTM.
 //!
 //! - `AreaLightSource "diffuse"`: `L` (white), `scale`, for the shapes that follow, on the
-//!   side their normals face; `twosided` true, `filename` (an image on the surface) and
-//!   `power` are refused.
+//!   side their normals face; `power` as pbrt-v4 reads it, per pbrt shape (shape.rs):
+//!   L scale power / (pi area), each triangle of a mesh a shape of its own. `twosided` true
+//!   (our emitters emit from their front only, and a second copy of the surface facing the
+//!   other way would not be the same surface) and `filename` (an image on the surface) are
+//!   refused.
 //! - `point`: `I`, `from` (0 0 0), `power` (when given, `scale` times power / 4 pi).
 //! - `spot`: `I`, `from` (0 0 0), `to` (0 0 1), `coneangle` (30), `conedelta` (5), `power`
 //!   (over the cone's solid angle as pbrt-v4 counts it). pbrt's falloff is a smoothstep in
@@ -55,13 +58,16 @@ impl Reader {
         if twosided {
             return Err(p.error("twosided", "a two-sided area light is not modelled by sppm-gpu: light leaves one side"));
         }
-        for key in ["filename", "power"] {
-            if p.has(key) {
-                return Err(p.error(key, format!("an area light's {key} is not modelled by sppm-gpu")));
-            }
+        if p.has("filename") {
+            return Err(p.error("filename", "an area light's image (filename) is not modelled by sppm-gpu"));
+        }
+        // pbrt-v4 applies power only where it is positive.
+        let power = p.float("power")?.filter(|&w| w > 0.0);
+        if power.is_some_and(|w| !w.is_finite()) {
+            return Err(p.error("power", "power is not a finite number"));
         }
         p.finish()?;
-        self.state.area = Some(AreaLight { radiance });
+        self.state.area = Some(AreaLight { radiance, power });
         Ok(())
     }
 

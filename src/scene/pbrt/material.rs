@@ -14,7 +14,10 @@
 //!   nothing without a medium in the coating, and a medium (`albedo`, `g` other than 0) is
 //!   refused; `maxdepth` and `nsamples` (how pbrt estimates the layers) are read.
 //! - `interface`: an invisible surface (our `null`).
-//! - `mix`, `coatedconductor`, `diffusetransmission`, `hair`, `measured`, `subsurface`, and
+//! - `mix`: `materials` (two named materials), `amount` (0.5, a constant): pbrt-v4 picks
+//!   the first where amount <= 0 and the second where amount >= 1, which is that material;
+//!   an amount between picks one at random per point (a hash of it), refused.
+//! - `coatedconductor`, `diffusetransmission`, `hair`, `measured`, `subsurface`, and
 //!   any material's `displacement` or `normalmap`, are refused.
 //!
 //! Textures (`Texture "name" "spectrum"|"float" "class"`): `imagemap` (`filename`; `wrap`
@@ -254,6 +257,9 @@ impl Reader {
                 return Err(p.error(key, format!("{key} is not modelled by sppm-gpu")));
             }
         }
+        if ty == "mix" {
+            return self.mix_material(p, name);
+        }
         let kind = match ty {
             "diffuse" => {
                 let (albedo, texture) = self.reflectance(p, "reflectance", 0.5)?;
@@ -315,7 +321,7 @@ impl Reader {
                 }
             }
             "interface" | "none" | "" => MaterialKind::Null,
-            "mix" | "coatedconductor" | "diffusetransmission" | "hair" | "measured" | "subsurface" => {
+            "coatedconductor" | "diffusetransmission" | "hair" | "measured" | "subsurface" => {
                 return Err(p.directive_error(format!("the \"{ty}\" material is not modelled by sppm-gpu")))
             }
             other => return Err(p.directive_error(format!("\"{other}\": unknown material"))),
@@ -329,6 +335,46 @@ impl Reader {
         let name = name.map_or_else(|| format!("{}:{}", p.file.display(), p.line), str::to_owned);
         self.materials.push(Material { name, kind, one_sided: false, line: p.line });
         Ok(index)
+    }
+
+    /// pbrt-v4's `mix` (MixMaterial::ChooseMaterial): with a constant `amount` of 0 or less
+    /// the first of `materials`, of 1 or more the second; the index of that material.
+    fn mix_material(&mut self, p: &Params, name: Option<&str>) -> Result<u32> {
+        let names = p.strings("materials")?.ok_or_else(|| p.error("materials", "a mix needs \"materials\""))?;
+        let [a, b] = names.as_slice() else {
+            return Err(p.error("materials", format!("must provide two values for \"string materials\" (got {})", names.len())));
+        };
+        let amount = self.float_value(p, "amount", 0.5)?;
+        if name.is_some() {
+            p.get("type");
+        }
+        p.finish()?;
+        let chosen = if amount <= 0.0 {
+            a
+        } else if amount >= 1.0 {
+            b
+        } else if a == b {
+            a
+        } else {
+            return Err(p.error(
+                "amount",
+                format!(
+                    "a mix of \"{a}\" and \"{b}\" with amount {amount} is not modelled by sppm-gpu: pbrt-v4 picks one \
+                     of them at random at each point (amount 0 or 1 picks one everywhere)"
+                ),
+            ));
+        };
+        // pbrt-v4 looks the names up among the named materials ("" for none: interface).
+        if chosen.is_empty() {
+            let index = self.materials.len() as u32;
+            let name = name.map_or_else(|| format!("{}:{}", p.file.display(), p.line), str::to_owned);
+            self.materials.push(Material { name, kind: MaterialKind::Null, one_sided: false, line: p.line });
+            return Ok(index);
+        }
+        self.named_materials
+            .get(chosen.as_str())
+            .copied()
+            .ok_or_else(|| p.error("materials", format!("{chosen}: named material not found")))
     }
 
     /// A non-negative spectrum (eta, k) as RGB, `default` when not given.

@@ -16,8 +16,8 @@
 //!   `NamedMaterial`, `Material`, `Texture` (material.rs); `LightSource`, `AreaLightSource`
 //!   (light.rs); `Shape` (shape.rs); `Camera`, `Film`, `PixelFilter`, `Sampler`,
 //!   `Integrator` (camera.rs); `Accelerator` (the speed: passed over), `ColorSpace` (`srgb`
-//!   only), `Option` (warned). Participating media (`MakeNamedMedium`, a `MediumInterface`
-//!   naming one) and `Attribute` are refused.
+//!   only), `Option` (warned); `MakeNamedMedium` and `MediumInterface` (medium.rs).
+//!   `Attribute` is refused. `loopsubdiv` is subdivided in subdiv.rs.
 //!
 //! Handedness: pbrt's camera space is left-handed, its raster x running along camera +x; ours
 //! is right-handed. Where the camera's transform does not mirror (a plain `LookAt`), pbrt's
@@ -28,12 +28,14 @@ mod camera;
 mod lexer;
 mod light;
 mod material;
+mod medium;
 mod params;
 mod shape;
 mod spectra;
+mod subdiv;
 
 use super::mesh::PrimitiveBudget;
-use super::{Light, Material, Scene, SceneError, Shape, Sphere, Texture, Triangle};
+use super::{Light, Material, Medium, Scene, SceneError, Shape, Sphere, Texture, Triangle};
 use glam::{Mat4, Vec3};
 use lexer::{Tok, Token};
 use params::Params;
@@ -75,7 +77,11 @@ pub fn load_str(text: &str, path: &Path) -> (Result<Scene>, Vec<SceneError>) {
 /// An area light's emission, for the shapes that follow it.
 #[derive(Clone, Debug)]
 struct AreaLight {
+    /// `L` times `scale`.
     radiance: Vec3,
+    /// `power`, where given and positive: the radiance of each pbrt shape is scaled by power
+    /// / (pi area) (shape.rs).
+    power: Option<f32>,
 }
 
 /// The attributes `AttributeBegin` saves.
@@ -86,6 +92,8 @@ struct State {
     /// Index into the materials; `None` for pbrt-v4's default (a diffuse of 0.5).
     material: Option<u32>,
     area: Option<AreaLight>,
+    /// `MediumInterface`: the media inside and outside the shapes that follow ("" for none).
+    media: (String, String),
 }
 
 /// What a `*Begin` pushed.
@@ -104,6 +112,7 @@ struct ShapeRecord {
     ctm: Mat4,
     reverse: bool,
     material: Option<u32>,
+    media: (String, String),
 }
 
 /// The scene-wide options given before `WorldBegin`: each directive's type and parameters.
@@ -145,6 +154,14 @@ struct Reader {
     /// The object being defined, and its shapes.
     object: Option<(String, Vec<ShapeRecord>)>,
     budget: PrimitiveBudget,
+    media: Vec<Medium>,
+    named_media: HashMap<String, u32>,
+    /// Shapes whose `MediumInterface` names media, resolved at the end (pbrt-v4 looks names
+    /// up once the whole file is read): the shape, its (inside, outside) media, and the error
+    /// that names the shape's directive.
+    shape_media: Vec<(u32, (String, String), SceneError)>,
+    /// The camera's medium: the outside medium of the `MediumInterface` in force at `Camera`.
+    camera_medium: Option<(String, SceneError)>,
 }
 
 impl Reader {
@@ -153,7 +170,7 @@ impl Reader {
             path: path.to_path_buf(),
             dir: Rc::new(path.parent().unwrap_or(Path::new("")).to_path_buf()),
             warnings: Vec::new(),
-            state: State { ctm: Mat4::IDENTITY, reverse: false, material: None, area: None },
+            state: State { ctm: Mat4::IDENTITY, reverse: false, material: None, area: None, media: Default::default() },
             stack: Vec::new(),
             named_coords: HashMap::new(),
             world: false,
@@ -173,6 +190,10 @@ impl Reader {
             objects: HashMap::new(),
             object: None,
             budget: PrimitiveBudget::new(),
+            media: Vec::new(),
+            named_media: HashMap::new(),
+            shape_media: Vec::new(),
+            camera_medium: None,
         }
     }
 
@@ -308,7 +329,13 @@ impl Reader {
                     };
                     let instance = self.state.ctm;
                     for s in &shapes {
-                        let state = State { ctm: instance * s.ctm, reverse: s.reverse, material: s.material, area: None };
+                        let state = State {
+                            ctm: instance * s.ctm,
+                            reverse: s.reverse,
+                            material: s.material,
+                            area: None,
+                            media: s.media.clone(),
+                        };
                         self.shape(&s.kind, &s.params, &state)?;
                     }
                 }
@@ -343,6 +370,10 @@ impl Reader {
                                 return Err(err("the camera's transform cannot be inverted".into()));
                             }
                             self.named_coords.insert("camera".into(), world_from_camera);
+                            let outside = &self.state.media.1;
+                            if !outside.is_empty() {
+                                self.camera_medium = Some((outside.clone(), err(String::new())));
+                            }
                             self.options.camera = Some((kind, params, world_from_camera));
                         }
                         "Film" => self.options.film = Some((kind, params)),
@@ -375,6 +406,11 @@ impl Reader {
                         (format!("{name} \"{first}\""), None)
                     };
                     let params = Params::parse(tokens, args.i, file, &self.dir, what, line)?;
+                    if name == "MakeNamedMedium" {
+                        // Allowed before WorldBegin too (a camera's medium).
+                        self.named_medium(&first, &params)?;
+                        continue;
+                    }
                     self.require_world(&err)?;
                     match name.as_str() {
                         "Material" => {
@@ -409,17 +445,14 @@ impl Reader {
                                     ctm: s.ctm,
                                     reverse: s.reverse,
                                     material: s.material,
+                                    media: s.media.clone(),
                                 });
                             } else {
                                 let state = self.state.clone();
                                 self.shape(&first, &params, &state)?;
                             }
                         }
-                        _ => {
-                            return Err(err(
-                                "participating media (MakeNamedMedium) are not read from pbrt-v4 files by sppm-gpu yet".into(),
-                            ))
-                        }
+                        _ => unreachable!("MakeNamedMedium is read above"),
                     }
                 }
                 "NamedMaterial" => {
@@ -435,13 +468,7 @@ impl Reader {
                     } else {
                         inside.clone()
                     };
-                    if !inside.is_empty() || !outside.is_empty() {
-                        return Err(err(
-                            "participating media (a MediumInterface naming a medium) are not read from pbrt-v4 files by \
-                             sppm-gpu yet"
-                                .into(),
-                        ));
-                    }
+                    self.state.media = (inside, outside);
                 }
                 "Attribute" => {
                     return Err(err(
@@ -507,9 +534,21 @@ impl Reader {
                 std::mem::take(&mut self.materials),
                 std::mem::take(&mut self.textures),
                 std::mem::take(&mut self.lights),
-                Vec::new(),
+                std::mem::take(&mut self.media),
             )
         };
+        let find = |name: &str, e: &SceneError| {
+            let undefined = || SceneError { message: format!("{name}: medium not defined"), ..e.clone() };
+            self.named_media.get(name).copied().ok_or_else(undefined)
+        };
+        for (shape, (inside, outside), e) in &self.shape_media {
+            let look = |n: &String| if n.is_empty() { Ok(None) } else { find(n, e).map(Some) };
+            let s = &mut scene.shapes[*shape as usize];
+            (s.interior, s.exterior) = (look(inside)?, look(outside)?);
+        }
+        if let Some((name, e)) = &self.camera_medium {
+            scene.camera.medium = Some(find(name, e)?);
+        }
         // The automatic SPPM radius follows pixel footprints at the look-at point.
         let depth = scene.look_at_scene_depth();
         if scene.camera.aperture_radius == 0.0 {

@@ -250,6 +250,14 @@ impl Params {
         }
     }
 
+    /// A list of strings (`"string materials" [ "a" "b" ]`).
+    pub fn strings(&self, name: &str) -> Result<Option<Vec<String>>> {
+        let Some(p) = self.typed(name, &["string"])? else { return Ok(None) };
+        let strings: Option<Vec<String>> =
+            p.values.iter().map(|v| if let Value::Str(s) = v { Some(s.clone()) } else { None }).collect();
+        strings.map(Some).ok_or_else(|| self.error(name, format!("\"{name}\" takes strings")))
+    }
+
     /// A texture's name (`"texture name" "tex"`).
     pub fn texture(&self, name: &str) -> Result<Option<&str>> {
         let Some(p) = self.typed(name, &["texture"])? else { return Ok(None) };

@@ -14,15 +14,17 @@
 //!   unevenly.
 //! - `disk`: `height` (0), `radius` (1), `innerradius` (0), tessellated into 256 segments,
 //!   facing +z; `phimax` other than 360 is refused.
-//! - `alpha` other than 1 is refused. Every other shape (`loopsubdiv`, `cylinder`, `curve`,
-//!   ...) is refused.
+//! - `loopsubdiv`: `P`, `indices`, `levels` (3): subdivided on load as pbrt-v4 does
+//!   (subdiv.rs), a mesh with the limit surface's normals.
+//! - `alpha` other than 1 is refused. Every other shape (`cylinder`, `curve`, ...) is
+//!   refused.
 //!
 //! Texture coordinates are pbrt's: a mesh's `uv`, else (0, 0), (1, 0), (1, 1) on each
 //! triangle; a sphere's (phi / 2 pi, 1 - theta / pi); a disk's (phi / 2 pi, (rmax - r) /
 //! (rmax - rinner)).
 
 use super::params::Params;
-use super::{Reader, Result, State};
+use super::{subdiv, Reader, Result, State};
 use crate::scene::mesh::{self, IndexedMesh, Normals, Transform};
 use crate::scene::{ply, Shape, ShapeKind, Sphere};
 use glam::{Mat3, Vec2, Vec3};
@@ -39,7 +41,7 @@ impl Reader {
         if p.float_or("alpha", 1.0)? != 1.0 || p.list.iter().any(|x| x.name == "alpha" && x.ty == "texture") {
             return Err(p.error("alpha", "alpha (cut-out) textures are not modelled by sppm-gpu"));
         }
-        let emission = state.area.as_ref().map(|a| a.radiance);
+        let mut emission = state.area.as_ref().map(|a| a.radiance);
         let index = self.shapes.len() as u32;
         let first = self.triangles.len();
         let material = self.material_index(state.material);
@@ -99,11 +101,20 @@ impl Reader {
                 self.add_mesh(p, disk(height, radius, inner), &transform, false, state.reverse, index)?;
                 ShapeKind::Mesh
             }
-            "loopsubdiv" | "cylinder" | "cone" | "paraboloid" | "hyperboloid" | "curve" | "heightfield" | "nurbs" => {
+            "loopsubdiv" => {
+                let mesh = self.loop_subdiv(p)?;
+                self.add_mesh(p, mesh, &transform, true, state.reverse, index)?;
+                ShapeKind::Mesh
+            }
+            "cylinder" | "cone" | "paraboloid" | "hyperboloid" | "curve" | "heightfield" | "nurbs" => {
                 return Err(p.directive_error(format!("the \"{kind}\" shape is not modelled by sppm-gpu")))
             }
             other => return Err(p.directive_error(format!("\"{other}\": unknown shape"))),
         };
+        if let (Some(l), Some(power)) = (emission, state.area.as_ref().and_then(|a| a.power)) {
+            // pbrt-v4's DiffuseAreaLight: scale *= power / (pi area) (one-sided).
+            emission = Some(l * power / (std::f32::consts::PI * self.pbrt_shape_area(kind, p, first)?));
+        }
         p.finish()?;
         if self.materials[material as usize].kind.texture().is_some() {
             // pbrt's default uv on a triangle without them.
@@ -123,7 +134,94 @@ impl Reader {
             interior: None,
             exterior: None,
         });
+        // A MediumInterface of two different media is a transition (medium.rs); a sphere's
+        // outside is ours whatever ReverseOrientation says, so its names swap.
+        let (inside, outside) = &state.media;
+        if inside != outside {
+            let names = if shape_kind == ShapeKind::Sphere && state.reverse {
+                (outside.clone(), inside.clone())
+            } else {
+                (inside.clone(), outside.clone())
+            };
+            self.shape_media.push((index, names, p.directive_error(String::new())));
+        }
         Ok(())
+    }
+
+    /// The area pbrt-v4's `power` divides by: its `Shape::Area()` of one shape, where a mesh
+    /// is a shape per triangle (per patch of a `bilinearmesh`), in world space, and a sphere or
+    /// disk one shape whose area is its object-space one (pbrt-v4 leaves out the CTM's
+    /// scale). A mesh whose shapes differ in area would emit a radiance of its own from each,
+    /// which one emission a shape cannot say: refused. `first` is the shape's first triangle.
+    fn pbrt_shape_area(&self, kind: &str, p: &Params, first: usize) -> Result<f32> {
+        use std::f32::consts::PI;
+        let area = match kind {
+            // Partial spheres and disks are refused above.
+            "sphere" => 4.0 * PI * p.float_or("radius", 1.0)?.powi(2),
+            "disk" => PI * (p.float_or("radius", 1.0)?.powi(2) - p.float_or("innerradius", 0.0)?.powi(2)),
+            _ => {
+                let tri = |t: &crate::scene::Triangle| 0.5 * (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length();
+                let triangles = &self.triangles[first..];
+                let areas: Vec<f32> = if kind == "bilinearmesh" {
+                    let patches = p.numbers("indices", "integer")?.map_or(1, |v| v.len() / 4);
+                    if triangles.len() != 2 * patches {
+                        return Err(p.error("power", "power on a bilinearmesh with a patch of no area is not modelled"));
+                    }
+                    triangles.chunks(2).map(|c| tri(&c[0]) + tri(&c[1])).collect()
+                } else {
+                    triangles.iter().map(tri).collect()
+                };
+                let (lo, hi) = areas.iter().fold((f32::INFINITY, 0.0f32), |(lo, hi), &a| (lo.min(a), hi.max(a)));
+                if hi > lo * (1.0 + 1e-3) {
+                    return Err(p.error(
+                        "power",
+                        format!(
+                            "pbrt-v4 gives each {} of the mesh this power, so their radiances differ (areas {lo:.4e} to \
+                             {hi:.4e}): one radiance a shape is modelled by sppm-gpu, not one a triangle",
+                            if kind == "bilinearmesh" { "patch" } else { "triangle" }
+                        ),
+                    ));
+                }
+                hi
+            }
+        };
+        if !(area > 0.0 && area.is_finite()) {
+            return Err(p.error("power", format!("the shape's area {area} is not positive")));
+        }
+        Ok(area)
+    }
+
+    /// A `loopsubdiv`: `P`, `indices`, `levels` (3), subdivided (subdiv.rs) into a mesh with
+    /// the limit surface's normals.
+    fn loop_subdiv(&self, p: &Params) -> Result<IndexedMesh> {
+        let positions: Vec<Vec3> = p
+            .points::<3>("P", "point3")?
+            .ok_or_else(|| p.error("P", "vertex positions \"P\" not provided with LoopSubdiv shape"))?
+            .into_iter()
+            .map(Vec3::from)
+            .collect();
+        let indices = p
+            .numbers("indices", "integer")?
+            .ok_or_else(|| p.error("indices", "vertex indices \"indices\" not provided with LoopSubdiv shape"))?;
+        if indices.is_empty() || indices.len() % 3 != 0 {
+            return Err(p.error("indices", format!("{} indices is not a whole number of triangles", indices.len())));
+        }
+        let n = positions.len();
+        if let Some(bad) = indices.iter().find(|&&i| !(i >= 0.0 && (i as usize) < n && i.fract() == 0.0)) {
+            return Err(p.error("indices", format!("index {bad} is out of range (the mesh has {n} vertices)")));
+        }
+        let levels = p.int_or("levels", 3)?;
+        let faces: Vec<[u32; 3]> = indices.chunks(3).map(|c| [c[0] as u32, c[1] as u32, c[2] as u32]).collect();
+        // Each level makes four faces of one.
+        let count = u32::try_from(levels).ok().and_then(|l| 4usize.checked_pow(l)).and_then(|k| k.checked_mul(faces.len()));
+        let Some(count) = count else {
+            return Err(p.error("levels", format!("levels {levels} is negative or makes too many triangles")));
+        };
+        self.reserve(p, count)?;
+        p.pass_over(&["uv", "N", "S", "faceIndices"]);
+        let (m, normals) = subdiv::loop_subdivide(subdiv::LoopMesh { positions, faces }, levels as u32)
+            .map_err(|e| p.error("indices", format!("Loop subdivision: {e}")))?;
+        Ok(IndexedMesh { positions: m.positions, normals: Some(normals), uvs: None, indices: m.faces })
     }
 
     /// A `trianglemesh` or `bilinearmesh` given inline, and whether it has normals.
