@@ -14,8 +14,6 @@ cargo clippy --release --all-targets --workspace -- -D warnings
 # In the release profile, so that rustdoc reads the dependencies' metadata clippy just built
 # (the dev profile would check every dependency again: 3 of CI's 21 minutes, BENCHMARKS.md "CI's time on two cores").
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --workspace
-# The Python package's crate has no Rust tests (pytest tests it, below): left out here, it is
-# compiled once, by maturin, rather than twice (PyO3 is configured differently for each).
-cargo test --release --workspace --exclude sppm-gpu-python
+cargo test --release --workspace
 # The Python package: its wheel (maturin) in a virtual environment, and its tests (pytest).
 bash scripts/python-package.sh test

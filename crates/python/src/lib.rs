@@ -102,9 +102,60 @@ fn from_array(array: &PyReadonlyArray3<'_, f32>) -> PyResult<Rgb32Image> {
     }))
 }
 
-/// The devices made so far, one per adapter, kept for the process: a device, and the
-/// kernels the driver compiled for it, serve every later render on that adapter.
-static DEVICES: Mutex<Vec<Arc<GpuContext>>> = Mutex::new(Vec::new());
+/// Work for a device's render thread.
+type Work = Box<dyn FnOnce() + Send>;
+
+/// A device, kept for the process, and its render thread: every render on the device runs on
+/// that thread, one after another, inside `share_kernels`, so that a render whose kernels
+/// (name, source, constants) an earlier one made takes them as they are, without naga or the
+/// driver compiling them again (seconds on lavapipe): a sweep over settings pays once.
+struct Device {
+    gpu: Arc<GpuContext>,
+    jobs: Mutex<mpsc::Sender<Work>>,
+}
+
+/// Renders that share one `share_kernels` scope, after which its kernels are let go (the
+/// next render makes its own again): the memory they hold stays bounded.
+const RENDERS_SHARING_KERNELS: usize = 32;
+
+impl Device {
+    fn new(gpu: GpuContext) -> Result<Arc<Self>, sppm_gpu::Error> {
+        let (tx, rx) = mpsc::channel::<Work>();
+        std::thread::Builder::new()
+            .name("sppm_gpu renderer".into())
+            .spawn(move || loop {
+                let open = sppm_gpu::gpu::share_kernels(|| {
+                    for _ in 0..RENDERS_SHARING_KERNELS {
+                        match rx.recv() {
+                            Ok(work) => work(),
+                            Err(_) => return false,
+                        }
+                    }
+                    true
+                });
+                if !open {
+                    return;
+                }
+            })
+            .map_err(|e| sppm_gpu::Error::Setting(format!("cannot start a render thread: {e}")))?;
+        Ok(Arc::new(Device { gpu: Arc::new(gpu), jobs: Mutex::new(tx) }))
+    }
+
+    /// Runs `work` on the device's render thread, after the renders before it.
+    fn run(
+        &self,
+        work: impl FnOnce(&mpsc::SyncSender<Message>) -> Result<(), sppm_gpu::Error> + Send + 'static,
+    ) -> mpsc::Receiver<Message> {
+        let (job, rx) = job(work);
+        if let Err(mpsc::SendError(_)) = self.jobs.lock().unwrap_or_else(|p| p.into_inner()).send(job) {
+            return ended(sppm_gpu::Error::Setting("the device's render thread has ended".into()));
+        }
+        rx
+    }
+}
+
+/// The devices made so far, one per adapter.
+static DEVICES: Mutex<Vec<Arc<Device>>> = Mutex::new(Vec::new());
 
 /// Whether two adapters are one.
 fn same_adapter(a: &wgpu::AdapterInfo, b: &wgpu::AdapterInfo) -> bool {
@@ -130,28 +181,28 @@ fn named_adapter(selector: &str) -> Option<wgpu::AdapterInfo> {
 
 /// The device for `adapter` (an index into `adapters()` or a part of a name; `None`: the
 /// default adapter, or the one `SPPM_GPU_ADAPTER` names).
-fn device(adapter: Option<String>) -> Result<Arc<GpuContext>, sppm_gpu::Error> {
+fn device(adapter: Option<String>) -> Result<Arc<Device>, sppm_gpu::Error> {
     let mut devices = DEVICES.lock().unwrap_or_else(|p| p.into_inner());
-    devices.retain(|gpu| gpu.check().is_ok());
+    devices.retain(|d| d.gpu.check().is_ok());
     let wanted = adapter.as_deref().and_then(named_adapter);
     let found = match (&adapter, &wanted) {
         (None, _) => devices.first(),
-        (Some(_), Some(info)) => devices.iter().find(|gpu| same_adapter(&gpu.adapter_info, info)),
+        (Some(_), Some(info)) => devices.iter().find(|d| same_adapter(&d.gpu.adapter_info, info)),
         (Some(_), None) => None,
     };
-    if let Some(gpu) = found {
-        return Ok(gpu.clone());
+    if let Some(d) = found {
+        return Ok(d.clone());
     }
-    let gpu = Arc::new(match &adapter {
+    let d = Device::new(match &adapter {
         Some(selector) => GpuContext::with_adapter(selector)?,
         None => GpuContext::new()?,
-    });
+    })?;
     // The default device first, as `adapter=None` takes the first.
     match adapter {
-        None => devices.insert(0, gpu.clone()),
-        Some(_) => devices.push(gpu.clone()),
+        None => devices.insert(0, d.clone()),
+        Some(_) => devices.push(d.clone()),
     }
-    Ok(gpu)
+    Ok(d)
 }
 
 /// `adapter=`: an int (index) or a str (part of a name).
@@ -178,13 +229,13 @@ enum Message {
     Done(Result<(), sppm_gpu::Error>),
 }
 
-/// Runs `work` on a thread of its own; a panic there comes back as an error.
-fn spawn_worker(
-    name: &str,
+/// `work` as a job that sends its messages, then its end, on the channel returned; a panic
+/// in it comes back as an error.
+fn job(
     work: impl FnOnce(&mpsc::SyncSender<Message>) -> Result<(), sppm_gpu::Error> + Send + 'static,
-) -> mpsc::Receiver<Message> {
+) -> (Work, mpsc::Receiver<Message>) {
     let (tx, rx) = mpsc::sync_channel(1);
-    let spawned = std::thread::Builder::new().name(name.to_string()).spawn(move || {
+    let job = Box::new(move || {
         let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(&tx))).unwrap_or_else(|panic| {
             let what = panic
                 .downcast_ref::<&str>()
@@ -195,12 +246,26 @@ fn spawn_worker(
         });
         let _ = tx.send(Message::Done(result));
     });
-    if let Err(e) = spawned {
-        let (tx, rx2) = mpsc::sync_channel(1);
-        let _ = tx.send(Message::Done(Err(sppm_gpu::Error::Setting(format!("cannot start a render thread: {e}")))));
-        return rx2;
-    }
+    (job, rx)
+}
+
+/// A channel that says only that the work ended with `error`.
+fn ended(error: sppm_gpu::Error) -> mpsc::Receiver<Message> {
+    let (tx, rx) = mpsc::sync_channel(1);
+    let _ = tx.send(Message::Done(Err(error)));
     rx
+}
+
+/// Runs `work` on a thread of its own.
+fn spawn_worker(
+    name: &str,
+    work: impl FnOnce(&mpsc::SyncSender<Message>) -> Result<(), sppm_gpu::Error> + Send + 'static,
+) -> mpsc::Receiver<Message> {
+    let (job, rx) = job(work);
+    match std::thread::Builder::new().name(name.to_string()).spawn(job) {
+        Ok(_) => rx,
+        Err(e) => ended(sppm_gpu::Error::Setting(format!("cannot start a render thread: {e}"))),
+    }
 }
 
 /// Waits for the worker's next message with the GIL released, checking Python's signals every
@@ -228,6 +293,7 @@ fn wait(py: Python<'_>, rx: &mut mpsc::Receiver<Message>, stop: &AtomicBool) -> 
 struct Job {
     scene: scene::Scene,
     gpu: Arc<GpuContext>,
+    device: Arc<Device>,
 }
 
 impl Job {
@@ -245,10 +311,11 @@ impl Job {
         if overrides.time_limit.is_some() && overrides.iterations.is_none() {
             scene.render.iterations = u32::MAX;
         }
-        let gpu = py.detach(|| device(adapter))?;
+        let device = py.detach(|| device(adapter))?;
+        let gpu = device.gpu.clone();
         scene.render.fit_pass_work(gpu.pass_work());
         integrators::check_memory(&gpu.device, &gpu.adapter_info, &scene, None)?;
-        Ok(Job { scene, gpu })
+        Ok(Job { scene, gpu, device })
     }
 
     /// The integrator, its kernels compiled first under a time limit (so that the limit is
@@ -455,7 +522,8 @@ impl Scene {
         warn_limitations(py, &job.scene)?;
         let stop = Arc::new(AtomicBool::new(false));
         let worker_stop = stop.clone();
-        let mut rx = spawn_worker("sppm_gpu render", move |tx| {
+        let device = job.device.clone();
+        let mut rx = device.run(move |tx| {
             let mut integrator = job.integrator()?;
             let r = &job.scene.render;
             let seconds = job.run(integrator.as_mut(), r.iterations, r.time_limit, &worker_stop)?;
@@ -536,6 +604,8 @@ impl Scene {
         warn_limitations(py, &job.scene)?;
         let stop = Arc::new(AtomicBool::new(false));
         let worker_stop = stop.clone();
+        // On a thread of its own rather than the device's render thread: the caller may hold
+        // the iterator unfinished, its next image waiting, while it renders something else.
         let rx = spawn_worker("sppm_gpu progressive", move |tx| {
             let mut integrator = job.integrator()?;
             let r = &job.scene.render;
@@ -688,10 +758,11 @@ fn adapters(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
 /// `compare`: each method runs for time_limit seconds of passes, its relMSE and RMSE measured
 /// at doubling times from first_snapshot. Returns the rows of compare.csv as dicts (method,
 /// seconds, passes, relMSE, RMSE); compare.csv, relmse-vs-time.png and equal-time.png are
-/// written into out when it is given.
+/// written into out when it is given. The comparison cannot stop part way: Ctrl-C raises at
+/// once, and it ends on its thread.
 #[pyfunction]
 #[pyo3(signature = (scene, reference, methods, time_limit, first_snapshot=0.5, downsample=1, max_passes=None,
-    out=None, width=None, height=None, seed=None, photons=None, radius=None))]
+    out=None, width=None, height=None, seed=None, photons=None, radius=None, adapter=None))]
 #[allow(clippy::too_many_arguments)]
 fn compare<'py>(
     py: Python<'py>,
@@ -708,10 +779,12 @@ fn compare<'py>(
     seed: Option<u32>,
     photons: Option<u32>,
     radius: Option<f32>,
+    adapter: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyList>> {
     use sppm_gpu::experiments;
     let methods: Vec<experiments::Variant> =
         py_result(py, methods.iter().map(|m| experiments::Variant::parse(m)).collect::<Result<_, _>>())?;
+    let selector = adapter_selector(adapter)?;
     let o = Overrides { width, height, seed, photons, radius, time_limit: Some(time_limit), ..Default::default() };
     let mut s = scene.scene.clone();
     py_result(py, o.apply_to_scene(&mut s, SettingNames::Keywords))?;
@@ -733,17 +806,19 @@ fn compare<'py>(
         max_passes,
         out: folder.clone(),
     };
+    let device = py_result(py, py.detach(|| device(selector)))?;
+    let gpu = device.gpu.clone();
     let stop = Arc::new(AtomicBool::new(false));
     let (tx, rx) = mpsc::sync_channel(1);
-    let mut done = spawn_worker("sppm_gpu compare", move |_| {
-        let result = experiments::compare(&s, &name, &opts);
+    // On the device's render thread: the methods' kernels are those of earlier renders.
+    let mut done = device.run(move |_| {
+        let result = experiments::compare_on(&gpu, &s, &name, &opts);
         if temporary {
             let _ = std::fs::remove_dir_all(&opts.out);
         }
         let _ = tx.send(result?);
         Ok(())
     });
-    // The comparison cannot stop part way: Ctrl-C raises at once, and it ends on its thread.
     loop {
         if let Message::Done(result) = wait(py, &mut done, &stop)? {
             py_result(py, result)?;

@@ -135,5 +135,6 @@ def compare(
     seed: Optional[int] = None,
     photons: Optional[int] = None,
     radius: Optional[float] = None,
+    adapter: _Adapter = None,
 ) -> List[Mapping[str, Union[str, float, int]]]:
     """Equal-time comparison; the rows of compare.csv (method, seconds, passes, relMSE, RMSE)."""
