@@ -45,13 +45,13 @@ pub struct Overrides {
     pub sampler: Option<crate::sampler::Sampler>,
 }
 
-/// How an error message names a setting: as the command line's option (`--max-depth`) or as
-/// the Python package's keyword argument (`max_depth`).
+/// How an error message names a setting: as the command line's option (`--max-depth`,
+/// `--iterations`) or as the Python package's keyword argument (`max_depth`, `passes`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SettingNames {
-    /// `--max-depth`.
+    /// `--max-depth`, `--iterations`.
     Options,
-    /// `max_depth`.
+    /// `max_depth`, `passes`.
     Keywords,
 }
 
@@ -60,6 +60,7 @@ impl SettingNames {
     fn name(self, flag: &str) -> String {
         match self {
             SettingNames::Options => format!("--{flag}"),
+            SettingNames::Keywords if flag == "iterations" => "passes".to_string(),
             SettingNames::Keywords => flag.replace('-', "_"),
         }
     }

@@ -3,10 +3,12 @@
 //! to numpy without a copy. The package's Python side (`python/sppm_gpu/`) re-exports it with
 //! its type stubs; `docs/guide/python.md` shows it in use.
 //!
-//! Every render runs on a thread of its own with the GIL released; the calling thread waits
-//! for it in short steps and checks Python's signals between them, so that Ctrl-C raises
-//! `KeyboardInterrupt` within a pass, without waiting for the pass (the renderer then stops
-//! after the passes already on the device, on its own thread).
+//! Every render runs off the calling thread with the GIL released (`render()` and `compare()`
+//! on the device's render thread, where renders share the kernels they have in common; a
+//! progressive render on a thread of its own); the calling thread waits for it in short steps
+//! and checks Python's signals between them, so that Ctrl-C raises `KeyboardInterrupt` within
+//! a pass, without waiting for the pass (the renderer then stops after the passes already on
+//! the device).
 
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray3, PyReadonlyArray3, PyUntypedArrayMethods};

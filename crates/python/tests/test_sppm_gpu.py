@@ -100,6 +100,8 @@ def test_bad_settings_raise_setting_error_naming_the_keyword(scene):
         scene.render(alpha=2.0)
     with pytest.raises(sppm_gpu.SettingError, match="max_depth must be between 1 and 1024"):
         scene.render(max_depth=0)
+    with pytest.raises(sppm_gpu.SettingError, match="^passes must be between 1 and"):
+        scene.render(passes=0)
     with pytest.raises(sppm_gpu.SettingError, match="unknown method `nope`"):
         scene.render(method="nope")
     with pytest.raises(sppm_gpu.SettingError, match="every must be at least 1"):
