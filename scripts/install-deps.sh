@@ -2,7 +2,8 @@
 # Install what sppm-gpu needs on Debian or Ubuntu: Mesa's software Vulkan driver (lavapipe),
 # which also serves machines without a GPU, when no Vulkan driver is present; and for
 # `sppm-gpu view`, its test (tests/suite/view.rs) and scripts/regen/view-screenshot.sh, the X libraries
-# winit loads at run time, Xvfb, xdotool and xwd (x11-apps). Installs only what is missing,
+# winit loads at run time, Xvfb, xdotool and xwd (x11-apps); for the Python package, python3
+# and python3-venv. Installs only what is missing,
 # with one `apt-get update`; does nothing when all of it is present.
 #
 # On Debian 12 (bookworm) lavapipe comes from bookworm-backports (Mesa 25) rather than from
@@ -28,6 +29,9 @@ done
 command -v Xvfb >/dev/null || view+=(xvfb)
 command -v xdotool >/dev/null || view+=(xdotool)
 command -v xwd >/dev/null || view+=(x11-apps)
+# The Python package (scripts/python-package.sh): python3 with venv and pip (Debian's python3
+# has neither without python3-venv).
+python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || view+=(python3 python3-venv)
 if [ "$need_vulkan" = 0 ] && [ ${#view[@]} = 0 ]; then
     exit 0
 fi

@@ -15,3 +15,5 @@ cargo clippy --release --all-targets --workspace -- -D warnings
 # (the dev profile would check every dependency again: 3 of CI's 21 minutes, BENCHMARKS.md "CI's time on two cores").
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --workspace
 cargo test --release --workspace
+# The Python package: its wheel (maturin) in a virtual environment, and its tests (pytest).
+bash scripts/python-package.sh test

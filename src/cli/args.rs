@@ -79,6 +79,30 @@ pub(crate) struct Overrides {
 }
 
 impl Overrides {
+    /// The overrides of the scene's `[render]` table, as the library applies them
+    /// ([`scene::Overrides::apply_to_scene`]).
+    pub(crate) fn settings(&self) -> scene::Overrides {
+        scene::Overrides {
+            iterations: self.iterations,
+            photons: self.photons,
+            radius: self.radius,
+            alpha: self.alpha,
+            seed: self.seed,
+            time_limit: self.time_limit,
+            width: self.width,
+            height: self.height,
+            method: self.method,
+            spp: self.spp,
+            max_depth: self.max_depth,
+            direct: self.direct,
+            direct_samples: self.direct_samples,
+            light_paths: self.light_paths,
+            radius_schedule: self.radius_schedule,
+            radius_rule: self.radius_rule,
+            sampler: self.sampler,
+        }
+    }
+
     /// Refuses the options among `unused` that were given, for a command that does not read
     /// them (`why` says what it reads instead): an option is never accepted and ignored.
     pub(crate) fn refuse(&self, command: &str, unused: &[&str], why: &str) -> Result<(), Error> {
@@ -117,89 +141,9 @@ pub(crate) fn parse_define(text: &str) -> Result<(String, String), String> {
 /// Load a scene and apply the command line's overrides; also its name (the file stem).
 pub(crate) fn load_scene(path: &Path, overrides: &Overrides) -> Result<(scene::Scene, String), Error> {
     let mut scene = scene::load_with(path, &overrides.defines)?;
-    // A Mitsuba or pbrt film's size sets its field of view along one axis: one of --width
-    // and --height alone keeps the file's aspect ratio, and so the framing.
-    if scene::is_foreign(path) {
-        let (w, h) = (scene.render.width as f64, scene.render.height as f64);
-        match (overrides.width, overrides.height) {
-            (Some(width), None) => scene.render.height = ((width as f64 * h / w).round() as u32).max(1),
-            (None, Some(height)) => scene.render.width = ((height as f64 * w / h).round() as u32).max(1),
-            _ => {}
-        }
-    }
-    apply_overrides(overrides, &mut scene.render)?;
+    overrides.settings().apply_to_scene(&mut scene, scene::SettingNames::Options)?;
     let name = path.file_stem().map_or_else(|| path.display().to_string(), |s| s.to_string_lossy().into_owned());
     Ok((scene, name))
-}
-
-/// Apply the command line's overrides to the scene's `[render]` table, checking each.
-pub(crate) fn apply_overrides(cli: &Overrides, render: &mut scene::RenderSettings) -> Result<(), Error> {
-    fn positive(flag: &str, v: Option<u32>, max: u32, dst: &mut u32) -> Result<(), Error> {
-        if let Some(v) = v {
-            if v == 0 || v > max {
-                return Err(Error::Setting(format!("--{flag} must be between 1 and {max}, got {v}")));
-            }
-            *dst = v;
-        }
-        Ok(())
-    }
-    positive("iterations", cli.iterations, u32::MAX, &mut render.iterations)?;
-    positive("photons", cli.photons, u32::MAX, &mut render.photons)?;
-    render.work_given.photons |= cli.photons.is_some();
-    positive("width", cli.width, 16384, &mut render.width)?;
-    positive("height", cli.height, 16384, &mut render.height)?;
-    render.method = cli.method.unwrap_or(render.method);
-    if render.method == Method::Sppm {
-        positive("spp", cli.spp, 1024, &mut render.spp)?;
-        render.work_given.spp |= cli.spp.is_some();
-    } else if let Some(spp) = cli.spp {
-        // A path tracer's pass is one sample a pixel: --spp is its passes, as pbrt's
-        // pixelsamples and Mitsuba's sample_count count samples a pixel in all.
-        if cli.iterations.is_some_and(|n| n != spp) {
-            return Err(Error::Setting(format!(
-                "--spp {spp} and --iterations {}: a path tracer's samples a pixel are its passes; give one of them",
-                cli.iterations.unwrap_or_default()
-            )));
-        }
-        positive("spp", Some(spp), u32::MAX, &mut render.iterations)?;
-    }
-    positive("max-depth", cli.max_depth, 1024, &mut render.max_depth)?;
-    if cli.direct_samples.is_some() {
-        let mut n = 1;
-        positive("direct-samples", cli.direct_samples, scene::MAX_DIRECT_SAMPLES, &mut n)?;
-        render.direct_samples = Some(n);
-    }
-    if cli.light_paths.is_some() {
-        let mut n = 1;
-        positive("light-paths", cli.light_paths, u32::MAX, &mut n)?;
-        render.light_paths = Some(n);
-    }
-    if let Some(r) = cli.radius {
-        if !(r > 0.0 && r.is_finite()) {
-            return Err(Error::Setting(format!("--radius must be a positive number, got {r}")));
-        }
-        render.radius = Some(r);
-    }
-    if let Some(a) = cli.alpha {
-        if !(a > 0.0 && a < 1.0) {
-            return Err(Error::Setting(format!("--alpha must be between 0 and 1 (exclusive), got {a}")));
-        }
-        render.alpha = a;
-    }
-    if let Some(t) = cli.time_limit {
-        if !(t > 0.0 && t.is_finite()) {
-            return Err(Error::Setting(format!("--time-limit must be a positive number of seconds, got {t}")));
-        }
-        render.time_limit = Some(t);
-    }
-    if let Some(s) = cli.seed {
-        render.seed = s;
-    }
-    render.direct = cli.direct.unwrap_or(render.direct);
-    render.radius_schedule = cli.radius_schedule.unwrap_or(render.radius_schedule);
-    render.radius_rule = cli.radius_rule.unwrap_or(render.radius_rule);
-    render.sampler = cli.sampler.unwrap_or(render.sampler);
-    Ok(())
 }
 
 /// `A..B` (passes A to B-1, B > A) as `(A, B)`.

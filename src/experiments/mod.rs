@@ -326,6 +326,12 @@ pub struct CompareOptions {
 /// `equal-time.png` (the final images side by side, with their error maps) into `out`, and
 /// returns the snapshots.
 pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<Snapshot>, Error> {
+    compare_on(&GpuContext::new()?, scene, name, opts)
+}
+
+/// [`compare`] on the device `gpu` (the Python package's, which picks the adapter and keeps
+/// the device for later renders).
+pub fn compare_on(gpu: &GpuContext, scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<Snapshot>, Error> {
     if opts.methods.is_empty() {
         return Err(Error::Setting("--methods names no method".into()));
     }
@@ -340,7 +346,6 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
     }
     let reference = load_reference(&opts.reference, scene, opts.downsample)?;
     create_dir(&opts.out)?;
-    let gpu = GpuContext::new()?;
     let mut fitted = scene.clone();
     fitted.render.fit_pass_work(gpu.pass_work());
     let scene = &fitted;
@@ -366,7 +371,7 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
         bar.set_message(format!("{}: compiling", variant.name()));
         runs.push(Run {
             label: variant.name(),
-            timed: Timed::compiled(&gpu, &s)?,
+            timed: Timed::compiled(gpu, &s)?,
             max_passes: opts.max_passes.unwrap_or(u32::MAX),
             next: 0,
             last: None,
@@ -407,7 +412,7 @@ pub fn compare(scene: &Scene, name: &str, opts: &CompareOptions) -> Result<Vec<S
     write_compare_csv(&opts.out.join("compare.csv"), &snapshots)?;
     let y_desc = format!("relMSE ({0}x{0} box-downsampled)", opts.downsample);
     let title = format!("{name}: relMSE against time");
-    let note = device_note(&gpu, scene, None);
+    let note = device_note(gpu, scene, None);
     write_time_chart(&opts.out.join("relmse-vs-time.png"), &title, &y_desc, &note, &snapshots)?;
 
     let mut images = vec![Tile::render(&reference, vec!["reference".into()])];

@@ -16,6 +16,7 @@ pub mod material;
 pub mod medium;
 mod mesh;
 pub mod mitsuba;
+mod overrides;
 mod param;
 pub mod pbrt;
 mod ply;
@@ -28,6 +29,7 @@ pub use error::SceneError;
 pub use load::{load_str, MAX_DIRECT_SAMPLES};
 pub use material::{ComplexIor, Material, MaterialKind, Microfacet};
 pub use medium::{Medium, Phase};
+pub use overrides::{Overrides, SettingNames};
 pub use param::number;
 
 /// Reads a scene file: Mitsuba scene XML when its name ends in `.xml`, a pbrt-v4 scene when

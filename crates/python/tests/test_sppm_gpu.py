@@ -1,0 +1,263 @@
+"""Tests of the sppm_gpu package: every function, against the command line where both do the
+same thing. Renders are small (32x32, few passes, few photons): each new renderer compiles
+its kernels, which on lavapipe takes seconds.
+
+Needs a GPU adapter (lavapipe will do); without one the GPU tests are skipped, except under
+CI=true, where they fail. The bit-identity test runs the command line, target/release/sppm-gpu
+(or $SPPM_GPU_BIN), which `cargo build --release` makes.
+"""
+
+import csv
+import os
+import signal
+import subprocess
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import sppm_gpu
+
+ROOT = Path(__file__).resolve().parents[3]
+SCENE = ROOT / "scenes" / "cornell-box.toml"
+# The settings every small render here shares: 32x32, few photons a pass.
+SMALL = dict(width=32, height=32, photons=20000)
+
+
+def have_adapter():
+    try:
+        return len(sppm_gpu.adapters()) > 0
+    except sppm_gpu.Error:
+        return False
+
+
+@pytest.fixture(scope="module")
+def gpu():
+    if not have_adapter():
+        if os.environ.get("CI") == "true":
+            pytest.fail("CI=true and no GPU adapter")
+        pytest.skip("no GPU adapter (install mesa-vulkan-drivers)")
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return sppm_gpu.load(SCENE)
+
+
+def cli():
+    binary = Path(os.environ.get("SPPM_GPU_BIN", ROOT / "target" / "release" / "sppm-gpu"))
+    if not binary.exists():
+        pytest.fail(f"{binary} is missing: run `cargo build --release` first")
+    return binary
+
+
+def test_load_reads_the_scene_settings(scene):
+    assert (scene.width, scene.height, scene.method, scene.passes) == (256, 256, "sppm", 64)
+    assert scene.path.endswith("cornell-box.toml")
+    assert "cornell-box.toml" in repr(scene)
+
+
+def test_load_passes_params_as_mitsuba_defines():
+    path = ROOT / "scenes" / "mitsuba" / "plastic.xml"
+    default = sppm_gpu.load(path)
+    mine = sppm_gpu.load(path, res=24, spp=5)
+    assert (mine.width, mine.height) == (24, 24) != (default.width, default.height)
+    assert mine.passes == 5 != default.passes
+
+
+def test_a_toml_scene_refuses_params():
+    with pytest.raises(sppm_gpu.SceneError) as e:
+        sppm_gpu.load(SCENE, res=24)
+    assert e.value.file.endswith("cornell-box.toml")
+    assert "res" in str(e.value)
+
+
+def test_a_bad_scene_raises_scene_error_with_file_line_and_key(tmp_path):
+    text = SCENE.read_text().replace("alpha = 0.6667", "alpha = 1.5")
+    assert text != SCENE.read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text)
+    line = 1 + text.splitlines().index("alpha = 1.5")
+    with pytest.raises(sppm_gpu.SceneError) as e:
+        sppm_gpu.load(bad)
+    err = e.value
+    assert (Path(err.file), err.line, err.key) == (bad, line, "render.alpha")
+    assert "1.5" in err.message
+    assert str(err).startswith(f"{bad}:{line}: key `render.alpha`")
+    assert isinstance(err, sppm_gpu.Error)
+
+
+def test_a_missing_scene_raises_scene_error(tmp_path):
+    with pytest.raises(sppm_gpu.SceneError) as e:
+        sppm_gpu.load(tmp_path / "none.toml")
+    assert e.value.line is None and "cannot read" in e.value.message
+
+
+def test_bad_settings_raise_setting_error_naming_the_keyword(scene):
+    with pytest.raises(sppm_gpu.SettingError, match="^alpha must be between 0 and 1"):
+        scene.render(alpha=2.0)
+    with pytest.raises(sppm_gpu.SettingError, match="max_depth must be between 1 and 1024"):
+        scene.render(max_depth=0)
+    with pytest.raises(sppm_gpu.SettingError, match="^passes must be between 1 and"):
+        scene.render(passes=0)
+    with pytest.raises(sppm_gpu.SettingError, match="unknown method `nope`"):
+        scene.render(method="nope")
+    with pytest.raises(sppm_gpu.SettingError, match="every must be at least 1"):
+        scene.progressive(every=0)
+    with pytest.raises(TypeError):
+        scene.render(colour="red")
+
+
+@pytest.fixture(scope="module")
+def cli_image(gpu, tmp_path_factory):
+    """The command line's image of the Cornell box, 32x32, 3 passes of 20,000 photons, seed 7."""
+    out = tmp_path_factory.mktemp("cli") / "cli.exr"
+    subprocess.run(
+        [cli(), SCENE, "--width", "32", "--height", "32", "--photons", "20000", "--iterations", "3",
+         "--seed", "7", "-o", out],
+        check=True, capture_output=True,
+    )
+    return sppm_gpu.read(out)
+
+
+def test_render_matches_the_command_line_bit_for_bit(scene, cli_image):
+    image = scene.render(passes=3, seed=7, **SMALL)
+    assert image.shape == (32, 32, 3) and image.dtype == np.float32
+    assert image.strides == (32 * 3 * 4, 3 * 4, 4) and image.flags["C_CONTIGUOUS"] and image.flags["WRITEABLE"]
+    assert np.isfinite(image).all() and image.mean() > 0.01
+    assert np.array_equal(image, cli_image)
+    # Another seed is another image.
+    assert not np.array_equal(scene.render(passes=3, seed=8, **SMALL), cli_image)
+
+
+def test_progressive_images_refine_and_end_at_the_render(gpu, scene):
+    passes, images = [], []
+    counts = [0]
+    done = threading.Event()
+
+    def count():
+        # Python runs beside the render: the GIL is released while it renders.
+        while not done.is_set():
+            counts[0] += 1
+            time.sleep(0.001)
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    try:
+        run = scene.progressive(passes=8, seed=7, **SMALL)
+        for p, image in run:
+            passes.append(p)
+            images.append(image)
+        seconds = run.seconds
+    finally:
+        done.set()
+        counter.join()
+    assert passes == [1, 2, 4, 8]
+    assert seconds > 0
+    assert counts[0] > 100
+    # Each doubling of the passes changes the estimate less: it converges.
+    changes = [np.abs(b - a).mean() for a, b in zip(images, images[1:])]
+    assert changes[0] > changes[1] > changes[2] > 0, changes
+    # The images are one render's, refined in place: the last is render()'s of 8 passes.
+    assert np.array_equal(images[-1], scene.render(passes=8, seed=7, **SMALL))
+
+
+def test_progressive_every_and_time_limit(gpu, scene):
+    run = scene.progressive(method="pt-nee", passes=6, every=3, seed=1, **SMALL)
+    passes, first = next(run)
+    # A render while the iterator waits, unfinished: it has a thread of its own. Its image of
+    # 3 passes is render()'s of 3 passes.
+    assert passes == 3 and np.array_equal(first, scene.render(method="pt-nee", passes=3, seed=1, **SMALL))
+    assert [p for p, _ in run] == [6]
+    timed = list(scene.progressive(method="pt-nee", time_limit=0.5, every=4, seed=1, **SMALL))
+    # Every fourth pass, then the last within the limit.
+    assert len(timed) >= 2 and all(p % 4 == 0 for p, _ in timed[:-1])
+    assert [p for p, _ in timed] == sorted({p for p, _ in timed})
+
+
+def test_write_and_read_exr_exactly_and_png_as_srgb(tmp_path):
+    rng = np.random.default_rng(1)
+    image = rng.uniform(0.0, 4.0, size=(5, 7, 3)).astype(np.float32)
+    sppm_gpu.write(tmp_path / "a.exr", image)
+    back = sppm_gpu.read(tmp_path / "a.exr")
+    assert back.shape == (5, 7, 3) and back.dtype == np.float32 and np.array_equal(back, image)
+    # A non-contiguous float64 view is converted.
+    sppm_gpu.write(str(tmp_path / "b.exr"), image.astype(np.float64)[:, ::-1])
+    assert np.array_equal(sppm_gpu.read(tmp_path / "b.exr"), image[:, ::-1])
+    # PNG: sRGB, 8 bits, clamped to 1.
+    ldr = rng.uniform(0.0, 1.0, size=(4, 6, 3)).astype(np.float32)
+    sppm_gpu.write(tmp_path / "c.png", ldr)
+    png = sppm_gpu.read(tmp_path / "c.png")
+    assert png.shape == (4, 6, 3) and np.abs(png - ldr).max() < 0.01 and not np.array_equal(png, ldr)
+
+
+def test_image_errors(tmp_path):
+    with pytest.raises(sppm_gpu.ImageError) as e:
+        sppm_gpu.read(tmp_path / "none.exr")
+    assert e.value.file.endswith("none.exr")
+    with pytest.raises(sppm_gpu.ImageError):
+        sppm_gpu.write(tmp_path / "a.bmp", np.zeros((2, 2, 3)))
+    with pytest.raises(TypeError, match="height, width, 3"):
+        sppm_gpu.write(tmp_path / "a.exr", np.zeros((2, 2, 4)))
+
+
+def test_adapters_and_adapter_argument(gpu, scene):
+    found = sppm_gpu.adapters()
+    assert all({"index", "name", "backend", "device_type", "driver"} <= set(a) for a in found)
+    assert [a["index"] for a in found] == list(range(len(found)))
+    with pytest.raises(sppm_gpu.GpuError):
+        scene.render(adapter="no such adapter", **SMALL)
+    by_index = scene.render(adapter=0, method="pt", passes=1, width=16, height=16)
+    by_name = scene.render(adapter=found[0]["name"], method="pt", passes=1, width=16, height=16)
+    assert np.array_equal(by_index, by_name) and by_index.mean() > 0
+
+
+def test_compare_returns_the_figures_of_its_csv(scene, cli_image, tmp_path):
+    rows = sppm_gpu.compare(
+        scene, cli_image, methods=["sppm", "pt-nee"], time_limit=0.3, first_snapshot=0.15, out=tmp_path,
+        adapter=0, **SMALL
+    )
+    assert {r["method"] for r in rows} == {"sppm", "pt-nee"}
+    for r in rows:
+        assert r["passes"] >= 1 and 0 < r["seconds"] and 0 < r["relMSE"] < 10 and r["RMSE"] > 0
+    with open(tmp_path / "compare.csv") as f:
+        table = list(csv.DictReader(f))
+    assert [t["method"] for t in table] == [r["method"] for r in rows]
+    for t, r in zip(table, rows):
+        assert int(t["passes"]) == r["passes"]
+        assert float(t["relMSE"]) == pytest.approx(r["relMSE"], rel=1e-5)
+        assert float(t["seconds"]) == pytest.approx(r["seconds"], abs=1e-3)
+    assert (tmp_path / "equal-time.png").exists()
+    with pytest.raises(sppm_gpu.SettingError, match="unknown method"):
+        sppm_gpu.compare(scene, cli_image, methods=["nope"], time_limit=1)
+    with pytest.raises(sppm_gpu.SettingError, match="reference is 32x32"):
+        sppm_gpu.compare(scene, cli_image, methods=["pt"], time_limit=1, width=16, height=16)
+
+
+# Last: the pass it interrupts goes on on the device after the test, and would hold up the
+# renders of the tests after it.
+def test_ctrl_c_raises_keyboard_interrupt_within_a_pass(gpu, scene):
+    # A pass of many photons takes a second or so on lavapipe (more photons on a faster
+    # device); the interrupt comes well before the second pass ends and must not wait for it.
+    photons = 1_000_000
+    for _ in range(3):
+        run = scene.progressive(width=16, height=16, photons=photons, passes=2, every=1)
+        first, _ = next(run)
+        pass_seconds = run.seconds
+        if pass_seconds > 0.5:
+            break
+        run.close()
+        photons = min(2**31, int(photons * 1.0 / max(pass_seconds, 1e-3)) + 1)
+    assert first == 1 and pass_seconds > 0.5, f"a pass took {pass_seconds:.2f} s: too short to interrupt within"
+    timer = threading.Timer(0.2, os.kill, (os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        next(run)
+    waited = time.monotonic() - start
+    timer.join()
+    assert waited < 0.2 + min(0.5, pass_seconds / 2), f"KeyboardInterrupt after {waited:.2f} s, a pass {pass_seconds:.2f} s"
+    # The iterator is over; the render stops after the pass on the device.
+    assert list(run) == []
