@@ -2,7 +2,7 @@
 # The Python package (crates/python): makes the virtual environment target/python-venv (or
 # $SPPM_PYTHON_VENV) with the pinned maturin, numpy and pytest of
 # crates/python/requirements-test.txt, builds the wheel with `maturin build --release` into
-# target/wheels and installs it there. With `test`, then runs its tests (pytest).
+# target/wheels (pyproject.toml at the root) and installs it there. With `test`, then runs its tests (pytest).
 #
 # scripts/setup.sh and scripts/test.sh run it. The wheel's build shares target/ with cargo:
 # after `cargo build --release` it compiles only PyO3, numpy's bindings and the package's
@@ -24,7 +24,7 @@ fi
 
 # abi3: one wheel, cp39-abi3, for every CPython from 3.9.
 rm -f "$target"/wheels/sppm_gpu-*.whl
-(cd crates/python && "$venv/bin/maturin" build --release --quiet --out "$target/wheels" --interpreter "$venv/bin/python")
+"$venv/bin/maturin" build --release --quiet --out "$target/wheels" --interpreter "$venv/bin/python"
 "$venv/bin/python" -m pip install --quiet --no-deps --force-reinstall "$target"/wheels/sppm_gpu-*.whl
 
 if [ "${1:-}" = test ]; then
