@@ -13,7 +13,7 @@
 #      both at SECONDS_EACH (default 10) seconds of wall time;
 #   5. equal-time error against SPPM's photons and camera samples a pass
 #      (scripts/measure/pass-work.sh, WORK_SECONDS each, default 3): the device's defaults;
-#      and against bpt's and vcm's light subpaths a pass (scripts/measure/light-paths.sh);
+#      and against bpt's and vcm's light subpaths a pass (the same script's --light-paths);
 #   6. last, the test suite with CI=true on that GPU (tests pick their adapter from
 #      SPPM_GPU_ADAPTER, as the command line's --adapter): `cargo test --release` where cargo
 #      is installed, else every prebuilt test binary in --tests DIR (a GPU machine may have no
@@ -173,8 +173,8 @@ fi
 # 5b. Equal-time error against bpt's and vcm's light subpaths a pass (light_paths), the
 #     measurement behind their default (integrators::light::PIXELS_PER_LIGHT_PATH).
 if ! skipped lightpaths; then
-    bash scripts/measure/light-paths.sh --bin "$bin" --out "$out" --adapter "$adapter" --seconds "${WORK_SECONDS:-3}" \
-        --paths "${LIGHT_PATHS:-1024 4096 16384 65536}" >"$out/light-paths.log" 2>&1
+    bash scripts/measure/pass-work.sh --bin "$bin" --out "$out" --adapter "$adapter" --seconds "${WORK_SECONDS:-3}" \
+        --light-paths "${LIGHT_PATHS:-1024 4096 16384 65536}" >"$out/light-paths.log" 2>&1
     while read -r l; do row "light paths" "$l"; done <"$out/light-paths.txt"
 fi
 
