@@ -26,6 +26,16 @@ const STRATEGY_CONNECT: u32 = 4u;
 const STRATEGY_MERGE: u32 = 8u;
 const STRATEGY_LIGHT_TRACE: u32 = 16u;
 
+// Whether vcm merges at a vertex of material m, decided from the material alone so that the
+// light and the camera subpath agree: where the BSDF is diffuse (a Lambertian surface, a
+// plastic whose smooth coating is a delta lobe and leaves the diffuse base to evaluate), as
+// SPPM gathers only at diffuse lobes. On a glossy lobe the density estimate would blur the
+// reflection over the radius (a bias that is light paths' own: connections and light tracing
+// carry it); mis_scatter and the weights leave merging out of the MIS there.
+fn vcm_merges_at(m: Material) -> bool {
+    return VCM_MERGE && (m.kind == MATERIAL_DIFFUSE || (is_plastic(m) && !rough_coat(m)));
+}
+
 // 1 where `strategy` is kept, else 0.
 fn kept(strategy: u32) -> f32 {
     return select(0.0, 1.0, (frame.strategies & strategy) != 0u);
@@ -94,6 +104,7 @@ fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera:
     }
     let rev_pdf_w = bsdf_eval(s, m, albedo, ls.wi, wo).pdf;
     let cos_to_light = dot(ls.wi, s.ns);
-    let weight = mis_weight_nee(camera, direct_pdf_w, p.emission_pdf_w, cos_to_light, p.cos_light, b.pdf, rev_pdf_w, p.delta, bidir_factors());
+    let weight = mis_weight_nee(camera, direct_pdf_w, p.emission_pdf_w, cos_to_light, p.cos_light, b.pdf, rev_pdf_w, p.delta,
+        vcm_merges_at(m), bidir_factors());
     return b.f * abs(cos_to_light) * ls.li * weight;
 }

@@ -69,7 +69,8 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
         let camera_pdf_a = bc.pdf * abs(dot(wl, sl.ns)) / dist2;
         let light_pdf_a = light_pdf_w * abs(dot(w, s.ns)) / dist2;
         let light = SubpathMis(v.d_vcm, v.d_vc, v.d_vm);
-        let weight = mis_weight_connection(camera, light, camera_pdf_a, camera_rev_pdf_w, light_pdf_a, bl.pdf, bidir_factors());
+        let weight = mis_weight_connection(camera, light, camera_pdf_a, camera_rev_pdf_w, light_pdf_a, bl.pdf, vcm_merges_at(m),
+            vcm_merges_at(ml), bidir_factors());
         if unoccluded(offset_origin(s.p, s.ng, w), offset_origin(v.p, sl.ng, wl)) {
             sum += c * weight;
         }

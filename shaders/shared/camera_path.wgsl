@@ -191,7 +191,7 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
             if (frame.strategies & STRATEGY_CONNECT) != 0u {
                 path.l += beta * connect_light_subpath(s, m, albedo, wo, cm, depth + 1u);
             }
-            if VCM_MERGE && (frame.strategies & STRATEGY_MERGE) != 0u {
+            if vcm_merges_at(m) && (frame.strategies & STRATEGY_MERGE) != 0u {
                 path.l += beta * merge_light_vertices(s, m, albedo, wo, cm, depth + 1u);
             }
         } else if nee_here {
@@ -229,7 +229,7 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
             if !specular {
                 pdf_rev = bsdf_eval(s, m, albedo, next.wi, wo).pdf;
             }
-            cm = mis_scatter(cm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, bidir_factors());
+            cm = mis_scatter(cm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, vcm_merges_at(m), bidir_factors());
         }
         if use_roulette {
             eta_scale *= refraction_eta2(m, s, d, next.wi);

@@ -33,6 +33,13 @@ struct MisFactors {
     vm: f32,
 }
 
+// Merging's factor at a vertex: f.vm where the vertex merges (`merges`: both subpaths decide it
+// from the vertex's material alone, bidir.wgsl's vcm_merges_at), else 0, as there is then no
+// such strategy.
+fn vm_at(f: MisFactors, merges: bool) -> f32 {
+    return select(0.0, f.vm, merges);
+}
+
 // A light subpath leaving its light: the light sampled the point with area density direct_pdf_a
 // (next-event estimation's, light choice included) and the point and direction together with
 // emission_pdf_w; cos_light between the direction and the light's normal (1 for lights with
@@ -67,23 +74,25 @@ fn mis_hit(m: SubpathMis, dist: f32, cos_hit: f32, finite: bool) -> SubpathMis {
 
 // The subpath scattered at a vertex into a direction of density pdf_fwd, whose opposite the
 // other subpath samples with density pdf_rev, cos_out between it and the normal; a specular
-// scattering's densities are deltas, which cancel.
-fn mis_scatter(m: SubpathMis, pdf_fwd: f32, pdf_rev: f32, cos_out: f32, specular: bool, f: MisFactors) -> SubpathMis {
+// scattering's densities are deltas, which cancel. `merges`: whether the vertex merges, the
+// strategy that f.vm in d_vc and the 1 in d_vm stand for (Georgiev 2012, eqs. 35-37).
+fn mis_scatter(m: SubpathMis, pdf_fwd: f32, pdf_rev: f32, cos_out: f32, specular: bool, merges: bool, f: MisFactors) -> SubpathMis {
     if specular {
         let c = mis(abs(cos_out));
         return SubpathMis(0.0, m.d_vc * c, m.d_vm * c);
     }
     let g = mis(abs(cos_out) / pdf_fwd);
-    let d_vc = g * (m.d_vc * mis(pdf_rev) + m.d_vcm + f.vm);
-    let d_vm = g * (m.d_vm * mis(pdf_rev) + m.d_vcm * f.vc + 1.0);
+    let d_vc = g * (m.d_vc * mis(pdf_rev) + m.d_vcm + vm_at(f, merges));
+    let d_vm = g * (m.d_vm * mis(pdf_rev) + m.d_vcm * f.vc + select(0.0, 1.0, merges));
     return SubpathMis(mis(1.0 / pdf_fwd), d_vc, d_vm);
 }
 
 // Weight of light tracing: light vertex (with `light`, reached and not yet scattered) joined
 // to the camera, which would have sampled it with area density camera_pdf_a; bsdf_rev_pdf_w
-// the density of the BSDF sampling the light's side given the camera's direction.
-fn mis_weight_to_camera(light: SubpathMis, camera_pdf_a: f32, bsdf_rev_pdf_w: f32, n_light: f32, f: MisFactors) -> f32 {
-    let w_light = mis(camera_pdf_a / n_light) * (f.vm + light.d_vcm + light.d_vc * mis(bsdf_rev_pdf_w));
+// the density of the BSDF sampling the light's side given the camera's direction; `merges`
+// whether the vertex merges.
+fn mis_weight_to_camera(light: SubpathMis, camera_pdf_a: f32, bsdf_rev_pdf_w: f32, n_light: f32, merges: bool, f: MisFactors) -> f32 {
+    let w_light = mis(camera_pdf_a / n_light) * (vm_at(f, merges) + light.d_vcm + light.d_vc * mis(bsdf_rev_pdf_w));
     return 1.0 / (w_light + 1.0);
 }
 
@@ -99,22 +108,22 @@ fn mis_weight_emission(camera: SubpathMis, direct_pdf_a: f32, emission_pdf_w: f3
 // (solid angle from the vertex, light choice included; 0 for a delta light, which BSDF
 // sampling cannot hit), and would have emitted towards the vertex with emission_pdf_w; the
 // BSDF samples the light's direction with bsdf_pdf_w and the opposite with bsdf_rev_pdf_w;
-// cos_to_light at the vertex, cos_at_light at the light.
+// cos_to_light at the vertex, cos_at_light at the light; `merges` whether the vertex merges.
 fn mis_weight_nee(camera: SubpathMis, direct_pdf_w: f32, emission_pdf_w: f32, cos_to_light: f32, cos_at_light: f32,
-    bsdf_pdf_w: f32, bsdf_rev_pdf_w: f32, delta: bool, f: MisFactors) -> f32 {
+    bsdf_pdf_w: f32, bsdf_rev_pdf_w: f32, delta: bool, merges: bool, f: MisFactors) -> f32 {
     let w_light = select(mis(bsdf_pdf_w / direct_pdf_w), 0.0, delta);
     let w_camera = mis(emission_pdf_w * abs(cos_to_light) / (direct_pdf_w * abs(cos_at_light)))
-        * (f.vm + camera.d_vcm + camera.d_vc * mis(bsdf_rev_pdf_w));
+        * (vm_at(f, merges) + camera.d_vcm + camera.d_vc * mis(bsdf_rev_pdf_w));
     return 1.0 / (w_light + 1.0 + w_camera);
 }
 
 // Weight of connecting a camera vertex to a light vertex: each side's BSDF samples the other's
 // vertex with density *_pdf_a (area, at the other vertex) and its own subpath's previous
-// direction with *_rev_pdf_w.
+// direction with *_rev_pdf_w; *_merges whether each vertex merges.
 fn mis_weight_connection(camera: SubpathMis, light: SubpathMis, camera_pdf_a: f32, camera_rev_pdf_w: f32,
-    light_pdf_a: f32, light_rev_pdf_w: f32, f: MisFactors) -> f32 {
-    let w_light = mis(camera_pdf_a) * (f.vm + light.d_vcm + light.d_vc * mis(light_rev_pdf_w));
-    let w_camera = mis(light_pdf_a) * (f.vm + camera.d_vcm + camera.d_vc * mis(camera_rev_pdf_w));
+    light_pdf_a: f32, light_rev_pdf_w: f32, camera_merges: bool, light_merges: bool, f: MisFactors) -> f32 {
+    let w_light = mis(camera_pdf_a) * (vm_at(f, light_merges) + light.d_vcm + light.d_vc * mis(light_rev_pdf_w));
+    let w_camera = mis(light_pdf_a) * (vm_at(f, camera_merges) + camera.d_vcm + camera.d_vc * mis(camera_rev_pdf_w));
     return 1.0 / (w_light + 1.0 + w_camera);
 }
 

@@ -4,7 +4,8 @@
 // quantities carried along each subpath, and the weights are summed: 1 for a right recursion.
 // Strategies: emission hit by the camera subpath, next-event estimation at x1, a connection
 // between x(s-1) and x(s) for 1 < s < k, light tracing (x(k-1) joined to the camera) and, with
-// merging, a merge at each interior vertex.
+// merging, a merge at each interior vertex that merges (its flag: vcm merges only at some
+// materials, bidir.wgsl's vcm_merges_at).
 
 #import vcm
 
@@ -22,7 +23,7 @@ struct MisTestParams {
 }
 
 // Per path: 8 vertices (xyz, and w = k, the segments, in vertex 0), then 8 normals (of x0 ..
-// x(k-1)), then the camera's axis.
+// x(k-1); w = 1 where the vertex merges), then the camera's axis.
 const MAX_VERTICES: u32 = 8u;
 const PATH_WORDS: u32 = 17u;
 
@@ -44,6 +45,11 @@ fn n(i: u32) -> vec3f {
 
 fn dir(i: u32, j: u32) -> vec3f {
     return normalize(x(j) - x(i));
+}
+
+// Whether vertex i merges.
+fn merges(i: u32) -> bool {
+    return paths[base + MAX_VERTICES + i].w > 0.5;
 }
 
 // |cos| at vertex i towards vertex j.
@@ -75,7 +81,7 @@ fn light_subpath(last: u32, f: MisFactors) -> SubpathMis {
     var m = mis_light_start(direct_pdf_a, emission_pdf_w, cos_at(0u, 1u), false, f);
     m = mis_hit(m, length(x(1u) - x(0u)), cos_at(1u, 0u), true);
     for (var i = 1u; i < last; i++) {
-        m = mis_scatter(m, pdf_w(i, i + 1u), pdf_w(i, i - 1u), cos_at(i, i + 1u), false, f);
+        m = mis_scatter(m, pdf_w(i, i + 1u), pdf_w(i, i - 1u), cos_at(i, i + 1u), false, merges(i), f);
         m = mis_hit(m, length(x(i + 1u) - x(i)), cos_at(i + 1u, i), true);
     }
     return m;
@@ -90,7 +96,7 @@ fn camera_subpath(k: u32, first: u32, f: MisFactors) -> SubpathMis {
         // camera itself for i = k - 1: a pinhole's direction is not sampled by the BSDF, but
         // the reverse density only enters through d_vc, which is 0 there).
         let rev = select(pdf_w(i, i + 1u), 0.0, i + 1u == k);
-        m = mis_scatter(m, pdf_w(i, i - 1u), rev, cos_at(i, i - 1u), false, f);
+        m = mis_scatter(m, pdf_w(i, i - 1u), rev, cos_at(i, i - 1u), false, merges(i), f);
         m = mis_hit(m, length(x(i - 1u) - x(i)), cos_at(i - 1u, i), true);
     }
     return m;
@@ -104,7 +110,7 @@ fn camera_rev(k: u32, i: u32) -> f32 {
 
 // The sum of the weights of every strategy that makes the path, with factors f; the number
 // of strategies in w.
-fn weight_sum(k: u32, f: MisFactors, merges: bool) -> vec2f {
+fn weight_sum(k: u32, f: MisFactors, with_merging: bool) -> vec2f {
     var sum = 0.0;
     var count = 0.0;
     let direct_pdf_a = params.pick / params.area;
@@ -117,24 +123,27 @@ fn weight_sum(k: u32, f: MisFactors, merges: bool) -> vec2f {
     let d01 = length(x(1u) - x(0u));
     let direct_pdf_w = direct_pdf_a * d01 * d01 / cos_at(0u, 1u);
     sum += mis_weight_nee(c1, direct_pdf_w, direct_pdf_a * pdf_w(0u, 1u), cos_at(1u, 0u), cos_at(0u, 1u), pdf_w(1u, 0u),
-        camera_rev(k, 1u), false, f);
+        camera_rev(k, 1u), false, merges(1u), f);
     count += 1.0;
     // Connections of x(s - 1) to x(s).
     for (var s = 2u; s < k; s++) {
         let l = light_subpath(s - 1u, f);
         let c = camera_subpath(k, s, f);
         sum += mis_weight_connection(c, l, to_area(pdf_w(s, s - 1u), s, s - 1u), camera_rev(k, s),
-            to_area(pdf_w(s - 1u, s), s - 1u, s), pdf_w(s - 1u, s - 2u), f);
+            to_area(pdf_w(s - 1u, s), s - 1u, s), pdf_w(s - 1u, s - 2u), merges(s), merges(s - 1u), f);
         count += 1.0;
     }
     // Light tracing: x(k - 1) joined to the camera.
     let lt = light_subpath(k - 1u, f);
     let camera_pdf_a = to_area(camera_pdf_w(k, k - 1u), k, k - 1u);
-    sum += mis_weight_to_camera(lt, camera_pdf_a, pdf_w(k - 1u, k - 2u), params.n_light, f);
+    sum += mis_weight_to_camera(lt, camera_pdf_a, pdf_w(k - 1u, k - 2u), params.n_light, merges(k - 1u), f);
     count += 1.0;
     // Merges at x(i), the light subpath's last direction from x(i - 1).
-    if merges {
+    if with_merging {
         for (var i = 1u; i < k; i++) {
+            if !merges(i) {
+                continue;
+            }
             let l = light_subpath(i, f);
             let c = camera_subpath(k, i, f);
             sum += mis_weight_merge(c, l, pdf_w(i, i - 1u), camera_rev(k, i), f);

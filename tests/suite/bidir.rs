@@ -134,6 +134,44 @@ fn vcm_matches_the_references() {
     check_method(&common::load_scene("point-light.toml"), Method::Vcm, "point-light", 128, 6e-4, 0.01);
 }
 
+/// vcm merges only where the BSDF is diffuse (bidir.wgsl's vcm_merges_at): on cornell-glossy
+/// with its walls made glossy too, merging's share of the image is black, while with the
+/// walls diffuse it carries the room's light (merging on a glossy lobe blurred the reflection:
+/// the bias session 20 measured on the gold block).
+#[test]
+fn vcm_merges_only_at_diffuse_surfaces() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("sppm-merge-diffuse-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(common::scene_path("cornell-glossy.toml")).unwrap();
+    let glossy_walls = text.replace("type = \"diffuse\"", "type = \"glossy\", roughness = 0.3");
+    assert_eq!(glossy_walls.matches("glossy").count(), text.matches("glossy").count() + 4);
+    let merge_mean = |scene_text: &str, name: &str| {
+        let scene = dir.join(format!("{name}.toml"));
+        std::fs::write(&scene, scene_text).unwrap();
+        let out = dir.join(format!("{name}.exr"));
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
+            .arg(&scene)
+            .args(["--method", "vcm", "--width", "24", "--height", "24", "--iterations", "2", "--strategy-images", "-o"])
+            .arg(&out)
+            .output()
+            .expect("the binary runs");
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        let mean = |strategy: &str| {
+            let image = sppm_gpu::image_io::read_image(&dir.join(format!("{name}-{strategy}.exr"))).unwrap();
+            image.pixels.iter().flatten().map(|&v| v as f64).sum::<f64>() / (3 * image.pixels.len()) as f64
+        };
+        assert!(mean("connect") > 0.0, "{name}: connections carry no light");
+        mean("merge")
+    };
+    assert_eq!(merge_mean(&glossy_walls, "glossy"), 0.0, "vcm merged at a glossy surface");
+    assert!(merge_mean(&text, "diffuse") > 0.0, "vcm did not merge at the diffuse walls");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// With merging weighted in, a fixed large radius blurs and brightens corners, and a smaller
 /// one less: the error against the reference falls with the radius (the test that merging is
 /// there, and converges).

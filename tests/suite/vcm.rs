@@ -1,7 +1,8 @@
 //! The bidirectional family's MIS (`shaders/shared/vcm.wgsl`): for random paths through diffuse
 //! vertices, the weights of every strategy that can make a path, computed from the recursive
 //! quantities (dVCM, dVC, dVM) as the kernels compute them, sum to 1 (`tests/shaders/mis_test.wgsl`),
-//! with connections alone (bidirectional path tracing) and with merging too (VCM).
+//! with connections alone (bidirectional path tracing) and with merging too (VCM), merging at
+//! every interior vertex or only at some (vcm merges only at diffuse materials).
 
 use crate::common::{self, Rng};
 use glam::Vec3;
@@ -37,8 +38,9 @@ fn unit(rng: &mut Rng) -> Vec3 {
 
 /// A path of `k` segments from a light vertex to the camera through diffuse vertices, as
 /// `PATH_WORDS` vec4s (see the kernel), every cosine above 0.1 and every segment longer than
-/// 0.1; `None` where the draw is degenerate.
-fn random_path(rng: &mut Rng, k: usize) -> Option<Vec<[f32; 4]>> {
+/// 0.1, the interior vertices flagged as merging where `merges` says; `None` where the draw is
+/// degenerate.
+fn random_path(rng: &mut Rng, k: usize, merges: &[bool]) -> Option<Vec<[f32; 4]>> {
     let x: Vec<Vec3> = (0..=k).map(|_| Vec3::new(rng.f32(), rng.f32(), rng.f32()) * 2.0 - 1.0).collect();
     let to = |i: usize, j: usize| (x[j] - x[i]).normalize();
     let mut n = vec![Vec3::ZERO; k];
@@ -60,7 +62,7 @@ fn random_path(rng: &mut Rng, k: usize) -> Option<Vec<[f32; 4]>> {
     }
     words[0][3] = k as f32;
     for (i, v) in n.iter().enumerate() {
-        words[MAX_VERTICES + i] = [v.x, v.y, v.z, 0.0];
+        words[MAX_VERTICES + i] = [v.x, v.y, v.z, if merges[i] { 1.0 } else { 0.0 }];
     }
     words[2 * MAX_VERTICES] = [axis.x, axis.y, axis.z, 0.0];
     Some(words)
@@ -72,11 +74,17 @@ fn mis_weights_of_every_strategy_sum_to_one() {
     let mut rng = Rng(7);
     let mut paths: Vec<[f32; 4]> = Vec::new();
     let mut lengths = Vec::new();
+    let mut merging = Vec::new();
     while lengths.len() < 4096 {
         let k = 2 + lengths.len() % 6;
-        if let Some(words) = random_path(&mut rng, k) {
+        // Every interior vertex merges on a third of the paths, each with probability 1/2 on
+        // the rest.
+        let all = lengths.len() % 3 == 0;
+        let merges: Vec<bool> = (0..k).map(|i| i > 0 && (all || rng.f32() < 0.5)).collect();
+        if let Some(words) = random_path(&mut rng, k, &merges) {
             paths.extend(words);
             lengths.push(k);
+            merging.push(merges.iter().filter(|&&m| m).count());
         }
     }
     let count = lengths.len();
@@ -109,9 +117,10 @@ fn mis_weights_of_every_strategy_sum_to_one() {
     let staging = staging_buffer(&gpu.device, "sums_staging", sums.size());
     let out: Vec<[f32; 4]> = read_buffer(&gpu.device, &gpu.queue, &sums, &staging, sums.size()).unwrap();
     let mut worst = (0.0f32, 0.0f32);
-    for (i, (s, k)) in out.iter().zip(&lengths).enumerate() {
-        // Strategies: emission, NEE, k - 2 connections, light tracing; and k - 1 merges.
-        assert_eq!((s[2], s[3]), ((k + 1) as f32, (2 * k) as f32), "path {i}: strategies counted");
+    for (i, ((s, k), merges)) in out.iter().zip(&lengths).zip(&merging).enumerate() {
+        // Strategies: emission, NEE, k - 2 connections, light tracing; and a merge at each
+        // interior vertex that merges.
+        assert_eq!((s[2], s[3]), ((k + 1) as f32, (k + 1 + merges) as f32), "path {i}: strategies counted");
         assert!((s[0] - 1.0).abs() < 1e-4, "path {i} of {k} segments: BPT's weights sum to {}", s[0]);
         assert!((s[1] - 1.0).abs() < 1e-4, "path {i} of {k} segments: VCM's weights sum to {}", s[1]);
         worst = (worst.0.max((s[0] - 1.0).abs()), worst.1.max((s[1] - 1.0).abs()));
