@@ -71,11 +71,6 @@ fn py_result<T>(py: Python<'_>, result: Result<T, sppm_gpu::Error>) -> PyResult<
     result.map_err(|e| to_py(py, e))
 }
 
-/// A named setting (`method`, `direct`, ...) from its name.
-fn named<T: Named>(value: Option<&str>) -> Result<Option<T>, sppm_gpu::Error> {
-    value.map(|name| T::from_name(name).map_err(sppm_gpu::Error::Setting)).transpose()
-}
-
 /// An image as a float32 numpy array (height, width, 3), C-contiguous, handed over without a
 /// copy.
 fn to_array<'py>(py: Python<'py>, image: Rgb32Image) -> Bound<'py, PyArray3<f32>> {
@@ -367,46 +362,111 @@ fn next_stop(passes: u32, every: Option<u32>, end: u32) -> u32 {
     next.min(end)
 }
 
-/// The render's overrides from keyword arguments.
-#[allow(clippy::too_many_arguments)]
-fn overrides(
-    method: Option<&str>,
-    passes: Option<u32>,
-    time_limit: Option<f64>,
-    seed: Option<u32>,
-    width: Option<u32>,
-    height: Option<u32>,
-    photons: Option<u32>,
-    radius: Option<f32>,
-    alpha: Option<f32>,
-    spp: Option<u32>,
-    max_depth: Option<u32>,
-    direct: Option<&str>,
-    direct_samples: Option<u32>,
-    light_paths: Option<u32>,
-    radius_schedule: Option<&str>,
-    radius_rule: Option<&str>,
-    sampler: Option<&str>,
-) -> Result<Overrides, sppm_gpu::Error> {
-    Ok(Overrides {
-        iterations: passes,
-        photons,
-        radius,
-        alpha,
-        seed,
-        time_limit,
-        width,
-        height,
-        method: named(method)?,
-        spp,
-        max_depth,
-        direct: named(direct)?,
-        direct_samples,
-        light_paths,
-        radius_schedule: named(radius_schedule)?,
-        radius_rule: named(radius_rule)?,
-        sampler: named(sampler)?,
-    })
+/// The render settings that keywords override, one row each: the keyword, how its value is
+/// read (`number`: an int, or for a float setting an int or float; `named`: a str, one of the
+/// setting's names), the field of [`Overrides`] it sets, and what it means. The one list of
+/// them: `$then` makes what it needs of it, the parser ([`KEYWORDS`]) or the lines of
+/// `Scene.render`'s docstring (`settings_doc!`). The stubs (`__init__.pyi`) type the same
+/// keys, and a test checks that the two agree.
+macro_rules! render_settings {
+    ($then:ident) => {
+        $then! {
+            method: named => method, "sppm, pt, pt-nee, lt, bpt or vcm";
+            passes: number => iterations, "SPPM's passes, or a path tracer's samples a pixel (--iterations)";
+            time_limit: number => time_limit, "seconds of passes; without passes, as many passes as fit";
+            seed: number => seed, "the random seed";
+            width: number => width, "image width in pixels";
+            height: number => height, "image height in pixels";
+            photons: number => photons, "photons per SPPM pass";
+            radius: number => radius, "SPPM's initial gather radius in scene units";
+            alpha: number => alpha, "SPPM's radius reduction, 0 < alpha < 1";
+            spp: number => spp, "SPPM's camera samples a pixel in each pass; a path tracer's in all, its passes";
+            max_depth: number => max_depth, "most scattering events on a path";
+            direct: named => direct, "SPPM's direct light: sampled or photons";
+            direct_samples: number => direct_samples, "SPPM's camera paths per visible point that gather direct light";
+            light_paths: number => light_paths, "bpt's and vcm's light subpaths a pass";
+            radius_schedule: named => radius_schedule, "SPPM's radius schedule: per-point or global";
+            radius_rule: named => radius_rule, "SPPM's radius rule: shrink or adaptive";
+            sampler: named => sampler, "where the random numbers come from: independent or sobol";
+        }
+    };
+}
+
+/// A render setting's keyword and how it sets its field of [`Overrides`] from a value (not
+/// None).
+struct Keyword {
+    name: &'static str,
+    set: fn(&mut Overrides, &Bound<'_, PyAny>) -> PyResult<()>,
+}
+
+/// [`KEYWORDS`] from [`render_settings`]'s rows.
+macro_rules! keyword_table {
+    ($($key:ident: $read:ident => $field:ident, $doc:literal;)*) => {
+        /// Every render setting's keyword, in the order of [`render_settings`].
+        const KEYWORDS: &[Keyword] = &[$(Keyword {
+            name: stringify!($key),
+            set: |o, value| {
+                o.$field = Some($read(stringify!($key), value)?);
+                Ok(())
+            },
+        }),*];
+    };
+}
+render_settings!(keyword_table);
+
+/// The settings as a docstring's list (`- method: the method: ...`), one line each, from
+/// [`render_settings`]'s rows.
+macro_rules! settings_doc {
+    ($($key:ident: $read:ident => $field:ident, $doc:literal;)*) => {
+        concat!($("- ", stringify!($key), ": ", $doc, "\n"),*)
+    };
+}
+
+/// `error`, raised reading keyword `key`'s value, as the same exception naming the keyword
+/// (`argument 'passes': 'str' object cannot be interpreted as an integer`).
+fn naming(py: Python<'_>, key: &str, error: PyErr) -> PyErr {
+    let named = PyErr::from_type(error.get_type(py), format!("argument '{key}': {}", error.value(py)));
+    named.set_cause(py, Some(error));
+    named
+}
+
+/// A number setting's value: an int, or for a float setting an int or a float.
+fn number<'py, T>(key: &str, value: &Bound<'py, PyAny>) -> PyResult<T>
+where
+    T: for<'a> FromPyObject<'a, 'py, Error = PyErr>,
+{
+    value.extract().map_err(|e| naming(value.py(), key, e))
+}
+
+/// A named setting's value (`method`, `direct`, ...): a str, one of its names.
+fn named<T: Named>(key: &str, value: &Bound<'_, PyAny>) -> PyResult<T> {
+    let py = value.py();
+    let name: String = value.extract().map_err(|e| naming(py, key, e))?;
+    T::from_name(&name).map_err(|e| to_py(py, sppm_gpu::Error::Setting(e)))
+}
+
+/// The render's overrides from `function`'s keyword arguments `params` (a value of None keeps
+/// the scene's setting). A keyword that is not a setting, or one of the settings `refused`
+/// (each with the reason), is a TypeError, as Python raises for a bad keyword, naming it
+/// and listing the settings `function` takes.
+fn overrides(function: &str, params: Option<&Bound<'_, PyDict>>, refused: &[(&str, &str)]) -> PyResult<Overrides> {
+    let mut o = Overrides::default();
+    for (key, value) in params.into_iter().flat_map(|p| p.iter()) {
+        let key: String = key.extract()?;
+        let reason = refused.iter().find(|(name, _)| *name == key).map(|(_, why)| *why);
+        let Some(keyword) = KEYWORDS.iter().find(|k| k.name == key && reason.is_none()) else {
+            let taken: Vec<&str> = KEYWORDS.iter().map(|k| k.name).filter(|n| refused.iter().all(|(r, _)| r != n)).collect();
+            let why = reason.map_or_else(String::new, |why| format!(" ({why})"));
+            return Err(PyTypeError::new_err(format!(
+                "{function}() got an unexpected keyword argument '{key}'{why}; its settings are: {}",
+                taken.join(", ")
+            )));
+        };
+        if !value.is_none() {
+            (keyword.set)(&mut o, &value)?;
+        }
+    }
+    Ok(o)
 }
 
 /// A loaded scene: its geometry, materials, lights and camera, and its `[render]` settings.
@@ -474,56 +534,18 @@ impl Scene {
     }
 
     /// Render the scene; returns linear RGB radiance as a float32 array (height, width, 3).
-    /// Each keyword overrides the scene's setting as the command line's option of the same
-    /// name does (passes is --iterations); None keeps the scene's.
-    #[pyo3(signature = (method=None, passes=None, time_limit=None, seed=None, width=None, height=None, photons=None,
-        radius=None, alpha=None, spp=None, max_depth=None, direct=None, direct_samples=None, light_paths=None, radius_schedule=None,
-        radius_rule=None, sampler=None, adapter=None))]
-    #[allow(clippy::too_many_arguments)]
+    /// Each setting, a keyword, overrides the scene's as the command line's option of the same
+    /// name does; None keeps the scene's. adapter: the device, an index into adapters() or a
+    /// part of an adapter's name (None: the default). The settings:
+    #[doc = render_settings!(settings_doc)]
+    #[pyo3(signature = (*, adapter=None, **params))]
     fn render<'py>(
         &self,
         py: Python<'py>,
-        method: Option<&str>,
-        passes: Option<u32>,
-        time_limit: Option<f64>,
-        seed: Option<u32>,
-        width: Option<u32>,
-        height: Option<u32>,
-        photons: Option<u32>,
-        radius: Option<f32>,
-        alpha: Option<f32>,
-        spp: Option<u32>,
-        max_depth: Option<u32>,
-        direct: Option<&str>,
-        direct_samples: Option<u32>,
-        light_paths: Option<u32>,
-        radius_schedule: Option<&str>,
-        radius_rule: Option<&str>,
-        sampler: Option<&str>,
         adapter: Option<&Bound<'py, PyAny>>,
+        params: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyArray3<f32>>> {
-        let o = py_result(
-            py,
-            overrides(
-                method,
-                passes,
-                time_limit,
-                seed,
-                width,
-                height,
-                photons,
-                radius,
-                alpha,
-                spp,
-                max_depth,
-                direct,
-                direct_samples,
-                light_paths,
-                radius_schedule,
-                radius_rule,
-                sampler,
-            ),
-        )?;
+        let o = overrides("Scene.render", params, &[])?;
         let job = py_result(py, Job::new(py, &self.scene, &o, adapter_selector(adapter)?))?;
         warn_limitations(py, &job.scene)?;
         let stop = Arc::new(AtomicBool::new(false));
@@ -556,58 +578,18 @@ impl Scene {
     /// passes (or at 1, 2, 4, 8, ... passes when every is None) and one at the end. The other
     /// keywords are render()'s. Time spent by the caller between images is not counted
     /// against time_limit.
-    #[pyo3(signature = (method=None, passes=None, time_limit=None, every=None, seed=None, width=None, height=None,
-        photons=None, radius=None, alpha=None, spp=None, max_depth=None, direct=None, direct_samples=None, light_paths=None,
-        radius_schedule=None, radius_rule=None, sampler=None, adapter=None))]
-    #[allow(clippy::too_many_arguments)]
+    #[pyo3(signature = (*, every=None, adapter=None, **params))]
     fn progressive<'py>(
         &self,
         py: Python<'py>,
-        method: Option<&str>,
-        passes: Option<u32>,
-        time_limit: Option<f64>,
         every: Option<u32>,
-        seed: Option<u32>,
-        width: Option<u32>,
-        height: Option<u32>,
-        photons: Option<u32>,
-        radius: Option<f32>,
-        alpha: Option<f32>,
-        spp: Option<u32>,
-        max_depth: Option<u32>,
-        direct: Option<&str>,
-        direct_samples: Option<u32>,
-        light_paths: Option<u32>,
-        radius_schedule: Option<&str>,
-        radius_rule: Option<&str>,
-        sampler: Option<&str>,
         adapter: Option<&Bound<'py, PyAny>>,
+        params: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Progressive> {
         if every == Some(0) {
             return Err(to_py(py, sppm_gpu::Error::Setting("every must be at least 1 pass".into())));
         }
-        let o = py_result(
-            py,
-            overrides(
-                method,
-                passes,
-                time_limit,
-                seed,
-                width,
-                height,
-                photons,
-                radius,
-                alpha,
-                spp,
-                max_depth,
-                direct,
-                direct_samples,
-                light_paths,
-                radius_schedule,
-                radius_rule,
-                sampler,
-            ),
-        )?;
+        let o = overrides("Scene.progressive", params, &[])?;
         let job = py_result(py, Job::new(py, &self.scene, &o, adapter_selector(adapter)?))?;
         warn_limitations(py, &job.scene)?;
         let stop = Arc::new(AtomicBool::new(false));
@@ -762,15 +744,23 @@ fn adapters(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     Ok(list)
 }
 
+/// The render settings `compare` sets itself, with the reason, refused as its keywords.
+const COMPARE_REFUSES: &[(&str, &str)] = &[
+    ("method", "it runs each of methods"),
+    ("passes", "max_passes caps each method's passes"),
+    ("direct", "sppm and sppm-photons of methods set it"),
+];
+
 /// Equal-time comparison of methods against a reference image, as the command line's
 /// `compare`: each method runs for time_limit seconds of passes, its relMSE and RMSE measured
 /// at doubling times from first_snapshot. Returns the rows of compare.csv as dicts (method,
 /// seconds, passes, relMSE, RMSE); compare.csv, relmse-vs-time.png and equal-time.png are
-/// written into out when it is given. The comparison cannot stop part way: Ctrl-C raises at
+/// written into out when it is given. The other keywords are render()'s settings but method,
+/// passes and direct, and its adapter. The comparison cannot stop part way: Ctrl-C raises at
 /// once, and it ends on its thread.
 #[pyfunction]
 #[pyo3(signature = (scene, reference, methods, time_limit, first_snapshot=0.5, downsample=1, max_passes=None,
-    out=None, width=None, height=None, seed=None, photons=None, radius=None, adapter=None))]
+    out=None, *, adapter=None, **params))]
 #[allow(clippy::too_many_arguments)]
 fn compare<'py>(
     py: Python<'py>,
@@ -782,18 +772,15 @@ fn compare<'py>(
     downsample: u32,
     max_passes: Option<u32>,
     out: Option<PathBuf>,
-    width: Option<u32>,
-    height: Option<u32>,
-    seed: Option<u32>,
-    photons: Option<u32>,
-    radius: Option<f32>,
     adapter: Option<&Bound<'py, PyAny>>,
+    params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyList>> {
     use sppm_gpu::experiments;
     let methods: Vec<experiments::Variant> =
         py_result(py, methods.iter().map(|m| experiments::Variant::parse(m)).collect::<Result<_, _>>())?;
     let selector = adapter_selector(adapter)?;
-    let o = Overrides { width, height, seed, photons, radius, time_limit: Some(time_limit), ..Default::default() };
+    let mut o = overrides("compare", params, COMPARE_REFUSES)?;
+    o.time_limit = Some(time_limit);
     let mut s = scene.scene.clone();
     py_result(py, o.apply_to_scene(&mut s, SettingNames::Keywords))?;
     let name = s.path.file_stem().map_or_else(|| "scene".to_string(), |n| n.to_string_lossy().into_owned());

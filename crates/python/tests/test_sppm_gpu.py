@@ -7,6 +7,7 @@ CI=true, where they fail. The bit-identity test runs the command line, target/re
 (or $SPPM_GPU_BIN), which `cargo build --release` makes.
 """
 
+import ast
 import csv
 import os
 import signal
@@ -110,6 +111,99 @@ def test_bad_settings_raise_setting_error_naming_the_keyword(scene):
         scene.render(colour="red")
 
 
+# A value of each render setting, all of them valid together (a 16x16 SPPM render of two
+# passes; the scene's own values where its kernels depend on them, so that it compiles none
+# the other tests do not), and a value each refuses with what its error says. A setting of
+# the package's table missing here fails test_the_settings_are_one_table.
+GOOD = dict(
+    method="sppm", passes=2, time_limit=60.0, seed=3, width=16, height=16, photons=5000, radius=0.05,
+    alpha=0.7, spp=1, max_depth=64, direct="sampled", direct_samples=1, light_paths=256,
+    radius_schedule="per-point", radius_rule="shrink", sampler="sobol",
+)
+BAD = dict(
+    method=("nope", sppm_gpu.SettingError, "^unknown method `nope`"),
+    passes=(0, sppm_gpu.SettingError, "^passes must be between 1 and"),
+    time_limit=(-1.0, sppm_gpu.SettingError, "^time_limit must be a positive number"),
+    seed=(-1, OverflowError, "^argument 'seed': "),
+    width=(0, sppm_gpu.SettingError, "^width must be between 1 and"),
+    height=(0, sppm_gpu.SettingError, "^height must be between 1 and"),
+    photons=(0, sppm_gpu.SettingError, "^photons must be between 1 and"),
+    radius=(-1.0, sppm_gpu.SettingError, "^radius must be a positive number"),
+    alpha=(1.5, sppm_gpu.SettingError, "^alpha must be between 0 and 1"),
+    spp=(0, sppm_gpu.SettingError, "^spp must be between 1 and 1024"),
+    max_depth=(0, sppm_gpu.SettingError, "^max_depth must be between 1 and"),
+    direct=("nope", sppm_gpu.SettingError, "^unknown direct `nope`"),
+    direct_samples=(0, sppm_gpu.SettingError, "^direct_samples must be between 1 and"),
+    light_paths=(0, sppm_gpu.SettingError, "^light_paths must be between 1 and"),
+    radius_schedule=("nope", sppm_gpu.SettingError, "^unknown radius_schedule `nope`"),
+    radius_rule=("nope", sppm_gpu.SettingError, "^unknown radius_rule `nope`"),
+    sampler=("nope", sppm_gpu.SettingError, "^unknown sampler `nope`"),
+)
+# The settings compare() refuses: it sets them itself. time_limit it takes as an argument of
+# its own, not among its **params.
+COMPARE_REFUSES = {"method", "passes", "direct"}
+COMPARE_PARAMS = set(GOOD) - COMPARE_REFUSES - {"time_limit"}
+
+
+def settings(call):
+    """The settings `call` takes, as its TypeError for an unknown keyword lists them."""
+    with pytest.raises(TypeError, match="got an unexpected keyword argument 'colour'") as e:
+        call(colour="red")
+    return str(e.value).split("; its settings are: ")[1].split(", ")
+
+
+def stub_keys(name):
+    """The keys the stubs' TypedDict `name` declares, with those of its bases."""
+    stubs = ROOT / "crates" / "python" / "python" / "sppm_gpu" / "__init__.pyi"
+    classes = {c.name: c for c in ast.parse(stubs.read_text()).body if isinstance(c, ast.ClassDef)}
+
+    def keys(c):
+        bases = [k for b in c.bases if isinstance(b, ast.Name) and b.id in classes for k in keys(classes[b.id])]
+        return bases + [s.target.id for s in c.body if isinstance(s, ast.AnnAssign)]
+
+    return set(keys(classes[name]))
+
+
+def test_the_settings_are_one_table(scene):
+    table = settings(scene.render)
+    assert settings(scene.progressive) == table
+    compared = settings(lambda **k: sppm_gpu.compare(scene, "none.exr", ["pt"], 1, **k))
+    assert compared == [k for k in table if k not in COMPARE_REFUSES]
+    # The tests' values, the stubs' TypedDicts, the docstring and the guide have every one.
+    assert set(table) == set(GOOD) == set(BAD)
+    assert set(table) == stub_keys("_RenderParams") and COMPARE_PARAMS == stub_keys("_CompareParams")
+    guide = (ROOT / "docs" / "guide" / "python.md").read_text()
+    for key in table:
+        assert f"\n- {key}: " in sppm_gpu.Scene.render.__doc__, key
+        assert f"`{key}`" in guide, key
+
+
+def test_each_setting_reaches_its_own_check(scene):
+    # Each bad value is refused by its own setting's check (or name), not another's: the
+    # keyword sets its own field.
+    for key, (value, error, message) in BAD.items():
+        with pytest.raises(error, match=message):
+            scene.render(**{key: value})
+        with pytest.raises(error, match=message):
+            scene.progressive(**{key: value})
+
+
+def test_a_bad_keyword_or_type_raises_naming_it(scene):
+    unknown = r"^Scene.render\(\) got an unexpected keyword argument 'colour'; its settings are: method, passes, "
+    with pytest.raises(TypeError, match=unknown):
+        scene.render(colour="red")
+    with pytest.raises(TypeError, match=r"^Scene.progressive\(\) got an unexpected keyword argument 'pases'"):
+        scene.progressive(pases=3)
+    for key in GOOD:
+        with pytest.raises(TypeError, match=f"^argument '{key}': "):
+            scene.render(**{key: [1]})
+    with pytest.raises(TypeError, match="^argument 'passes': 'float' object cannot be interpreted as an integer"):
+        scene.render(passes=2.5)
+    for key in COMPARE_REFUSES:
+        with pytest.raises(TypeError, match=f"^compare\\(\\) got an unexpected keyword argument '{key}' \\("):
+            sppm_gpu.compare(scene, "none.exr", ["pt"], 1, **{key: GOOD[key]})
+
+
 @pytest.fixture(scope="module")
 def cli_image(gpu, tmp_path_factory):
     """The command line's image of the Cornell box, 32x32, 3 passes of 20,000 photons, seed 7."""
@@ -130,6 +224,18 @@ def test_render_matches_the_command_line_bit_for_bit(scene, cli_image):
     assert np.array_equal(image, cli_image)
     # Another seed is another image.
     assert not np.array_equal(scene.render(passes=3, seed=8, **SMALL), cli_image)
+
+
+def test_every_setting_renders(scene, cli_image):
+    image = scene.render(**GOOD)
+    assert image.shape == (16, 16, 3) and image.mean() > 0
+    assert [p for p, _ in scene.progressive(every=1, **GOOD)] == [1, 2]
+    # None keeps the scene's setting: the command line's image, every other setting None.
+    nones = dict.fromkeys(GOOD)
+    assert np.array_equal(scene.render(**{**nones, **SMALL, "passes": 3, "seed": 7}), cli_image)
+    compared = {k: GOOD[k] for k in COMPARE_PARAMS}
+    rows = sppm_gpu.compare(scene, image, ["sppm"], time_limit=0.2, first_snapshot=0.1, **compared)
+    assert rows and all(r["method"] == "sppm" for r in rows)
 
 
 def test_progressive_images_refine_and_end_at_the_render(gpu, scene):

@@ -1,16 +1,49 @@
 """Type stubs of sppm_gpu (the native module sppm_gpu._native and its Python wrappers)."""
 
 import os
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple, TypedDict, Union
 
 import numpy as np
 import numpy.typing as npt
+
+# Unpack (PEP 692, **kwargs typed by a TypedDict) is in typing from Python 3.11 only; the
+# package supports 3.9. A stub is read by type checkers, never imported: they all carry
+# typing_extensions' stub (typeshed's stdlib), so it needs no runtime dependency.
+from typing_extensions import Unpack
 
 __version__: str
 
 _Path = Union[str, "os.PathLike[str]"]
 _Image = npt.NDArray[np.float32]
 _Adapter = Union[int, str, None]
+
+class _CompareParams(TypedDict, total=False):
+    """The render settings compare() takes: _RenderParams' but method, passes and direct."""
+
+    seed: Optional[int]
+    width: Optional[int]
+    height: Optional[int]
+    photons: Optional[int]
+    radius: Optional[float]
+    alpha: Optional[float]
+    spp: Optional[int]
+    max_depth: Optional[int]
+    direct_samples: Optional[int]
+    light_paths: Optional[int]
+    radius_schedule: Optional[str]
+    radius_rule: Optional[str]
+    sampler: Optional[str]
+
+class _RenderParams(_CompareParams, total=False):
+    """The render settings, keywords of Scene.render() and Scene.progressive(): each
+    overrides the scene's setting as the command line's option of the same name does
+    (passes is --iterations); None keeps the scene's. What each means:
+    help(sppm_gpu.Scene.render)."""
+
+    method: Optional[str]
+    passes: Optional[int]
+    time_limit: Optional[float]
+    direct: Optional[str]
 
 class Error(Exception):
     """Anything sppm_gpu refuses or fails at: the base of the errors below."""
@@ -62,50 +95,11 @@ class Scene:
     def seed(self) -> int: ...
     @property
     def time_limit(self) -> Optional[float]: ...
-    def render(
-        self,
-        method: Optional[str] = None,
-        passes: Optional[int] = None,
-        time_limit: Optional[float] = None,
-        seed: Optional[int] = None,
-        width: Optional[int] = None,
-        height: Optional[int] = None,
-        photons: Optional[int] = None,
-        radius: Optional[float] = None,
-        alpha: Optional[float] = None,
-        spp: Optional[int] = None,
-        max_depth: Optional[int] = None,
-        direct: Optional[str] = None,
-        direct_samples: Optional[int] = None,
-        light_paths: Optional[int] = None,
-        radius_schedule: Optional[str] = None,
-        radius_rule: Optional[str] = None,
-        sampler: Optional[str] = None,
-        adapter: _Adapter = None,
-    ) -> _Image:
-        """Render; linear RGB radiance, float32 (height, width, 3). None keeps the scene's
-        setting; method is sppm, pt, pt-nee, lt, bpt or vcm."""
+    def render(self, *, adapter: _Adapter = None, **params: Unpack[_RenderParams]) -> _Image:
+        """Render; linear RGB radiance, float32 (height, width, 3). Each setting overrides the
+        scene's; None keeps it."""
     def progressive(
-        self,
-        method: Optional[str] = None,
-        passes: Optional[int] = None,
-        time_limit: Optional[float] = None,
-        every: Optional[int] = None,
-        seed: Optional[int] = None,
-        width: Optional[int] = None,
-        height: Optional[int] = None,
-        photons: Optional[int] = None,
-        radius: Optional[float] = None,
-        alpha: Optional[float] = None,
-        spp: Optional[int] = None,
-        max_depth: Optional[int] = None,
-        direct: Optional[str] = None,
-        direct_samples: Optional[int] = None,
-        light_paths: Optional[int] = None,
-        radius_schedule: Optional[str] = None,
-        radius_rule: Optional[str] = None,
-        sampler: Optional[str] = None,
-        adapter: _Adapter = None,
+        self, *, every: Optional[int] = None, adapter: _Adapter = None, **params: Unpack[_RenderParams]
     ) -> Progressive:
         """(passes, image) after every `every` passes (or at 1, 2, 4, ... passes) and at the
         end."""
@@ -132,11 +126,7 @@ def compare(
     max_passes: Optional[int] = None,
     out: Optional[_Path] = None,
     *,
-    width: Optional[int] = None,
-    height: Optional[int] = None,
-    seed: Optional[int] = None,
-    photons: Optional[int] = None,
-    radius: Optional[float] = None,
     adapter: _Adapter = None,
+    **params: Unpack[_CompareParams],
 ) -> List[Mapping[str, Union[str, float, int]]]:
     """Equal-time comparison; the rows of compare.csv (method, seconds, passes, relMSE, RMSE)."""
