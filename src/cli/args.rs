@@ -111,6 +111,7 @@ impl Overrides {
             ("time-limit", self.time_limit.is_some()),
             ("iterations", self.iterations.is_some()),
             ("spp", self.spp.is_some()),
+            ("direct", self.direct.is_some()),
         ];
         match given.iter().find(|(flag, given)| *given && unused.contains(flag)) {
             Some((flag, _)) => Err(Error::Setting(format!("{command} does not take --{flag}: {why}"))),

@@ -32,6 +32,12 @@ pub(crate) fn experiment(command: &Command) -> Result<(), Error> {
     match command {
         Command::Compare { scene, reference, methods, downsample, first_snapshot, out, overrides } => {
             overrides.refuse("compare", &["method"], "it runs the methods of --methods (a comma-separated list)")?;
+            // Each method of --methods sets SPPM's direct light (sppm, sppm-photons).
+            overrides.refuse(
+                "compare",
+                &["direct"],
+                "the methods of --methods set it (sppm samples it, sppm-photons takes it from photons)",
+            )?;
             let files = [
                 ("compare.csv".to_string(), Kind::Csv("method,seconds,passes,relMSE,RMSE")),
                 ("relmse-vs-time.png".to_string(), Kind::Image),

@@ -129,15 +129,19 @@ fn the_output_defaults_to_a_free_name() {
 }
 
 /// Options a command does not read are refused, never ignored: `compare --method` (its methods
-/// are `--methods`), `sweep --time-limit`, `bench --method`.
+/// are `--methods`), `compare --direct` (they set it), `sweep --time-limit`, `bench --method`.
 #[test]
 fn options_a_command_does_not_read_are_refused() {
     let dir = temp_dir("unused");
     let path = scene("cornell-box.toml");
     let reference = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/references/cornell-box.exr");
     let reference = reference.display().to_string();
-    let cases: [(&[&str], &str); 3] = [
+    let cases: [(&[&str], &str); 4] = [
         (&["compare", &path, "--reference", &reference, "--time-limit", "1", "--method", "pt"], "compare does not take --method"),
+        (
+            &["compare", &path, "--reference", &reference, "--time-limit", "1", "--direct", "photons"],
+            "compare does not take --direct",
+        ),
         (
             &["sweep", &path, "--reference", &reference, "--param", "radius", "--values", "0.1", "--time-limit", "1"],
             "sweep does not take --time-limit",

@@ -81,8 +81,8 @@ def compare(
     ``seconds``, ``passes``, ``relMSE`` and ``RMSE``: one per method and snapshot, snapshots
     at ``first_snapshot`` seconds and doubling, and at ``time_limit``. With ``out`` (a
     folder), compare.csv, relmse-vs-time.png and equal-time.png are written there too.
-    ``settings`` are ``width``, ``height``, ``seed``, ``photons``, ``radius`` and
-    ``adapter``, as for ``Scene.render``. Like the command line, it prints its table on
+    ``settings`` are ``Scene.render``'s (``help(sppm_gpu.Scene.render)``) but ``method``,
+    ``passes`` and ``direct``, which the comparison sets itself, and ``adapter``. Like the command line, it prints its table on
     stdout and each snapshot on stderr. Ctrl-C raises ``KeyboardInterrupt`` at once; the
     comparison, which cannot stop part way, ends on its own thread."""
     if isinstance(reference, np.ndarray):
