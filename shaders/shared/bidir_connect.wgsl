@@ -82,7 +82,8 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
 // within the pass's radius r of surface point s, each the density estimate
 // f(wo, w_prev) beta / (pi r^2 n_light) of the light arriving at s, weighted against the other
 // strategies; without the camera subpath's throughput. Every vertex within r lies in the
-// bucket of s's own cell (each is listed in the cells its box of radius r overlaps). Only light
+// bucket of s's own cell (each is listed in the cells its box of radius r overlaps; the
+// bucket lists their slots in light_vertices, in ascending order: merge_order.wgsl). Only light
 // arriving on the side of the surface that wo sees merges, as SmallVCM's BSDF evaluation
 // decides (a thin shell's other side does not), on the same surface or one facing it (below).
 // The bias of the rest, the density estimate's over the radius, vanishes with it.
@@ -94,11 +95,12 @@ fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camer
     let r = frame.global_radius;
     var sum = vec3f(0.0);
     for (var e = grid_cell_start[h]; e < grid_cell_start[h + 1u]; e++) {
-        let point = visible_points[grid_entries[e]];
-        if !within_radius(s.p, r, point.p) {
+        // Its position first: most of a bucket's vertices lie beyond the radius.
+        let slot = grid_entries[e];
+        if !within_radius(s.p, r, light_vertices[slot].p) {
             continue;
         }
-        let v = light_vertices[point.normal];
+        let v = light_vertices[slot];
         if camera_length + v.length > frame.max_depth + 1u {
             continue;
         }

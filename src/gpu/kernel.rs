@@ -29,6 +29,7 @@ pub const KERNELS: &[&str] = &[
     "light_trace",
     "bidir_camera",
     "merge_setup",
+    "merge_order",
     "splat_accumulate",
 ];
 

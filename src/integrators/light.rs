@@ -82,6 +82,8 @@ struct MergeGrid {
     count: (Kernel, wgpu::BindGroup),
     scan: (Kernel, wgpu::BindGroup),
     fill: (Kernel, wgpu::BindGroup),
+    /// Each bucket's entries in a fixed order (bit-exact merging).
+    order: (Kernel, wgpu::BindGroup),
 }
 
 /// A progressive light tracer: each pass traces one light subpath per pixel of the image and
@@ -227,6 +229,7 @@ impl LightTracer {
                 count: stage("grid_count")?,
                 scan: stage("grid_scan")?,
                 fill: stage("grid_fill")?,
+                order: stage("merge_order")?,
             })
         } else {
             None
@@ -308,6 +311,8 @@ impl Integrator for LightTracer {
             grid.count.0.dispatch_indirect(encoder, &grid.count.1, args, 0);
             grid.scan.0.dispatch_groups(encoder, &grid.scan.1, 1);
             grid.fill.0.dispatch_indirect(encoder, &grid.fill.1, args, 0);
+            let buckets = (self.grid_buffer("grid_cell_start").size() / 4 - 1) as u32;
+            grid.order.0.dispatch(encoder, &grid.order.1, buckets);
         }
         if pass_done {
             if let Some((kernel, group)) = &self.bidir_camera {
