@@ -6,6 +6,13 @@
 //! of a one-sided surface is absent, exactly, and present when the surface is two-sided; a
 //! one-sided surface seen from the front renders the same bits as a two-sided one. The kernels
 //! are compiled with the check only for scenes that have a one-sided material.
+//!
+//! A scene's two-sided render carries an unused one-sided material ([`with_the_check`]), so
+//! that it runs the same kernels as the one-sided render, compiled with the check: the two
+//! differ only in the material's flag, and each geometry's kernels are compiled once rather
+//! than twice (a cold driver cache compiles the three tracing kernels of every distinct
+//! scene anew: seconds each on lavapipe). Kernels compiled without the check are what every
+//! shipped scene runs, and `one_sided_quad_seen_from_the_front_is_unchanged` compares them.
 
 use crate::common;
 
@@ -15,7 +22,7 @@ use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators;
 use sppm_gpu::layout::Features;
 use sppm_gpu::metrics::{count_negative, count_non_finite};
-use sppm_gpu::scene::{DirectLight, Method, Scene, SceneBuilder};
+use sppm_gpu::scene::{DirectLight, MaterialKind, Method, Scene, SceneBuilder};
 
 const SIZE: u32 = 32;
 const METHODS: [Method; 3] = [Method::Sppm, Method::PtNee, Method::Pt];
@@ -55,6 +62,23 @@ fn one_sided(mut scene: Scene, name: &str) -> Scene {
     scene
 }
 
+/// The name of the unused one-sided material of [`with_the_check`].
+const SPARE: &str = "spare one-sided";
+
+/// `scene` with an unused material (no shape has it) that is one-sided: its kernels are
+/// compiled with the one-sided check whether or not its own materials are one-sided, and its
+/// image is the same.
+fn with_the_check(mut scene: Scene) -> Scene {
+    let mut spare = scene.materials[0].clone();
+    spare.name = SPARE.into();
+    spare.kind = MaterialKind::Diffuse { albedo: Vec3::splat(0.5), texture: None };
+    spare.one_sided = true;
+    scene.materials.push(spare);
+    assert!(Features::of(&SceneData::new(&scene).unwrap()).one_sided, "the spare material switches the check on");
+    assert!(scene.shapes.iter().all(|s| scene.materials[s.material as usize].name != SPARE), "no shape has the spare");
+    scene
+}
+
 /// Common settings: a small image, a fixed radius, photons enough to light it.
 fn settings(builder: SceneBuilder) -> SceneBuilder {
     builder.photons(20_000).radius(0.05).max_depth(8).seed(7)
@@ -86,7 +110,7 @@ fn one_sided_quad_seen_from_behind_is_black() {
     if common::gpu().is_none() {
         return;
     }
-    let scene = quad_under_a_light(false);
+    let scene = with_the_check(quad_under_a_light(false));
     for method in METHODS {
         let two = render(&scene, method, 4);
         let one = render(&one_sided(scene.clone(), "receiver"), method, 4);
@@ -153,19 +177,33 @@ fn floor_under_a_reflector(reflector: SceneBuilder) -> Scene {
 /// Light reflected by the back of a one-sided reflector, diffuse, mirror or glossy, reaches neither
 /// photons (SPPM, where the floor is lit only by photons that bounced off it) nor paths (PT-NEE
 /// and PT: a path from the floor ends at the reflector's back); with a two-sided reflector it
-/// lights the floor in every method.
+/// lights the floor in every method. Each scene also holds unused materials of the other two
+/// kinds (and [`with_the_check`]'s), so that the three scenes, of the same geometry, share
+/// their kernels: one compile of each for the test's 18 renders of a method, not six.
 #[test]
 fn light_off_the_back_of_a_one_sided_reflector_is_absent() {
     if common::gpu().is_none() {
         return;
     }
+    let spares = |b: SceneBuilder| {
+        b.diffuse("spare diffuse", [0.8, 0.8, 0.8]).mirror("spare mirror", [0.9, 0.9, 0.9]).glossy(
+            "spare glossy",
+            [0.9, 0.9, 0.9],
+            0.3,
+        )
+    };
     let reflectors = [
-        ("diffuse", SceneBuilder::new(SIZE, SIZE).diffuse("reflector", [0.8, 0.8, 0.8])),
-        ("mirror", SceneBuilder::new(SIZE, SIZE).mirror("reflector", [0.9, 0.9, 0.9])),
-        ("glossy", SceneBuilder::new(SIZE, SIZE).glossy("reflector", [0.9, 0.9, 0.9], 0.3)),
+        ("diffuse", spares(SceneBuilder::new(SIZE, SIZE)).diffuse("reflector", [0.8, 0.8, 0.8])),
+        ("mirror", spares(SceneBuilder::new(SIZE, SIZE)).mirror("reflector", [0.9, 0.9, 0.9])),
+        ("glossy", spares(SceneBuilder::new(SIZE, SIZE)).glossy("reflector", [0.9, 0.9, 0.9], 0.3)),
     ];
+    let features: Vec<Features> = reflectors
+        .iter()
+        .map(|(_, b)| Features::of(&SceneData::new(&with_the_check(floor_under_a_reflector(b.clone()))).unwrap()))
+        .collect();
+    assert!(features.iter().all(|f| *f == features[0]), "the three scenes' features differ: {features:?}");
     for (kind, builder) in reflectors {
-        let scene = floor_under_a_reflector(builder);
+        let scene = with_the_check(floor_under_a_reflector(builder));
         for method in METHODS {
             let two = render(&scene, method, 8);
             let one = render(&one_sided(scene.clone(), "reflector"), method, 8);
@@ -180,14 +218,16 @@ fn light_off_the_back_of_a_one_sided_reflector_is_absent() {
 /// normal, on the same side, leans towards +x: ns = normalize(1, 0, 0.5). Seen or lit from
 /// the +x side a direction is in front of ns, from the far -x side behind it, on either side of
 /// the floor's plane; so these scenes separate each one-sided check from the side tests the
-/// kernels make against the geometric normal.
+/// kernels make against the geometric normal. With [`with_the_check`]'s spare material.
 fn tilted_floor(builder: SceneBuilder) -> Scene {
-    let mut scene = settings(builder)
-        .diffuse("floor", [0.7, 0.7, 0.7])
-        .diffuse("black", [0.0, 0.0, 0.0])
-        .quad([-1.0, -1.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0], "floor")
-        .build()
-        .unwrap_or_else(|e| panic!("{e}"));
+    let mut scene = with_the_check(
+        settings(builder)
+            .diffuse("floor", [0.7, 0.7, 0.7])
+            .diffuse("black", [0.0, 0.0, 0.0])
+            .quad([-1.0, -1.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.0], "floor")
+            .build()
+            .unwrap_or_else(|e| panic!("{e}")),
+    );
     let ns = Vec3::new(1.0, 0.0, 0.5).normalize();
     let floor = scene.shapes.iter().position(|s| scene.materials[s.material as usize].name == "floor").unwrap() as u32;
     for t in scene.triangles.iter_mut().filter(|t| t.shape == floor) {
