@@ -138,22 +138,43 @@ pub fn validate(name: &str, source: &str) -> Result<(naga::Module, naga::valid::
     Ok((module, info))
 }
 
-/// Kernels made inside [`share_kernels`], by a hash of their name, source and constants.
+/// Kernels made inside [`share_kernels`], by a hash of their name, source and constants, and
+/// their validated sources and shader modules, by a hash of name and source alone (the
+/// variants of one source differ in their constants only).
 mod cache {
-    use super::Kernel;
+    use super::{Kernel, Source};
     use std::cell::RefCell;
 
     thread_local! {
         /// The kernels made so far in the [`share_kernels`](super::share_kernels) running on
         /// this thread, with their devices; `None` outside one.
         static KERNELS: RefCell<Option<Vec<(wgpu::Device, u64, Kernel)>>> = const { RefCell::new(None) };
+        /// The sources validated so far there, with their devices.
+        static SOURCES: RefCell<Option<Vec<(wgpu::Device, u64, Source)>>> = const { RefCell::new(None) };
     }
 
     pub(super) fn scope<T>(f: impl FnOnce() -> T) -> T {
         let outer = KERNELS.with(|k| k.replace(Some(Vec::new())));
+        let outer_sources = SOURCES.with(|s| s.replace(Some(Vec::new())));
         let value = f();
         KERNELS.with(|k| k.replace(outer));
+        SOURCES.with(|s| s.replace(outer_sources));
         value
+    }
+
+    pub(super) fn source(device: &wgpu::Device, key: u64) -> Option<Source> {
+        SOURCES.with(|s| {
+            let sources = s.borrow();
+            sources.as_ref()?.iter().find(|(d, h, _)| d == device && *h == key).map(|(_, _, source)| source.clone())
+        })
+    }
+
+    pub(super) fn put_source(device: &wgpu::Device, key: u64, source: &Source) {
+        SOURCES.with(|s| {
+            if let Some(sources) = s.borrow_mut().as_mut() {
+                sources.push((device.clone(), key, source.clone()));
+            }
+        });
     }
 
     pub(super) fn get(device: &wgpu::Device, key: u64) -> Option<Kernel> {
@@ -180,6 +201,25 @@ mod cache {
 /// instances may compare equal.
 pub fn share_kernels<T>(f: impl FnOnce() -> T) -> T {
     cache::scope(f)
+}
+
+/// A kernel's source, validated by naga (for the reflection of its bindings) and made a
+/// shader module, which pipelines of any constants share.
+#[derive(Clone)]
+struct Source {
+    module: std::sync::Arc<(naga::Module, naga::valid::ModuleInfo)>,
+    shader: wgpu::ShaderModule,
+}
+
+impl Source {
+    fn new(device: &wgpu::Device, name: &str, source: &str) -> Result<Self, GpuError> {
+        let module = std::sync::Arc::new(validate(name, source)?);
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(name),
+            source: wgpu::ShaderSource::Wgsl(source.to_owned().into()),
+        });
+        Ok(Self { module, shader })
+    }
 }
 
 /// A buffer handed to kernels under the name of its WGSL global.
@@ -235,24 +275,31 @@ impl Kernel {
         for (token, text) in replace {
             source = source.replace(token, text);
         }
-        let key = {
-            use std::hash::{Hash, Hasher};
-            let mut h = std::collections::hash_map::DefaultHasher::new();
-            (name, &source).hash(&mut h);
-            constants.iter().for_each(|(c, v)| (c, v.to_bits()).hash(&mut h));
-            h.finish()
-        };
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        (name, &source).hash(&mut h);
+        let source_key = h.finish();
+        constants.iter().for_each(|(c, v)| (c, v.to_bits()).hash(&mut h));
+        let key = h.finish();
         if let Some(kernel) = cache::get(device, key) {
             return Ok(kernel);
         }
-        let kernel = Self::compile(device, name, &source, constants)?;
+        let validated = match cache::source(device, source_key) {
+            Some(validated) => validated,
+            None => {
+                let validated = Source::new(device, name, &source)?;
+                cache::put_source(device, source_key, &validated);
+                validated
+            }
+        };
+        let kernel = Self::compile(device, name, &validated, constants)?;
         cache::put(device, key, &kernel);
         Ok(kernel)
     }
 
-    /// Validates and compiles `source` (kernel `name`, its replacements made).
-    fn compile(device: &wgpu::Device, name: &'static str, source: &str, constants: &[(&str, f64)]) -> Result<Self, GpuError> {
-        let (module, info) = validate(name, source)?;
+    /// Compiles the validated `source` of kernel `name` with `constants`.
+    fn compile(device: &wgpu::Device, name: &'static str, source: &Source, constants: &[(&str, f64)]) -> Result<Self, GpuError> {
+        let (module, info) = (&source.module.0, &source.module.1);
         let entry = module
             .entry_points
             .iter()
@@ -312,14 +359,10 @@ impl Kernel {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(name),
-            source: wgpu::ShaderSource::Wgsl(source.to_owned().into()),
-        });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some(name),
             layout: Some(&pipeline_layout),
-            module: &shader,
+            module: &source.shader,
             entry_point: Some(name),
             compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
             cache: None,

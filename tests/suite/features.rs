@@ -96,7 +96,8 @@ fn spot_lights_are_a_feature_of_their_own() {
 }
 
 /// Each tracing kernel with each feature off in turn, and with all off: the driver compiles
-/// every variant without an error.
+/// every variant without an error. The variants of a kernel share its validated source and
+/// shader module (`share_kernels`): only their constants differ.
 #[test]
 fn every_variant_compiles() {
     let Some(gpu) = common::gpu() else { return };
@@ -104,14 +105,16 @@ fn every_variant_compiles() {
     let mut variants: Vec<Vec<(&str, f64)>> =
         (0..all.len()).map(|i| all.iter().enumerate().map(|(j, &(n, v))| (n, if i == j { 0.0 } else { v })).collect()).collect();
     variants.push(all.iter().map(|&(n, _)| (n, 0.0)).collect());
-    for kernel in ["camera_pass", "photon_pass", "path_trace"] {
-        for constants in &variants {
-            Kernel::specialized(&gpu.device, kernel, &[], constants).unwrap_or_else(|e| panic!("{kernel}: {e}"));
+    sppm_gpu::gpu::share_kernels(|| {
+        for kernel in ["camera_pass", "photon_pass", "path_trace"] {
+            for constants in &variants {
+                Kernel::specialized(&gpu.device, kernel, &[], constants).unwrap_or_else(|e| panic!("{kernel}: {e}"));
+            }
         }
-    }
-    for constants in &variants {
-        common::test_kernel(&gpu, "trace_rays", &[], constants);
-    }
+        for constants in &variants {
+            common::test_kernel(&gpu, "trace_rays", &[], constants);
+        }
+    });
     let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
     gpu.check().unwrap();
 }
