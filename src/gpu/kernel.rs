@@ -144,13 +144,15 @@ pub fn validate(name: &str, source: &str) -> Result<(naga::Module, naga::valid::
 mod cache {
     use super::{Kernel, Source};
     use std::cell::RefCell;
+    use std::thread::LocalKey;
+
+    /// What a [`share_kernels`](super::share_kernels) running on this thread made so far,
+    /// with their devices and keys; `None` outside one.
+    type Store<T> = RefCell<Option<Vec<(wgpu::Device, u64, T)>>>;
 
     thread_local! {
-        /// The kernels made so far in the [`share_kernels`](super::share_kernels) running on
-        /// this thread, with their devices; `None` outside one.
-        static KERNELS: RefCell<Option<Vec<(wgpu::Device, u64, Kernel)>>> = const { RefCell::new(None) };
-        /// The sources validated so far there, with their devices.
-        static SOURCES: RefCell<Option<Vec<(wgpu::Device, u64, Source)>>> = const { RefCell::new(None) };
+        static KERNELS: Store<Kernel> = const { RefCell::new(None) };
+        static SOURCES: Store<Source> = const { RefCell::new(None) };
     }
 
     pub(super) fn scope<T>(f: impl FnOnce() -> T) -> T {
@@ -162,34 +164,32 @@ mod cache {
         value
     }
 
+    fn find<T: Clone + 'static>(store: &'static LocalKey<Store<T>>, device: &wgpu::Device, key: u64) -> Option<T> {
+        store.with(|s| s.borrow().as_ref()?.iter().find(|(d, h, _)| d == device && *h == key).map(|(_, _, t)| t.clone()))
+    }
+
+    fn keep<T: Clone + 'static>(store: &'static LocalKey<Store<T>>, device: &wgpu::Device, key: u64, value: &T) {
+        store.with(|s| {
+            if let Some(kept) = s.borrow_mut().as_mut() {
+                kept.push((device.clone(), key, value.clone()));
+            }
+        });
+    }
+
     pub(super) fn source(device: &wgpu::Device, key: u64) -> Option<Source> {
-        SOURCES.with(|s| {
-            let sources = s.borrow();
-            sources.as_ref()?.iter().find(|(d, h, _)| d == device && *h == key).map(|(_, _, source)| source.clone())
-        })
+        find(&SOURCES, device, key)
     }
 
     pub(super) fn put_source(device: &wgpu::Device, key: u64, source: &Source) {
-        SOURCES.with(|s| {
-            if let Some(sources) = s.borrow_mut().as_mut() {
-                sources.push((device.clone(), key, source.clone()));
-            }
-        });
+        keep(&SOURCES, device, key, source)
     }
 
     pub(super) fn get(device: &wgpu::Device, key: u64) -> Option<Kernel> {
-        KERNELS.with(|k| {
-            let kernels = k.borrow();
-            kernels.as_ref()?.iter().find(|(d, h, _)| d == device && *h == key).map(|(_, _, kernel)| kernel.clone())
-        })
+        find(&KERNELS, device, key)
     }
 
     pub(super) fn put(device: &wgpu::Device, key: u64, kernel: &Kernel) {
-        KERNELS.with(|k| {
-            if let Some(kernels) = k.borrow_mut().as_mut() {
-                kernels.push((device.clone(), key, kernel.clone()));
-            }
-        });
+        keep(&KERNELS, device, key, kernel)
     }
 }
 

@@ -161,9 +161,7 @@ fn vcm_merges_only_at_diffuse_surfaces() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("sppm-merge-diffuse-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::fresh_dir("merge-diffuse");
     let text = std::fs::read_to_string(common::scene_path("cornell-glossy.toml")).unwrap();
     // The walls glossy; the light's black material stays diffuse (it reflects nothing), so
     // that both scenes have the same features and share their kernels.
@@ -229,9 +227,7 @@ fn strategy_images_add_up_to_the_image() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("sppm-strategies-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::fresh_dir("strategies");
     let out = dir.join("v.exr");
     let run = |method: &str| {
         std::process::Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
