@@ -19,10 +19,7 @@ const MESH: &str = "type = \"mesh\"\nmaterial = \"white\"\nfile = \"m.obj\"\n";
 /// A fresh directory under the system's temporary directory, unique to this process and
 /// `name`.
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sppm-bad-input-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::common::fresh_dir(&format!("bad-input-{name}"))
 }
 
 /// Writes `scene.toml` holding `text` and the `files` beside it into a fresh directory.

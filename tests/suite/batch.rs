@@ -21,10 +21,7 @@ const RELATIVE: f32 = 1e-5;
 const ABSOLUTE: f32 = 1e-6;
 
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sppm-gpu-batch-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::common::fresh_dir(&format!("gpu-batch-{name}"))
 }
 
 fn global(name: &str, size: u32, photons: u32) -> Scene {

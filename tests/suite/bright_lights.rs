@@ -60,10 +60,7 @@ impl Kind {
 
 /// A fresh directory for one case's files.
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sppm-bright-lights-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::common::fresh_dir(&format!("bright-lights-{name}"))
 }
 
 /// An environment map of 16x8 texels in (0, 1], the brightest exactly 1, times `v`.

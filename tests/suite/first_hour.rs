@@ -9,10 +9,7 @@ use std::process::Command;
 
 /// A fresh directory for one test.
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sppm-first-hour-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::common::fresh_dir(&format!("first-hour-{name}"))
 }
 
 /// Runs the binary with `args` in `dir`: exit code, stdout and stderr.

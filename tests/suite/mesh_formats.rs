@@ -295,10 +295,7 @@ fn serialized(meshes: &[(&TestMesh, SerialStyle)], version: u16) -> Vec<u8> {
 
 /// A fresh directory under the system's temporary directory.
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sppm-mesh-formats-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::common::fresh_dir(&format!("mesh-formats-{name}"))
 }
 
 /// The line of the mesh shape's `file` key in [`mesh_scene`].

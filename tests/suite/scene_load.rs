@@ -49,10 +49,7 @@ fn assert_message(error: &SceneError, words: &[&str]) {
 
 /// A fresh directory under the system's temporary directory.
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sppm-scene-load-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::common::fresh_dir(&format!("scene-load-{name}"))
 }
 
 /// Loads `text` as `dir/scene.toml`, so that its file names resolve against `dir`.
