@@ -6,7 +6,8 @@
 // next-event estimation (s = 1), a connection between the subpaths' ends (1 < s < k), light
 // tracing (the light subpath joined to the camera), and merging a light vertex with a camera
 // vertex within the radius. Each strategy's weight is its density over the sum of all the
-// strategies' densities (the balance heuristic); the recursive quantities carry, along each
+// strategies' densities (the balance heuristic; vcm takes their squares, the power heuristic:
+// `mis` below); the recursive quantities carry, along each
 // subpath, the sums over the strategies that split it on that side, so that a weight costs
 // a few multiplications at the vertex where the strategy is evaluated.
 //
@@ -14,9 +15,15 @@
 // subpath was extended in, `rev` of the opposite one (the other subpath sampling it). eta_vcm =
 // pi r^2 n_light (n_light light subpaths a pass): merging's density relative to connection's.
 
-// The balance heuristic's power of a density (Veach 1997 eq. 9.10: power 1).
+// The heuristic's power of a density: the balance heuristic (Veach 1997 eq. 9.10, power 1)
+// for bpt, the power heuristic with exponent 2 (eq. 9.13) for vcm (src/integrators/light.rs
+// sets it), where it lowered the error at equal passes by 8-21% on the canonical scenes and
+// veach-bidir and left bpt's within 6% either way (BENCHMARKS.md "VCM"). Every density and
+// count of the recursion and the weights goes through it.
+override MIS_POWER: bool = false;
+
 fn mis(x: f32) -> f32 {
-    return x;
+    return select(x, x * x, MIS_POWER);
 }
 
 // What the weights of a subpath's strategies need, carried along it.

@@ -11,7 +11,8 @@
 //! weighted by the balance heuristic (`shaders/shared/vcm.wgsl`, SmallVCM's recursive form).
 //! Vertex connection and merging (`method = "vcm"`) adds merging: the light vertices are also
 //! points of the pass's radius, listed in a hashed grid by SPPM's grid kernels, and each camera
-//! vertex merges with those within the radius, weighted with the other strategies.
+//! vertex merges with those within the radius, weighted with the other strategies by the power
+//! heuristic.
 
 use super::pixel_sums::{PixelSums, Progress, PIXEL_BYTES};
 use super::{Integrator, Part, PartSize, Work};
@@ -187,6 +188,9 @@ impl LightTracer {
         let mut spec = super::specialization(scene, data);
         spec.constants.push(("BIDIR", if bidir { 1.0 } else { 0.0 }));
         spec.constants.push(("VCM_MERGE", if merge { 1.0 } else { 0.0 }));
+        // vcm weighs its strategies by the power heuristic, bpt by the balance heuristic
+        // (shaders/shared/vcm.wgsl's `mis`).
+        spec.constants.push(("MIS_POWER", if merge { 1.0 } else { 0.0 }));
         let light_trace = spec.kernel(device, "light_trace")?;
         let splat_accumulate = Kernel::new(device, "splat_accumulate")?;
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

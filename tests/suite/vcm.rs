@@ -2,7 +2,8 @@
 //! vertices, the weights of every strategy that can make a path, computed from the recursive
 //! quantities (dVCM, dVC, dVM) as the kernels compute them, sum to 1 (`tests/shaders/mis_test.wgsl`),
 //! with connections alone (bidirectional path tracing) and with merging too (VCM), merging at
-//! every interior vertex or only at some (vcm merges only at diffuse materials).
+//! every interior vertex or only at some (vcm merges only at diffuse materials), under the
+//! balance heuristic and the power heuristic.
 
 use crate::common::{self, Rng};
 use glam::Vec3;
@@ -97,7 +98,6 @@ fn mis_weights_of_every_strategy_sum_to_one() {
         a_pix: 4.0 * 0.4 * 0.4 / 65536.0,
         _pad: [0; 2],
     };
-    let kernel = common::test_kernel(&gpu, "mis_test", &[], &[]);
     let uniform = gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("params"),
         contents: bytemuck::bytes_of(&params),
@@ -110,20 +110,25 @@ fn mis_weights_of_every_strategy_sum_to_one() {
         Resource { name: "paths", buffer: &path_buffer },
         Resource { name: "sums", buffer: &sums },
     ];
-    let group = kernel.bind_group(&gpu.device, &resources).unwrap_or_else(|e| panic!("{e}"));
-    let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-    kernel.dispatch(&mut encoder, &group, count as u32);
-    gpu.queue.submit([encoder.finish()]);
-    let staging = staging_buffer(&gpu.device, "sums_staging", sums.size());
-    let out: Vec<[f32; 4]> = read_buffer(&gpu.device, &gpu.queue, &sums, &staging, sums.size()).unwrap();
+    // The balance heuristic (bpt's) and the power heuristic (vcm's): the sums must be 1 under
+    // either, each density and count squared alike.
     let mut worst = (0.0f32, 0.0f32);
-    for (i, ((s, k), merges)) in out.iter().zip(&lengths).zip(&merging).enumerate() {
-        // Strategies: emission, NEE, k - 2 connections, light tracing; and a merge at each
-        // interior vertex that merges.
-        assert_eq!((s[2], s[3]), ((k + 1) as f32, (k + 1 + merges) as f32), "path {i}: strategies counted");
-        assert!((s[0] - 1.0).abs() < 1e-4, "path {i} of {k} segments: BPT's weights sum to {}", s[0]);
-        assert!((s[1] - 1.0).abs() < 1e-4, "path {i} of {k} segments: VCM's weights sum to {}", s[1]);
-        worst = (worst.0.max((s[0] - 1.0).abs()), worst.1.max((s[1] - 1.0).abs()));
+    for power in [false, true] {
+        let kernel = common::test_kernel(&gpu, "mis_test", &[], &[("MIS_POWER", if power { 1.0 } else { 0.0 })]);
+        let group = kernel.bind_group(&gpu.device, &resources).unwrap_or_else(|e| panic!("{e}"));
+        let mut encoder = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        kernel.dispatch(&mut encoder, &group, count as u32);
+        gpu.queue.submit([encoder.finish()]);
+        let staging = staging_buffer(&gpu.device, "sums_staging", sums.size());
+        let out: Vec<[f32; 4]> = read_buffer(&gpu.device, &gpu.queue, &sums, &staging, sums.size()).unwrap();
+        for (i, ((s, k), merges)) in out.iter().zip(&lengths).zip(&merging).enumerate() {
+            // Strategies: emission, NEE, k - 2 connections, light tracing; and a merge at each
+            // interior vertex that merges.
+            assert_eq!((s[2], s[3]), ((k + 1) as f32, (k + 1 + merges) as f32), "path {i}: strategies counted");
+            assert!((s[0] - 1.0).abs() < 1e-4, "path {i} of {k} segments, power {power}: BPT's weights sum to {}", s[0]);
+            assert!((s[1] - 1.0).abs() < 1e-4, "path {i} of {k} segments, power {power}: VCM's weights sum to {}", s[1]);
+            worst = (worst.0.max((s[0] - 1.0).abs()), worst.1.max((s[1] - 1.0).abs()));
+        }
     }
     eprintln!("{count} paths: largest deviation from 1, BPT {:.2e}, VCM {:.2e}", worst.0, worst.1);
 }
