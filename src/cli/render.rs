@@ -393,14 +393,18 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         written.push(format!("{} (passes {first_pass}..{})", partial.display(), integrator.passes()));
     }
     if !strategy_outputs.is_empty() && interrupt.received().is_none() {
-        for (strategy, path) in &strategy_outputs {
-            let share = strategy_image(&gpu, &scene, *strategy, integrator.passes())?;
-            if path.exists() {
-                eprintln!("note: replacing {}", path.display());
+        // One strategy's renderer after another, the same kernels: made once.
+        sppm_gpu::gpu::share_kernels(|| -> Result<(), Error> {
+            for (strategy, path) in &strategy_outputs {
+                let share = strategy_image(&gpu, &scene, *strategy, integrator.passes())?;
+                if path.exists() {
+                    eprintln!("note: replacing {}", path.display());
+                }
+                image_io::write_image(path, &share)?;
+                written.push(path.display().to_string());
             }
-            image_io::write_image(path, &share)?;
-            written.push(path.display().to_string());
-        }
+            Ok(())
+        })?;
     }
     let work = (integrator.passes() - first_pass) as u64 * integrator.work_per_pass();
     let ended = match (interrupt.received(), r.time_limit) {
