@@ -31,9 +31,6 @@ const CAMERA_PATH_SHARED_STREAMS: u32 = 2u;
 // medium scattering event, the visible point; with NEE one segment further, which only gathers
 // the emission the BSDF or phase sample hits, the other half of MIS there (SPPM).
 const CAMERA_PATH_VISIBLE_POINT: u32 = 4u;
-// The last segment, which only gathers emission, goes on through null boundaries of media, as
-// NEE's shadow rays do (shadow_transmittance) (SPPM).
-const CAMERA_PATH_LAST_THROUGH_NULL: u32 = 8u;
 
 // The camera subpath of the bidirectional methods (bpt): emission hit and next-event
 // estimation weighted by the balance heuristic over the whole family (shared/bidir.wgsl), and
@@ -42,8 +39,11 @@ const CAMERA_PATH_LAST_THROUGH_NULL: u32 = 8u;
 // bidirectional kernel imports). Ask with nee, without media.
 const CAMERA_PATH_BIDIR: u32 = 16u;
 
+// Null boundaries a camera path crosses at most (see trace_camera_path).
+const MAX_PATH_NULL_CROSSINGS: u32 = 64u;
+
 const CAMERA_PATH_PT: u32 = CAMERA_PATH_ROULETTE | CAMERA_PATH_SHARED_STREAMS;
-const CAMERA_PATH_SPPM: u32 = CAMERA_PATH_VISIBLE_POINT | CAMERA_PATH_LAST_THROUGH_NULL;
+const CAMERA_PATH_SPPM: u32 = CAMERA_PATH_VISIBLE_POINT;
 
 // What one camera path found: the light l it gathered along the way, and with
 // CAMERA_PATH_VISIBLE_POINT the visible point vp where it ended (when `found`; the radius is
@@ -75,7 +75,6 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
     let use_roulette = (flags & CAMERA_PATH_ROULETTE) != 0u;
     let shared_streams = (flags & CAMERA_PATH_SHARED_STREAMS) != 0u;
     let visible_point = (flags & CAMERA_PATH_VISIBLE_POINT) != 0u;
-    let last_through_null = (flags & CAMERA_PATH_LAST_THROUGH_NULL) != 0u;
     let bidir = (flags & CAMERA_PATH_BIDIR) != 0u;
     var path = CameraPath(vec3f(0.0), VisiblePoint(vec3f(0.0), 0.0, vec3f(0.0), 0u), false);
     var o = ray.o;
@@ -99,10 +98,14 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
     if bidir {
         cm = bidir_camera_start(d);
     }
-    // A path has at most max_depth scattering events, so max_depth + 1 segments; with
-    // CAMERA_PATH_LAST_THROUGH_NULL the last one may cross null boundaries past that (the last
-    // segment ends in a break or such a crossing).
-    for (var depth = 0u; depth <= frame.max_depth || last_through_null; depth++) {
+    // A path has at most max_depth scattering events, so max_depth + 1 segments. A null
+    // boundary of a medium is no scattering event (Mitsuba 3's volpath, pbrt-v4's `interface`,
+    // the photons of photon_pass.wgsl): a segment goes on through it, the last one too, as NEE's
+    // shadow rays do (shadow_transmittance), and `depth` stays. At most MAX_PATH_NULL_CROSSINGS of
+    // them (a ray held by rounding between two coincident boundaries would not end).
+    var depth = 0u;
+    var crossings = 0u;
+    loop {
         // The last segment only gathers the emission it meets, as a path tracer's last
         // segment does: after the max_depth-th scattering event, or past the visible point.
         let last = depth >= frame.max_depth || past_vp;
@@ -142,6 +145,7 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
                 if use_roulette && depth >= 3u && !roulette(&beta, eta_scale, rng) {
                     break;
                 }
+                depth += 1u;
                 continue;
             }
         }
@@ -169,7 +173,8 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         if last {
             // Emission behind a null boundary of a medium, which NEE reached too: the segment
             // goes on through it.
-            if last_through_null && USES_MEDIA && is_null(material_at(s)) {
+            if USES_MEDIA && is_null(material_at(s)) && crossings < MAX_PATH_NULL_CROSSINGS {
+                crossings += 1u;
                 medium = medium_after(medium, s, d, d);
                 o = offset_origin(s.p, s.ng, d);
                 continue;
@@ -245,9 +250,17 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         if !crossed_null {
             mis_o = o;
         }
+        if crossed_null {
+            crossings += 1u;
+            if crossings > MAX_PATH_NULL_CROSSINGS {
+                break;
+            }
+            continue;
+        }
         if use_roulette && depth >= 3u && !roulette(&beta, eta_scale, rng) {
             break;
         }
+        depth += 1u;
     }
     return path;
 }
