@@ -239,24 +239,20 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         if use_roulette {
             eta_scale *= refraction_eta2(m, s, d, next.wi);
         }
-        // A null boundary of a medium leaves the MIS density and origin as they were.
-        let crossed_null = USES_MEDIA && is_null(m);
-        if !crossed_null {
-            pdf_prev = next.pdf;
-        }
         medium = medium_after(medium, s, d, next.wi);
         d = next.wi;
         o = offset_origin(s.p, s.ng, d);
-        if !crossed_null {
-            mis_o = o;
-        }
-        if crossed_null {
+        // A null boundary of a medium is no scattering event: the depth, the MIS density and
+        // its origin stay as they were.
+        if USES_MEDIA && is_null(m) {
             crossings += 1u;
             if crossings > MAX_PATH_NULL_CROSSINGS {
                 break;
             }
             continue;
         }
+        pdf_prev = next.pdf;
+        mis_o = o;
         if use_roulette && depth >= 3u && !roulette(&beta, eta_scale, rng) {
             break;
         }

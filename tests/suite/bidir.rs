@@ -186,7 +186,7 @@ fn vcm_merges_only_at_diffuse_surfaces() {
         assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
         let mean = |strategy: &str| {
             let image = sppm_gpu::image_io::read_image(&dir.join(format!("{name}-{strategy}.exr"))).unwrap();
-            image.pixels.iter().flatten().map(|&v| v as f64).sum::<f64>() / (3 * image.pixels.len()) as f64
+            image.mean().iter().sum::<f64>() / 3.0
         };
         assert!(mean("connect") > 0.0, "{name}: connections carry no light");
         mean("merge")

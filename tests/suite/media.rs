@@ -230,14 +230,8 @@ fn null_boundaries_are_not_bounces() {
     }
     // The pixels whose rays cross the sphere: the central 12 x 12 (it spans about 19).
     let centre_mean = |img: &Rgb32Image| {
-        let (w, h) = (img.width as usize, img.height as usize);
-        let mut sum = 0.0f64;
-        for y in h / 2 - 6..h / 2 + 6 {
-            for x in w / 2 - 6..w / 2 + 6 {
-                sum += img.pixels[y * w + x].iter().map(|&v| v as f64).sum::<f64>();
-            }
-        }
-        sum / (3.0 * 144.0)
+        let (x0, y0) = (img.width / 2 - 6, img.height / 2 - 6);
+        Rgb32Image::from_fn(12, 12, |x, y| img.get(x0 + x, y0 + y)).mean().iter().sum::<f64>() / 3.0
     };
     // pt shares the loop (shared/camera_path.wgsl), with noise a tight bound would not take.
     for (method, passes) in [(Method::PtNee, 128), (Method::Sppm, 64)] {
