@@ -64,7 +64,7 @@ fail() {
 display=""
 for n in $(seq 91 199); do
     if [ -e "/tmp/.X11-unix/X$n" ] || [ -e "/tmp/.X$n-lock" ]; then continue; fi
-    Xvfb ":$n" -screen 0 "${SPPM_XVFB_SCREEN:-2560x1600x24}" -nolisten tcp 2>"$work/xvfb.log" &
+    Xvfb ":$n" -screen 0 "${SPPM_XVFB_SCREEN:-2560x1600x24}" -nolisten tcp -noreset 2>"$work/xvfb.log" &
     xvfb_pid=$!
     for _ in $(seq 100); do
         if [ -e "/tmp/.X11-unix/X$n" ]; then display=":$n"; break 2; fi

@@ -100,10 +100,13 @@ impl Xvfb {
             }
             // -displayfd: Xvfb writes the display's number to its stdout once it accepts
             // connections (its socket appears earlier, before it is ready to serve them); an
-            // early end of that stream means another server took :n.
+            // early end of that stream means another server took :n. -noreset: by default the
+            // server resets when its last client leaves, and refuses connections meanwhile; an
+            // `xdotool search` that came and went before the view connected then made the
+            // view's XOpenDisplay fail (CI, under load).
             let mut child = Command::new("Xvfb")
                 .arg(format!(":{n}"))
-                .args(["-screen", "0", "800x600x24", "-nolisten", "tcp", "-displayfd", "1"])
+                .args(["-screen", "0", "800x600x24", "-nolisten", "tcp", "-noreset", "-displayfd", "1"])
                 .stdout(Stdio::piped())
                 .stderr(std::fs::File::create(log).unwrap())
                 .spawn()
