@@ -17,6 +17,8 @@ impl fmt::Display for GpuError {
 impl std::error::Error for GpuError {}
 
 /// A device and queue owned by the renderer (the embedding API takes the caller's instead).
+/// A clone shares the device, its queue and its first error.
+#[derive(Clone)]
 pub struct GpuContext {
     /// The device, created with [`required_limits`] and, where the adapter has them, the
     /// optional features of [`DeviceCaps::wanted`].

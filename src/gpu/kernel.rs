@@ -140,19 +140,97 @@ pub fn validate(name: &str, source: &str) -> Result<(naga::Module, naga::valid::
 
 /// Kernels made inside [`share_kernels`], by a hash of their name, source and constants, and
 /// their validated sources and shader modules, by a hash of name and source alone (the
-/// variants of one source differ in their constants only).
+/// variants of one source differ in their constants only); and those of the device given to
+/// [`keep_kernels_in_process`], for the rest of the process.
 mod cache {
     use super::{Kernel, Source};
     use std::cell::RefCell;
+    use std::collections::VecDeque;
+    use std::sync::Mutex;
     use std::thread::LocalKey;
+
+    /// A live device's identity: the address of its HAL device. wgpu's own `==` on devices
+    /// compares ids that each instance counts from the same start, so a device of one instance
+    /// equals one of another; the address is unique among the devices alive, and a kept device
+    /// (each store holds a clone) stays alive. `None` on a backend not looked up here.
+    fn identity(device: &wgpu::Device) -> Option<usize> {
+        // SAFETY: only the HAL device's address is read; the device is not used through it.
+        #[cfg(any(windows, all(unix, not(target_vendor = "apple"))))]
+        if let Some(hal) = unsafe { device.as_hal::<wgpu::hal::api::Vulkan>() } {
+            return Some(&*hal as *const _ as usize);
+        }
+        #[cfg(target_vendor = "apple")]
+        if let Some(hal) = unsafe { device.as_hal::<wgpu::hal::api::Metal>() } {
+            return Some(&*hal as *const _ as usize);
+        }
+        #[cfg(windows)]
+        if let Some(hal) = unsafe { device.as_hal::<wgpu::hal::api::Dx12>() } {
+            return Some(&*hal as *const _ as usize);
+        }
+        let _ = device;
+        None
+    }
+
+    /// Whether `kept` (a device of a store) is `device`: by identity where both have one,
+    /// else by wgpu's `==`.
+    fn same(kept: &(wgpu::Device, Option<usize>), device: &wgpu::Device, id: Option<usize>) -> bool {
+        match (kept.1, id) {
+            (Some(a), Some(b)) => a == b,
+            _ => kept.0 == *device,
+        }
+    }
+
+    type Device = (wgpu::Device, Option<usize>);
 
     /// What a [`share_kernels`](super::share_kernels) running on this thread made so far,
     /// with their devices and keys; `None` outside one.
-    type Store<T> = RefCell<Option<Vec<(wgpu::Device, u64, T)>>>;
+    type Store<T> = RefCell<Option<Vec<(Device, u64, T)>>>;
 
     thread_local! {
         static KERNELS: Store<Kernel> = const { RefCell::new(None) };
         static SOURCES: Store<Source> = const { RefCell::new(None) };
+    }
+
+    /// The device of [`keep_kernels_in_process`](super::keep_kernels_in_process) and the
+    /// newest [`PROCESS_KEPT`] of its kernels and sources.
+    struct Process {
+        device: wgpu::Device,
+        identity: usize,
+        kernels: VecDeque<(u64, Kernel)>,
+        sources: VecDeque<(u64, Source)>,
+    }
+
+    static PROCESS: Mutex<Option<Process>> = Mutex::new(None);
+
+    /// Enough for the kernels of a few dozen scenes, few enough that a process that renders
+    /// many holds a bounded set of pipelines.
+    const PROCESS_KEPT: usize = 256;
+
+    pub(super) fn keep_in_process(device: &wgpu::Device) -> bool {
+        let Some(identity) = identity(device) else { return false };
+        let mut process = PROCESS.lock().unwrap_or_else(|p| p.into_inner());
+        if process.as_ref().is_none_or(|p| p.identity != identity) {
+            *process = Some(Process { device: device.clone(), identity, kernels: VecDeque::new(), sources: VecDeque::new() });
+        }
+        true
+    }
+
+    /// Runs `f` on the process store when `device` is its device.
+    fn with_process<R>(device: &wgpu::Device, id: Option<usize>, f: impl FnOnce(&mut Process) -> R) -> Option<R> {
+        let mut process = PROCESS.lock().unwrap_or_else(|p| p.into_inner());
+        let process = process.as_mut().filter(|p| id == Some(p.identity) && p.device == *device)?;
+        Some(f(process))
+    }
+
+    fn newest<T: Clone>(kept: &mut VecDeque<(u64, T)>, key: u64, value: &T) {
+        if kept.len() == PROCESS_KEPT {
+            kept.pop_front();
+        }
+        kept.push_back((key, value.clone()));
+    }
+
+    fn find_key<T: Clone>(kept: &VecDeque<(u64, T)>, key: u64) -> Option<T> {
+        kept.iter().find(|(k, _)| *k == key).map(|(_, t)| t.clone())
     }
 
     pub(super) fn scope<T>(f: impl FnOnce() -> T) -> T {
@@ -164,32 +242,49 @@ mod cache {
         value
     }
 
-    fn find<T: Clone + 'static>(store: &'static LocalKey<Store<T>>, device: &wgpu::Device, key: u64) -> Option<T> {
-        store.with(|s| s.borrow().as_ref()?.iter().find(|(d, h, _)| d == device && *h == key).map(|(_, _, t)| t.clone()))
+    fn find<T: Clone + 'static>(
+        store: &'static LocalKey<Store<T>>,
+        device: &wgpu::Device,
+        id: Option<usize>,
+        key: u64,
+    ) -> Option<T> {
+        store.with(|s| s.borrow().as_ref()?.iter().find(|(d, h, _)| *h == key && same(d, device, id)).map(|(_, _, t)| t.clone()))
     }
 
-    fn keep<T: Clone + 'static>(store: &'static LocalKey<Store<T>>, device: &wgpu::Device, key: u64, value: &T) {
+    fn keep<T: Clone + 'static>(
+        store: &'static LocalKey<Store<T>>,
+        device: &wgpu::Device,
+        id: Option<usize>,
+        key: u64,
+        value: &T,
+    ) {
         store.with(|s| {
             if let Some(kept) = s.borrow_mut().as_mut() {
-                kept.push((device.clone(), key, value.clone()));
+                kept.push(((device.clone(), id), key, value.clone()));
             }
         });
     }
 
     pub(super) fn source(device: &wgpu::Device, key: u64) -> Option<Source> {
-        find(&SOURCES, device, key)
+        let id = identity(device);
+        find(&SOURCES, device, id, key).or_else(|| with_process(device, id, |p| find_key(&p.sources, key)).flatten())
     }
 
     pub(super) fn put_source(device: &wgpu::Device, key: u64, source: &Source) {
-        keep(&SOURCES, device, key, source)
+        let id = identity(device);
+        keep(&SOURCES, device, id, key, source);
+        with_process(device, id, |p| newest(&mut p.sources, key, source));
     }
 
     pub(super) fn get(device: &wgpu::Device, key: u64) -> Option<Kernel> {
-        find(&KERNELS, device, key)
+        let id = identity(device);
+        find(&KERNELS, device, id, key).or_else(|| with_process(device, id, |p| find_key(&p.kernels, key)).flatten())
     }
 
     pub(super) fn put(device: &wgpu::Device, key: u64, kernel: &Kernel) {
-        keep(&KERNELS, device, key, kernel)
+        let id = identity(device);
+        keep(&KERNELS, device, id, key, kernel);
+        with_process(device, id, |p| newest(&mut p.kernels, key, kernel));
     }
 }
 
@@ -197,10 +292,19 @@ mod cache {
 /// is made once: a render's warm-up and the render then share pipelines
 /// (`integrators::warm_up`), so neither naga nor the driver compiles them again (lavapipe
 /// compiles a pipeline at its first dispatch and keeps the code in the pipeline object). The
-/// kernels are let go when `f` returns. Only within one device's use: devices of two wgpu
-/// instances may compare equal.
+/// kernels are let go when `f` returns.
 pub fn share_kernels<T>(f: impl FnOnce() -> T) -> T {
     cache::scope(f)
+}
+
+/// Keeps the kernels made on `device` from now on for the rest of the process (the newest few
+/// hundred), on every thread and outside [`share_kernels`] too: a kernel made again on that
+/// device is found rather than compiled. For a process that renders many scenes on one device,
+/// as the test suite does (its tests share one; tests/suite/common's `gpu`). A later call with
+/// another device lets the first one's kernels go. Returns false, keeping nothing, where the
+/// device's identity cannot be read (a backend other than Vulkan, Metal and DX12).
+pub fn keep_kernels_in_process(device: &wgpu::Device) -> bool {
+    cache::keep_in_process(device)
 }
 
 /// A kernel's source, validated by naga (for the reflection of its bindings) and made a

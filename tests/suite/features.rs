@@ -119,6 +119,28 @@ fn every_variant_compiles() {
     gpu.check().unwrap();
 }
 
+/// The suite's shared device keeps its kernels for the process (`keep_kernels_in_process`);
+/// a device of another wgpu instance, whose id may equal the shared one's (wgpu counts ids per
+/// instance), is not handed them: the same kernel runs on both and traces the same hits.
+#[test]
+fn a_device_of_another_instance_makes_its_own_kernels() {
+    let (Some(shared), Some(own)) = (common::gpu(), common::own_gpu()) else { return };
+    let data = SceneData::new(&common::load_scene("cornell-box.toml")).unwrap();
+    let rays: Vec<[f32; 4]> = (0..256)
+        .flat_map(|i| {
+            let t = i as f32 / 256.0;
+            [[0.0, 1.0, 3.0, 1.0e30], [t - 0.5, 0.3 - t, -1.0, 0.0]]
+        })
+        .collect();
+    let constants = Features::ALL.constants();
+    let on_shared = common::trace_rays(&shared, &data, &rays, &constants);
+    let on_own = common::trace_rays(&own, &data, &rays, &constants);
+    own.check().unwrap();
+    shared.check().unwrap();
+    assert!(on_shared.iter().filter(|h| h[1].to_bits() != u32::MAX).count() > 128, "the rays hit the box");
+    assert!(on_shared.iter().zip(&on_own).all(|(a, b)| a.map(f32::to_bits) == b.map(f32::to_bits)));
+}
+
 /// A scene of only spheres and one of only triangles (each lit by one of its primitives):
 /// the traversal specialized for each finds the same hits as the general one, bit for bit.
 #[test]

@@ -14,9 +14,25 @@ use sppm_gpu::metrics::{count_negative, count_non_finite};
 use sppm_gpu::scene::Scene;
 use std::path::PathBuf;
 
-/// A device for a GPU test. Without one the test is skipped with a message, except under CI
-/// (`CI=true`), where a missing adapter fails the test.
+/// The device of the GPU tests: one for the whole test process, its kernels kept for it
+/// (`keep_kernels_in_process`), so that a kernel an earlier test made is not compiled again
+/// (a third of a test's time was making kernels, much of it the same ones: BENCHMARKS.md
+/// "Tests and CI"). Without an adapter the test is skipped with a message, except under CI
+/// (`CI=true`), where a missing adapter fails the test. A test whose device must fail, or
+/// must be alone, takes [`own_gpu`].
 pub fn gpu() -> Option<GpuContext> {
+    static SHARED: std::sync::OnceLock<Option<GpuContext>> = std::sync::OnceLock::new();
+    SHARED
+        .get_or_init(|| {
+            let gpu = own_gpu()?;
+            sppm_gpu::gpu::keep_kernels_in_process(&gpu.device);
+            Some(gpu)
+        })
+        .clone()
+}
+
+/// A device of the test's own (see [`gpu`]).
+pub fn own_gpu() -> Option<GpuContext> {
     match GpuContext::new() {
         Ok(ctx) => Some(ctx),
         Err(e) => {
