@@ -30,6 +30,7 @@ fn bidir_camera(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
     var rng = rng_new(frame.seed, frame.pass_index, STREAM_BIDIR_CAMERA, index);
     rng_sobol(&rng, frame.pass_index, sobol_seed(frame.seed, STREAM_BIDIR_CAMERA, index));
     bidir_light_path = index % max(frame.photon_count, 1u);
+    bidir_block = index / 64u;
     let ray = camera_ray(pixel % frame.width, pixel / frame.width, &rng);
     let l = trace_camera_path(ray, CAMERA_PATH_BIDIR | CAMERA_PATH_ROULETTE, true, &rng).l;
     let ok = all(l == l) && all(abs(l) < vec3f(3.0e38));

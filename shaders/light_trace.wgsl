@@ -145,7 +145,8 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
                     // The camera's density of this vertex: its direction's, per pixel area
                     // (bidir.wgsl's camera_pdf_w), in area measure here.
                     let camera_pdf_a = view.importance * abs(dot(wo, s.ns));
-                    c *= mis_weight_to_camera(lm, camera_pdf_a, b.pdf, f32(frame.photon_count), vcm_merges_at(m), bidir_factors()) * kept(STRATEGY_LIGHT_TRACE);
+                    c *= mis_weight_to_camera(lm, camera_pdf_a, b.pdf, f32(frame.photon_count), vcm_merges_at(m), depth == 0u,
+                        bidir_factors()) * kept(STRATEGY_LIGHT_TRACE);
                 }
                 connect_to_camera(offset_origin(s.p, s.ng, wo), view, c);
             }
@@ -167,7 +168,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             if !specular {
                 pdf_rev = bsdf_eval(s, m, m.albedo, next.wi, -d).pdf;
             }
-            lm = mis_scatter(lm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, vcm_merges_at(m), bidir_factors());
+            lm = mis_scatter(lm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, vcm_merges_at(m), depth == 0u, bidir_factors());
         }
         // Russian roulette that keeps the subpath's largest channel constant.
         let beta_new = beta * next.weight;

@@ -82,6 +82,14 @@ impl Fingerprint {
             r.filter,
             r.sampler
         );
+        // The shares joined the settings later: written only where they are not the default,
+        // so that a checkpoint written before resumes.
+        let mut settings = settings;
+        for (key, share) in [("connect_share", r.connect_share), ("merge_share", r.merge_share)] {
+            if share != 1.0 {
+                settings.push_str(&format!("{key} = {share:?}\n"));
+            }
+        }
         let mut geometry = Fnv::new();
         for t in &scene.triangles {
             geometry.write_f32s(t.p.iter().flat_map(|p| p.to_array()));

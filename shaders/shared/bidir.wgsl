@@ -5,6 +5,7 @@
 // CAMERA_PATH_BIDIR; the connections to light vertices are bidir_connect.wgsl's.
 
 #import types
+#import rng
 #import sampling
 #import scene
 #import bsdf
@@ -16,6 +17,26 @@
 // vcm (src/integrators/light.rs sets it): camera subpaths also merge with the light vertices
 // within the pass's radius frame.global_radius (Georgiev et al. 2012; Hachisuka et al. 2012).
 override VCM_MERGE: bool = false;
+
+// The shares of camera vertices that connect to light vertices and that merge (src/integrators/
+// light.rs sets them; 1: every one), drawn per 64-pixel block, depth and pass so that a
+// workgroup's lanes agree; a join taken is divided by its share, and the share is the
+// strategy's count in the heuristic (MisFactors).
+override VCM_CONNECT_SHARE: f32 = 1.0;
+override VCM_MERGE_SHARE: f32 = 1.0;
+
+// The 64-pixel block of the camera subpath being traced (bidir_camera.wgsl sets it).
+var<private> bidir_block: u32;
+
+// Whether the camera vertex at `depth` takes the join of the given share (0: connect, 1:
+// merge), drawn for the block.
+fn bidir_takes(share: f32, which: u32, depth: u32) -> bool {
+    if share >= 1.0 {
+        return true;
+    }
+    let h = pcg_hash(frame.seed ^ pcg_hash(frame.pass_index ^ pcg_hash(bidir_block ^ pcg_hash(depth * 2u + which))));
+    return f32(h >> 8u) * (1.0 / 16777216.0) < share;
+}
 
 // The strategies whose weighted contributions a pass keeps (frame.strategies: all but for
 // `--strategy-images`): each is still weighed against every strategy of the method, so that
@@ -47,13 +68,13 @@ fn eta_vcm() -> f32 {
 }
 
 // The strategies weighed: bpt's connections only (vm 0; vc then only scales dVM, unused), or
-// vcm's connections and merging.
+// vcm's connections and merging, each at its share.
 fn bidir_factors() -> MisFactors {
-    if VCM_MERGE {
-        let eta = eta_vcm();
-        return MisFactors(mis(1.0 / eta), mis(eta));
+    if VCM_MERGE && VCM_MERGE_SHARE > 0.0 {
+        let eta = eta_vcm() * VCM_MERGE_SHARE;
+        return MisFactors(mis(1.0 / eta), mis(eta), mis(VCM_CONNECT_SHARE));
     }
-    return MisFactors(0.0, 0.0);
+    return MisFactors(0.0, 0.0, mis(VCM_CONNECT_SHARE));
 }
 
 // Solid-angle density, per unit of pixel area, with which the camera sends a ray along unit d
@@ -83,8 +104,9 @@ fn bidir_emission_weight(camera: SubpathMis, shape: u32, cos_l: f32, first_segme
 }
 
 // Next-event estimate at surface s seen from wo (direct_light's, the same numbers and
-// visibility), weighted against every other strategy that makes the same path.
-fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera: SubpathMis, u: vec3f) -> vec3f {
+// visibility), weighted against every other strategy that makes the same path; `first`
+// whether s is the camera subpath's first vertex.
+fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera: SubpathMis, first: bool, u: vec3f) -> vec3f {
     let sample = sample_light_mis(s.p, u);
     let ls = sample.ls;
     if all(ls.li == vec3f(0.0)) || !bsdf_joins(m, s, wo, ls.wi) {
@@ -105,6 +127,6 @@ fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera:
     let rev_pdf_w = bsdf_eval(s, m, albedo, ls.wi, wo).pdf;
     let cos_to_light = dot(ls.wi, s.ns);
     let weight = mis_weight_nee(camera, direct_pdf_w, p.emission_pdf_w, cos_to_light, p.cos_light, b.pdf, rev_pdf_w, p.delta,
-        vcm_merges_at(m), bidir_factors());
+        vcm_merges_at(m), first, bidir_factors());
     return b.f * abs(cos_to_light) * ls.li * weight;
 }

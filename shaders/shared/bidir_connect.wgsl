@@ -70,7 +70,7 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
         let light_pdf_a = light_pdf_w * abs(dot(w, s.ns)) / dist2;
         let light = SubpathMis(v.d_vcm, v.d_vc, v.d_vm);
         let weight = mis_weight_connection(camera, light, camera_pdf_a, camera_rev_pdf_w, light_pdf_a, bl.pdf, vcm_merges_at(m),
-            vcm_merges_at(ml), bidir_factors());
+            vcm_merges_at(ml), camera_length == 1u, v.length == 1u, bidir_factors());
         if unoccluded(offset_origin(s.p, s.ng, w), offset_origin(v.p, sl.ng, wl)) {
             sum += c * weight;
         }
@@ -123,7 +123,8 @@ fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camer
             continue;
         }
         let rev_pdf_w = bsdf_eval(s, m, albedo, wi, wo).pdf;
-        let weight = mis_weight_merge(camera, SubpathMis(v.d_vcm, v.d_vc, v.d_vm), b.pdf, rev_pdf_w, bidir_factors());
+        let weight = mis_weight_merge(camera, SubpathMis(v.d_vcm, v.d_vc, v.d_vm), b.pdf, rev_pdf_w, camera_length == 1u,
+            v.length == 1u, bidir_factors());
         sum += b.f * v.beta * weight;
     }
     return sum / eta_vcm();

@@ -192,12 +192,13 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         // call site: the shadow ray's traversal is inlined once.
         let nee_here = nee && bsdf_samples_lights(m);
         if nee_here && bidir {
-            path.l += beta * bidir_direct_light(s, wo, m, albedo, cm, vec3f(rng_next(rng), rng_next2(rng))) * kept(STRATEGY_NEE);
-            if (frame.strategies & STRATEGY_CONNECT) != 0u {
-                path.l += beta * connect_light_subpath(s, m, albedo, wo, cm, depth + 1u);
+            path.l += beta * bidir_direct_light(s, wo, m, albedo, cm, depth == 0u, vec3f(rng_next(rng), rng_next2(rng)))
+                * kept(STRATEGY_NEE);
+            if (frame.strategies & STRATEGY_CONNECT) != 0u && bidir_takes(VCM_CONNECT_SHARE, 0u, depth) {
+                path.l += beta * connect_light_subpath(s, m, albedo, wo, cm, depth + 1u) / VCM_CONNECT_SHARE;
             }
-            if vcm_merges_at(m) && (frame.strategies & STRATEGY_MERGE) != 0u {
-                path.l += beta * merge_light_vertices(s, m, albedo, wo, cm, depth + 1u);
+            if vcm_merges_at(m) && (frame.strategies & STRATEGY_MERGE) != 0u && bidir_takes(VCM_MERGE_SHARE, 1u, depth) {
+                path.l += beta * merge_light_vertices(s, m, albedo, wo, cm, depth + 1u) / VCM_MERGE_SHARE;
             }
         } else if nee_here {
             path.l += beta * direct_light(s, wo, m, albedo, medium, vec3f(rng_next(rng), rng_next2(rng)));
@@ -234,7 +235,7 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
             if !specular {
                 pdf_rev = bsdf_eval(s, m, albedo, next.wi, wo).pdf;
             }
-            cm = mis_scatter(cm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, vcm_merges_at(m), bidir_factors());
+            cm = mis_scatter(cm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, vcm_merges_at(m), depth == 0u, bidir_factors());
         }
         if use_roulette {
             eta_scale *= refraction_eta2(m, s, d, next.wi);

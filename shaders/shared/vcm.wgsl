@@ -33,11 +33,16 @@ struct SubpathMis {
     d_vm: f32,
 }
 
-// Which strategies a method uses, as the factors the weights take: vc_factor = mis(1 / eta_vcm)
-// when connections are used (else 0), vm_factor = mis(eta_vcm) when merging is (else 0).
+// Which strategies a method uses and how often, as the factors the weights take. A strategy's
+// density enters the heuristic times its count (Veach 1997 eq. 9.10: n_i p_i): merging's count
+// is m eta_vcm, m the share of camera vertices that merge; a connection's the share c of camera
+// vertices that connect to light vertices; next-event estimation's, emission's and light
+// tracing's 1. vm = mis(m eta_vcm) where merging is used (else 0), vc = mis(1 / (m eta_vcm))
+// then (else 0; it only scales dVM), connect = mis(c).
 struct MisFactors {
     vc: f32,
     vm: f32,
+    connect: f32,
 }
 
 // Merging's factor at a vertex: f.vm where the vertex merges (`merges`: both subpaths decide it
@@ -45,6 +50,15 @@ struct MisFactors {
 // such strategy.
 fn vm_at(f: MisFactors, merges: bool) -> f32 {
     return select(0.0, f.vm, merges);
+}
+
+// The count of the strategy a subpath's dVCM stands for at a vertex: the one that ends the
+// subpath a vertex earlier and joins the rest by a connection. At the subpath's first vertex
+// past its start (`first`) that joins the start itself, next-event estimation on the light's
+// side and light tracing on the camera's, taken at every vertex; past it, a connection, taken
+// at the share f.connect.
+fn vcm_count(f: MisFactors, first: bool) -> f32 {
+    return select(f.connect, 1.0, first);
 }
 
 // A light subpath leaving its light: the light sampled the point with area density direct_pdf_a
@@ -82,24 +96,29 @@ fn mis_hit(m: SubpathMis, dist: f32, cos_hit: f32, finite: bool) -> SubpathMis {
 // The subpath scattered at a vertex into a direction of density pdf_fwd, whose opposite the
 // other subpath samples with density pdf_rev, cos_out between it and the normal; a specular
 // scattering's densities are deltas, which cancel. `merges`: whether the vertex merges, the
-// strategy that f.vm in d_vc and the 1 in d_vm stand for (Georgiev 2012, eqs. 35-37).
-fn mis_scatter(m: SubpathMis, pdf_fwd: f32, pdf_rev: f32, cos_out: f32, specular: bool, merges: bool, f: MisFactors) -> SubpathMis {
+// strategy that f.vm in d_vc and the 1 in d_vm stand for (Georgiev 2012, eqs. 35-37); `first`:
+// whether it is the subpath's first vertex past its start (vcm_count).
+fn mis_scatter(m: SubpathMis, pdf_fwd: f32, pdf_rev: f32, cos_out: f32, specular: bool, merges: bool, first: bool,
+    f: MisFactors) -> SubpathMis {
     if specular {
         let c = mis(abs(cos_out));
         return SubpathMis(0.0, m.d_vc * c, m.d_vm * c);
     }
     let g = mis(abs(cos_out) / pdf_fwd);
-    let d_vc = g * (m.d_vc * mis(pdf_rev) + m.d_vcm + vm_at(f, merges));
-    let d_vm = g * (m.d_vm * mis(pdf_rev) + m.d_vcm * f.vc + select(0.0, 1.0, merges));
+    let joined = m.d_vcm * vcm_count(f, first);
+    let d_vc = g * (m.d_vc * mis(pdf_rev) + joined + vm_at(f, merges));
+    let d_vm = g * (m.d_vm * mis(pdf_rev) + joined * f.vc + select(0.0, 1.0, merges));
     return SubpathMis(mis(1.0 / pdf_fwd), d_vc, d_vm);
 }
 
 // Weight of light tracing: light vertex (with `light`, reached and not yet scattered) joined
 // to the camera, which would have sampled it with area density camera_pdf_a; bsdf_rev_pdf_w
 // the density of the BSDF sampling the light's side given the camera's direction; `merges`
-// whether the vertex merges.
-fn mis_weight_to_camera(light: SubpathMis, camera_pdf_a: f32, bsdf_rev_pdf_w: f32, n_light: f32, merges: bool, f: MisFactors) -> f32 {
-    let w_light = mis(camera_pdf_a / n_light) * (vm_at(f, merges) + light.d_vcm + light.d_vc * mis(bsdf_rev_pdf_w));
+// whether the vertex merges, `first` whether it is the light subpath's first past the light.
+fn mis_weight_to_camera(light: SubpathMis, camera_pdf_a: f32, bsdf_rev_pdf_w: f32, n_light: f32, merges: bool, first: bool,
+    f: MisFactors) -> f32 {
+    let w_light = mis(camera_pdf_a / n_light)
+        * (vm_at(f, merges) + light.d_vcm * vcm_count(f, first) + light.d_vc * mis(bsdf_rev_pdf_w));
     return 1.0 / (w_light + 1.0);
 }
 
@@ -115,30 +134,37 @@ fn mis_weight_emission(camera: SubpathMis, direct_pdf_a: f32, emission_pdf_w: f3
 // (solid angle from the vertex, light choice included; 0 for a delta light, which BSDF
 // sampling cannot hit), and would have emitted towards the vertex with emission_pdf_w; the
 // BSDF samples the light's direction with bsdf_pdf_w and the opposite with bsdf_rev_pdf_w;
-// cos_to_light at the vertex, cos_at_light at the light; `merges` whether the vertex merges.
+// cos_to_light at the vertex, cos_at_light at the light; `merges` whether the vertex merges,
+// `first` whether it is the camera subpath's first.
 fn mis_weight_nee(camera: SubpathMis, direct_pdf_w: f32, emission_pdf_w: f32, cos_to_light: f32, cos_at_light: f32,
-    bsdf_pdf_w: f32, bsdf_rev_pdf_w: f32, delta: bool, merges: bool, f: MisFactors) -> f32 {
+    bsdf_pdf_w: f32, bsdf_rev_pdf_w: f32, delta: bool, merges: bool, first: bool, f: MisFactors) -> f32 {
     let w_light = select(mis(bsdf_pdf_w / direct_pdf_w), 0.0, delta);
     let w_camera = mis(emission_pdf_w * abs(cos_to_light) / (direct_pdf_w * abs(cos_at_light)))
-        * (vm_at(f, merges) + camera.d_vcm + camera.d_vc * mis(bsdf_rev_pdf_w));
+        * (vm_at(f, merges) + camera.d_vcm * vcm_count(f, first) + camera.d_vc * mis(bsdf_rev_pdf_w));
     return 1.0 / (w_light + 1.0 + w_camera);
 }
 
 // Weight of connecting a camera vertex to a light vertex: each side's BSDF samples the other's
 // vertex with density *_pdf_a (area, at the other vertex) and its own subpath's previous
-// direction with *_rev_pdf_w; *_merges whether each vertex merges.
+// direction with *_rev_pdf_w; *_merges whether each vertex merges, *_first whether it is its
+// subpath's first past the start. The connection's own count is f.connect.
 fn mis_weight_connection(camera: SubpathMis, light: SubpathMis, camera_pdf_a: f32, camera_rev_pdf_w: f32,
-    light_pdf_a: f32, light_rev_pdf_w: f32, camera_merges: bool, light_merges: bool, f: MisFactors) -> f32 {
-    let w_light = mis(camera_pdf_a) * (vm_at(f, light_merges) + light.d_vcm + light.d_vc * mis(light_rev_pdf_w));
-    let w_camera = mis(light_pdf_a) * (vm_at(f, camera_merges) + camera.d_vcm + camera.d_vc * mis(camera_rev_pdf_w));
-    return 1.0 / (w_light + 1.0 + w_camera);
+    light_pdf_a: f32, light_rev_pdf_w: f32, camera_merges: bool, light_merges: bool, camera_first: bool, light_first: bool,
+    f: MisFactors) -> f32 {
+    let w_light = mis(camera_pdf_a)
+        * (vm_at(f, light_merges) + light.d_vcm * vcm_count(f, light_first) + light.d_vc * mis(light_rev_pdf_w));
+    let w_camera = mis(light_pdf_a)
+        * (vm_at(f, camera_merges) + camera.d_vcm * vcm_count(f, camera_first) + camera.d_vc * mis(camera_rev_pdf_w));
+    return f.connect / (w_light + f.connect + w_camera);
 }
 
 // Weight of merging a light vertex (reached, with `light`) at a camera vertex: the camera's
 // BSDF samples the light subpath's last direction with camera_pdf_w and its own previous
-// direction with camera_rev_pdf_w.
-fn mis_weight_merge(camera: SubpathMis, light: SubpathMis, camera_pdf_w: f32, camera_rev_pdf_w: f32, f: MisFactors) -> f32 {
-    let w_light = light.d_vcm * f.vc + light.d_vm * mis(camera_pdf_w);
-    let w_camera = camera.d_vcm * f.vc + camera.d_vm * mis(camera_rev_pdf_w);
+// direction with camera_rev_pdf_w; *_first whether the vertex is the first of its subpath past
+// the start.
+fn mis_weight_merge(camera: SubpathMis, light: SubpathMis, camera_pdf_w: f32, camera_rev_pdf_w: f32, camera_first: bool,
+    light_first: bool, f: MisFactors) -> f32 {
+    let w_light = light.d_vcm * vcm_count(f, light_first) * f.vc + light.d_vm * mis(camera_pdf_w);
+    let w_camera = camera.d_vcm * vcm_count(f, camera_first) * f.vc + camera.d_vm * mis(camera_rev_pdf_w);
     return 1.0 / (w_light + 1.0 + w_camera);
 }

@@ -58,6 +58,14 @@ pub(crate) struct Overrides {
     /// every 16 pixels).
     #[arg(long)]
     pub(crate) light_paths: Option<u32>,
+    /// bpt and vcm: the share of camera vertices that connect to light vertices, in [0, 1]
+    /// (overrides render.connect_share; default 1).
+    #[arg(long)]
+    pub(crate) connect_share: Option<f32>,
+    /// vcm: the share of camera vertices that merge with light vertices, in [0, 1] (overrides
+    /// render.merge_share; default 1).
+    #[arg(long)]
+    pub(crate) merge_share: Option<f32>,
     /// SPPM's radius schedule: per-point (each visible point's radius shrinks with its
     /// photons; default) or global (the radius of pass i depends on i alone, so passes can
     /// run in batches; Knaus & Zwicker 2011) (overrides render.radius_schedule).
@@ -97,6 +105,8 @@ impl Overrides {
             direct: self.direct,
             direct_samples: self.direct_samples,
             light_paths: self.light_paths,
+            connect_share: self.connect_share,
+            merge_share: self.merge_share,
             radius_schedule: self.radius_schedule,
             radius_rule: self.radius_rule,
             sampler: self.sampler,

@@ -154,6 +154,11 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
     if let Some(n) = r.light_paths {
         render.insert("light_paths".into(), int(n));
     }
+    for (key, share) in [("connect_share", r.connect_share), ("merge_share", r.merge_share)] {
+        if share != 1.0 {
+            render.insert(key.into(), float(share));
+        }
+    }
     render.insert("radius_schedule".into(), Value::String(r.radius_schedule.name().into()));
     render.insert("radius_rule".into(), Value::String(r.radius_rule.name().into()));
     render.insert("sampler".into(), Value::String(r.sampler.name().into()));

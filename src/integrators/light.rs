@@ -191,6 +191,9 @@ impl LightTracer {
         // vcm weighs its strategies by the power heuristic, bpt by the balance heuristic
         // (shaders/shared/vcm.wgsl's `mis`).
         spec.constants.push(("MIS_POWER", if merge { 1.0 } else { 0.0 }));
+        // The shares of camera vertices that connect and merge (shaders/shared/bidir.wgsl).
+        spec.constants.push(("VCM_CONNECT_SHARE", r.connect_share as f64));
+        spec.constants.push(("VCM_MERGE_SHARE", r.merge_share as f64));
         let light_trace = spec.kernel(device, "light_trace")?;
         let splat_accumulate = Kernel::new(device, "splat_accumulate")?;
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

@@ -39,6 +39,10 @@ pub struct Overrides {
     pub direct_samples: Option<u32>,
     /// bpt's and vcm's light subpaths a pass (`render.light_paths`).
     pub light_paths: Option<u32>,
+    /// bpt's and vcm's share of camera vertices that connect (`render.connect_share`).
+    pub connect_share: Option<f32>,
+    /// vcm's share of camera vertices that merge (`render.merge_share`).
+    pub merge_share: Option<f32>,
     /// SPPM's radius schedule (`render.radius_schedule`).
     pub radius_schedule: Option<RadiusSchedule>,
     /// SPPM's radius rule (`render.radius_rule`).
@@ -129,6 +133,17 @@ impl Overrides {
             let mut n = 1;
             positive("light-paths", self.light_paths, u32::MAX, &mut n)?;
             render.light_paths = Some(n);
+        }
+        for (key, share, to) in [
+            ("connect-share", self.connect_share, &mut render.connect_share),
+            ("merge-share", self.merge_share, &mut render.merge_share),
+        ] {
+            if let Some(share) = share {
+                if !(0.0..=1.0).contains(&share) {
+                    return Err(Error::Setting(format!("{} must lie in [0, 1], got {share}", names.name(key))));
+                }
+                *to = share;
+            }
         }
         if let Some(r) = self.radius {
             if !(r > 0.0 && r.is_finite()) {

@@ -5,7 +5,8 @@
 // Strategies: emission hit by the camera subpath, next-event estimation at x1, a connection
 // between x(s-1) and x(s) for 1 < s < k, light tracing (x(k-1) joined to the camera) and, with
 // merging, a merge at each interior vertex that merges (its flag: vcm merges only at some
-// materials, bidir.wgsl's vcm_merges_at).
+// materials, bidir.wgsl's vcm_merges_at). Each path has its own shares of camera vertices that
+// connect (c) and merge (m), the strategies' counts in the heuristic.
 
 #import vcm
 
@@ -22,8 +23,8 @@ struct MisTestParams {
     _pad: vec2u,
 }
 
-// Per path: 8 vertices (xyz, and w = k, the segments, in vertex 0), then 8 normals (of x0 ..
-// x(k-1); w = 1 where the vertex merges), then the camera's axis.
+// Per path: 8 vertices (xyz, and w = k, the segments, in vertex 0, m in vertex 1), then 8
+// normals (of x0 .. x(k-1); w = 1 where the vertex merges), then the camera's axis (w = c).
 const MAX_VERTICES: u32 = 8u;
 const PATH_WORDS: u32 = 17u;
 
@@ -81,7 +82,7 @@ fn light_subpath(last: u32, f: MisFactors) -> SubpathMis {
     var m = mis_light_start(direct_pdf_a, emission_pdf_w, cos_at(0u, 1u), false, f);
     m = mis_hit(m, length(x(1u) - x(0u)), cos_at(1u, 0u), true);
     for (var i = 1u; i < last; i++) {
-        m = mis_scatter(m, pdf_w(i, i + 1u), pdf_w(i, i - 1u), cos_at(i, i + 1u), false, merges(i), f);
+        m = mis_scatter(m, pdf_w(i, i + 1u), pdf_w(i, i - 1u), cos_at(i, i + 1u), false, merges(i), i == 1u, f);
         m = mis_hit(m, length(x(i + 1u) - x(i)), cos_at(i + 1u, i), true);
     }
     return m;
@@ -96,7 +97,7 @@ fn camera_subpath(k: u32, first: u32, f: MisFactors) -> SubpathMis {
         // camera itself for i = k - 1: a pinhole's direction is not sampled by the BSDF, but
         // the reverse density only enters through d_vc, which is 0 there).
         let rev = select(pdf_w(i, i + 1u), 0.0, i + 1u == k);
-        m = mis_scatter(m, pdf_w(i, i - 1u), rev, cos_at(i, i - 1u), false, merges(i), f);
+        m = mis_scatter(m, pdf_w(i, i - 1u), rev, cos_at(i, i - 1u), false, merges(i), i + 1u == k, f);
         m = mis_hit(m, length(x(i - 1u) - x(i)), cos_at(i - 1u, i), true);
     }
     return m;
@@ -123,20 +124,20 @@ fn weight_sum(k: u32, f: MisFactors, with_merging: bool) -> vec2f {
     let d01 = length(x(1u) - x(0u));
     let direct_pdf_w = direct_pdf_a * d01 * d01 / cos_at(0u, 1u);
     sum += mis_weight_nee(c1, direct_pdf_w, direct_pdf_a * pdf_w(0u, 1u), cos_at(1u, 0u), cos_at(0u, 1u), pdf_w(1u, 0u),
-        camera_rev(k, 1u), false, merges(1u), f);
+        camera_rev(k, 1u), false, merges(1u), k == 2u, f);
     count += 1.0;
     // Connections of x(s - 1) to x(s).
     for (var s = 2u; s < k; s++) {
         let l = light_subpath(s - 1u, f);
         let c = camera_subpath(k, s, f);
         sum += mis_weight_connection(c, l, to_area(pdf_w(s, s - 1u), s, s - 1u), camera_rev(k, s),
-            to_area(pdf_w(s - 1u, s), s - 1u, s), pdf_w(s - 1u, s - 2u), merges(s), merges(s - 1u), f);
+            to_area(pdf_w(s - 1u, s), s - 1u, s), pdf_w(s - 1u, s - 2u), merges(s), merges(s - 1u), s + 1u == k, s == 2u, f);
         count += 1.0;
     }
     // Light tracing: x(k - 1) joined to the camera.
     let lt = light_subpath(k - 1u, f);
     let camera_pdf_a = to_area(camera_pdf_w(k, k - 1u), k, k - 1u);
-    sum += mis_weight_to_camera(lt, camera_pdf_a, pdf_w(k - 1u, k - 2u), params.n_light, merges(k - 1u), f);
+    sum += mis_weight_to_camera(lt, camera_pdf_a, pdf_w(k - 1u, k - 2u), params.n_light, merges(k - 1u), k == 2u, f);
     count += 1.0;
     // Merges at x(i), the light subpath's last direction from x(i - 1).
     if with_merging {
@@ -146,7 +147,7 @@ fn weight_sum(k: u32, f: MisFactors, with_merging: bool) -> vec2f {
             }
             let l = light_subpath(i, f);
             let c = camera_subpath(k, i, f);
-            sum += mis_weight_merge(c, l, pdf_w(i, i - 1u), camera_rev(k, i), f);
+            sum += mis_weight_merge(c, l, pdf_w(i, i - 1u), camera_rev(k, i), i + 1u == k, i == 1u, f);
             count += 1.0;
         }
     }
@@ -160,7 +161,9 @@ fn mis_test(@builtin(global_invocation_id) gid: vec3u) {
     }
     base = gid.x * PATH_WORDS;
     let k = u32(paths[base].w);
-    let bpt = weight_sum(k, MisFactors(1.0, 0.0), false);
-    let vcm = weight_sum(k, MisFactors(mis(1.0 / params.eta_vcm), mis(params.eta_vcm)), true);
+    let c = paths[base + 2u * MAX_VERTICES].w;
+    let eta = paths[base + 1u].w * params.eta_vcm;
+    let bpt = weight_sum(k, MisFactors(1.0, 0.0, mis(c)), false);
+    let vcm = weight_sum(k, MisFactors(mis(1.0 / eta), mis(eta), mis(c)), true);
     sums[gid.x] = vec4f(bpt.x, vcm.x, bpt.y, vcm.y);
 }

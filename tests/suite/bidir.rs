@@ -152,6 +152,25 @@ fn vcm_matches_the_references() {
     check_method(&common::load_scene("point-light.toml"), Method::Vcm, "point-light", 128, 6e-4, 0.01);
 }
 
+/// vcm with a share of its camera vertices connecting and merging (`connect_share`,
+/// `merge_share`: each strategy's count in the MIS, a join taken divided by it) renders the
+/// same image in expectation: cornell-box with shares between 0 and 1, and point-light (a delta
+/// light) with neither connections nor merges (next-event estimation, light tracing and
+/// emission alone). A count left out of one weight darkens or brightens the image by the
+/// weight it misses (the oracle, vcm::, checks the weights themselves).
+#[test]
+fn vcm_at_shares_matches_the_references() {
+    if common::gpu().is_none() {
+        return;
+    }
+    for (name, passes, (connect, merge)) in [("cornell-box", 64, (0.3, 0.6)), ("point-light", 128, (0.0, 0.0))] {
+        let mut scene = common::load_scene(&format!("{name}.toml"));
+        scene.render.connect_share = connect;
+        scene.render.merge_share = merge;
+        check_method(&scene, Method::Vcm, name, passes, 6e-4, 0.01);
+    }
+}
+
 /// vcm merges only where the BSDF is diffuse (bidir.wgsl's vcm_merges_at): on cornell-glossy
 /// with its walls made glossy too, merging's share of the image is black, while with the
 /// walls diffuse it carries the room's light (merging on a glossy lobe blurred the reflection:

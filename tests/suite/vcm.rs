@@ -3,7 +3,8 @@
 //! quantities (dVCM, dVC, dVM) as the kernels compute them, sum to 1 (`tests/shaders/mis_test.wgsl`),
 //! with connections alone (bidirectional path tracing) and with merging too (VCM), merging at
 //! every interior vertex or only at some (vcm merges only at diffuse materials), under the
-//! balance heuristic and the power heuristic.
+//! balance heuristic and the power heuristic, with every camera vertex connecting and merging
+//! or only a share of them (the strategies' counts in the heuristic).
 
 use crate::common::{self, Rng};
 use glam::Vec3;
@@ -39,9 +40,9 @@ fn unit(rng: &mut Rng) -> Vec3 {
 
 /// A path of `k` segments from a light vertex to the camera through diffuse vertices, as
 /// `PATH_WORDS` vec4s (see the kernel), every cosine above 0.1 and every segment longer than
-/// 0.1, the interior vertices flagged as merging where `merges` says; `None` where the draw is
-/// degenerate.
-fn random_path(rng: &mut Rng, k: usize, merges: &[bool]) -> Option<Vec<[f32; 4]>> {
+/// 0.1, the interior vertices flagged as merging where `merges` says, with the shares of camera
+/// vertices that connect and merge; `None` where the draw is degenerate.
+fn random_path(rng: &mut Rng, k: usize, merges: &[bool], (connect, merge): (f32, f32)) -> Option<Vec<[f32; 4]>> {
     let x: Vec<Vec3> = (0..=k).map(|_| Vec3::new(rng.f32(), rng.f32(), rng.f32()) * 2.0 - 1.0).collect();
     let to = |i: usize, j: usize| (x[j] - x[i]).normalize();
     let mut n = vec![Vec3::ZERO; k];
@@ -62,10 +63,11 @@ fn random_path(rng: &mut Rng, k: usize, merges: &[bool]) -> Option<Vec<[f32; 4]>
         words[i] = [p.x, p.y, p.z, 0.0];
     }
     words[0][3] = k as f32;
+    words[1][3] = merge;
     for (i, v) in n.iter().enumerate() {
         words[MAX_VERTICES + i] = [v.x, v.y, v.z, if merges[i] { 1.0 } else { 0.0 }];
     }
-    words[2 * MAX_VERTICES] = [axis.x, axis.y, axis.z, 0.0];
+    words[2 * MAX_VERTICES] = [axis.x, axis.y, axis.z, connect];
     Some(words)
 }
 
@@ -82,7 +84,10 @@ fn mis_weights_of_every_strategy_sum_to_one() {
         // the rest.
         let all = lengths.len() % 3 == 0;
         let merges: Vec<bool> = (0..k).map(|i| i > 0 && (all || rng.f32() < 0.5)).collect();
-        if let Some(words) = random_path(&mut rng, k, &merges) {
+        // Every camera vertex connects and merges on a quarter of the paths; on the rest, a
+        // share of them, as low as 1%.
+        let shares = if lengths.len() % 4 == 0 { (1.0, 1.0) } else { (0.01 + 0.99 * rng.f32(), 0.01 + 0.99 * rng.f32()) };
+        if let Some(words) = random_path(&mut rng, k, &merges, shares) {
             paths.extend(words);
             lengths.push(k);
             merging.push(merges.iter().filter(|&&m| m).count());

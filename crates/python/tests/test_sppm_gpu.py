@@ -118,7 +118,7 @@ def test_bad_settings_raise_setting_error_naming_the_keyword(scene):
 GOOD = dict(
     method="sppm", passes=2, time_limit=60.0, seed=3, width=16, height=16, photons=5000, radius=0.05,
     alpha=0.7, spp=1, max_depth=64, direct="sampled", direct_samples=1, light_paths=256,
-    radius_schedule="per-point", radius_rule="shrink", sampler="sobol",
+    connect_share=1.0, merge_share=1.0, radius_schedule="per-point", radius_rule="shrink", sampler="sobol",
 )
 BAD = dict(
     method=("nope", sppm_gpu.SettingError, "^unknown method `nope`"),
@@ -135,6 +135,8 @@ BAD = dict(
     direct=("nope", sppm_gpu.SettingError, "^unknown direct `nope`"),
     direct_samples=(0, sppm_gpu.SettingError, "^direct_samples must be between 1 and"),
     light_paths=(0, sppm_gpu.SettingError, "^light_paths must be between 1 and"),
+    connect_share=(1.5, sppm_gpu.SettingError, r"^connect_share must lie in \[0, 1\]"),
+    merge_share=(-0.5, sppm_gpu.SettingError, r"^merge_share must lie in \[0, 1\]"),
     radius_schedule=("nope", sppm_gpu.SettingError, "^unknown radius_schedule `nope`"),
     radius_rule=("nope", sppm_gpu.SettingError, "^unknown radius_rule `nope`"),
     sampler=("nope", sppm_gpu.SettingError, "^unknown sampler `nope`"),

@@ -30,6 +30,8 @@ class _CompareParams(TypedDict, total=False):
     max_depth: Optional[int]
     direct_samples: Optional[int]
     light_paths: Optional[int]
+    connect_share: Optional[float]
+    merge_share: Optional[float]
     radius_schedule: Optional[str]
     radius_rule: Optional[str]
     sampler: Optional[str]
