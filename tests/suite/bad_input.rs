@@ -102,7 +102,8 @@ fn readme_cases() -> Vec<Case> {
             4,
             "render.samples",
             "unknown key `samples`; allowed keys: width, height, method, iterations, spp, \
-             photons, radius, alpha, max_depth, seed, time_limit, direct, direct_samples, light_paths, radius_schedule, radius_rule, \
+             photons, radius, alpha, max_depth, seed, time_limit, direct, direct_samples, light_paths, connect_share, merge_share, \
+             radius_schedule, radius_rule, \
              filter, filter_radius, filter_stddev, sampler",
         ),
         case("wrong type", edit("width = 8", "width = \"8\""), 2, "render.width", "expected an integer, found a string"),
