@@ -183,14 +183,14 @@ impl LightTracer {
         let limit = device.limits().max_storage_buffer_binding_size;
         frame.photon_count = light_paths(scene, limit)?;
         let bidir = is_bidirectional(r.method);
-        let merge = r.method == Method::Vcm;
+        let merge = merges(scene);
 
         let mut spec = super::specialization(scene, data);
         spec.constants.push(("BIDIR", if bidir { 1.0 } else { 0.0 }));
         spec.constants.push(("VCM_MERGE", if merge { 1.0 } else { 0.0 }));
         // vcm weighs its strategies by the power heuristic, bpt by the balance heuristic
         // (shaders/shared/vcm.wgsl's `mis`).
-        spec.constants.push(("MIS_POWER", if merge { 1.0 } else { 0.0 }));
+        spec.constants.push(("MIS_POWER", if r.method == Method::Vcm { 1.0 } else { 0.0 }));
         // The shares of camera vertices that connect and merge (shaders/shared/bidir.wgsl).
         spec.constants.push(("VCM_CONNECT_SHARE", r.connect_share as f64));
         spec.constants.push(("VCM_MERGE_SHARE", r.merge_share as f64));
@@ -404,8 +404,14 @@ impl Integrator for LightTracer {
 
 /// Bytes of vcm's grid a light-vertex slot (its point, 8 grid entries; the buckets, 4 a
 /// subpath, are in the margin).
+/// Whether the render merges: vcm with a share of camera vertices that merge above 0 (at 0 it
+/// stores no merge points and builds no grid).
+fn merges(scene: &Scene) -> bool {
+    scene.render.method == Method::Vcm && scene.render.merge_share > 0.0
+}
+
 fn merge_bytes(scene: &Scene) -> u64 {
-    if scene.render.method == Method::Vcm {
+    if merges(scene) {
         size_of::<VisiblePoint>() as u64 + 8 * 4 + 4
     } else {
         0
