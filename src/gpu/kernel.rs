@@ -171,16 +171,17 @@ mod cache {
         None
     }
 
-    /// Whether `kept` (a device of a store) is `device`: by identity where both have one,
-    /// else by wgpu's `==`.
-    fn same(kept: &(wgpu::Device, Option<usize>), device: &wgpu::Device, id: Option<usize>) -> bool {
+    /// A stored device with its identity.
+    type Device = (wgpu::Device, Option<usize>);
+
+    /// Whether `kept` (a device of a store) is `device`, whose identity is `id`: by identity
+    /// where both have one, else by wgpu's `==`.
+    fn same(kept: &Device, device: &wgpu::Device, id: Option<usize>) -> bool {
         match (kept.1, id) {
             (Some(a), Some(b)) => a == b,
             _ => kept.0 == *device,
         }
     }
-
-    type Device = (wgpu::Device, Option<usize>);
 
     /// What a [`share_kernels`](super::share_kernels) running on this thread made so far,
     /// with their devices and keys; `None` outside one.
