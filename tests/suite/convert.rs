@@ -207,3 +207,18 @@ fn floats_are_written_shortest() {
     let text = std::fs::read_to_string(dir.join("plastic.toml")).unwrap();
     assert!(text.contains("ior = 1.8994738\n"), "{text}");
 }
+
+/// Settings a Mitsuba file cannot hold, written from a TOML scene and read back the same: vcm's
+/// shares of camera vertices that connect and merge (written only where not the default).
+#[test]
+fn toml_render_settings_load_back_the_same() {
+    let dir = crate::common::fresh_dir("convert-settings");
+    std::fs::create_dir_all(dir.join("out")).unwrap();
+    let text = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.toml")).unwrap();
+    let text = text.replacen("method = \"sppm\"\n", "method = \"vcm\"\nconnect_share = 0.3\nmerge_share = 0.0\n", 1);
+    let source = dir.join("shares.toml");
+    std::fs::write(&source, &text).unwrap();
+    let (read, written) = convert_from(dir.to_str().unwrap(), "shares.toml", &dir.join("out"));
+    assert_eq!((read.render.connect_share, read.render.merge_share), (0.3, 0.0));
+    assert_eq!(read.render, written.render);
+}
