@@ -68,9 +68,10 @@ fn eta_vcm() -> f32 {
 }
 
 // The strategies weighed: bpt's connections only (vm 0; vc then only scales dVM, unused), or
-// vcm's connections and merging, each at its share.
+// vcm's connections and merging, each at its share (VCM_MERGE is off at a merge share of 0:
+// src/integrators/light.rs's `merges`).
 fn bidir_factors() -> MisFactors {
-    if VCM_MERGE && VCM_MERGE_SHARE > 0.0 {
+    if VCM_MERGE {
         let eta = eta_vcm() * VCM_MERGE_SHARE;
         return MisFactors(mis(1.0 / eta), mis(eta), mis(VCM_CONNECT_SHARE));
     }

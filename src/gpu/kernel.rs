@@ -195,7 +195,8 @@ mod cache {
     /// The device of [`keep_kernels_in_process`](super::keep_kernels_in_process) and the
     /// newest [`PROCESS_KEPT`] of its kernels and sources.
     struct Process {
-        device: wgpu::Device,
+        /// Held so that the device stays alive, and its identity its own.
+        _device: wgpu::Device,
         identity: usize,
         kernels: VecDeque<(u64, Kernel)>,
         sources: VecDeque<(u64, Source)>,
@@ -211,15 +212,15 @@ mod cache {
         let Some(identity) = identity(device) else { return false };
         let mut process = PROCESS.lock().unwrap_or_else(|p| p.into_inner());
         if process.as_ref().is_none_or(|p| p.identity != identity) {
-            *process = Some(Process { device: device.clone(), identity, kernels: VecDeque::new(), sources: VecDeque::new() });
+            *process = Some(Process { _device: device.clone(), identity, kernels: VecDeque::new(), sources: VecDeque::new() });
         }
         true
     }
 
-    /// Runs `f` on the process store when `device` is its device.
-    fn with_process<R>(device: &wgpu::Device, id: Option<usize>, f: impl FnOnce(&mut Process) -> R) -> Option<R> {
+    /// Runs `f` on the process store when the device of identity `id` is its device.
+    fn with_process<R>(id: Option<usize>, f: impl FnOnce(&mut Process) -> R) -> Option<R> {
         let mut process = PROCESS.lock().unwrap_or_else(|p| p.into_inner());
-        let process = process.as_mut().filter(|p| id == Some(p.identity) && p.device == *device)?;
+        let process = process.as_mut().filter(|p| id == Some(p.identity))?;
         Some(f(process))
     }
 
@@ -268,24 +269,24 @@ mod cache {
 
     pub(super) fn source(device: &wgpu::Device, key: u64) -> Option<Source> {
         let id = identity(device);
-        find(&SOURCES, device, id, key).or_else(|| with_process(device, id, |p| find_key(&p.sources, key)).flatten())
+        find(&SOURCES, device, id, key).or_else(|| with_process(id, |p| find_key(&p.sources, key)).flatten())
     }
 
     pub(super) fn put_source(device: &wgpu::Device, key: u64, source: &Source) {
         let id = identity(device);
         keep(&SOURCES, device, id, key, source);
-        with_process(device, id, |p| newest(&mut p.sources, key, source));
+        with_process(id, |p| newest(&mut p.sources, key, source));
     }
 
     pub(super) fn get(device: &wgpu::Device, key: u64) -> Option<Kernel> {
         let id = identity(device);
-        find(&KERNELS, device, id, key).or_else(|| with_process(device, id, |p| find_key(&p.kernels, key)).flatten())
+        find(&KERNELS, device, id, key).or_else(|| with_process(id, |p| find_key(&p.kernels, key)).flatten())
     }
 
     pub(super) fn put(device: &wgpu::Device, key: u64, kernel: &Kernel) {
         let id = identity(device);
         keep(&KERNELS, device, id, key, kernel);
-        with_process(device, id, |p| newest(&mut p.kernels, key, kernel));
+        with_process(id, |p| newest(&mut p.kernels, key, kernel));
     }
 }
 

@@ -402,14 +402,14 @@ impl Integrator for LightTracer {
     }
 }
 
-/// Bytes of vcm's grid a light-vertex slot (its point, 8 grid entries; the buckets, 4 a
-/// subpath, are in the margin).
 /// Whether the render merges: vcm with a share of camera vertices that merge above 0 (at 0 it
 /// stores no merge points and builds no grid).
 fn merges(scene: &Scene) -> bool {
     scene.render.method == Method::Vcm && scene.render.merge_share > 0.0
 }
 
+/// Bytes of vcm's grid a light-vertex slot (its point, 8 grid entries; the buckets, 4 a
+/// subpath, are in the margin).
 fn merge_bytes(scene: &Scene) -> u64 {
     if merges(scene) {
         size_of::<VisiblePoint>() as u64 + 8 * 4 + 4
