@@ -14,6 +14,10 @@ cargo clippy --release --all-targets --workspace -- -D warnings
 # In the release profile, so that rustdoc reads the dependencies' metadata clippy just built
 # (the dev profile would check every dependency again: 3 of CI's 21 minutes, BENCHMARKS.md "CI's time on two cores").
 RUSTDOCFLAGS="-D warnings" cargo doc --release --no-deps --workspace
+# lavapipe compiles each kernel for 4 lanes instead of 8 (LP_NATIVE_VECTOR_WIDTH; GPU drivers
+# ignore it): the suite's kernels compile once each from a cold cache, and narrower code
+# compiles faster for about the same run time (BENCHMARKS.md "Tests and CI").
+export LP_NATIVE_VECTOR_WIDTH="${LP_NATIVE_VECTOR_WIDTH:-128}"
 cargo test --release --workspace
 # The Python package: its wheel (maturin) in a virtual environment, and its tests (pytest).
 bash scripts/python-package.sh test

@@ -35,4 +35,5 @@ fn bidir_camera(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
     let l = trace_camera_path(ray, CAMERA_PATH_BIDIR | CAMERA_PATH_ROULETTE, true, &rng).l;
     let ok = all(l == l) && all(abs(l) < vec3f(3.0e38));
     radiance[pixel] += vec4f(select(vec3f(0.0), l, ok), 0.0);
+    bidir_count_work();
 }

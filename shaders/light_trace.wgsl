@@ -110,6 +110,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         if seen_from_behind(m, s, d) {
             break;
         }
+        bidir_work[WORK_LIGHT_VERTICES] += 1u;
         let finite = all(beta >= vec3f(0.0)) && all(beta < vec3f(1.0e30));
         if !finite {
             break;
@@ -185,5 +186,6 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     }
     if BIDIR {
         light_path_length[index] = stored;
+        bidir_count_work();
     }
 }

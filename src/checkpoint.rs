@@ -82,13 +82,17 @@ impl Fingerprint {
             r.filter,
             r.sampler
         );
-        // The shares joined the settings later: written only where they are not the default,
-        // so that a checkpoint written before resumes.
+        // The shares joined the settings later: written only where they are set and not 1
+        // (before, the default), so that a checkpoint written before resumes; vcm's shares
+        // chosen by its pilot are a function of the rest (written as "auto").
         let mut settings = settings;
         for (key, share) in [("connect_share", r.connect_share), ("merge_share", r.merge_share)] {
-            if share != 1.0 {
+            if let Some(share) = share.filter(|&s| s != 1.0) {
                 settings.push_str(&format!("{key} = {share:?}\n"));
             }
+        }
+        if crate::integrators::light::pilot_chooses_shares(scene) {
+            settings.push_str("shares = \"auto\"\n");
         }
         let mut geometry = Fnv::new();
         for t in &scene.triangles {

@@ -18,12 +18,33 @@
 // within the pass's radius frame.global_radius (Georgiev et al. 2012; Hachisuka et al. 2012).
 override VCM_MERGE: bool = false;
 
-// The shares of camera vertices that connect to light vertices and that merge (src/integrators/
-// light.rs sets them; 1: every one), drawn per 64-pixel block, depth and pass so that a
-// workgroup's lanes agree; a join taken is divided by its share, and the share is the
-// strategy's count in the heuristic (MisFactors).
-override VCM_CONNECT_SHARE: f32 = 1.0;
-override VCM_MERGE_SHARE: f32 = 1.0;
+// The shares of camera vertices that connect to light vertices and that merge, frame.
+// connect_share and frame.merge_share (src/integrators/light.rs sets them; 1: every one), are
+// drawn per 64-pixel block, depth and pass so that a workgroup's lanes agree; a join taken is
+// divided by its share, and the share is the strategy's count in the heuristic (MisFactors).
+
+// vcm's pilot counts what a pass does where frame.count_work is 1: each kernel adds its
+// invocation's counts (bidir_work, indexed by WORK_*) to work_counts once, at its end
+// (bidir_count_work). Words as src/layout/records.rs's.
+const WORK_COUNTS: u32 = 4u;
+const WORK_CAMERA_VERTICES: u32 = 0u;
+const WORK_CONNECTIONS: u32 = 1u;
+const WORK_MERGE_CANDIDATES: u32 = 2u;
+const WORK_LIGHT_VERTICES: u32 = 3u;
+@group(0) @binding(34) var<storage, read_write> work_counts: array<atomic<u32>, WORK_COUNTS>;
+var<private> bidir_work: array<u32, WORK_COUNTS>;
+
+// Adds this invocation's counts to work_counts (where frame.count_work asks for them).
+fn bidir_count_work() {
+    if frame.count_work == 0u {
+        return;
+    }
+    for (var k = 0u; k < WORK_COUNTS; k++) {
+        if bidir_work[k] != 0u {
+            atomicAdd(&work_counts[k], bidir_work[k]);
+        }
+    }
+}
 
 // The 64-pixel block of the camera subpath being traced (bidir_camera.wgsl sets it).
 var<private> bidir_block: u32;
@@ -54,7 +75,7 @@ const STRATEGY_LIGHT_TRACE: u32 = 16u;
 // reflection over the radius (a bias that is light paths' own: connections and light tracing
 // carry it); mis_scatter and the weights leave merging out of the MIS there.
 fn vcm_merges_at(m: Material) -> bool {
-    return VCM_MERGE && (m.kind == MATERIAL_DIFFUSE || (is_plastic(m) && !rough_coat(m)));
+    return VCM_MERGE && frame.merge_share > 0.0 && (m.kind == MATERIAL_DIFFUSE || (is_plastic(m) && !rough_coat(m)));
 }
 
 // 1 where `strategy` is kept, else 0.
@@ -68,14 +89,13 @@ fn eta_vcm() -> f32 {
 }
 
 // The strategies weighed: bpt's connections only (vm 0; vc then only scales dVM, unused), or
-// vcm's connections and merging, each at its share (VCM_MERGE is off at a merge share of 0:
-// src/integrators/light.rs's `merges`).
+// vcm's connections and merging, each at its share (at a merge share of 0, connections only).
 fn bidir_factors() -> MisFactors {
-    if VCM_MERGE {
-        let eta = eta_vcm() * VCM_MERGE_SHARE;
-        return MisFactors(mis(1.0 / eta), mis(eta), mis(VCM_CONNECT_SHARE));
+    if VCM_MERGE && frame.merge_share > 0.0 {
+        let eta = eta_vcm() * frame.merge_share;
+        return MisFactors(mis(1.0 / eta), mis(eta), mis(frame.connect_share));
     }
-    return MisFactors(0.0, 0.0, mis(VCM_CONNECT_SHARE));
+    return MisFactors(0.0, 0.0, mis(frame.connect_share));
 }
 
 // Solid-angle density, per unit of pixel area, with which the camera sends a ray along unit d

@@ -39,6 +39,7 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
         if camera_length + v.length > frame.max_depth {
             break;
         }
+        bidir_work[WORK_CONNECTIONS] += 1u;
         let to = v.p - s.p;
         let dist2 = dot(to, to);
         if !(dist2 > 0.0) {
@@ -97,6 +98,7 @@ fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camer
     for (var e = grid_cell_start[h]; e < grid_cell_start[h + 1u]; e++) {
         // Its position first: most of a bucket's vertices lie beyond the radius.
         let slot = grid_entries[e];
+        bidir_work[WORK_MERGE_CANDIDATES] += 1u;
         if !within_radius(s.p, r, light_vertices[slot].p) {
             continue;
         }

@@ -192,13 +192,14 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         // call site: the shadow ray's traversal is inlined once.
         let nee_here = nee && bsdf_samples_lights(m);
         if nee_here && bidir {
+            bidir_work[WORK_CAMERA_VERTICES] += 1u;
             path.l += beta * bidir_direct_light(s, wo, m, albedo, cm, depth == 0u, vec3f(rng_next(rng), rng_next2(rng)))
                 * kept(STRATEGY_NEE);
-            if (frame.strategies & STRATEGY_CONNECT) != 0u && bidir_takes(VCM_CONNECT_SHARE, 0u, depth) {
-                path.l += beta * connect_light_subpath(s, m, albedo, wo, cm, depth + 1u) / VCM_CONNECT_SHARE;
+            if (frame.strategies & STRATEGY_CONNECT) != 0u && bidir_takes(frame.connect_share, 0u, depth) {
+                path.l += beta * connect_light_subpath(s, m, albedo, wo, cm, depth + 1u) / frame.connect_share;
             }
-            if vcm_merges_at(m) && (frame.strategies & STRATEGY_MERGE) != 0u && bidir_takes(VCM_MERGE_SHARE, 1u, depth) {
-                path.l += beta * merge_light_vertices(s, m, albedo, wo, cm, depth + 1u) / VCM_MERGE_SHARE;
+            if vcm_merges_at(m) && (frame.strategies & STRATEGY_MERGE) != 0u && bidir_takes(frame.merge_share, 1u, depth) {
+                path.l += beta * merge_light_vertices(s, m, albedo, wo, cm, depth + 1u) / frame.merge_share;
             }
         } else if nee_here {
             path.l += beta * direct_light(s, wo, m, albedo, medium, vec3f(rng_next(rng), rng_next2(rng)));

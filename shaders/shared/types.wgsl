@@ -66,7 +66,15 @@ struct Frame {
     // points (photon_pass.wgsl, emit_photon); 0 for none.
     env_aim: f32,
     strategies: u32,
+    // vcm: the shares of camera vertices that connect to light vertices and that merge with
+    // them (shared/bidir.wgsl's bidir_takes; 1: every one).
+    connect_share: f32,
+    merge_share: f32,
+    // vcm's pilot (src/integrators/light.rs): 1 when the kernels add their counts of work to
+    // work_counts (shared/bidir.wgsl), 0 otherwise.
+    count_work: u32,
     _pad4: u32,
+    _pad5: u32,
     // FILTER_GAUSSIAN: the CDF of the filter's density on [0, 4] standard deviations at the
     // ends of FILTER_TABLE_SIZE equal intervals, C_1..C_256 (C_0 = 0, C_256 = 1), four a vec4f.
     filter_cdf: array<vec4f, 64>,

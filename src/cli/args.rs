@@ -59,11 +59,12 @@ pub(crate) struct Overrides {
     #[arg(long)]
     pub(crate) light_paths: Option<u32>,
     /// bpt and vcm: the share of camera vertices that connect to light vertices, in [0, 1]
-    /// (overrides render.connect_share; default 1).
+    /// (overrides render.connect_share; default 1, or for vcm with neither share set, chosen by
+    /// a pilot).
     #[arg(long)]
     pub(crate) connect_share: Option<f32>,
     /// vcm: the share of camera vertices that merge with light vertices, in [0, 1] (overrides
-    /// render.merge_share; default 1).
+    /// render.merge_share; default as --connect-share's).
     #[arg(long)]
     pub(crate) merge_share: Option<f32>,
     /// SPPM's radius schedule: per-point (each visible point's radius shrinks with its

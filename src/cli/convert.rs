@@ -155,7 +155,7 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
         render.insert("light_paths".into(), int(n));
     }
     for (key, share) in [("connect_share", r.connect_share), ("merge_share", r.merge_share)] {
-        if share != 1.0 {
+        if let Some(share) = share {
             render.insert(key.into(), float(share));
         }
     }

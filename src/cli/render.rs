@@ -239,6 +239,9 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     if let Some(seconds) = compile.filter(|&s| s >= 1.0) {
         eprintln!("note: compiled the kernels in {seconds:.1} s (cached for the next run); the time limit starts now");
     }
+    for note in integrator.notes() {
+        eprintln!("note: {note}");
+    }
     let r = &scene.render;
     let rows = integrators::max_rows(&gpu.device, &scene);
     if rows < r.height {
@@ -300,7 +303,9 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     }
     // Passes are submitted through a pacer and everything is judged on completed passes and
     // the time they completed (src/pacing.rs): the time limit, progress, Ctrl-C, checkpoints.
-    let goal = Goal { end_pass, time_limit: r.time_limit };
+    // What the render spent before its first pass (vcm's pilot) counts against the limit.
+    let setup = integrator.setup_seconds();
+    let goal = Goal { end_pass, time_limit: r.time_limit.map(|t| (t - setup).max(0.0)) };
     let mut pacer = Pacer::new(
         Losing {
             inner: DeviceQueue::new(integrator.as_mut(), &gpu.device, &gpu.queue),

@@ -153,10 +153,12 @@ struct Done {
 
 impl Timed {
     /// A renderer of `scene`, its kernels compiled before its clock starts
-    /// ([`integrators::create_compiled`]).
+    /// ([`integrators::create_compiled`]); the clock starts at what it spent on the render
+    /// before its first pass (vcm's pilot).
     fn compiled(gpu: &GpuContext, scene: &Scene) -> Result<Self, Error> {
         let (integrator, _) = integrators::create_compiled(&gpu.device, &gpu.queue, scene)?;
-        Ok(Self { integrator, device: gpu.device.clone(), queue: gpu.queue.clone(), seconds: 0.0 })
+        let seconds = integrator.setup_seconds();
+        Ok(Self { integrator, device: gpu.device.clone(), queue: gpu.queue.clone(), seconds })
     }
 
     /// Run passes through a [`Pacer`] (the device kept busy, several passes a submission

@@ -20,7 +20,7 @@ use crate::error::Error;
 use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
 use crate::gpu::{Kernel, Resource};
 use crate::image_io::Rgb32Image;
-use crate::layout::{Frame, GridParams, GridScene, VisiblePoint};
+use crate::layout::{Frame, GridParams, GridScene, VisiblePoint, WORK_COUNTS};
 use crate::scene::Method;
 use crate::scene::Scene;
 use std::ops::Range;
@@ -114,6 +114,10 @@ pub struct LightTracer {
     /// vcm's grid: its points (one a light-vertex slot), parameters and lists (a word each
     /// otherwise).
     grid_buffers: Vec<(&'static str, wgpu::Buffer)>,
+    /// What the kernels did, counted in a pass of vcm's pilot ([`WORK_COUNTS`] words).
+    work_counts: wgpu::Buffer,
+    /// What vcm's pilot chose for this render, for [`Integrator::notes`], and its seconds.
+    pilot: Option<(String, f64)>,
     sums: PixelSums,
     /// [`Integrator::run_pass`]'s submissions in flight.
     submissions: crate::gpu::submissions::Submissions,
@@ -182,6 +186,9 @@ impl LightTracer {
         // One light subpath a pixel of the whole image a pass (bpt: as many as the store holds).
         let limit = device.limits().max_storage_buffer_binding_size;
         frame.photon_count = light_paths(scene, limit)?;
+        // The shares of camera vertices that connect and merge (shaders/shared/bidir.wgsl).
+        let shares = Shares::of(scene);
+        (frame.connect_share, frame.merge_share) = (shares.connect, shares.merge);
         let bidir = is_bidirectional(r.method);
         let merge = merges(scene);
 
@@ -191,9 +198,6 @@ impl LightTracer {
         // vcm weighs its strategies by the power heuristic, bpt by the balance heuristic
         // (shaders/shared/vcm.wgsl's `mis`).
         spec.constants.push(("MIS_POWER", if r.method == Method::Vcm { 1.0 } else { 0.0 }));
-        // The shares of camera vertices that connect and merge (shaders/shared/bidir.wgsl).
-        spec.constants.push(("VCM_CONNECT_SHARE", r.connect_share as f64));
-        spec.constants.push(("VCM_MERGE_SHARE", r.merge_share as f64));
         let light_trace = spec.kernel(device, "light_trace")?;
         let splat_accumulate = Kernel::new(device, "splat_accumulate")?;
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -214,12 +218,18 @@ impl LightTracer {
         let slots = if merge { (vertex_words / (LIGHT_VERTEX_BYTES / 4) as usize) as u32 } else { 1 };
         frame.vp_count = if merge { slots } else { 0 };
         let grid_buffers = grid_buffers(device, scene, data, slots, paths as u32);
+        let work_counts = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("work_counts"),
+            contents: bytemuck::cast_slice(&[0u32; WORK_COUNTS as usize]),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+        });
         let mut resources = scene_buffers.resources();
         resources.push(Resource { name: "frame", buffer: &frame_buffer });
         resources.push(Resource { name: "splat", buffer: &splat });
         resources.push(Resource { name: "radiance", buffer: &sums.radiance });
         resources.push(Resource { name: "light_vertices", buffer: &light_vertices });
         resources.push(Resource { name: "light_path_length", buffer: &light_path_length });
+        resources.push(Resource { name: "work_counts", buffer: &work_counts });
         for (name, buffer) in &grid_buffers {
             resources.push(Resource { name, buffer });
         }
@@ -268,6 +278,8 @@ impl LightTracer {
             light_vertices,
             light_path_length,
             grid_buffers,
+            work_counts,
+            pilot: None,
             sums,
             submissions: crate::gpu::submissions::Submissions::new(),
             _scene: scene_buffers,
@@ -282,6 +294,25 @@ impl LightTracer {
     /// Light subpaths a pass.
     fn paths(&self) -> u32 {
         self.frame.photon_count
+    }
+
+    /// What the pilot that chose this render's shares reports ([`Integrator::notes`]), and
+    /// the seconds it took ([`Integrator::setup_seconds`]).
+    pub(super) fn with_pilot(mut self, pilot: Option<(String, f64)>) -> Self {
+        self.pilot = pilot;
+        self
+    }
+
+    /// vcm's pilot: one pass at `shares`, its kernels counting their work. Returns the pixel
+    /// sums after it and the counts ([`WORK_COUNTS`] words).
+    pub(super) fn counted_pass(&mut self, shares: Shares) -> Result<(Vec<[f32; 4]>, Vec<u32>), Error> {
+        (self.frame.connect_share, self.frame.merge_share, self.frame.count_work) = (shares.connect, shares.merge, 1);
+        self.queue.write_buffer(&self.work_counts, 0, bytemuck::cast_slice(&[0u32; WORK_COUNTS as usize]));
+        self.run_pass()?;
+        let sums = crate::gpu::readback::read_whole(&self.device, &self.queue, &self.sums.radiance)?;
+        let counts = crate::gpu::readback::read_whole(&self.device, &self.queue, &self.work_counts)?;
+        self.frame.count_work = 0;
+        Ok((sums, counts))
     }
 }
 
@@ -306,7 +337,9 @@ impl Integrator for LightTracer {
         }
         super::record_upload(&self.device, &self.queue, encoder, &self.frame_buffer, bytemuck::bytes_of(&self.frame));
         self.light_trace.dispatch(encoder, &self.trace_group, end - first);
-        if let (true, Some(grid)) = (pass_done, &self.merge_grid) {
+        // At a merge share of 0 (chosen by vcm's pilot) no camera vertex merges.
+        let grid = self.merge_grid.as_ref().filter(|_| self.frame.merge_share > 0.0);
+        if let (true, Some(grid)) = (pass_done, grid) {
             // The grid sized by the pass's radius (grid_setup reads it as the largest), then
             // the light vertices listed in its buckets (SPPM's record_point_grid).
             let r = self.frame.global_radius.to_bits();
@@ -357,6 +390,14 @@ impl Integrator for LightTracer {
         self.progress.passes
     }
 
+    fn notes(&self) -> Vec<String> {
+        self.pilot.iter().map(|(note, _)| note.clone()).collect()
+    }
+
+    fn setup_seconds(&self) -> f64 {
+        self.pilot.as_ref().map_or(0.0, |(_, seconds)| *seconds)
+    }
+
     fn work_per_pass(&self) -> u64 {
         self.paths() as u64
     }
@@ -402,10 +443,34 @@ impl Integrator for LightTracer {
     }
 }
 
-/// Whether the render merges: vcm with a share of camera vertices that merge above 0 (at 0 it
-/// stores no merge points and builds no grid).
+/// Whether the render may merge: vcm with a share of camera vertices that merge above 0, or
+/// one its pilot chooses (at 0 it stores no merge points and builds no grid).
 fn merges(scene: &Scene) -> bool {
-    scene.render.method == Method::Vcm && scene.render.merge_share > 0.0
+    scene.render.method == Method::Vcm && scene.render.merge_share.is_none_or(|m| m > 0.0)
+}
+
+/// The shares of camera vertices that connect to light vertices and that merge with them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shares {
+    /// The share that connects, in [0, 1].
+    pub connect: f32,
+    /// The share that merges, in [0, 1] (vcm).
+    pub merge: f32,
+}
+
+impl Shares {
+    /// `scene`'s shares as set, 1 where not.
+    pub fn of(scene: &Scene) -> Self {
+        let r = &scene.render;
+        Self { connect: r.connect_share.unwrap_or(1.0), merge: r.merge_share.unwrap_or(1.0) }
+    }
+}
+
+/// Whether vcm's pilot chooses `scene`'s shares (`integrators::shares`): vcm with neither
+/// share set.
+pub fn pilot_chooses_shares(scene: &Scene) -> bool {
+    let r = &scene.render;
+    r.method == Method::Vcm && r.connect_share.is_none() && r.merge_share.is_none()
 }
 
 /// Bytes of vcm's grid a light-vertex slot (its point, 8 grid entries; the buckets, 4 a

@@ -10,6 +10,7 @@ mod memory;
 pub mod path;
 mod pixel_sums;
 mod resolve;
+pub mod shares;
 pub mod sppm;
 mod state;
 
@@ -137,6 +138,16 @@ pub trait Integrator {
     /// whole render's image (`sppm-gpu merge`). Only before any pass; an error for SPPM with
     /// a radius per point, whose passes depend on every pass before them.
     fn start_at_pass(&mut self, first: u32) -> Result<(), Error>;
+    /// What the integrator chose for the render before its first pass, one sentence each, for
+    /// the user to read (vcm's pilot: [`shares`]).
+    fn notes(&self) -> Vec<String> {
+        Vec::new()
+    }
+    /// Seconds spent before the first pass on work that belongs to the render (vcm's pilot),
+    /// which a time limit counts.
+    fn setup_seconds(&self) -> f64 {
+        0.0
+    }
     /// SPPM's gather radii over the visible points (read back); `None` for the path tracers.
     fn radius_stats(&self) -> Result<Option<sppm::RadiusStats>, Error> {
         Ok(None)
@@ -148,7 +159,21 @@ pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Resu
     check_device_for(device, scene)?;
     let data = SceneData::new(scene)?;
     let buffers = Arc::new(SceneBuffers::new(device, &data));
-    create_on(device, queue, scene, &data, buffers)
+    create_resolved(device, queue, scene, &data, buffers)
+}
+
+/// [`create_on`], with vcm's shares chosen first where its pilot chooses them.
+fn create_resolved(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    data: &SceneData,
+    buffers: Arc<SceneBuffers>,
+) -> Result<Box<dyn Integrator>, Error> {
+    match shares::resolve(device, queue, scene, data, &buffers)? {
+        Some((resolved, pilot)) => create_on(device, queue, &resolved, data, buffers, Some(pilot)),
+        None => create_on(device, queue, scene, data, buffers, None),
+    }
 }
 
 /// SPPM, and any method in bands, need the device's storage buffers and workgroups
@@ -167,6 +192,7 @@ fn create_on(
     scene: &Scene,
     data: &SceneData,
     buffers: Arc<SceneBuffers>,
+    pilot: Option<shares::Pilot>,
 ) -> Result<Box<dyn Integrator>, Error> {
     let (rows, height) = (max_rows(device, scene), scene.render.height);
     Ok(match scene.render.method {
@@ -174,9 +200,10 @@ fn create_on(
         _ if rows < height => Box::new(Bands::with_scene_buffers(device, queue, scene, data, buffers, rows)?),
         Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?),
         Method::Pt | Method::PtNee => Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
-        Method::Lt | Method::Bpt | Method::Vcm => {
-            Box::new(LightTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?)
-        }
+        Method::Lt | Method::Bpt | Method::Vcm => Box::new(
+            LightTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?
+                .with_pilot(pilot.map(|p| (p.to_string(), p.seconds))),
+        ),
     })
 }
 
@@ -237,10 +264,11 @@ pub fn create_compiled(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene
         let mut tiny = scene.clone();
         let r = &mut tiny.render;
         (r.width, r.height, r.photons, r.iterations, r.time_limit) = (8, 8, r.photons.min(1024), 1, None);
-        let mut warm_up = create_on(device, queue, &tiny, &data, buffers.clone())?;
+        // vcm's shares are the kernels' data: the warm-up's (1, 1) compiles its pilot's kernels.
+        let mut warm_up = create_on(device, queue, &tiny, &data, buffers.clone(), None)?;
         warm_up.run_pass()?;
         warm_up.image()?;
         let seconds = start.elapsed().as_secs_f64();
-        Ok((create_on(device, queue, scene, &data, buffers)?, seconds))
+        Ok((create_resolved(device, queue, scene, &data, buffers)?, seconds))
     })
 }

@@ -104,8 +104,18 @@ pub struct Frame {
     /// [`STRATEGY_EMISSION`] and its siblings; [`STRATEGIES_ALL`] but for
     /// `--strategy-images`).
     pub strategies: u32,
+    /// vcm: the share of camera vertices that connect to light vertices (1: every one; drawn
+    /// per 64-pixel block, depth and pass by `shaders/shared/bidir.wgsl`'s `bidir_takes`).
+    pub connect_share: f32,
+    /// vcm: the share of camera vertices that merge with light vertices.
+    pub merge_share: f32,
+    /// vcm's pilot: 1 when the kernels add their counts of work to `work_counts`
+    /// ([`WORK_COUNTS`] words), 0 otherwise.
+    pub count_work: u32,
     /// Padding; always 0.
     pub _pad4: u32,
+    /// Padding; always 0.
+    pub _pad5: u32,
     /// [`FILTER_GAUSSIAN`]: the CDF of the filter's density on [0, 4] standard deviations at
     /// the ends of [`FILTER_TABLE_SIZE`] equal intervals, `C_1..=C_256` (`C_0 = 0`,
     /// `C_256 = 1`), four an entry; zeros for the other filters.
@@ -490,6 +500,17 @@ pub const STRATEGY_MERGE: u32 = 8;
 pub const STRATEGY_LIGHT_TRACE: u32 = 16;
 /// Every strategy: a render's default.
 pub const STRATEGIES_ALL: u32 = 31;
+/// Words of vcm's `work_counts` (`shaders/shared/bidir.wgsl`): what a pass of its pilot did,
+/// counted where [`Frame::count_work`] is 1, each word one of the `WORK_*` below.
+pub const WORK_COUNTS: u32 = 4;
+/// `work_counts` word: camera vertices (scattering events of camera subpaths).
+pub const WORK_CAMERA_VERTICES: u32 = 0;
+/// `work_counts` word: light vertices a camera vertex was joined to (a connection each).
+pub const WORK_CONNECTIONS: u32 = 1;
+/// `work_counts` word: light vertices a merging camera vertex looked at in the grid.
+pub const WORK_MERGE_CANDIDATES: u32 = 2;
+/// `work_counts` word: light vertices (scattering events of light subpaths).
+pub const WORK_LIGHT_VERTICES: u32 = 3;
 
 /// One interior node as the kernels read it (32 bytes): the boxes of its two children,
 /// quantized to 16 bits per coordinate on a grid over the root's box ([`BvhParams`]), and a

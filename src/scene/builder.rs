@@ -561,8 +561,11 @@ impl Check<'_> {
         if let Some(paths) = r.light_paths {
             self.count("render.light_paths", paths, u32::MAX)?;
         }
-        self.f32("render.connect_share", r.connect_share, Bound::Closed(0.0, 1.0))?;
-        self.f32("render.merge_share", r.merge_share, Bound::Closed(0.0, 1.0))?;
+        for (key, share) in [("render.connect_share", r.connect_share), ("render.merge_share", r.merge_share)] {
+            if let Some(share) = share {
+                self.f32(key, share, Bound::Closed(0.0, 1.0))?;
+            }
+        }
         if let Some(radius) = r.radius {
             self.f32("render.radius", radius, Bound::Positive)?;
         }

@@ -282,12 +282,14 @@ pub struct RenderSettings {
     /// choice, one for every [`crate::integrators::light::PIXELS_PER_LIGHT_PATH`] pixels.
     pub light_paths: Option<u32>,
     /// bpt's and vcm's share of camera vertices that connect to light vertices
-    /// (`connect_share`, in [0, 1]; default 1, every one). A share enters the MIS as the
-    /// strategy's count, and a connection taken is divided by it.
-    pub connect_share: f32,
+    /// (`connect_share`, in [0, 1]; 1 is every one). A share enters the MIS as the
+    /// strategy's count, and a connection taken is divided by it. `None`: 1 for bpt; for vcm,
+    /// where `merge_share` is `None` too, chosen by a pilot
+    /// (`integrators::shares`), else 1.
+    pub connect_share: Option<f32>,
     /// vcm's share of camera vertices that merge with light vertices (`merge_share`, in
-    /// [0, 1]; default 1), as [`RenderSettings::connect_share`] for merging.
-    pub merge_share: f32,
+    /// [0, 1]), as [`RenderSettings::connect_share`] for merging.
+    pub merge_share: Option<f32>,
     /// SPPM's radius schedule (`radius_schedule`: `"per-point"`, the default, or `"global"`).
     pub radius_schedule: RadiusSchedule,
     /// How a visible point's radius shrinks under [`RadiusSchedule::PerPoint`]
@@ -361,8 +363,8 @@ impl Default for RenderSettings {
             direct: DirectLight::Sampled,
             direct_samples: None,
             light_paths: None,
-            connect_share: 1.0,
-            merge_share: 1.0,
+            connect_share: None,
+            merge_share: None,
             radius_schedule: RadiusSchedule::PerPoint,
             radius_rule: RadiusRule::Shrink,
             filter: PixelFilter::Box,

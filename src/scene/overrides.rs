@@ -142,7 +142,7 @@ impl Overrides {
                 if !(0.0..=1.0).contains(&share) {
                     return Err(Error::Setting(format!("{} must lie in [0, 1], got {share}", names.name(key))));
                 }
-                *to = share;
+                *to = Some(share);
             }
         }
         if let Some(r) = self.radius {

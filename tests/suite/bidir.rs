@@ -165,10 +165,58 @@ fn vcm_at_shares_matches_the_references() {
     }
     for (name, passes, (connect, merge)) in [("cornell-box", 64, (0.3, 0.6)), ("point-light", 128, (0.0, 0.0))] {
         let mut scene = common::load_scene(&format!("{name}.toml"));
-        scene.render.connect_share = connect;
-        scene.render.merge_share = merge;
+        scene.render.connect_share = Some(connect);
+        scene.render.merge_share = Some(merge);
         check_method(&scene, Method::Vcm, name, passes, 6e-4, 0.01);
     }
+}
+
+/// vcm's pilot (a scene that sets neither share) chooses from the scene and its seed alone:
+/// the same figures twice, and the render the same to the bit as one with the chosen shares
+/// set. Its counts of work are the candidates': no connection at connect share 0, no merge
+/// candidate at merge share 0, and the subpaths' vertices the same in number whatever the
+/// shares (the passes' numbers differ: within 5% for the camera's, some 45,000 a candidate,
+/// and 15% for the light's, some 2,300 of 1,152 subpaths, whose lengths vary more). On
+/// cornell-spheres, whose light reaches the floor through a glass sphere, the pilot chooses
+/// merging without connections, and connections without merging cost the most for their
+/// noise (session 23's fixed-pass figures: 5.5x merging without connections; the pilot's
+/// few passes miss the rarest paths and see 1.3x).
+#[test]
+fn vcm_pilot_chooses_from_the_scene_alone() {
+    let Some(gpu) = common::gpu() else { return };
+    use sppm_gpu::integrators::shares::{choose_for, CANDIDATES};
+    use sppm_gpu::layout::{WORK_CAMERA_VERTICES, WORK_CONNECTIONS, WORK_LIGHT_VERTICES, WORK_MERGE_CANDIDATES};
+    let mut scene = common::load_scene("cornell-spheres.toml");
+    (scene.render.width, scene.render.height, scene.render.iterations) = (48, 48, 4);
+    scene.render.method = Method::Vcm;
+    assert!(sppm_gpu::integrators::light::pilot_chooses_shares(&scene));
+    let pilot = choose_for(&gpu.device, &gpu.queue, &scene).unwrap();
+    let again = choose_for(&gpu.device, &gpu.queue, &scene).unwrap();
+    eprintln!("{pilot}\n{:?}", pilot.candidates);
+    for (a, b) in pilot.candidates.iter().zip(&again.candidates) {
+        assert_eq!((a.rel_variance, a.cost, a.counts), (b.rel_variance, b.cost, b.counts), "the pilot ran twice");
+    }
+    let [both, merge_only, connect_only] = [0, 1, 2].map(|k| &pilot.candidates[k]);
+    assert_eq!([both.shares, merge_only.shares, connect_only.shares], CANDIDATES);
+    let count = |c: &sppm_gpu::integrators::shares::Candidate, word: u32| c.counts[word as usize];
+    assert_eq!(count(merge_only, WORK_CONNECTIONS), 0.0);
+    assert_eq!(count(connect_only, WORK_MERGE_CANDIDATES), 0.0);
+    for c in [both, merge_only, connect_only] {
+        for (word, within) in [(WORK_CAMERA_VERTICES, 0.05), (WORK_LIGHT_VERTICES, 0.15)] {
+            let (n, m) = (count(c, word), count(both, word));
+            assert!(n > 0.0 && (n / m - 1.0).abs() < within, "{:?}: word {word} {n} against {m}", c.shares);
+        }
+    }
+    assert!(count(both, WORK_CONNECTIONS) > 0.0 && count(both, WORK_MERGE_CANDIDATES) > 0.0);
+    let score = |c: &sppm_gpu::integrators::shares::Candidate| c.rel_variance * c.cost;
+    assert!(score(connect_only) > 1.15 * score(merge_only), "{pilot}");
+    assert_eq!(pilot.chosen, merge_only.shares, "{pilot}");
+
+    // The render as vcm chooses it, and with the chosen shares set.
+    let auto = common::render_at(&scene, Method::Vcm, 48, 4);
+    (scene.render.connect_share, scene.render.merge_share) = (Some(pilot.chosen.connect), Some(pilot.chosen.merge));
+    let set = common::render_at(&scene, Method::Vcm, 48, 4);
+    assert!(auto.pixels == set.pixels, "the pilot's render differs from one with its shares set");
 }
 
 /// vcm merges only where the BSDF is diffuse (bidir.wgsl's vcm_merges_at): on cornell-glossy
@@ -198,7 +246,8 @@ fn vcm_merges_only_at_diffuse_surfaces() {
         let out = dir.join(format!("{name}.exr"));
         let run = std::process::Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
             .arg(&scene)
-            .args(["--method", "vcm", "--width", "24", "--height", "24", "--iterations", "2", "--strategy-images", "-o"])
+            .args(["--method", "vcm", "--width", "24", "--height", "24", "--iterations", "2", "--strategy-images"])
+            .args(["--connect-share", "1", "--merge-share", "1", "-o"])
             .arg(&out)
             .output()
             .expect("the binary runs");
@@ -227,6 +276,8 @@ fn vcm_error_falls_with_the_radius() {
     let error = |radius: f32| {
         let mut scene = common::load_scene("cornell-box.toml");
         scene.render.radius = Some(radius);
+        // Every camera vertex merges (the pilot might leave merging out).
+        (scene.render.connect_share, scene.render.merge_share) = (Some(1.0), Some(1.0));
         // alpha near 1: the radius stays near its start over the passes.
         scene.render.alpha = 0.999;
         let c = compare(&common::render_at(&scene, Method::Vcm, SIZE, 16), &reference, 8).unwrap();
@@ -240,7 +291,9 @@ fn vcm_error_falls_with_the_radius() {
 
 /// `--strategy-images`: vcm's image and beside it each strategy's weighted share, rendered
 /// again with the same passes and seed, which add up to the image (to f32 rounding), each
-/// share carrying light; a method without strategies to weigh is refused before any work.
+/// share carrying light; with the shares left to vcm's pilot too (each strategy's render
+/// chooses as the image's did); a method without strategies to weigh is refused before any
+/// work.
 #[test]
 fn strategy_images_add_up_to_the_image() {
     if common::gpu().is_none() {
@@ -248,37 +301,44 @@ fn strategy_images_add_up_to_the_image() {
     }
     let dir = common::fresh_dir("strategies");
     let out = dir.join("v.exr");
-    let run = |method: &str| {
+    let run = |method: &str, shares: &[&str]| {
         std::process::Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
             .arg(common::scene_path("cornell-spheres.toml"))
-            .args(["--method", method, "--width", "32", "--height", "32", "--iterations", "4", "--strategy-images", "-o"])
+            .args(["--method", method, "--width", "32", "--height", "32", "--iterations", "4", "--strategy-images"])
+            .args(shares)
+            .arg("-o")
             .arg(&out)
             .output()
             .expect("the binary runs")
     };
-    let refused = run("sppm");
+    let refused = run("sppm", &[]);
     let stderr = String::from_utf8_lossy(&refused.stderr);
     assert_eq!(refused.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("--strategy-images: method sppm") && !out.exists(), "{stderr}");
-    let done = run("vcm");
-    assert!(done.status.success(), "{}", String::from_utf8_lossy(&done.stderr));
-    let read = |name: &str| sppm_gpu::image_io::read_image(&dir.join(name)).unwrap();
-    let image = read("v.exr");
-    let mut sum = vec![[0.0f64; 3]; image.pixels.len()];
-    for strategy in ["emission", "nee", "connect", "merge", "lt"] {
-        let share = read(&format!("v-{strategy}.exr"));
-        let total: f64 = share.pixels.iter().flatten().map(|&v| v as f64).sum();
-        eprintln!("{strategy}: mean {}", total / (3 * share.pixels.len()) as f64);
-        assert!(total > 0.0, "{strategy} carries no light");
-        for (s, p) in sum.iter_mut().zip(&share.pixels) {
-            for c in 0..3 {
-                s[c] += p[c] as f64;
+    for shares in [&["--connect-share", "1", "--merge-share", "1"][..], &[]] {
+        let done = run("vcm", shares);
+        let stderr = String::from_utf8_lossy(&done.stderr);
+        assert!(done.status.success(), "{stderr}");
+        assert_eq!(stderr.contains("vcm's pilot"), shares.is_empty(), "{stderr}");
+        let read = |name: &str| sppm_gpu::image_io::read_image(&dir.join(name)).unwrap();
+        let image = read("v.exr");
+        let mut sum = vec![[0.0f64; 3]; image.pixels.len()];
+        for strategy in ["emission", "nee", "connect", "merge", "lt"] {
+            let share = read(&format!("v-{strategy}.exr"));
+            let total: f64 = share.pixels.iter().flatten().map(|&v| v as f64).sum();
+            eprintln!("{shares:?} {strategy}: mean {}", total / (3 * share.pixels.len()) as f64);
+            assert!(total > 0.0 || shares.is_empty(), "{strategy} carries no light");
+            for (s, p) in sum.iter_mut().zip(&share.pixels) {
+                for c in 0..3 {
+                    s[c] += p[c] as f64;
+                }
             }
         }
-    }
-    for (s, p) in sum.iter().zip(&image.pixels) {
-        for c in 0..3 {
-            assert!((s[c] - p[c] as f64).abs() <= 1e-5 * (1.0 + p[c].abs() as f64), "shares add up to {s:?}, the image {p:?}");
+        for (s, p) in sum.iter().zip(&image.pixels) {
+            for c in 0..3 {
+                let close = (s[c] - p[c] as f64).abs() <= 1e-5 * (1.0 + p[c].abs() as f64);
+                assert!(close, "{shares:?}: shares add up to {s:?}, the image {p:?}");
+            }
         }
     }
     let _ = std::fs::remove_dir_all(&dir);

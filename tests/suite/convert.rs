@@ -219,6 +219,6 @@ fn toml_render_settings_load_back_the_same() {
     let source = dir.join("shares.toml");
     std::fs::write(&source, &text).unwrap();
     let (read, written) = convert_from(dir.to_str().unwrap(), "shares.toml", &dir.join("out"));
-    assert_eq!((read.render.connect_share, read.render.merge_share), (0.3, 0.0));
+    assert_eq!((read.render.connect_share, read.render.merge_share), (Some(0.3), Some(0.0)));
     assert_eq!(read.render, written.render);
 }

@@ -63,7 +63,11 @@ fn gpu_structs_match_wgsl() {
             filter_width,
             env_aim,
             strategies,
+            connect_share,
+            merge_share,
+            count_work,
             _pad4,
+            _pad5,
             filter_cdf,
         ]
     );
@@ -181,6 +185,26 @@ fn strategy_bits_match_rust() {
         }
     }
     assert_eq!(bits.iter().fold(0, |all, (_, bit)| all | bit), STRATEGIES_ALL);
+}
+
+/// vcm's counts of work (its pilot's cost model), in shared/bidir.wgsl and the layout.
+#[test]
+fn work_counts_match_rust() {
+    use sppm_gpu::layout::{WORK_CAMERA_VERTICES, WORK_CONNECTIONS, WORK_COUNTS, WORK_LIGHT_VERTICES, WORK_MERGE_CANDIDATES};
+    let module = naga::front::wgsl::parse_str(&shader_source("bidir_camera").unwrap()).unwrap();
+    for (name, value) in [
+        ("WORK_COUNTS", WORK_COUNTS),
+        ("WORK_CAMERA_VERTICES", WORK_CAMERA_VERTICES),
+        ("WORK_CONNECTIONS", WORK_CONNECTIONS),
+        ("WORK_MERGE_CANDIDATES", WORK_MERGE_CANDIDATES),
+        ("WORK_LIGHT_VERTICES", WORK_LIGHT_VERTICES),
+    ] {
+        let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some(name)).unwrap();
+        match module.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::U32(v)) => assert_eq!(v, value, "{name}"),
+            ref e => panic!("{name}: {e:?}"),
+        }
+    }
 }
 
 /// Each BSDF family's `MATERIAL_*` and each emitter kind's `EMITTER_*`, declared in its host

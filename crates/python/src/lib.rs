@@ -326,7 +326,9 @@ impl Job {
     }
 
     /// Runs passes until `end_pass` or until `budget` seconds of passes, through the
-    /// library's pacer; returns the seconds the passes took. Stops early when `stop` is set.
+    /// library's pacer; returns the seconds the passes took, and before the first pass what
+    /// the integrator spent on the render before it (vcm's pilot), which the budget counts.
+    /// Stops early when `stop` is set.
     fn run(
         &self,
         integrator: &mut dyn Integrator,
@@ -336,6 +338,8 @@ impl Job {
     ) -> Result<f64, sppm_gpu::Error> {
         let gpu = &self.gpu;
         let passes = integrator.passes();
+        let setup = if passes == 0 { integrator.setup_seconds() } else { 0.0 };
+        let budget = budget.map(|b| (b - setup).max(0.0));
         let mut pacer =
             Pacer::new(DeviceQueue::new(integrator, &gpu.device, &gpu.queue), passes, Goal { end_pass, time_limit: budget });
         let mut seconds = 0.0;
@@ -347,7 +351,7 @@ impl Job {
             gpu.check()?;
             seconds = done.seconds;
         }
-        Ok(seconds)
+        Ok(setup + seconds)
     }
 }
 

@@ -1,0 +1,276 @@
+//! vcm's pilot: which camera vertices connect and which merge, chosen for the scene before
+//! the render (where the scene sets neither `connect_share` nor `merge_share`).
+//!
+//! Merging pays where light reaches diffuse surfaces through mirrors and glass, connections
+//! where light vertices are few and spread out; each costs a pass time. Following the
+//! efficiency-aware MIS of Grittmann et al. 2022 (a strategy's error against its cost, which
+//! it estimates while rendering), the pilot renders a few passes of the scene at a small size
+//! for each candidate pair of shares, [`CANDIDATES`]: everything (1, 1), merging without
+//! connections (0, 1) and connections without merging (1, 0). Each candidate's error is the
+//! relative variance of its passes' estimates (the mean over pixels and channels of each
+//! pixel's sample variance over `mu^2 + 0.01`, `mu` the pixel's mean over every pilot pass: a
+//! pass's relMSE as `diff` measures it, less the bias); its cost is a weighted count of the
+//! work its kernels did ([`CostModel`]). The pair of least error times cost renders the image.
+//!
+//! The choice is a function of the scene and its seed alone (counted work, not time), so
+//! that a seed's image stays the same to the bit from run to run and batch to batch.
+//!
+//! Its passes are worth those of the render they stand for: the pilot's image has as many
+//! pixels as fit [`PILOT_SIDE`] on its longer side, light subpaths in the same proportion,
+//! and a radius that keeps merging's density estimate as noisy as the render's at
+//! [`REPRESENTATIVE_PASS`] (the variance of a merge goes as 1 / (n_light r^2), Georgiev et
+//! al. 2012, sec. 5.1).
+
+use super::light::{light_paths, vcm_radius, LightTracer, Shares};
+use super::Integrator;
+use crate::error::Error;
+use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
+use crate::layout::{WORK_CAMERA_VERTICES, WORK_CONNECTIONS, WORK_COUNTS, WORK_MERGE_CANDIDATES};
+use crate::scene::Scene;
+use std::fmt;
+use std::sync::Arc;
+
+/// The pairs of shares (connect, merge) the pilot weighs.
+pub const CANDIDATES: [Shares; 3] =
+    [Shares { connect: 1.0, merge: 1.0 }, Shares { connect: 0.0, merge: 1.0 }, Shares { connect: 1.0, merge: 0.0 }];
+
+/// Pixels of the pilot's image on its longer side (at most the render's).
+pub const PILOT_SIDE: u32 = 128;
+
+/// Pilot passes of each candidate.
+pub const PILOT_PASSES: u32 = 8;
+
+/// The pass whose radius the pilot's merges stand for: the variance of a merge grows as the
+/// radius shrinks over the passes, and a render's error is most that of its later passes
+/// (for alpha = 2/3, a render of n passes has the mean of r^(-2) over its passes at pass
+/// 0.4 n; 256 stands for a render of some 640 passes, about 30 s of cornell-box at 256x256 on
+/// two cores). One pass for every render, so that the choice does not depend on how long it
+/// runs: a render's batches, and its strategy images, choose alike.
+pub const REPRESENTATIVE_PASS: u32 = 256;
+
+/// What a pass's joins cost, in units of a camera vertex (its next-event estimate and its
+/// next segment, with its share of the pass's camera and light subpaths' starts): a
+/// connection (a shadow ray and four BSDF evaluations) and a light vertex a merging camera
+/// vertex looks at in the grid (with its share of building the grid). Measured on lavapipe
+/// from pass times of the three candidates (`scripts/measure/vcm-pilot-cost.sh`, BENCHMARKS.md
+/// "VCM"):
+/// a merge candidate costs the same time in every scene (3.1e-8 s on the two cores), while a
+/// camera vertex and a connection cost what the scene's rays cost, about four times more in
+/// scenes traced through a BVH than in those small enough to be traced by code
+/// ([`crate::gpu::baked_bvh`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CostModel {
+    /// A connection's cost in camera vertices.
+    pub connection: f64,
+    /// A merge candidate's cost in camera vertices.
+    pub merge_candidate: f64,
+}
+
+/// [`CostModel`] of a scene traced by code (at most
+/// [`MAX_BAKED_PRIMITIVES`](crate::gpu::scene_buffers::MAX_BAKED_PRIMITIVES) primitives).
+pub const BAKED_COST: CostModel = CostModel { connection: 0.65, merge_candidate: 0.23 };
+
+/// [`CostModel`] of a scene traced through a BVH.
+pub const TRAVERSED_COST: CostModel = CostModel { connection: 0.5, merge_candidate: 0.063 };
+
+impl CostModel {
+    /// The cost model of the scene of `data`.
+    pub fn of(data: &SceneData) -> Self {
+        let primitives = data.bvh.prim_refs.len();
+        if primitives > 0 && primitives <= crate::gpu::scene_buffers::MAX_BAKED_PRIMITIVES {
+            BAKED_COST
+        } else {
+            TRAVERSED_COST
+        }
+    }
+
+    /// A pass's cost, in camera vertices, from its counts of work (`WORK_*` words).
+    pub fn cost(&self, counts: &[u32]) -> f64 {
+        let n = |word: u32| counts[word as usize] as f64;
+        n(WORK_CAMERA_VERTICES) + self.connection * n(WORK_CONNECTIONS) + self.merge_candidate * n(WORK_MERGE_CANDIDATES)
+    }
+}
+
+/// One candidate's figures.
+#[derive(Clone, Debug)]
+pub struct Candidate {
+    /// The candidate's shares.
+    pub shares: Shares,
+    /// The relative variance of one of its passes (see the module's documentation).
+    pub rel_variance: f64,
+    /// The cost of one of its passes, in camera vertices ([`CostModel`]).
+    pub cost: f64,
+    /// Its work a pass, by `WORK_*` word (the mean over its passes).
+    pub counts: [f64; WORK_COUNTS as usize],
+}
+
+/// What vcm's pilot measured and chose.
+#[derive(Clone, Debug)]
+pub struct Pilot {
+    /// The shares chosen: the candidate of least relative variance times cost.
+    pub chosen: Shares,
+    /// Every candidate's figures, in the order of [`CANDIDATES`].
+    pub candidates: Vec<Candidate>,
+    /// The pilot image's width.
+    pub width: u32,
+    /// The pilot image's height.
+    pub height: u32,
+    /// Seconds the pilot took (its passes and read-backs).
+    pub seconds: f64,
+}
+
+impl fmt::Display for Pilot {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "vcm's pilot ({} passes at {}x{}, {:.2} s) chose connect share {} and merge share {} (relative variance x cost:",
+            PILOT_PASSES * CANDIDATES.len() as u32,
+            self.width,
+            self.height,
+            self.seconds,
+            self.chosen.connect,
+            self.chosen.merge
+        )?;
+        for c in &self.candidates {
+            write!(f, " {}/{} {:.3e}", c.shares.connect, c.shares.merge, c.rel_variance * c.cost)?;
+        }
+        write!(f, ")")
+    }
+}
+
+/// The scene the pilot renders for `scene` (see the module's documentation).
+fn pilot_scene(scene: &Scene, limit: u64) -> Result<Scene, Error> {
+    let mut pilot = scene.clone();
+    // Every strategy weighed and kept (a render for `--strategy-images` keeps one).
+    (pilot.render.method, pilot.render.strategies) = (crate::scene::Method::Vcm, crate::layout::STRATEGIES_ALL);
+    let r = &mut pilot.render;
+    // The measuring hook's pilot at another size (SPPM_GPU_PILOT_SIDE).
+    let side = std::env::var("SPPM_GPU_PILOT_SIDE").ok().and_then(|v| v.parse().ok()).unwrap_or(PILOT_SIDE);
+    let scale = (side as f64 / r.width.max(r.height) as f64).min(1.0);
+    let pixels = r.width as f64 * r.height as f64;
+    (r.width, r.height) = (((r.width as f64 * scale).round() as u32).max(1), ((r.height as f64 * scale).round() as u32).max(1));
+    let pilot_pixels = r.width as f64 * r.height as f64;
+    if let Some(n) = r.light_paths {
+        r.light_paths = Some(((n as f64 * pilot_pixels / pixels).round() as u32).max(1));
+    }
+    let n_render = light_paths(scene, limit)? as f64;
+    let n_pilot = light_paths(&pilot, limit)? as f64;
+    let radius = vcm_radius(scene, REPRESENTATIVE_PASS) as f64;
+    let r = &mut pilot.render;
+    (r.radius, r.alpha) = (Some((radius * (n_render / n_pilot).sqrt()) as f32), 1.0);
+    (r.time_limit, r.iterations) = (None, PILOT_PASSES * CANDIDATES.len() as u32);
+    // Numbers of their own, not the render's first passes'.
+    r.seed = r.seed.wrapping_add(0x9e37_79b9);
+    Ok(pilot)
+}
+
+/// Runs vcm's pilot for `scene` (its scene data built and uploaded for it) and chooses its
+/// shares, whether or not the scene sets them.
+pub fn choose_for(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Pilot, Error> {
+    let data = SceneData::new(scene)?;
+    let buffers = Arc::new(SceneBuffers::new(device, &data));
+    choose(device, queue, scene, &data, buffers)
+}
+
+/// Runs vcm's pilot for `scene` on its uploaded buffers and chooses its shares.
+pub fn choose(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    data: &SceneData,
+    buffers: Arc<SceneBuffers>,
+) -> Result<Pilot, Error> {
+    let start = std::time::Instant::now();
+    let limit = device.limits().max_storage_buffer_binding_size;
+    let mut pilot = pilot_scene(scene, limit)?;
+    pilot.render.connect_share = Some(1.0);
+    pilot.render.merge_share = Some(1.0);
+    let (width, height) = (pilot.render.width, pilot.render.height);
+    let pixels = (width * height) as usize;
+    let model = CostModel::of(data);
+    let mut tracer = LightTracer::with_scene_buffers(device, queue, &pilot, data, buffers, 0..height)?;
+    // Each candidate's passes' estimates, pixel by pixel.
+    let mut estimates = vec![Vec::new(); CANDIDATES.len()];
+    let mut costs = vec![0.0; CANDIDATES.len()];
+    let mut work = vec![[0.0; WORK_COUNTS as usize]; CANDIDATES.len()];
+    let mut before = vec![[0.0f32; 4]; pixels];
+    // A measuring hook (scripts/measure/vcm-pilot-cost.sh): each pilot pass's time and counts.
+    let log = std::env::var_os("SPPM_GPU_PILOT_LOG").is_some();
+    for pass in 0..PILOT_PASSES * CANDIDATES.len() as u32 {
+        let k = pass as usize % CANDIDATES.len();
+        let shares = CANDIDATES[k];
+        let pass_start = std::time::Instant::now();
+        let (sums, counts) = tracer.counted_pass(shares)?;
+        if log {
+            eprintln!("pilot pass {k} {:.6} {counts:?}", pass_start.elapsed().as_secs_f64());
+        }
+        let estimate: Vec<[f32; 3]> = sums.iter().zip(&before).map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]]).collect();
+        before = sums;
+        estimates[k].push(estimate);
+        costs[k] += model.cost(&counts) / PILOT_PASSES as f64;
+        for (w, &n) in work[k].iter_mut().zip(&counts) {
+            *w += n as f64 / PILOT_PASSES as f64;
+        }
+    }
+    // Each pixel's mean over every pilot pass.
+    let all = tracer.passes().max(1) as f64;
+    let mu: Vec<[f64; 3]> = before.iter().map(|s| [s[0] as f64 / all, s[1] as f64 / all, s[2] as f64 / all]).collect();
+    let candidates: Vec<Candidate> = CANDIDATES
+        .iter()
+        .zip(&estimates)
+        .zip(costs.iter().zip(&work))
+        .map(|((&shares, passes), (&cost, &counts))| Candidate { shares, rel_variance: rel_variance(passes, &mu), cost, counts })
+        .collect();
+    if log {
+        for c in &candidates {
+            eprintln!("pilot candidate {} {} {:.6e} {:.6e}", c.shares.connect, c.shares.merge, c.rel_variance, c.cost);
+        }
+    }
+    let chosen = candidates
+        .iter()
+        .min_by(|a, b| (a.rel_variance * a.cost).total_cmp(&(b.rel_variance * b.cost)))
+        .map(|c| c.shares)
+        .unwrap_or(CANDIDATES[0]);
+    Ok(Pilot { chosen, candidates, width, height, seconds: start.elapsed().as_secs_f64() })
+}
+
+/// The mean over pixels and channels of each pixel's sample variance over `passes` relative
+/// to `mu^2 + 0.01` ([`crate::metrics::REL_MSE_EPSILON`]); infinite where a pass is not finite.
+fn rel_variance(passes: &[Vec<[f32; 3]>], mu: &[[f64; 3]]) -> f64 {
+    let n = passes.len() as f64;
+    if n < 2.0 {
+        return f64::INFINITY;
+    }
+    let mut sum = 0.0;
+    for (p, mu) in mu.iter().enumerate() {
+        for c in 0..3 {
+            let mean = passes.iter().map(|x| x[p][c] as f64).sum::<f64>() / n;
+            let variance = passes.iter().map(|x| (x[p][c] as f64 - mean).powi(2)).sum::<f64>() / (n - 1.0);
+            sum += variance / (mu[c] * mu[c] + crate::metrics::REL_MSE_EPSILON);
+        }
+    }
+    let v = sum / (3 * mu.len()) as f64;
+    if v.is_finite() {
+        v
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Where vcm's pilot chooses `scene`'s shares ([`super::light::pilot_chooses_shares`]): the
+/// scene with the pilot's shares, and the pilot.
+pub(super) fn resolve(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    data: &SceneData,
+    buffers: &Arc<SceneBuffers>,
+) -> Result<Option<(Scene, Pilot)>, Error> {
+    if !super::light::pilot_chooses_shares(scene) {
+        return Ok(None);
+    }
+    let pilot = choose(device, queue, scene, data, buffers.clone())?;
+    let mut scene = scene.clone();
+    (scene.render.connect_share, scene.render.merge_share) = (Some(pilot.chosen.connect), Some(pilot.chosen.merge));
+    Ok(Some((scene, pilot)))
+}
