@@ -45,10 +45,19 @@ const LIGHT_VERTEX_BUDGET: u64 = 256 << 20;
 /// on cornell-box, cornell-glossy, cornell-spheres and veach-bidir (BENCHMARKS.md "VCM").
 pub const PIXELS_PER_LIGHT_PATH: u32 = 16;
 
+/// Pixels for each light subpath of a vcm pass that merges without connecting (a connect
+/// share of 0, as vcm's pilot chooses where merging pays most) unless `light_paths` says
+/// otherwise: merging alone is SPPM's estimate weighed against next-event estimation and
+/// light tracing, and like SPPM's it pays for more light subpaths. At 30 s on the two cores,
+/// one for 4 pixels against one for 16: cornell-glossy 6.46e-4 against 7.23e-4, cornell-skylight
+/// 2.78e-3 against 4.29e-3, cornell-spheres 1.42e-3 against 1.43e-3, Mitsuba's box.xml 1.86e-4
+/// against 1.96e-4 (BENCHMARKS.md "VCM").
+pub const PIXELS_PER_LIGHT_PATH_MERGING: u32 = 4;
+
 /// Light subpaths a pass of `method` on `scene`, within `limit` bytes a buffer: lt one a pixel
 /// (of the whole image); bpt and vcm `light_paths`, or one for every
-/// [`PIXELS_PER_LIGHT_PATH`] pixels, at most as many as the light-vertex store holds (at
-/// least one).
+/// [`PIXELS_PER_LIGHT_PATH`] pixels ([`PIXELS_PER_LIGHT_PATH_MERGING`] for vcm merging
+/// without connecting), at most as many as the light-vertex store holds (at least one).
 pub fn light_paths(scene: &Scene, limit: u64) -> Result<u32, Error> {
     let r = &scene.render;
     let pixels = r
@@ -59,7 +68,9 @@ pub fn light_paths(scene: &Scene, limit: u64) -> Result<u32, Error> {
         return Ok(pixels);
     }
     let per_path = r.max_depth.max(1) as u64 * LIGHT_VERTEX_BYTES;
-    let wanted = r.light_paths.unwrap_or((pixels / PIXELS_PER_LIGHT_PATH).max(1));
+    let merging_alone = r.method == Method::Vcm && r.connect_share == Some(0.0) && merges(scene);
+    let per_path_pixels = if merging_alone { PIXELS_PER_LIGHT_PATH_MERGING } else { PIXELS_PER_LIGHT_PATH };
+    let wanted = r.light_paths.unwrap_or((pixels / per_path_pixels).max(1));
     Ok((LIGHT_VERTEX_BUDGET.min(limit) / per_path).clamp(1, wanted as u64) as u32)
 }
 
