@@ -182,6 +182,36 @@ impl LightTracer {
         scene_buffers: Arc<SceneBuffers>,
         rows: Range<u32>,
     ) -> Result<Self, Error> {
+        Self::build(device, queue, scene, data, scene_buffers, rows, merges(scene))
+    }
+
+    /// The light tracer of a scene whose shares vcm's `pilot` chose ([`super::shares`]),
+    /// reporting it ([`Integrator::notes`], [`Integrator::setup_seconds`]). Its kernels are the
+    /// pilot's, which merge where the share says so: a merge share of 0 chosen leaves them
+    /// (and the grid's buffers) as they are rather than compiling others within the render's time.
+    pub(super) fn with_pilot(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        data: &SceneData,
+        scene_buffers: Arc<SceneBuffers>,
+        pilot: &super::shares::Pilot,
+    ) -> Result<Self, Error> {
+        let mut tracer = Self::build(device, queue, scene, data, scene_buffers, 0..scene.render.height, true)?;
+        tracer.pilot = Some((pilot.to_string(), pilot.seconds));
+        Ok(tracer)
+    }
+
+    /// [`LightTracer::with_scene_buffers`], its kernels merging where `merge` (vcm).
+    fn build(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        data: &SceneData,
+        scene_buffers: Arc<SceneBuffers>,
+        rows: Range<u32>,
+        merge: bool,
+    ) -> Result<Self, Error> {
         Self::check_scene(scene)?;
         let r = &scene.render;
         let mut frame = super::band_frame(scene, data, &rows)?;
@@ -201,7 +231,7 @@ impl LightTracer {
         let shares = Shares::of(scene);
         (frame.connect_share, frame.merge_share) = (shares.connect, shares.merge);
         let bidir = is_bidirectional(r.method);
-        let merge = merges(scene);
+        let merge = merge && r.method == Method::Vcm;
 
         let mut spec = super::specialization(scene, data);
         spec.constants.push(("BIDIR", if bidir { 1.0 } else { 0.0 }));
@@ -305,13 +335,6 @@ impl LightTracer {
     /// Light subpaths a pass.
     fn paths(&self) -> u32 {
         self.frame.photon_count
-    }
-
-    /// What the pilot that chose this render's shares reports ([`Integrator::notes`]), and
-    /// the seconds it took ([`Integrator::setup_seconds`]).
-    pub(super) fn with_pilot(mut self, pilot: Option<(String, f64)>) -> Self {
-        self.pilot = pilot;
-        self
     }
 
     /// vcm's pilot: one pass at `shares`, its kernels counting their work. Returns the pixel

@@ -200,10 +200,10 @@ fn create_on(
         _ if rows < height => Box::new(Bands::with_scene_buffers(device, queue, scene, data, buffers, rows)?),
         Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?),
         Method::Pt | Method::PtNee => Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
-        Method::Lt | Method::Bpt | Method::Vcm => Box::new(
-            LightTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?
-                .with_pilot(pilot.map(|p| (p.to_string(), p.seconds))),
-        ),
+        Method::Lt | Method::Bpt | Method::Vcm => match &pilot {
+            Some(pilot) => Box::new(LightTracer::with_pilot(device, queue, scene, data, buffers, pilot)?),
+            None => Box::new(LightTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
+        },
     })
 }
 
@@ -264,7 +264,8 @@ pub fn create_compiled(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene
         let mut tiny = scene.clone();
         let r = &mut tiny.render;
         (r.width, r.height, r.photons, r.iterations, r.time_limit) = (8, 8, r.photons.min(1024), 1, None);
-        // vcm's shares are the kernels' data: the warm-up's (1, 1) compiles its pilot's kernels.
+        // vcm's shares are the kernels' data: the warm-up's (1, 1) compiles the kernels its pilot
+        // and its render use (the render keeps the pilot's kernels whatever shares it chose).
         let mut warm_up = create_on(device, queue, &tiny, &data, buffers.clone(), None)?;
         warm_up.run_pass()?;
         warm_up.image()?;
