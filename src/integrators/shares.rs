@@ -13,7 +13,8 @@
 //! work its kernels did ([`CostModel`]). The pair of least error times cost renders the image.
 //!
 //! The choice is a function of the scene and its seed alone (counted work, not time), so
-//! that a seed's image stays the same to the bit from run to run and batch to batch.
+//! that on one device a seed's image stays the same to the bit from run to run and batch to
+//! batch.
 //!
 //! Its passes are worth those of the render they stand for: the pilot's image has as many
 //! pixels as fit [`PILOT_SIDE`] on its longer side, light subpaths in the same proportion,

@@ -389,7 +389,7 @@ macro_rules! render_settings {
             direct: named => direct, "SPPM's direct light: sampled or photons";
             direct_samples: number => direct_samples, "SPPM's camera paths per visible point that gather direct light";
             light_paths: number => light_paths, "bpt's and vcm's light subpaths a pass";
-            connect_share: number => connect_share, "bpt's and vcm's share of camera vertices that connect, in [0, 1]";
+            connect_share: number => connect_share, "bpt's and vcm's share of camera vertices that connect, in [0, 1] (vcm with neither share given: its pilot's)";
             merge_share: number => merge_share, "vcm's share of camera vertices that merge, in [0, 1]";
             radius_schedule: named => radius_schedule, "SPPM's radius schedule: per-point or global";
             radius_rule: named => radius_rule, "SPPM's radius rule: shrink or adaptive";
