@@ -185,8 +185,9 @@ impl LightTracer {
         Self::build(device, queue, scene, data, scene_buffers, rows, merges(scene))
     }
 
-    /// The light tracer of a scene whose shares vcm's `pilot` chose ([`super::shares`]),
-    /// reporting it ([`Integrator::notes`], [`Integrator::setup_seconds`]). Its kernels are the
+    /// The light tracer of a scene whose shares vcm's pilot chose (`integrators::shares`),
+    /// reporting what the pilot says of its choice, `note`, and the `seconds` it took
+    /// ([`Integrator::notes`], [`Integrator::setup_seconds`]). Its kernels are the
     /// pilot's, which merge where the share says so: a merge share of 0 chosen leaves them
     /// (and the grid's buffers) as they are rather than compiling others within the render's time.
     pub(super) fn with_pilot(
@@ -195,10 +196,10 @@ impl LightTracer {
         scene: &Scene,
         data: &SceneData,
         scene_buffers: Arc<SceneBuffers>,
-        pilot: &super::shares::Pilot,
+        (note, seconds): (String, f64),
     ) -> Result<Self, Error> {
         let mut tracer = Self::build(device, queue, scene, data, scene_buffers, 0..scene.render.height, true)?;
-        tracer.pilot = Some((pilot.to_string(), pilot.seconds));
+        tracer.pilot = Some((note, seconds));
         Ok(tracer)
     }
 

@@ -201,7 +201,9 @@ fn create_on(
         Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?),
         Method::Pt | Method::PtNee => Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
         Method::Lt | Method::Bpt | Method::Vcm => match &pilot {
-            Some(pilot) => Box::new(LightTracer::with_pilot(device, queue, scene, data, buffers, pilot)?),
+            Some(pilot) => {
+                Box::new(LightTracer::with_pilot(device, queue, scene, data, buffers, (pilot.to_string(), pilot.seconds))?)
+            }
             None => Box::new(LightTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
         },
     })
