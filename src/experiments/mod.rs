@@ -371,13 +371,11 @@ pub fn compare_on(gpu: &GpuContext, scene: &Scene, name: &str, opts: &CompareOpt
         let mut s = scene.clone();
         variant.apply(&mut s.render);
         bar.set_message(format!("{}: compiling", variant.name()));
-        runs.push(Run {
-            label: variant.name(),
-            timed: Timed::compiled(gpu, &s)?,
-            max_passes: opts.max_passes.unwrap_or(u32::MAX),
-            next: 0,
-            last: None,
-        });
+        let timed = Timed::compiled(gpu, &s)?;
+        for line in timed.integrator.notes() {
+            note(&bar, format!("{}: note: {line}", variant.name()));
+        }
+        runs.push(Run { label: variant.name(), timed, max_passes: opts.max_passes.unwrap_or(u32::MAX), next: 0, last: None });
     }
     let mut snapshots = Vec::new();
     while let Some(run) =
