@@ -68,7 +68,7 @@ pub fn light_paths(scene: &Scene, limit: u64) -> Result<u32, Error> {
         return Ok(pixels);
     }
     let per_path = r.max_depth.max(1) as u64 * LIGHT_VERTEX_BYTES;
-    let merging_alone = r.method == Method::Vcm && r.connect_share == Some(0.0) && merges(scene);
+    let merging_alone = r.connect_share == Some(0.0) && merges(scene);
     let per_path_pixels = if merging_alone { PIXELS_PER_LIGHT_PATH_MERGING } else { PIXELS_PER_LIGHT_PATH };
     let wanted = r.light_paths.unwrap_or((pixels / per_path_pixels).max(1));
     Ok((LIGHT_VERTEX_BUDGET.min(limit) / per_path).clamp(1, wanted as u64) as u32)
@@ -260,11 +260,7 @@ impl LightTracer {
         let slots = if merge { (vertex_words / (LIGHT_VERTEX_BYTES / 4) as usize) as u32 } else { 1 };
         frame.vp_count = if merge { slots } else { 0 };
         let grid_buffers = grid_buffers(device, scene, data, slots, paths as u32);
-        let work_counts = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("work_counts"),
-            contents: bytemuck::cast_slice(&[0u32; WORK_COUNTS as usize]),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-        });
+        let work_counts = storage_buffer(device, "work_counts", &[0u32; WORK_COUNTS as usize]);
         let mut resources = scene_buffers.resources();
         resources.push(Resource { name: "frame", buffer: &frame_buffer });
         resources.push(Resource { name: "splat", buffer: &splat });
@@ -344,7 +340,7 @@ impl LightTracer {
         (self.frame.connect_share, self.frame.merge_share, self.frame.count_work) = (shares.connect, shares.merge, 1);
         self.queue.write_buffer(&self.work_counts, 0, bytemuck::cast_slice(&[0u32; WORK_COUNTS as usize]));
         self.run_pass()?;
-        let sums = crate::gpu::readback::read_whole(&self.device, &self.queue, &self.sums.radiance)?;
+        let sums = self.sums.sums()?;
         let counts = crate::gpu::readback::read_whole(&self.device, &self.queue, &self.work_counts)?;
         self.frame.count_work = 0;
         Ok((sums, counts))

@@ -65,8 +65,13 @@ impl PixelSums {
 
     /// The image so far, read back (waits for the submitted passes).
     pub(super) fn image(&self, width: u32, height: u32) -> Result<Rgb32Image, Error> {
-        let sums: Vec<[f32; 4]> = read_buffer(&self.device, &self.queue, &self.radiance, &self.staging, self.bytes())?;
-        Ok(Self::mean(&sums, width, height))
+        Ok(Self::mean(&self.sums()?, width, height))
+    }
+
+    /// Each pixel's sums so far (rgb and the estimates' count), read back (waits for the
+    /// submitted passes).
+    pub(super) fn sums(&self) -> Result<Vec<[f32; 4]>, Error> {
+        Ok(read_buffer(&self.device, &self.queue, &self.radiance, &self.staging, self.bytes())?)
     }
 
     /// Record the mean of each pixel's estimates into `texture` (see

@@ -160,6 +160,8 @@ fn pilot_scene(scene: &Scene, limit: u64) -> Result<Scene, Error> {
     let r = &mut pilot.render;
     (r.radius, r.alpha) = (Some((radius * (n_render / n_pilot).sqrt()) as f32), 1.0);
     (r.time_limit, r.iterations) = (None, PILOT_PASSES * CANDIDATES.len() as u32);
+    // Set, so that the pilot's own shares are its candidates' (`LightTracer::counted_pass`).
+    (r.connect_share, r.merge_share) = (Some(1.0), Some(1.0));
     // Numbers of their own, not the render's first passes'.
     r.seed = r.seed.wrapping_add(0x9e37_79b9);
     Ok(pilot)
@@ -183,9 +185,7 @@ pub fn choose(
 ) -> Result<Pilot, Error> {
     let start = std::time::Instant::now();
     let limit = device.limits().max_storage_buffer_binding_size;
-    let mut pilot = pilot_scene(scene, limit)?;
-    pilot.render.connect_share = Some(1.0);
-    pilot.render.merge_share = Some(1.0);
+    let pilot = pilot_scene(scene, limit)?;
     let (width, height) = (pilot.render.width, pilot.render.height);
     let pixels = (width * height) as usize;
     let model = CostModel::of(data);
