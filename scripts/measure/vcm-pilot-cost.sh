@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
-# vcm's pilot cost model (src/integrators/shares.rs, CostModel): each candidate pair of shares'
-# pass time and counts of work at 256x256 (the pilot at the render's size through the
-# SPPM_GPU_PILOT_LOG and SPPM_GPU_PILOT_SIDE hooks), on the canonical scenes and any scene
-# files given. For each scene: each candidate's median pass time (its first two passes left
-# out) and counts, the split of the time into a base, connections and merging (base = t(0,1)
-# + t(1,0) - t(1,1)), the seconds per connection and per merge candidate, and the ratio of the
-# candidates' times beside the model's.
+# vcm's pilot cost model (src/integrators/shares.rs, CostModel): each candidate's pass time and
+# counts of work at 256x256 (the pilot at the render's size through the SPPM_GPU_PILOT_LOG and
+# SPPM_GPU_PILOT_SIDE hooks), on the canonical scenes and any scene files given. For each
+# scene: each candidate's median pass time (its first two passes left out) and counts; then,
+# for the scenes traced by code and for those traced through a BVH, the least-squares fit of a
+# pass's time as s (camera vertices + a connections + b merge candidates + c light vertices),
+# a scale s for each scene and a, b, c shared (the model's figures), and each pass time's
+# error under the fit. The canonical scenes and box.xml are traced by code (at most 256
+# primitives, gpu::baked_bvh); scenes given are taken as traced through a BVH.
 #
 #   bash scripts/measure/vcm-pilot-cost.sh [BIN] [SCENE...]
 set -euo pipefail
@@ -16,27 +18,55 @@ scenes=(scenes/cornell-box.toml scenes/cornell-glossy.toml scenes/cornell-sphere
     scenes/mitsuba/box.xml scenes/gallery/bunny-cube.toml "$@")
 out=$(mktemp -d)
 for scene in "${scenes[@]}"; do
-    SPPM_GPU_PILOT_LOG=1 SPPM_GPU_PILOT_SIDE=256 "$bin" "$scene" --method vcm --width 256 --height 256 \
-        --time-limit 0.1 -o "$out/image.exr" 2>&1 | grep -E "^pilot (pass|candidate)" > "$out/log.txt"
-    python3 - "$scene" "$out/log.txt" <<'PY'
-import re, statistics, sys
-scene, log = sys.argv[1], sys.argv[2]
-times, counts, model = {}, {}, {}
-for line in open(log):
-    f = line.split(maxsplit=4)
-    if f[1] == 'candidate':
-        model[len(model)] = float(line.split()[5])
-    else:
-        k = int(f[2])
-        times.setdefault(k, []).append(float(f[3]))
-        counts.setdefault(k, []).append([int(x) for x in re.findall(r'\d+', f[4])])
-t = {k: statistics.median(v[2:]) for k, v in times.items()}
-c = {k: [statistics.mean(x) for x in zip(*v)] for k, v in counts.items()}
-base, connect, merge = t[1] + t[2] - t[0], t[0] - t[1], t[0] - t[2]
-print(f"{scene}: pass s (1,1) {t[0]:.4f} (0,1) {t[1]:.4f} (1,0) {t[2]:.4f}; base {base:.4f}, connections {connect:.4f}, merging {merge:.4f}")
-print(f"  camera vertices {c[0][0]:.0f}, connections {c[0][1]:.0f}, merge candidates {c[0][2]:.0f}; "
-      f"s per camera vertex (base) {base / c[0][0]:.2e}, per connection {connect / c[0][1]:.2e}, per merge candidate {merge / c[0][2]:.2e}")
-print("  time ratios " + " : ".join(f"{t[k] / t[1]:.2f}" for k in range(3)) + "; model " + " : ".join(f"{model[k] / model[1]:.2f}" for k in range(3)))
-PY
+    log="$out/$(printf '%02d' "$(ls "$out" | wc -l)").log"
+    {
+        echo "scene $scene"
+        SPPM_GPU_PILOT_LOG=1 SPPM_GPU_PILOT_SIDE=256 "$bin" "$scene" --method vcm --width 256 --height 256 \
+            --time-limit 0.1 -o "$out/image.exr" 2>&1 | grep -E "^pilot (pass|candidate)" || true
+    } > "$log"
+    rm -f "$out/image.exr"
 done
+python3 - "$out" <<'PY'
+import glob, re, statistics, sys
+import numpy as np
+scenes = []
+for log in sorted(glob.glob(sys.argv[1] + '/*.log')):
+    lines = open(log).read().splitlines()
+    name = lines[0].split(maxsplit=1)[1]
+    times, counts, labels = {}, {}, []
+    for line in lines[1:]:
+        f = line.split(maxsplit=4)
+        if line.startswith('pilot candidate'):
+            labels.append(f[2])
+        elif line.startswith('pilot pass'):
+            k = int(f[2])
+            times.setdefault(k, []).append(float(f[3]))
+            counts.setdefault(k, []).append([int(x) for x in re.findall(r'\d+', f[4])])
+    t = np.array([statistics.median(times[k][2:]) for k in sorted(times)])
+    c = np.array([[statistics.mean(x) for x in zip(*counts[k])] for k in sorted(counts)])
+    print(f"{name}:")
+    for k, label in enumerate(labels):
+        print(f"  {label:5s} {t[k] * 1e3:7.2f} ms  camera vertices {c[k][0]:8.0f} connections {c[k][1]:8.0f} "
+              f"merge candidates {c[k][2]:9.0f} light vertices {c[k][3]:7.0f}")
+    scenes.append((name, t, c))
+def fit(group, title):
+    if not group:
+        return
+    scale = {n: t[-1] / c[-1][0] for n, t, c in group}
+    for _ in range(50):
+        a = np.vstack([c[:, 1:4] for _, _, c in group])
+        b = np.concatenate([t / scale[n] - c[:, 0] for n, t, c in group])
+        w = np.concatenate([scale[n] / t for n, t, _ in group])
+        r, *_ = np.linalg.lstsq(a * w[:, None], b * w, rcond=None)
+        for n, t, c in group:
+            u = c[:, 0] + c[:, 1:4] @ r
+            scale[n] = np.sum(u / t) / np.sum(u * u / t ** 2)
+    print(f"{title}: a connection {r[0]:.3f}, a merge candidate {r[1]:.3f}, a light vertex {r[2]:.3f} camera vertices")
+    for n, t, c in group:
+        u = scale[n] * (c[:, 0] + c[:, 1:4] @ r)
+        print(f"  {n}: {scale[n]:.2e} s a camera vertex; error " + " ".join(f"{(p / q - 1) * 100:+.0f}%" for p, q in zip(u, t)))
+baked = [s for s in scenes if s[0].startswith('scenes/cornell') or s[0] == 'scenes/mitsuba/box.xml']
+fit(baked, "traced by code")
+fit([s for s in scenes if s not in baked], "traced through a BVH")
+PY
 rm -rf "$out"

@@ -145,7 +145,11 @@ fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera:
     if p.finite {
         direct_pdf_w *= ls.dist * ls.dist / max(p.cos_light, 1e-8);
     }
-    let rev_pdf_w = bsdf_eval(s, m, albedo, ls.wi, wo).pdf;
+    // Only dVC weighs the reverse density (0 at the first vertex, and without light subpaths).
+    var rev_pdf_w = 0.0;
+    if camera.d_vc != 0.0 {
+        rev_pdf_w = bsdf_eval(s, m, albedo, ls.wi, wo).pdf;
+    }
     let cos_to_light = dot(ls.wi, s.ns);
     let weight = mis_weight_nee(camera, direct_pdf_w, p.emission_pdf_w, cos_to_light, p.cos_light, b.pdf, rev_pdf_w, p.delta,
         vcm_merges_at(m), first, bidir_factors());

@@ -66,7 +66,11 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
             continue;
         }
         let light_pdf_w = bsdf_eval(sl, ml, ml.albedo, v.w_prev, wl).pdf;
-        let camera_rev_pdf_w = bsdf_eval(s, m, albedo, w, wo).pdf;
+        // Only dVC weighs the camera's reverse density (0 at its first vertex).
+        var camera_rev_pdf_w = 0.0;
+        if camera.d_vc != 0.0 {
+            camera_rev_pdf_w = bsdf_eval(s, m, albedo, w, wo).pdf;
+        }
         let camera_pdf_a = bc.pdf * abs(dot(wl, sl.ns)) / dist2;
         let light_pdf_a = light_pdf_w * abs(dot(w, s.ns)) / dist2;
         let light = SubpathMis(v.d_vcm, v.d_vc, v.d_vm);
@@ -124,7 +128,11 @@ fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camer
         if all(b.f == vec3f(0.0)) {
             continue;
         }
-        let rev_pdf_w = bsdf_eval(s, m, albedo, wi, wo).pdf;
+        // Only dVM weighs the camera's reverse density (0 at its first vertex).
+        var rev_pdf_w = 0.0;
+        if camera.d_vm != 0.0 {
+            rev_pdf_w = bsdf_eval(s, m, albedo, wi, wo).pdf;
+        }
         let weight = mis_weight_merge(camera, SubpathMis(v.d_vcm, v.d_vc, v.d_vm), b.pdf, rev_pdf_w, camera_length == 1u,
             v.length == 1u, bidir_factors());
         sum += b.f * v.beta * weight;

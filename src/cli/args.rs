@@ -55,7 +55,8 @@ pub(crate) struct Overrides {
     #[arg(long)]
     pub(crate) direct_samples: Option<u32>,
     /// bpt and vcm: light subpaths a pass (overrides render.light_paths; default one for
-    /// every 16 pixels, every 4 for vcm merging without connecting).
+    /// every 16 pixels, every 4 for vcm merging without connecting; 0: vcm with none, camera
+    /// subpaths and next-event estimation alone).
     #[arg(long)]
     pub(crate) light_paths: Option<u32>,
     /// bpt and vcm: the share of camera vertices that connect to light vertices, in [0, 1]

@@ -57,7 +57,8 @@ pub const PIXELS_PER_LIGHT_PATH_MERGING: u32 = 4;
 /// Light subpaths a pass of `method` on `scene`, within `limit` bytes a buffer: lt one a pixel
 /// (of the whole image); bpt and vcm `light_paths`, or one for every
 /// [`PIXELS_PER_LIGHT_PATH`] pixels ([`PIXELS_PER_LIGHT_PATH_MERGING`] for vcm merging
-/// without connecting), at most as many as the light-vertex store holds (at least one).
+/// without connecting), at most as many as the light-vertex store holds (at least one but
+/// for vcm's `light_paths = 0`).
 pub fn light_paths(scene: &Scene, limit: u64) -> Result<u32, Error> {
     let r = &scene.render;
     let pixels = r
@@ -66,6 +67,9 @@ pub fn light_paths(scene: &Scene, limit: u64) -> Result<u32, Error> {
         .ok_or_else(|| Error::Setting(format!("{}x{} pixels are more than 2^32 light subpaths a pass", r.width, r.height)))?;
     if !is_bidirectional(scene.render.method) {
         return Ok(pixels);
+    }
+    if r.light_paths == Some(0) {
+        return Ok(0);
     }
     let per_path = r.max_depth.max(1) as u64 * LIGHT_VERTEX_BYTES;
     let merging_alone = r.connect_share == Some(0.0) && merges(scene);
@@ -168,6 +172,24 @@ impl LightTracer {
         if scene.lights.iter().any(|l| l.kind.is_environment()) {
             return refuse("cannot show an environment light seen directly".into());
         }
+        let r = &scene.render;
+        if r.light_paths == Some(0) && is_bidirectional(r.method) {
+            let file = scene.path.display();
+            if r.method != Method::Vcm {
+                return Err(Error::Setting(format!(
+                    "{file}: render.light_paths = 0: method {method} needs light subpaths to connect to (vcm takes 0: camera \
+                     subpaths alone)"
+                )));
+            }
+            for (key, share) in [("connect_share", r.connect_share), ("merge_share", r.merge_share)] {
+                if let Some(share) = share.filter(|&s| s > 0.0) {
+                    return Err(Error::Setting(format!(
+                        "{file}: render.light_paths = 0 leaves vcm no light subpath to join, but render.{key} is {share}: \
+                         set it to 0, or light_paths above 0"
+                    )));
+                }
+            }
+        }
         Ok(())
     }
 
@@ -249,8 +271,10 @@ impl LightTracer {
         });
         let splat = storage_buffer(device, "splat", &vec![0u32; pixel_count as usize * (SPLAT_BYTES / 4) as usize]);
         let sums = PixelSums::new(device, queue, pixel_count);
+        // Room for one subpath at least (vcm may trace none).
+        let capacity = frame.photon_count.max(1);
         let (vertex_words, paths) = if bidir {
-            (frame.photon_count as usize * r.max_depth as usize * (LIGHT_VERTEX_BYTES / 4) as usize, frame.photon_count as usize)
+            (capacity as usize * r.max_depth as usize * (LIGHT_VERTEX_BYTES / 4) as usize, capacity as usize)
         } else {
             // One vertex: the smallest binding the kernel's declaration takes.
             ((LIGHT_VERTEX_BYTES / 4) as usize, 1)
@@ -334,10 +358,16 @@ impl LightTracer {
         self.frame.photon_count
     }
 
-    /// vcm's pilot: one pass at `shares`, its kernels counting their work. Returns the pixel
-    /// sums after it and the counts ([`WORK_COUNTS`] words).
-    pub(super) fn counted_pass(&mut self, shares: Shares) -> Result<(Vec<[f32; 4]>, Vec<u32>), Error> {
+    /// vcm's pilot: one pass at `shares` with `paths` light subpaths (at most as many as the
+    /// tracer was built for), its kernels counting their work. Returns the pixel sums after it
+    /// and the counts ([`WORK_COUNTS`] words).
+    pub(super) fn counted_pass(&mut self, shares: Shares, paths: u32) -> Result<(Vec<[f32; 4]>, Vec<u32>), Error> {
+        let capacity = (self.light_path_length.size() / 4) as u32;
+        if paths > capacity {
+            return Err(Error::Setting(format!("vcm's pilot: {paths} light subpaths a pass, room for {capacity}")));
+        }
         (self.frame.connect_share, self.frame.merge_share, self.frame.count_work) = (shares.connect, shares.merge, 1);
+        self.frame.photon_count = paths;
         self.queue.write_buffer(&self.work_counts, 0, bytemuck::cast_slice(&[0u32; WORK_COUNTS as usize]));
         self.run_pass()?;
         let sums = self.sums.sums()?;
@@ -429,12 +459,19 @@ impl Integrator for LightTracer {
         self.pilot.as_ref().map_or(0.0, |(_, seconds)| *seconds)
     }
 
+    /// Light subpaths, or without them (vcm's `light_paths = 0`) camera subpaths.
     fn work_per_pass(&self) -> u64 {
-        self.paths() as u64
+        match self.paths() {
+            0 => self.pixel_count as u64,
+            n => n as u64,
+        }
     }
 
     fn work_unit(&self) -> &'static str {
-        "light paths"
+        match self.paths() {
+            0 => "samples",
+            _ => "light paths",
+        }
     }
 
     fn image(&mut self) -> Result<Rgb32Image, Error> {
@@ -477,7 +514,7 @@ impl Integrator for LightTracer {
 /// Whether the render may merge: vcm with a share of camera vertices that merge above 0, or
 /// one its pilot chooses (at 0 it stores no merge points and builds no grid).
 fn merges(scene: &Scene) -> bool {
-    scene.render.method == Method::Vcm && scene.render.merge_share.is_none_or(|m| m > 0.0)
+    scene.render.method == Method::Vcm && Shares::of(scene).merge > 0.0
 }
 
 /// The shares of camera vertices that connect to light vertices and that merge with them.
@@ -490,18 +527,19 @@ pub struct Shares {
 }
 
 impl Shares {
-    /// `scene`'s shares as set, 1 where not.
+    /// `scene`'s shares as set, 1 where not (0 without light subpaths).
     pub fn of(scene: &Scene) -> Self {
         let r = &scene.render;
-        Self { connect: r.connect_share.unwrap_or(1.0), merge: r.merge_share.unwrap_or(1.0) }
+        let default = if r.light_paths == Some(0) { 0.0 } else { 1.0 };
+        Self { connect: r.connect_share.unwrap_or(default), merge: r.merge_share.unwrap_or(default) }
     }
 }
 
 /// Whether vcm's pilot chooses `scene`'s shares (`integrators::shares`): vcm with neither
-/// share set.
+/// share set, and light subpaths not set to none.
 pub fn pilot_chooses_shares(scene: &Scene) -> bool {
     let r = &scene.render;
-    r.method == Method::Vcm && r.connect_share.is_none() && r.merge_share.is_none()
+    r.method == Method::Vcm && r.connect_share.is_none() && r.merge_share.is_none() && r.light_paths != Some(0)
 }
 
 /// Bytes of vcm's grid a light-vertex slot (its point, 8 grid entries; the buckets, 4 a

@@ -4,9 +4,12 @@
 //! Merging pays where light reaches diffuse surfaces through mirrors and glass, connections
 //! where light vertices are few and spread out; each costs a pass time. Following the
 //! efficiency-aware MIS of Grittmann et al. 2022 (a strategy's error against its cost, which
-//! it estimates while rendering), the pilot renders a few passes of the scene at a small size
-//! for each candidate pair of shares, [`CANDIDATES`]: everything (1, 1), merging without
-//! connections (0, 1) and connections without merging (1, 0). Each candidate's error is the
+//! it estimates while rendering, and where light subpaths do not pay their cost, none), the
+//! pilot renders a few passes of the scene at a small size for each candidate of
+//! [`CANDIDATES`]: everything (1, 1), merging without connections (0, 1), connections without
+//! merging (1, 0), light tracing alone beside the camera's strategies (0, 0), and no light
+//! subpaths at all (camera subpaths with next-event estimation, as pt-nee but weighed by the
+//! power heuristic). Each candidate's error is the
 //! relative variance of its passes' estimates (the mean over pixels and channels of each
 //! pixel's sample variance over `mu^2 + 0.01`, `mu` the pixel's mean over every pilot pass: a
 //! pass's relMSE as `diff` measures it, less the bias); its cost is a weighted count of the
@@ -26,14 +29,67 @@ use super::light::{light_paths, vcm_radius, LightTracer, Shares};
 use super::Integrator;
 use crate::error::Error;
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
-use crate::layout::{WORK_CAMERA_VERTICES, WORK_CONNECTIONS, WORK_COUNTS, WORK_MERGE_CANDIDATES};
-use crate::scene::Scene;
+use crate::layout::{WORK_CAMERA_VERTICES, WORK_CONNECTIONS, WORK_COUNTS, WORK_LIGHT_VERTICES, WORK_MERGE_CANDIDATES};
+use crate::scene::{RenderSettings, Scene};
 use std::fmt;
 use std::sync::Arc;
 
-/// The pairs of shares (connect, merge) the pilot weighs.
-pub const CANDIDATES: [Shares; 3] =
-    [Shares { connect: 1.0, merge: 1.0 }, Shares { connect: 0.0, merge: 1.0 }, Shares { connect: 1.0, merge: 0.0 }];
+/// A configuration of vcm's strategies: the shares of camera vertices that connect and that
+/// merge, and whether light subpaths are traced at all.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Choice {
+    /// The shares.
+    pub shares: Shares,
+    /// Whether light subpaths are traced (else `light_paths = 0`, and both shares are 0).
+    pub light_subpaths: bool,
+}
+
+impl Choice {
+    const fn new(connect: f32, merge: f32, light_subpaths: bool) -> Self {
+        Self { shares: Shares { connect, merge }, light_subpaths }
+    }
+
+    /// Sets the choice in `render`: its shares, and no light subpaths where it traces none.
+    pub fn apply(&self, render: &mut RenderSettings) {
+        (render.connect_share, render.merge_share) = (Some(self.shares.connect), Some(self.shares.merge));
+        if !self.light_subpaths {
+            render.light_paths = Some(0);
+        }
+    }
+}
+
+impl fmt::Display for Choice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.light_subpaths {
+            write!(f, "{}/{}", self.shares.connect, self.shares.merge)
+        } else {
+            write!(f, "none")
+        }
+    }
+}
+
+/// The configurations the pilot weighs ([`candidates`] says which of them for a scene).
+pub const CANDIDATES: [Choice; 5] = [
+    Choice::new(1.0, 1.0, true),
+    Choice::new(0.0, 1.0, true),
+    Choice::new(1.0, 0.0, true),
+    Choice::new(0.0, 0.0, true),
+    Choice::new(0.0, 0.0, false),
+];
+
+/// The candidates the pilot weighs for `scene`: every one of [`CANDIDATES`], but where a
+/// surface hides lights from next-event estimation (mirrors, glass, smooth coatings:
+/// `MaterialKind::hides_lights`), only those that connect or merge. Light through such
+/// surfaces onto a diffuse one, a caustic, seen in a mirror or through glass, is found only by
+/// merging (or by connections, seen directly by light tracing too), else where BSDF sampling
+/// hits a light: paths too rare for the pilot's passes to see. On cornell-spheres the pilot
+/// rates (relative variance x cost) light tracing beside the camera's strategies at 1.03x
+/// merging alone and camera subpaths alone at 1.05x, where at 30 s their relMSE is 2x and
+/// (pt-nee's) 10x merging alone's (BENCHMARKS.md "VCM").
+pub fn candidates(scene: &Scene) -> Vec<Choice> {
+    let hidden = scene.materials.iter().any(|m| m.kind.hides_lights());
+    CANDIDATES.into_iter().filter(|c| !hidden || c.shares.connect > 0.0 || c.shares.merge > 0.0).collect()
+}
 
 /// Pixels of the pilot's image on its longer side (at most the render's).
 pub const PILOT_SIDE: u32 = 128;
@@ -49,30 +105,32 @@ pub const PILOT_PASSES: u32 = 8;
 /// runs: a render's batches, and its strategy images, choose alike.
 pub const REPRESENTATIVE_PASS: u32 = 256;
 
-/// What a pass's joins cost, in units of a camera vertex (its next-event estimate and its
-/// next segment, with its share of the pass's camera and light subpaths' starts): a
-/// connection (a shadow ray and four BSDF evaluations) and a light vertex a merging camera
-/// vertex looks at in the grid (with its share of building the grid). Measured on lavapipe
-/// from pass times of the three candidates (`scripts/measure/vcm-pilot-cost.sh`, BENCHMARKS.md
-/// "VCM"):
-/// a merge candidate costs the same time in every scene (3.1e-8 s on the two cores), while a
-/// camera vertex and a connection cost what the scene's rays cost, about four times more in
-/// scenes traced through a BVH than in those small enough to be traced by code
-/// ([`crate::gpu::baked_bvh`]).
+/// What a pass's work costs, in units of a camera vertex (its next-event estimate and its
+/// next segment, with its share of the pass's camera subpaths' starts): a connection (a shadow
+/// ray and four BSDF evaluations), a light vertex a merging camera vertex looks at in the grid
+/// (with its share of building the grid), and a light vertex (its segment, light tracing's
+/// join to the camera). Fitted on lavapipe to the pass times of the candidates on seven scenes
+/// (`scripts/measure/vcm-pilot-cost.sh`, BENCHMARKS.md "VCM"; the model within 8% of every
+/// pass time): a camera vertex and a connection cost what the scene's rays cost, about three
+/// times more in scenes traced through a BVH than in those small enough to be traced by code
+/// ([`crate::gpu::baked_bvh`]), a merge candidate less so.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CostModel {
     /// A connection's cost in camera vertices.
     pub connection: f64,
     /// A merge candidate's cost in camera vertices.
     pub merge_candidate: f64,
+    /// A light vertex's cost in camera vertices (its segment, storing it, light tracing's join
+    /// to the camera).
+    pub light_vertex: f64,
 }
 
 /// [`CostModel`] of a scene traced by code (at most
 /// [`MAX_BAKED_PRIMITIVES`](crate::gpu::scene_buffers::MAX_BAKED_PRIMITIVES) primitives).
-pub const BAKED_COST: CostModel = CostModel { connection: 0.65, merge_candidate: 0.23 };
+pub const BAKED_COST: CostModel = CostModel { connection: 0.67, merge_candidate: 0.33, light_vertex: 0.95 };
 
 /// [`CostModel`] of a scene traced through a BVH.
-pub const TRAVERSED_COST: CostModel = CostModel { connection: 0.5, merge_candidate: 0.063 };
+pub const TRAVERSED_COST: CostModel = CostModel { connection: 0.54, merge_candidate: 0.145, light_vertex: 0.93 };
 
 impl CostModel {
     /// The cost model of the scene of `data`.
@@ -88,15 +146,20 @@ impl CostModel {
     /// A pass's cost, in camera vertices, from its counts of work (`WORK_*` words).
     pub fn cost(&self, counts: &[u32]) -> f64 {
         let n = |word: u32| counts[word as usize] as f64;
-        n(WORK_CAMERA_VERTICES) + self.connection * n(WORK_CONNECTIONS) + self.merge_candidate * n(WORK_MERGE_CANDIDATES)
+        n(WORK_CAMERA_VERTICES)
+            + self.connection * n(WORK_CONNECTIONS)
+            + self.merge_candidate * n(WORK_MERGE_CANDIDATES)
+            + self.light_vertex * n(WORK_LIGHT_VERTICES)
     }
 }
 
 /// One candidate's figures.
 #[derive(Clone, Debug)]
 pub struct Candidate {
-    /// The candidate's shares.
-    pub shares: Shares,
+    /// The candidate.
+    pub choice: Choice,
+    /// Its light subpaths a pilot pass.
+    pub light_paths: u32,
     /// The relative variance of one of its passes (see the module's documentation).
     pub rel_variance: f64,
     /// The cost of one of its passes, in camera vertices ([`CostModel`]).
@@ -108,9 +171,9 @@ pub struct Candidate {
 /// What vcm's pilot measured and chose.
 #[derive(Clone, Debug)]
 pub struct Pilot {
-    /// The shares chosen: the candidate of least relative variance times cost.
-    pub chosen: Shares,
-    /// Every candidate's figures, in the order of [`CANDIDATES`].
+    /// The candidate of least relative variance times cost.
+    pub chosen: Choice,
+    /// Every candidate's figures, in the order of [`candidates`].
     pub candidates: Vec<Candidate>,
     /// The pilot image's width.
     pub width: u32,
@@ -124,23 +187,29 @@ impl fmt::Display for Pilot {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "vcm's pilot ({} passes at {}x{}, {:.2} s) chose connect share {} and merge share {} (relative variance x cost:",
-            PILOT_PASSES * CANDIDATES.len() as u32,
+            "vcm's pilot ({} passes at {}x{}, {:.2} s) chose ",
+            PILOT_PASSES * self.candidates.len() as u32,
             self.width,
             self.height,
             self.seconds,
-            self.chosen.connect,
-            self.chosen.merge
         )?;
+        let chosen = self.chosen.shares;
+        if self.chosen.light_subpaths {
+            write!(f, "connect share {} and merge share {}", chosen.connect, chosen.merge)?;
+        } else {
+            write!(f, "no light subpaths (light_paths = 0)")?;
+        }
+        write!(f, " (relative variance x cost of connect/merge shares, none for no light subpaths:")?;
         for c in &self.candidates {
-            write!(f, " {}/{} {:.3e}", c.shares.connect, c.shares.merge, c.rel_variance * c.cost)?;
+            write!(f, " {} {:.3e}", c.choice, c.rel_variance * c.cost)?;
         }
         write!(f, ")")
     }
 }
 
-/// The scene the pilot renders for `scene` (see the module's documentation).
-fn pilot_scene(scene: &Scene, limit: u64) -> Result<Scene, Error> {
+/// The scene the pilot renders for `scene` (see the module's documentation), and each
+/// candidate's light subpaths a pilot pass, in proportion to the render's.
+fn pilot_scene(scene: &Scene, candidates: &[Choice], limit: u64) -> Result<(Scene, Vec<u32>), Error> {
     let mut pilot = scene.clone();
     // Every strategy weighed and kept (a render for `--strategy-images` keeps one).
     (pilot.render.method, pilot.render.strategies) = (crate::scene::Method::Vcm, crate::layout::STRATEGIES_ALL);
@@ -154,17 +223,25 @@ fn pilot_scene(scene: &Scene, limit: u64) -> Result<Scene, Error> {
     if let Some(n) = r.light_paths {
         r.light_paths = Some(((n as f64 * pilot_pixels / pixels).round() as u32).max(1));
     }
-    let n_render = light_paths(scene, limit)? as f64;
-    let n_pilot = light_paths(&pilot, limit)? as f64;
+    let with = |scene: &Scene, choice: &Choice| {
+        let mut s = scene.clone();
+        choice.apply(&mut s.render);
+        light_paths(&s, limit)
+    };
+    let counts = candidates.iter().map(|c| with(&pilot, c)).collect::<Result<Vec<u32>, Error>>()?;
+    let n_render = with(scene, &candidates[0])? as f64;
+    let n_pilot = counts[0] as f64;
     let radius = vcm_radius(scene, REPRESENTATIVE_PASS) as f64;
     let r = &mut pilot.render;
+    // Room for the most any candidate traces.
+    r.light_paths = counts.iter().copied().max();
     (r.radius, r.alpha) = (Some((radius * (n_render / n_pilot).sqrt()) as f32), 1.0);
-    (r.time_limit, r.iterations) = (None, PILOT_PASSES * CANDIDATES.len() as u32);
+    (r.time_limit, r.iterations) = (None, PILOT_PASSES * candidates.len() as u32);
     // Set, so that the pilot's own shares are its candidates' (`LightTracer::counted_pass`).
     (r.connect_share, r.merge_share) = (Some(1.0), Some(1.0));
     // Numbers of their own, not the render's first passes'.
     r.seed = r.seed.wrapping_add(0x9e37_79b9);
-    Ok(pilot)
+    Ok((pilot, counts))
 }
 
 /// Runs vcm's pilot for `scene` (its scene data built and uploaded for it) and chooses its
@@ -185,52 +262,55 @@ pub fn choose(
 ) -> Result<Pilot, Error> {
     let start = std::time::Instant::now();
     let limit = device.limits().max_storage_buffer_binding_size;
-    let pilot = pilot_scene(scene, limit)?;
+    let choices = candidates(scene);
+    let (pilot, counts) = pilot_scene(scene, &choices, limit)?;
     let (width, height) = (pilot.render.width, pilot.render.height);
     let pixels = (width * height) as usize;
     let model = CostModel::of(data);
     let mut tracer = LightTracer::with_scene_buffers(device, queue, &pilot, data, buffers, 0..height)?;
     // Each candidate's passes' estimates, pixel by pixel.
-    let mut estimates = vec![Vec::new(); CANDIDATES.len()];
-    let mut costs = vec![0.0; CANDIDATES.len()];
-    let mut work = vec![[0.0; WORK_COUNTS as usize]; CANDIDATES.len()];
+    let mut estimates = vec![Vec::new(); choices.len()];
+    let mut costs = vec![0.0; choices.len()];
+    let mut work = vec![[0.0; WORK_COUNTS as usize]; choices.len()];
     let mut before = vec![[0.0f32; 4]; pixels];
     // A measuring hook (scripts/measure/vcm-pilot-cost.sh): each pilot pass's time and counts.
     let log = std::env::var_os("SPPM_GPU_PILOT_LOG").is_some();
-    for pass in 0..PILOT_PASSES * CANDIDATES.len() as u32 {
-        let k = pass as usize % CANDIDATES.len();
-        let shares = CANDIDATES[k];
+    for pass in 0..PILOT_PASSES * choices.len() as u32 {
+        let k = pass as usize % choices.len();
         let pass_start = std::time::Instant::now();
-        let (sums, counts) = tracer.counted_pass(shares)?;
+        let (sums, work_counts) = tracer.counted_pass(choices[k].shares, counts[k])?;
         if log {
-            eprintln!("pilot pass {k} {:.6} {counts:?}", pass_start.elapsed().as_secs_f64());
+            eprintln!("pilot pass {k} {:.6} {work_counts:?}", pass_start.elapsed().as_secs_f64());
         }
         let estimate: Vec<[f32; 3]> = sums.iter().zip(&before).map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]]).collect();
         before = sums;
         estimates[k].push(estimate);
-        costs[k] += model.cost(&counts) / PILOT_PASSES as f64;
-        for (w, &n) in work[k].iter_mut().zip(&counts) {
+        costs[k] += model.cost(&work_counts) / PILOT_PASSES as f64;
+        for (w, &n) in work[k].iter_mut().zip(&work_counts) {
             *w += n as f64 / PILOT_PASSES as f64;
         }
     }
     // Each pixel's mean over every pilot pass.
     let all = tracer.passes().max(1) as f64;
     let mu: Vec<[f64; 3]> = before.iter().map(|s| [s[0] as f64 / all, s[1] as f64 / all, s[2] as f64 / all]).collect();
-    let candidates: Vec<Candidate> = CANDIDATES
-        .iter()
-        .zip(&estimates)
-        .zip(costs.iter().zip(&work))
-        .map(|((&shares, passes), (&cost, &counts))| Candidate { shares, rel_variance: rel_variance(passes, &mu), cost, counts })
+    let candidates: Vec<Candidate> = (0..choices.len())
+        .map(|k| Candidate {
+            choice: choices[k],
+            light_paths: counts[k],
+            rel_variance: rel_variance(&estimates[k], &mu),
+            cost: costs[k],
+            counts: work[k],
+        })
         .collect();
     if log {
         for c in &candidates {
-            eprintln!("pilot candidate {} {} {:.6e} {:.6e}", c.shares.connect, c.shares.merge, c.rel_variance, c.cost);
+            eprintln!("pilot candidate {} {:.6e} {:.6e}", c.choice, c.rel_variance, c.cost);
         }
     }
     let chosen = candidates
         .iter()
         .min_by(|a, b| (a.rel_variance * a.cost).total_cmp(&(b.rel_variance * b.cost)))
-        .map(|c| c.shares)
+        .map(|c| c.choice)
         .unwrap_or(CANDIDATES[0]);
     Ok(Pilot { chosen, candidates, width, height, seconds: start.elapsed().as_secs_f64() })
 }
@@ -272,6 +352,6 @@ pub(super) fn resolve(
     }
     let pilot = choose(device, queue, scene, data, buffers.clone())?;
     let mut scene = scene.clone();
-    (scene.render.connect_share, scene.render.merge_share) = (Some(pilot.chosen.connect), Some(pilot.chosen.merge));
+    pilot.chosen.apply(&mut scene.render);
     Ok(Some((scene, pilot)))
 }

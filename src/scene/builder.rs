@@ -558,9 +558,7 @@ impl Check<'_> {
         if let Some(paths) = r.direct_samples {
             self.count("render.direct_samples", paths, MAX_DIRECT_SAMPLES)?;
         }
-        if let Some(paths) = r.light_paths {
-            self.count("render.light_paths", paths, u32::MAX)?;
-        }
+        // 0: vcm without light subpaths (RenderSettings::light_paths).
         for (key, share) in [("render.connect_share", r.connect_share), ("render.merge_share", r.merge_share)] {
             if let Some(share) = share {
                 self.f32(key, share, Bound::Closed(0.0, 1.0))?;

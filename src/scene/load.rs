@@ -207,7 +207,7 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         time_limit: t.opt("time_limit", |v| v.f64_in(Bound::Positive))?,
         direct: t.or("direct", d.direct, Value::named)?,
         direct_samples: t.opt("direct_samples", |v| v.u32_in(1, MAX_DIRECT_SAMPLES))?,
-        light_paths: t.opt("light_paths", |v| v.u32_in(1, u32::MAX))?,
+        light_paths: read_light_paths(t)?,
         connect_share: t.opt("connect_share", |v| v.f32_in(Bound::Closed(0.0, 1.0)))?,
         merge_share: t.opt("merge_share", |v| v.f32_in(Bound::Closed(0.0, 1.0)))?,
         radius_schedule: t.or("radius_schedule", d.radius_schedule, Value::named)?,
@@ -217,6 +217,22 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         work_given: super::WorkGiven { photons: t.get("photons").is_some(), spp: t.get("spp").is_some() },
         strategies: d.strategies,
     })
+}
+
+/// `light_paths`; 0 (vcm without light subpaths) leaves nothing to connect or merge with.
+fn read_light_paths(t: &Table) -> Result<Option<u32>> {
+    let paths = t.opt("light_paths", |v| v.u32_in(0, u32::MAX))?;
+    if paths == Some(0) {
+        for key in ["connect_share", "merge_share"] {
+            if let Some(share) = t.opt(key, |v| v.f32_in(Bound::Closed(0.0, 1.0)))?.filter(|&s| s > 0.0) {
+                return Err(t.error_at(
+                    "light_paths",
+                    format!("light_paths = 0 traces no light subpath to connect or merge with, but {key} = {share}"),
+                ));
+            }
+        }
+    }
+    Ok(paths)
 }
 
 /// `radius_rule`; `"adaptive"` belongs to the per-point radius schedule.

@@ -279,7 +279,9 @@ pub struct RenderSettings {
     /// direct light (`direct_samples`); `None` asks for the automatic choice.
     pub direct_samples: Option<u32>,
     /// bpt's and vcm's light subpaths a pass (`light_paths`); `None` asks for the automatic
-    /// choice, one for every [`crate::integrators::light::PIXELS_PER_LIGHT_PATH`] pixels.
+    /// choice, one for every [`crate::integrators::light::PIXELS_PER_LIGHT_PATH`] pixels. 0
+    /// (vcm alone, with neither share above 0) traces none: camera subpaths with next-event
+    /// estimation, their strategies weighed as vcm weighs them.
     pub light_paths: Option<u32>,
     /// bpt's and vcm's share of camera vertices that connect to light vertices
     /// (`connect_share`, in [0, 1]; 1 is every one). A share enters the MIS as the

@@ -129,11 +129,8 @@ impl Overrides {
             positive("direct-samples", self.direct_samples, super::MAX_DIRECT_SAMPLES, &mut n)?;
             render.direct_samples = Some(n);
         }
-        if self.light_paths.is_some() {
-            let mut n = 1;
-            positive("light-paths", self.light_paths, u32::MAX, &mut n)?;
-            render.light_paths = Some(n);
-        }
+        // 0: vcm without light subpaths (RenderSettings::light_paths).
+        render.light_paths = self.light_paths.or(render.light_paths);
         for (key, share, to) in [
             ("connect-share", self.connect_share, &mut render.connect_share),
             ("merge-share", self.merge_share, &mut render.merge_share),

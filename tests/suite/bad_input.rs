@@ -107,6 +107,13 @@ fn readme_cases() -> Vec<Case> {
              filter, filter_radius, filter_stddev, sampler",
         ),
         case("wrong type", edit("width = 8", "width = \"8\""), 2, "render.width", "expected an integer, found a string"),
+        case(
+            "no light subpaths, yet connections",
+            edit("height = 8", "height = 8\nmethod = \"vcm\"\nlight_paths = 0\nconnect_share = 0.5"),
+            5,
+            "render.light_paths",
+            "light_paths = 0 traces no light subpath to connect or merge with, but connect_share = 0.5",
+        ),
         case("missing required key", edit("fov = 40\n", ""), 6, "camera.fov", "missing required key `fov`"),
         case(
             "shape names an unknown material",

@@ -127,7 +127,9 @@ fn vcm_is_bit_exact() {
     if common::gpu().is_none() {
         return;
     }
-    let scene = common::load_scene("cornell-box.toml");
+    let mut scene = common::load_scene("cornell-box.toml");
+    // Every camera vertex merges (the pilot leaves merging out here).
+    (scene.render.connect_share, scene.render.merge_share) = (Some(1.0), Some(1.0));
     let a = common::render_at(&scene, Method::Vcm, 64, 4);
     for _ in 0..2 {
         assert!(a.pixels == common::render_at(&scene, Method::Vcm, 64, 4).pixels, "two renders of one seed differ");
@@ -141,13 +143,16 @@ fn vcm_is_bit_exact() {
 /// radius, at a surface's edge an underestimate) shrinks with the radius, which falls as
 /// i^((alpha - 1) / 2). At 64x64 the automatic radius spans four times the scene that it
 /// spans at 256x256: cornell-box's means read 0.9949 at 64 passes and 0.9969 at 512,
-/// cornell-spheres' 0.997 and 0.999.
+/// cornell-spheres' 0.997 and 0.999 (on cornell-box every camera vertex merges: the pilot
+/// leaves merging out there).
 #[test]
 fn vcm_matches_the_references() {
     if common::gpu().is_none() {
         return;
     }
-    check_method(&common::load_scene("cornell-box.toml"), Method::Vcm, "cornell-box", 64, 6e-4, 0.01);
+    let mut box_scene = common::load_scene("cornell-box.toml");
+    (box_scene.render.connect_share, box_scene.render.merge_share) = (Some(1.0), Some(1.0));
+    check_method(&box_scene, Method::Vcm, "cornell-box", 64, 6e-4, 0.01);
     check_method(&common::load_scene("cornell-spheres.toml"), Method::Vcm, "cornell-spheres", 128, 6e-4, 0.01);
     check_method(&common::load_scene("point-light.toml"), Method::Vcm, "point-light", 128, 6e-4, 0.01);
 }
@@ -156,17 +161,22 @@ fn vcm_matches_the_references() {
 /// `merge_share`: each strategy's count in the MIS, a join taken divided by it) renders the
 /// same image in expectation: cornell-box with shares between 0 and 1, and point-light (a delta
 /// light) with neither connections nor merges (next-event estimation, light tracing and
-/// emission alone). A count left out of one weight darkens or brightens the image by the
-/// weight it misses (the oracle, vcm::, checks the weights themselves).
+/// emission alone), and with no light subpaths at all (`light_paths = 0`: next-event
+/// estimation and emission alone, the light-tracing weight gone with the subpaths). A count
+/// left out of one weight darkens or brightens the image by the weight it misses (the oracle,
+/// vcm::, checks the weights themselves).
 #[test]
 fn vcm_at_shares_matches_the_references() {
     if common::gpu().is_none() {
         return;
     }
-    for (name, passes, (connect, merge)) in [("cornell-box", 64, (0.3, 0.6)), ("point-light", 128, (0.0, 0.0))] {
+    for (name, passes, (connect, merge), light_paths) in
+        [("cornell-box", 64, (0.3, 0.6), None), ("point-light", 128, (0.0, 0.0), None), ("point-light", 128, (0.0, 0.0), Some(0))]
+    {
         let mut scene = common::load_scene(&format!("{name}.toml"));
         scene.render.connect_share = Some(connect);
         scene.render.merge_share = Some(merge);
+        scene.render.light_paths = light_paths;
         check_method(&scene, Method::Vcm, name, passes, 6e-4, 0.01);
     }
 }
@@ -174,17 +184,19 @@ fn vcm_at_shares_matches_the_references() {
 /// vcm's pilot (a scene that sets neither share) chooses from the scene and its seed alone:
 /// the same figures twice, and the render the same to the bit as one with the chosen shares
 /// set. Its counts of work are the candidates': no connection at connect share 0, no merge
-/// candidate at merge share 0, and the subpaths' vertices the same in number whatever the
-/// shares (the passes' numbers differ: within 5% for the camera's, some 45,000 a candidate,
-/// and 15% for the light's, some 2,300 of 1,152 subpaths, whose lengths vary more). On
-/// cornell-spheres, whose light reaches the floor through a glass sphere, the pilot chooses
-/// merging without connections, and connections without merging cost the most for their
-/// noise (session 23's fixed-pass figures: 5.5x merging without connections; the pilot's
-/// few passes miss the rarest paths and see 1.3x).
+/// candidate at merge share 0, and the subpaths' vertices the same in number a subpath
+/// whatever the shares (the passes' numbers differ: within 5% for the camera's, some 45,000 a
+/// candidate, and 15% for the light's, some 2,300 of 1,152 subpaths, whose lengths vary more;
+/// merging alone traces 4 times the subpaths). On cornell-spheres, whose light reaches the
+/// floor through a glass sphere, the pilot weighs only candidates that connect or merge, and
+/// chooses merging without connections; connections without merging cost the most for their
+/// noise (session 23's fixed-pass figures: 5.5x merging without connections; the pilot's few
+/// passes miss the rarest paths and see 1.3x). cornell-box, all diffuse, adds light tracing
+/// alone beside the camera's strategies and no light subpaths at all.
 #[test]
 fn vcm_pilot_chooses_from_the_scene_alone() {
     let Some(gpu) = common::gpu() else { return };
-    use sppm_gpu::integrators::shares::{choose_for, CANDIDATES};
+    use sppm_gpu::integrators::shares::{candidates, choose_for, CANDIDATES};
     use sppm_gpu::layout::{WORK_CAMERA_VERTICES, WORK_CONNECTIONS, WORK_LIGHT_VERTICES, WORK_MERGE_CANDIDATES};
     let mut scene = common::load_scene("cornell-spheres.toml");
     (scene.render.width, scene.render.height, scene.render.iterations) = (48, 48, 4);
@@ -196,27 +208,40 @@ fn vcm_pilot_chooses_from_the_scene_alone() {
     for (a, b) in pilot.candidates.iter().zip(&again.candidates) {
         assert_eq!((a.rel_variance, a.cost, a.counts), (b.rel_variance, b.cost, b.counts), "the pilot ran twice");
     }
+    assert_eq!(pilot.candidates.len(), 3, "{pilot}");
     let [both, merge_only, connect_only] = [0, 1, 2].map(|k| &pilot.candidates[k]);
-    assert_eq!([both.shares, merge_only.shares, connect_only.shares], CANDIDATES);
+    assert_eq!([both.choice, merge_only.choice, connect_only.choice], CANDIDATES[..3]);
+    assert_eq!(merge_only.light_paths, 4 * both.light_paths);
     let count = |c: &sppm_gpu::integrators::shares::Candidate, word: u32| c.counts[word as usize];
     assert_eq!(count(merge_only, WORK_CONNECTIONS), 0.0);
     assert_eq!(count(connect_only, WORK_MERGE_CANDIDATES), 0.0);
     for c in [both, merge_only, connect_only] {
-        for (word, within) in [(WORK_CAMERA_VERTICES, 0.05), (WORK_LIGHT_VERTICES, 0.15)] {
-            let (n, m) = (count(c, word), count(both, word));
-            assert!(n > 0.0 && (n / m - 1.0).abs() < within, "{:?}: word {word} {n} against {m}", c.shares);
+        let per_subpath = |c: &sppm_gpu::integrators::shares::Candidate| count(c, WORK_LIGHT_VERTICES) / c.light_paths as f64;
+        for (n, m, within) in
+            [(count(c, WORK_CAMERA_VERTICES), count(both, WORK_CAMERA_VERTICES), 0.05), (per_subpath(c), per_subpath(both), 0.15)]
+        {
+            assert!(n > 0.0 && (n / m - 1.0).abs() < within, "{}: {n} against {m}", c.choice);
         }
     }
     assert!(count(both, WORK_CONNECTIONS) > 0.0 && count(both, WORK_MERGE_CANDIDATES) > 0.0);
     let score = |c: &sppm_gpu::integrators::shares::Candidate| c.rel_variance * c.cost;
     assert!(score(connect_only) > 1.15 * score(merge_only), "{pilot}");
-    assert_eq!(pilot.chosen, merge_only.shares, "{pilot}");
+    assert_eq!(pilot.chosen, merge_only.choice, "{pilot}");
 
     // The render as vcm chooses it, and with the chosen shares set.
     let auto = common::render_at(&scene, Method::Vcm, 48, 4);
-    (scene.render.connect_share, scene.render.merge_share) = (Some(pilot.chosen.connect), Some(pilot.chosen.merge));
+    pilot.chosen.apply(&mut scene.render);
     let set = common::render_at(&scene, Method::Vcm, 48, 4);
     assert!(auto.pixels == set.pixels, "the pilot's render differs from one with its shares set");
+
+    // An all-diffuse room: every candidate, the last without light subpaths.
+    let mut room = common::load_scene("cornell-box.toml");
+    room.render.method = Method::Vcm;
+    assert_eq!(candidates(&room), CANDIDATES);
+    let mut none = room.clone();
+    CANDIDATES[4].apply(&mut none.render);
+    assert_eq!((none.render.light_paths, sppm_gpu::integrators::light::light_paths(&none, u64::MAX).unwrap()), (Some(0), 0));
+    assert!(!sppm_gpu::integrators::light::pilot_chooses_shares(&none));
 }
 
 /// vcm merges only where the BSDF is diffuse (bidir.wgsl's vcm_merges_at): on cornell-glossy
