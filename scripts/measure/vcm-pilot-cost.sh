@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # vcm's pilot cost model (src/integrators/shares.rs, CostModel): each candidate's pass time and
-# counts of work at 256x256 (the pilot at the render's size through the SPPM_GPU_PILOT_LOG and
-# SPPM_GPU_PILOT_SIDE hooks), on the canonical scenes and any scene files given. For each
+# counts of work at 256x256 (the pilot at the render's size, every candidate on every scene,
+# through the SPPM_GPU_PILOT_LOG, SPPM_GPU_PILOT_SIDE and SPPM_GPU_PILOT_ALL hooks), on the
+# canonical scenes and any scene files given. For each
 # scene: each candidate's median pass time (its first two passes left out) and counts; then,
 # for the scenes traced by code and for those traced through a BVH, the least-squares fit of a
 # pass's time as s (camera vertices + a connections + b merge candidates + c light vertices),
@@ -21,7 +22,7 @@ for scene in "${scenes[@]}"; do
     log="$out/$(printf '%02d' "$(ls "$out" | wc -l)").log"
     {
         echo "scene $scene"
-        SPPM_GPU_PILOT_LOG=1 SPPM_GPU_PILOT_SIDE=256 "$bin" "$scene" --method vcm --width 256 --height 256 \
+        SPPM_GPU_PILOT_LOG=1 SPPM_GPU_PILOT_SIDE=256 SPPM_GPU_PILOT_ALL=1 "$bin" "$scene" --method vcm --width 256 --height 256 \
             --time-limit 0.1 -o "$out/image.exr" 2>&1 | grep -E "^pilot (pass|candidate)" || true
     } > "$log"
     rm -f "$out/image.exr"

@@ -87,7 +87,9 @@ pub const CANDIDATES: [Choice; 5] = [
 /// merging alone and camera subpaths alone at 1.05x, where at 30 s their relMSE is 2x and
 /// (pt-nee's) 10x merging alone's (BENCHMARKS.md "VCM").
 pub fn candidates(scene: &Scene) -> Vec<Choice> {
-    let hidden = scene.materials.iter().any(|m| m.kind.hides_lights());
+    // A measuring hook (scripts/measure/vcm-pilot-cost.sh): every candidate on every scene.
+    let every = std::env::var_os("SPPM_GPU_PILOT_ALL").is_some();
+    let hidden = !every && scene.materials.iter().any(|m| m.kind.hides_lights());
     CANDIDATES.into_iter().filter(|c| !hidden || c.shares.connect > 0.0 || c.shares.merge > 0.0).collect()
 }
 
@@ -110,8 +112,9 @@ pub const REPRESENTATIVE_PASS: u32 = 256;
 /// ray and four BSDF evaluations), a light vertex a merging camera vertex looks at in the grid
 /// (with its share of building the grid), and a light vertex (its segment, light tracing's
 /// join to the camera). Fitted on lavapipe to the pass times of the candidates on seven scenes
-/// (`scripts/measure/vcm-pilot-cost.sh`, BENCHMARKS.md "VCM"; the model within 8% of every
-/// pass time): a camera vertex and a connection cost what the scene's rays cost, about three
+/// (`scripts/measure/vcm-pilot-cost.sh`, BENCHMARKS.md "VCM"; the mean of two runs, each
+/// within 10% of every pass time): a camera vertex and a connection cost what the scene's
+/// rays cost, about three
 /// times more in scenes traced through a BVH than in those small enough to be traced by code
 /// ([`crate::gpu::baked_bvh`]), a merge candidate less so.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -127,10 +130,10 @@ pub struct CostModel {
 
 /// [`CostModel`] of a scene traced by code (at most
 /// [`MAX_BAKED_PRIMITIVES`](crate::gpu::scene_buffers::MAX_BAKED_PRIMITIVES) primitives).
-pub const BAKED_COST: CostModel = CostModel { connection: 0.67, merge_candidate: 0.33, light_vertex: 0.95 };
+pub const BAKED_COST: CostModel = CostModel { connection: 0.60, merge_candidate: 0.33, light_vertex: 0.83 };
 
 /// [`CostModel`] of a scene traced through a BVH.
-pub const TRAVERSED_COST: CostModel = CostModel { connection: 0.54, merge_candidate: 0.145, light_vertex: 0.93 };
+pub const TRAVERSED_COST: CostModel = CostModel { connection: 0.55, merge_candidate: 0.15, light_vertex: 1.06 };
 
 impl CostModel {
     /// The cost model of the scene of `data`.
