@@ -6,7 +6,8 @@
 // subpath (pixel mod n_light); emission it hits, next-event estimation, connections and light
 // tracing are weighted by the balance heuristic so that together they make one estimate.
 // Adds the camera subpath's light to `radiance` without counting a sample: splat_accumulate
-// then adds the pass's splats and counts it.
+// then adds the pass's splats and counts it; without light subpaths (vcm's light_paths = 0)
+// there are no splats, and the sample is counted here.
 
 #import types
 #import rng
@@ -34,6 +35,6 @@ fn bidir_camera(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
     let ray = camera_ray(pixel % frame.width, pixel / frame.width, &rng);
     let l = trace_camera_path(ray, CAMERA_PATH_BIDIR | CAMERA_PATH_ROULETTE, true, &rng).l;
     let ok = all(l == l) && all(abs(l) < vec3f(3.0e38));
-    radiance[pixel] += vec4f(select(vec3f(0.0), l, ok), 0.0);
+    radiance[pixel] += vec4f(select(vec3f(0.0), l, ok), select(0.0, 1.0, frame.photon_count == 0u));
     bidir_count_work();
 }

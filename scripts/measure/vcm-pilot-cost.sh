@@ -5,9 +5,11 @@
 # canonical scenes and any scene files given. For each
 # scene: each candidate's median pass time (its first two passes left out) and counts; then,
 # for the scenes traced by code and for those traced through a BVH, the least-squares fit of a
-# pass's time as s (camera vertices + a connections + b merge candidates + c light vertices),
-# a scale s for each scene and a, b, c shared (the model's figures), and each pass time's
-# error under the fit. The canonical scenes and box.xml are traced by code (at most 256
+# pass's time as s (camera vertices + a connections + b merge candidates + c light vertices +
+# d pixels where light subpaths are traced), a scale s for each scene and a, b, c shared (the
+# model's figures; d, the splat pass's cost a pixel, is CostModel's, measured apart: the
+# candidate without light subpaths with and without that pass), and each pass time's error
+# under the fit. The canonical scenes and box.xml are traced by code (at most 256
 # primitives, gpu::baked_bvh); scenes given are taken as traced through a BVH.
 #
 #   bash scripts/measure/vcm-pilot-cost.sh [BIN] [SCENE...]
@@ -50,9 +52,12 @@ for log in sorted(glob.glob(sys.argv[1] + '/*.log')):
         print(f"  {label:5s} {t[k] * 1e3:7.2f} ms  camera vertices {c[k][0]:8.0f} connections {c[k][1]:8.0f} "
               f"merge candidates {c[k][2]:9.0f} light vertices {c[k][3]:7.0f}")
     scenes.append((name, t, c))
-def fit(group, title):
+PIXELS = 256 * 256
+def fit(group, title, splat_pixel):
     if not group:
         return
+    # The splat pass, a fixed cost a pixel where light subpaths are traced: in with the camera's.
+    group = [(n, t, np.column_stack([c[:, 0] + splat_pixel * PIXELS * (c[:, 3] > 0), c[:, 1:]])) for n, t, c in group]
     scale = {n: t[-1] / c[-1][0] for n, t, c in group}
     for _ in range(50):
         a = np.vstack([c[:, 1:4] for _, _, c in group])
@@ -67,7 +72,7 @@ def fit(group, title):
         u = scale[n] * (c[:, 0] + c[:, 1:4] @ r)
         print(f"  {n}: {scale[n]:.2e} s a camera vertex; error " + " ".join(f"{(p / q - 1) * 100:+.0f}%" for p, q in zip(u, t)))
 baked = [s for s in scenes if s[0].startswith('scenes/cornell') or s[0] == 'scenes/mitsuba/box.xml']
-fit(baked, "traced by code")
-fit([s for s in scenes if s not in baked], "traced through a BVH")
+fit(baked, "traced by code", 0.14)
+fit([s for s in scenes if s not in baked], "traced through a BVH", 0.04)
 PY
 rm -rf "$out"

@@ -419,7 +419,11 @@ impl Integrator for LightTracer {
             if let Some((kernel, group)) = &self.bidir_camera {
                 kernel.dispatch(encoder, group, self.pixel_count);
             }
-            self.splat_accumulate.dispatch(encoder, &self.accumulate_group, self.pixel_count);
+            // Without light subpaths (vcm's light_paths = 0) no splat: the camera pass counted
+            // the sample.
+            if paths > 0 {
+                self.splat_accumulate.dispatch(encoder, &self.accumulate_group, self.pixel_count);
+            }
         }
         Part { work: Work::Photons, items: end - first, pass_done }
     }

@@ -110,11 +110,13 @@ pub const REPRESENTATIVE_PASS: u32 = 256;
 /// What a pass's work costs, in units of a camera vertex (its next-event estimate and its
 /// next segment, with its share of the pass's camera subpaths' starts): a connection (a shadow
 /// ray and four BSDF evaluations), a light vertex a merging camera vertex looks at in the grid
-/// (with its share of building the grid), and a light vertex (its segment, light tracing's
-/// join to the camera). Fitted on lavapipe to the pass times of the candidates on seven scenes
-/// (`scripts/measure/vcm-pilot-cost.sh`, BENCHMARKS.md "VCM"; the mean of two runs, each
-/// within 10% of every pass time): a camera vertex and a connection cost what the scene's
-/// rays cost, about three
+/// (with its share of building the grid), a light vertex (its segment, light tracing's join
+/// to the camera), and a pixel's splats added to its estimate where light subpaths are traced
+/// (2.1e-8 s on the two cores: 400 passes of cornell-box without light subpaths, 8.99 s with
+/// that pass and 8.43 s without). The rest fitted on lavapipe to the pass times of the
+/// candidates on seven scenes (`scripts/measure/vcm-pilot-cost.sh`, BENCHMARKS.md "VCM"; the
+/// mean of two runs, each within 11% of every pass time, the light vertex the loosest figure):
+/// a camera vertex and a connection cost what the scene's rays cost, about three
 /// times more in scenes traced through a BVH than in those small enough to be traced by code
 /// ([`crate::gpu::baked_bvh`]), a merge candidate less so.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -126,14 +128,18 @@ pub struct CostModel {
     /// A light vertex's cost in camera vertices (its segment, storing it, light tracing's join
     /// to the camera).
     pub light_vertex: f64,
+    /// A pixel's cost in camera vertices where a pass traces light subpaths: its splats added
+    /// to its estimate (`splat_accumulate`).
+    pub splat_pixel: f64,
 }
 
 /// [`CostModel`] of a scene traced by code (at most
 /// [`MAX_BAKED_PRIMITIVES`](crate::gpu::scene_buffers::MAX_BAKED_PRIMITIVES) primitives).
-pub const BAKED_COST: CostModel = CostModel { connection: 0.60, merge_candidate: 0.33, light_vertex: 0.83 };
+pub const BAKED_COST: CostModel = CostModel { connection: 0.69, merge_candidate: 0.34, light_vertex: 1.12, splat_pixel: 0.14 };
 
 /// [`CostModel`] of a scene traced through a BVH.
-pub const TRAVERSED_COST: CostModel = CostModel { connection: 0.55, merge_candidate: 0.15, light_vertex: 1.06 };
+pub const TRAVERSED_COST: CostModel =
+    CostModel { connection: 0.55, merge_candidate: 0.15, light_vertex: 0.90, splat_pixel: 0.04 };
 
 impl CostModel {
     /// The cost model of the scene of `data`.
@@ -146,13 +152,15 @@ impl CostModel {
         }
     }
 
-    /// A pass's cost, in camera vertices, from its counts of work (`WORK_*` words).
-    pub fn cost(&self, counts: &[u32]) -> f64 {
+    /// A pass's cost, in camera vertices, from its counts of work (`WORK_*` words) and the
+    /// pixels whose splats it adds (all where it traces light subpaths, else none).
+    pub fn cost(&self, counts: &[u32], splat_pixels: u32) -> f64 {
         let n = |word: u32| counts[word as usize] as f64;
         n(WORK_CAMERA_VERTICES)
             + self.connection * n(WORK_CONNECTIONS)
             + self.merge_candidate * n(WORK_MERGE_CANDIDATES)
             + self.light_vertex * n(WORK_LIGHT_VERTICES)
+            + self.splat_pixel * splat_pixels as f64
     }
 }
 
@@ -288,7 +296,8 @@ pub fn choose(
         let estimate: Vec<[f32; 3]> = sums.iter().zip(&before).map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]]).collect();
         before = sums;
         estimates[k].push(estimate);
-        costs[k] += model.cost(&work_counts) / PILOT_PASSES as f64;
+        let splat_pixels = if counts[k] > 0 { pixels as u32 } else { 0 };
+        costs[k] += model.cost(&work_counts, splat_pixels) / PILOT_PASSES as f64;
         for (w, &n) in work[k].iter_mut().zip(&work_counts) {
             *w += n as f64 / PILOT_PASSES as f64;
         }
