@@ -388,7 +388,7 @@ macro_rules! render_settings {
             max_depth: number => max_depth, "most scattering events on a path";
             direct: named => direct, "SPPM's direct light: sampled or photons";
             direct_samples: number => direct_samples, "SPPM's camera paths per visible point that gather direct light";
-            light_paths: number => light_paths, "bpt's and vcm's light subpaths a pass";
+            light_paths: number => light_paths, "bpt's and vcm's light subpaths a pass (0: vcm without light subpaths)";
             connect_share: number => connect_share, "bpt's and vcm's share of camera vertices that connect, in [0, 1] (vcm with neither share given: its pilot's)";
             merge_share: number => merge_share, "vcm's share of camera vertices that merge, in [0, 1]";
             radius_schedule: named => radius_schedule, "SPPM's radius schedule: per-point or global";

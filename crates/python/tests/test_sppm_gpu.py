@@ -134,7 +134,8 @@ BAD = dict(
     max_depth=(0, sppm_gpu.SettingError, "^max_depth must be between 1 and"),
     direct=("nope", sppm_gpu.SettingError, "^unknown direct `nope`"),
     direct_samples=(0, sppm_gpu.SettingError, "^direct_samples must be between 1 and"),
-    light_paths=(0, sppm_gpu.SettingError, "^light_paths must be between 1 and"),
+    # 0 is vcm without light subpaths; a negative count is no u32.
+    light_paths=(-1, OverflowError, "^argument 'light_paths': "),
     connect_share=(1.5, sppm_gpu.SettingError, r"^connect_share must lie in \[0, 1\]"),
     merge_share=(-0.5, sppm_gpu.SettingError, r"^merge_share must lie in \[0, 1\]"),
     radius_schedule=("nope", sppm_gpu.SettingError, "^unknown radius_schedule `nope`"),
