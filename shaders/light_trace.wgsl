@@ -119,7 +119,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             lm = mis_hit(lm, hit.t, dot(d, s.ns), depth > 0u || finite_light);
             // Kept for the camera subpaths' connections, its throughput for one subpath.
             if bsdf_samples_lights(m) {
-                let slot = index * frame.max_depth + stored;
+                let slot = light_vertex_slot(index, stored);
                 light_vertices[slot] =
                     LightVertex(s.p, s.material, s.ng, s.shape, s.ns, depth + 1u, -d, lm.d_vcm, beta * f32(frame.photon_count), lm.d_vc, s.uv, lm.d_vm, 0u);
                 if vcm_merges_at(m) {

@@ -33,7 +33,7 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
     let count = light_path_length[path];
     var sum = vec3f(0.0);
     for (var k = 0u; k < count; k++) {
-        let v = light_vertices[path * frame.max_depth + k];
+        let v = light_vertices[light_vertex_slot(path, k)];
         // The connected path has camera_length + v.length scattering events; the vertices come
         // in order of length.
         if camera_length + v.length > frame.max_depth {

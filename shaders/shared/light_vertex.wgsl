@@ -1,9 +1,9 @@
 // The light-vertex store of the bidirectional methods (bpt): each light subpath of a pass
 // (light_trace.wgsl) keeps its vertices where a BSDF can be evaluated, so that camera subpaths
 // (bidir_connect.wgsl) can connect to them (Veach 1997 sec. 10.2; SmallVCM's light vertices).
-// Subpath i's k-th stored vertex lies at i * frame.max_depth + k (a subpath has at most
-// max_depth of them); light_path_length[i] says how many it has. frame.photon_count subpaths a
-// pass, n_light; pixel j's camera subpath connects to subpath j mod n_light.
+// Subpath i's k-th stored vertex lies at slot k n_light + i (light_vertex_slot; a subpath has at
+// most max_depth of them); light_path_length[i] says how many it has. frame.photon_count
+// subpaths a pass, n_light; pixel j's camera subpath connects to subpath j mod n_light.
 
 #import types
 #import scene
@@ -38,6 +38,14 @@ struct LightVertex {
 // merging (bidir_connect.wgsl), over the dispatch merge_setup.wgsl sizes.
 @group(0) @binding(8) var<storage, read_write> visible_points: array<VisiblePoint>;
 @group(0) @binding(32) var<storage, read_write> merge_count: array<atomic<u32>>;
+
+// The slot of subpath i's k-th stored vertex: the subpaths' k-th vertices side by side, so that
+// the vertices a pass stores (a few a subpath, of max_depth slots each) lie together at the
+// store's start rather than spread over all of it, which merging reads at random (at
+// max_depth 64 a spread store cost merging alone 10% of its pass: docs/journal/session-25.md).
+fn light_vertex_slot(i: u32, k: u32) -> u32 {
+    return k * frame.photon_count + i;
+}
 
 // The surface a stored vertex lies on.
 fn light_vertex_surface(v: LightVertex) -> Surface {
