@@ -52,8 +52,11 @@ var<private> bidir_block: u32;
 // Whether the camera vertex at `depth` takes the join of the given share (0: connect, 1:
 // merge), drawn for the block.
 fn bidir_takes(share: f32, which: u32, depth: u32) -> bool {
-    if share >= 1.0 || share <= 0.0 {
-        return share > 0.0;
+    if share >= 1.0 {
+        return true;
+    }
+    if share <= 0.0 {
+        return false;
     }
     let h = pcg_hash(frame.seed ^ pcg_hash(frame.pass_index ^ pcg_hash(bidir_block ^ pcg_hash(depth * 2u + which))));
     return f32(h >> 8u) * (1.0 / 16777216.0) < share;

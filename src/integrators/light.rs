@@ -21,8 +21,7 @@ use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
 use crate::gpu::{Kernel, Resource};
 use crate::image_io::Rgb32Image;
 use crate::layout::{Frame, GridParams, GridScene, VisiblePoint, WORK_COUNTS};
-use crate::scene::Method;
-use crate::scene::Scene;
+use crate::scene::{Method, RenderSettings, Scene};
 use std::ops::Range;
 use std::sync::Arc;
 use wgpu::util::DeviceExt;
@@ -54,25 +53,24 @@ pub const PIXELS_PER_LIGHT_PATH: u32 = 16;
 /// against 1.96e-4 (BENCHMARKS.md "VCM").
 pub const PIXELS_PER_LIGHT_PATH_MERGING: u32 = 4;
 
-/// Light subpaths a pass of `method` on `scene`, within `limit` bytes a buffer: lt one a pixel
+/// Light subpaths a pass of the render `r`, within `limit` bytes a buffer: lt one a pixel
 /// (of the whole image); bpt and vcm `light_paths`, or one for every
 /// [`PIXELS_PER_LIGHT_PATH`] pixels ([`PIXELS_PER_LIGHT_PATH_MERGING`] for vcm merging
 /// without connecting), at most as many as the light-vertex store holds (at least one but
 /// for vcm's `light_paths = 0`).
-pub fn light_paths(scene: &Scene, limit: u64) -> Result<u32, Error> {
-    let r = &scene.render;
+pub fn light_paths(r: &RenderSettings, limit: u64) -> Result<u32, Error> {
     let pixels = r
         .width
         .checked_mul(r.height)
         .ok_or_else(|| Error::Setting(format!("{}x{} pixels are more than 2^32 light subpaths a pass", r.width, r.height)))?;
-    if !is_bidirectional(scene.render.method) {
+    if !is_bidirectional(r.method) {
         return Ok(pixels);
     }
     if r.light_paths == Some(0) {
         return Ok(0);
     }
     let per_path = r.max_depth.max(1) as u64 * LIGHT_VERTEX_BYTES;
-    let merging_alone = r.connect_share == Some(0.0) && merges(scene);
+    let merging_alone = r.connect_share == Some(0.0) && merges(r);
     let per_path_pixels = if merging_alone { PIXELS_PER_LIGHT_PATH_MERGING } else { PIXELS_PER_LIGHT_PATH };
     let wanted = r.light_paths.unwrap_or((pixels / per_path_pixels).max(1));
     Ok((LIGHT_VERTEX_BUDGET.min(limit) / per_path).clamp(1, wanted as u64) as u32)
@@ -151,7 +149,7 @@ impl LightTracer {
     /// [`Integrator::gpu_memory`] reports them: the sums per pixel and their read-back copy, the
     /// splats, and the frame.
     pub fn renderer_bytes(scene: &Scene, rows: u32) -> u64 {
-        let store = match light_paths(scene, u64::MAX) {
+        let store = match light_paths(&scene.render, u64::MAX) {
             Ok(n) if is_bidirectional(scene.render.method) => {
                 n as u64 * (scene.render.max_depth as u64 * (LIGHT_VERTEX_BYTES + merge_bytes(scene)) + 4)
             }
@@ -204,7 +202,7 @@ impl LightTracer {
         scene_buffers: Arc<SceneBuffers>,
         rows: Range<u32>,
     ) -> Result<Self, Error> {
-        Self::build(device, queue, scene, data, scene_buffers, rows, merges(scene))
+        Self::build(device, queue, scene, data, scene_buffers, rows, merges(&scene.render))
     }
 
     /// The light tracer of a scene whose shares vcm's pilot chose (`integrators::shares`),
@@ -249,9 +247,9 @@ impl LightTracer {
         }
         // One light subpath a pixel of the whole image a pass (bpt: as many as the store holds).
         let limit = device.limits().max_storage_buffer_binding_size;
-        frame.photon_count = light_paths(scene, limit)?;
+        frame.photon_count = light_paths(r, limit)?;
         // The shares of camera vertices that connect and merge (shaders/shared/bidir.wgsl).
-        let shares = Shares::of(scene);
+        let shares = Shares::of(r);
         (frame.connect_share, frame.merge_share) = (shares.connect, shares.merge);
         let bidir = is_bidirectional(r.method);
         let merge = merge && r.method == Method::Vcm;
@@ -515,10 +513,10 @@ impl Integrator for LightTracer {
     }
 }
 
-/// Whether the render may merge: vcm with a share of camera vertices that merge above 0, or
-/// one its pilot chooses (at 0 it stores no merge points and builds no grid).
-fn merges(scene: &Scene) -> bool {
-    scene.render.method == Method::Vcm && Shares::of(scene).merge > 0.0
+/// Whether the render `r` may merge: vcm with a share of camera vertices that merge above 0,
+/// or one its pilot chooses (at 0 it stores no merge points and builds no grid).
+fn merges(r: &RenderSettings) -> bool {
+    r.method == Method::Vcm && Shares::of(r).merge > 0.0
 }
 
 /// The shares of camera vertices that connect to light vertices and that merge with them.
@@ -531,9 +529,8 @@ pub struct Shares {
 }
 
 impl Shares {
-    /// `scene`'s shares as set, 1 where not (0 without light subpaths).
-    pub fn of(scene: &Scene) -> Self {
-        let r = &scene.render;
+    /// The render `r`'s shares as set, 1 where not (0 without light subpaths).
+    pub fn of(r: &RenderSettings) -> Self {
         let default = if r.light_paths == Some(0) { 0.0 } else { 1.0 };
         Self { connect: r.connect_share.unwrap_or(default), merge: r.merge_share.unwrap_or(default) }
     }
@@ -549,7 +546,7 @@ pub fn pilot_chooses_shares(scene: &Scene) -> bool {
 /// Bytes of vcm's grid a light-vertex slot (its point, 8 grid entries; the buckets, 4 a
 /// subpath, are in the margin).
 fn merge_bytes(scene: &Scene) -> u64 {
-    if merges(scene) {
+    if merges(&scene.render) {
         size_of::<VisiblePoint>() as u64 + 8 * 4 + 4
     } else {
         0

@@ -234,13 +234,14 @@ fn pilot_scene(scene: &Scene, candidates: &[Choice], limit: u64) -> Result<(Scen
     if let Some(n) = r.light_paths {
         r.light_paths = Some(((n as f64 * pilot_pixels / pixels).round() as u32).max(1));
     }
-    let with = |scene: &Scene, choice: &Choice| {
-        let mut s = scene.clone();
-        choice.apply(&mut s.render);
-        light_paths(&s, limit)
+    // Each candidate's light subpaths, from the render settings alone (no copy of the scene).
+    let with = |r: &RenderSettings, choice: &Choice| {
+        let mut r = r.clone();
+        choice.apply(&mut r);
+        light_paths(&r, limit)
     };
-    let counts = candidates.iter().map(|c| with(&pilot, c)).collect::<Result<Vec<u32>, Error>>()?;
-    let n_render = with(scene, &candidates[0])? as f64;
+    let counts = candidates.iter().map(|c| with(&pilot.render, c)).collect::<Result<Vec<u32>, Error>>()?;
+    let n_render = with(&scene.render, &candidates[0])? as f64;
     let n_pilot = counts[0] as f64;
     let radius = vcm_radius(scene, REPRESENTATIVE_PASS) as f64;
     let r = &mut pilot.render;

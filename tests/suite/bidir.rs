@@ -66,7 +66,7 @@ fn bpt_with_pixels_sharing_light_subpaths() {
     scene.render.width = SIZE;
     scene.render.height = SIZE;
     scene.render.light_paths = Some(SIZE * SIZE);
-    let paths = integrators::light::light_paths(&scene, u64::MAX).unwrap();
+    let paths = integrators::light::light_paths(&scene.render, u64::MAX).unwrap();
     assert_eq!(paths, 2730, "light subpaths for {} pixels", SIZE * SIZE);
     check(&scene, "cornell-box", 32, 2e-4);
 }
@@ -240,7 +240,10 @@ fn vcm_pilot_chooses_from_the_scene_alone() {
     assert_eq!(candidates(&room), CANDIDATES);
     let mut none = room.clone();
     CANDIDATES[4].apply(&mut none.render);
-    assert_eq!((none.render.light_paths, sppm_gpu::integrators::light::light_paths(&none, u64::MAX).unwrap()), (Some(0), 0));
+    assert_eq!(
+        (none.render.light_paths, sppm_gpu::integrators::light::light_paths(&none.render, u64::MAX).unwrap()),
+        (Some(0), 0)
+    );
     assert!(!sppm_gpu::integrators::light::pilot_chooses_shares(&none));
 }
 
