@@ -18,7 +18,8 @@
 // The hashed grid of the pass's light vertices (vcm), built by SPPM's grid kernels.
 @group(0) @binding(31) var<storage, read> grid_params: GridParams;
 @group(0) @binding(12) var<storage, read> grid_cell_start: array<u32>;
-@group(0) @binding(13) var<storage, read> grid_entries: array<u32>;
+// A bucket's light vertices in order of slot (merge_order.wgsl): position and slot.
+@group(0) @binding(35) var<storage, read> merge_entries: array<vec4f>;
 
 // The light subpath the camera subpath being traced connects to.
 var<private> bidir_light_path: u32;
@@ -101,12 +102,12 @@ fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camer
     var sum = vec3f(0.0);
     for (var e = grid_cell_start[h]; e < grid_cell_start[h + 1u]; e++) {
         // Its position first: most of a bucket's vertices lie beyond the radius.
-        let slot = grid_entries[e];
+        let entry = merge_entries[e];
         bidir_work[WORK_MERGE_CANDIDATES] += 1u;
-        if !within_radius(s.p, r, light_vertices[slot].p) {
+        if !within_radius(s.p, r, entry.xyz) {
             continue;
         }
-        let v = light_vertices[slot];
+        let v = light_vertices[bitcast<u32>(entry.w)];
         if camera_length + v.length > frame.max_depth + 1u {
             continue;
         }

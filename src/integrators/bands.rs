@@ -17,7 +17,9 @@ pub struct Bands {
     bands: Vec<Box<dyn Integrator>>,
     /// The band whose part of the pass under way comes next.
     current: usize,
-    method: Method,
+    /// Whether a pass's work is the bands' own summed (camera samples, one a pixel), else the
+    /// first band's (photons, light subpaths: each band traces them all).
+    work_summed: bool,
     width: u32,
     height: u32,
 }
@@ -59,13 +61,18 @@ impl Bands {
                     Method::Pt | Method::PtNee => {
                         Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, shared, rows)?)
                     }
+                    Method::Vcm if super::light::camera_subpaths_alone(&scene.render) => {
+                        Box::new(PathTracer::vcm_without_light_subpaths(device, queue, scene, data, shared, rows, None)?)
+                    }
                     Method::Lt | Method::Bpt | Method::Vcm => {
                         Box::new(super::LightTracer::with_scene_buffers(device, queue, scene, data, shared, rows)?)
                     }
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(Self { bands, current: 0, method: scene.render.method, width: scene.render.width, height })
+        let r = &scene.render;
+        let work_summed = matches!(r.method, Method::Pt | Method::PtNee) || super::light::camera_subpaths_alone(r);
+        Ok(Self { bands, current: 0, work_summed, width: r.width, height })
     }
 
     /// Number of bands.
@@ -103,11 +110,12 @@ impl Integrator for Bands {
     }
     /// What a pass adds to the estimate: the pass's photons for SPPM (each band traces them
     /// again, for its own points; the light tracer's subpaths likewise, for its own pixels), a
-    /// sample per pixel of every band for the path tracers.
+    /// sample per pixel of every band for the path tracers (and vcm without light subpaths).
     fn work_per_pass(&self) -> u64 {
-        match self.method {
-            Method::Sppm | Method::Lt | Method::Bpt | Method::Vcm => self.bands[0].work_per_pass(),
-            Method::Pt | Method::PtNee => self.bands.iter().map(|b| b.work_per_pass()).sum(),
+        if self.work_summed {
+            self.bands.iter().map(|b| b.work_per_pass()).sum()
+        } else {
+            self.bands[0].work_per_pass()
         }
     }
     fn work_unit(&self) -> &'static str {

@@ -76,6 +76,16 @@ pub fn light_paths(r: &RenderSettings, limit: u64) -> Result<u32, Error> {
     Ok((LIGHT_VERTEX_BUDGET.min(limit) / per_path).clamp(1, wanted as u64) as u32)
 }
 
+/// Whether the render `r` is vcm without light subpaths (`light_paths = 0`, set or chosen by
+/// its pilot): camera subpaths with next-event estimation weighed by the power heuristic, which
+/// is pt-nee's estimator (dVCM starts at 0 and no vertex connects or merges, so every weight
+/// but next-event estimation's and emission's against each other is 0). It runs pt-nee's
+/// kernel ([`super::PathTracer`]) without the bidirectional bookkeeping, about 5% of a pass
+/// (BENCHMARKS.md "VCM").
+pub fn camera_subpaths_alone(r: &RenderSettings) -> bool {
+    r.method == Method::Vcm && r.light_paths == Some(0)
+}
+
 /// Whether `method` keeps light vertices (bpt, vcm).
 fn is_bidirectional(method: Method) -> bool {
     matches!(method, Method::Bpt | Method::Vcm)
@@ -543,11 +553,11 @@ pub fn pilot_chooses_shares(scene: &Scene) -> bool {
     r.method == Method::Vcm && r.connect_share.is_none() && r.merge_share.is_none() && r.light_paths != Some(0)
 }
 
-/// Bytes of vcm's grid a light-vertex slot (its point, 8 grid entries; the buckets, 4 a
-/// subpath, are in the margin).
+/// Bytes of vcm's grid a light-vertex slot (its point, 8 grid entries and 8 merge entries;
+/// the buckets, 4 a subpath, are in the margin).
 fn merge_bytes(scene: &Scene) -> u64 {
     if merges(&scene.render) {
-        size_of::<VisiblePoint>() as u64 + 8 * 4 + 4
+        size_of::<VisiblePoint>() as u64 + 8 * 4 + 8 * 16 + 4
     } else {
         0
     }
@@ -557,7 +567,7 @@ fn merge_bytes(scene: &Scene) -> u64 {
 /// is 1): room for a point a slot and their count, the grid build's dispatch, the box of the
 /// scene's surfaces, the pass's radius, the grid's parameters, a count and a start a bucket (4
 /// buckets a subpath: a pass stores a few vertices a subpath), and room for each point in 8
-/// buckets.
+/// buckets, as its index and as its merge entry (position and slot, merge_order.wgsl).
 fn grid_buffers(
     device: &wgpu::Device,
     scene: &Scene,
@@ -586,5 +596,6 @@ fn grid_buffers(
         ("grid_cell_count", storage_buffer(device, "grid_cell_count", &words(table_size as usize))),
         ("grid_cell_start", storage_buffer(device, "grid_cell_start", &words(table_size as usize + 1))),
         ("grid_entries", storage_buffer(device, "grid_entries", &words(8 * slots as usize))),
+        ("merge_entries", storage_buffer(device, "merge_entries", &words(8 * 4 * slots as usize))),
     ]
 }

@@ -71,6 +71,7 @@ pub fn memory_need(device: &wgpu::Device, scene: &Scene) -> MemoryNeed {
         .map(|band| match r.method {
             Method::Sppm => Sppm::renderer_bytes(scene, band, device.limits().max_storage_buffer_binding_size),
             Method::Pt | Method::PtNee => PathTracer::renderer_bytes(scene, band),
+            Method::Vcm if super::light::camera_subpaths_alone(r) => PathTracer::renderer_bytes(scene, band),
             Method::Lt | Method::Bpt | Method::Vcm => LightTracer::renderer_bytes(scene, band),
         })
         .sum();
@@ -147,6 +148,7 @@ pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
     match scene.render.method {
         Method::Sppm => Sppm::max_rows(device, scene),
         Method::Pt | Method::PtNee => PathTracer::max_rows(device, scene),
+        Method::Vcm if super::light::camera_subpaths_alone(&scene.render) => PathTracer::max_rows(device, scene),
         Method::Lt | Method::Bpt | Method::Vcm => LightTracer::max_rows(device, scene),
     }
 }

@@ -200,6 +200,10 @@ fn create_on(
         _ if rows < height => Box::new(Bands::with_scene_buffers(device, queue, scene, data, buffers, rows)?),
         Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?),
         Method::Pt | Method::PtNee => Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
+        Method::Vcm if light::camera_subpaths_alone(&scene.render) => {
+            let pilot = pilot.map(|p| (p.to_string(), p.seconds));
+            Box::new(PathTracer::vcm_without_light_subpaths(device, queue, scene, data, buffers, 0..height, pilot)?)
+        }
         Method::Lt | Method::Bpt | Method::Vcm => match &pilot {
             Some(pilot) => {
                 Box::new(LightTracer::with_pilot(device, queue, scene, data, buffers, (pilot.to_string(), pilot.seconds))?)
@@ -263,15 +267,31 @@ pub fn create_compiled(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene
         // on the image: one BVH and one upload serve both renderers.
         let data = SceneData::new(scene)?;
         let buffers = Arc::new(SceneBuffers::new(device, &data));
-        let mut tiny = scene.clone();
-        let r = &mut tiny.render;
-        (r.width, r.height, r.photons, r.iterations, r.time_limit) = (8, 8, r.photons.min(1024), 1, None);
+        let warm_up = |scene: &Scene| {
+            let mut tiny = scene.clone();
+            let r = &mut tiny.render;
+            (r.width, r.height, r.photons, r.iterations, r.time_limit) = (8, 8, r.photons.min(1024), 1, None);
+            let mut warm_up = create_on(device, queue, &tiny, &data, buffers.clone(), None)?;
+            warm_up.run_pass()?;
+            warm_up.image().map(|_| ())
+        };
         // vcm's shares are the kernels' data: the warm-up's (1, 1) compiles the kernels its pilot
         // and its render use (the render keeps the pilot's kernels whatever shares it chose).
-        let mut warm_up = create_on(device, queue, &tiny, &data, buffers.clone(), None)?;
-        warm_up.run_pass()?;
-        warm_up.image()?;
-        let seconds = start.elapsed().as_secs_f64();
-        Ok((create_resolved(device, queue, scene, &data, buffers)?, seconds))
+        warm_up(scene)?;
+        let mut seconds = start.elapsed().as_secs_f64();
+        let integrator = match shares::resolve(device, queue, scene, &data, &buffers)? {
+            Some((resolved, pilot)) => {
+                // Without light subpaths the render runs pt-nee's kernel, which no kernel made
+                // so far is.
+                if light::camera_subpaths_alone(&resolved.render) {
+                    let start = std::time::Instant::now();
+                    warm_up(&resolved)?;
+                    seconds += start.elapsed().as_secs_f64();
+                }
+                create_on(device, queue, &resolved, &data, buffers.clone(), Some(pilot))?
+            }
+            None => create_on(device, queue, scene, &data, buffers.clone(), None)?,
+        };
+        Ok((integrator, seconds))
     })
 }

@@ -31,6 +31,9 @@ pub struct PathTracer {
     sums: PixelSums,
     /// [`Integrator::run_pass`]'s submissions in flight.
     submissions: crate::gpu::submissions::Submissions,
+    /// vcm's pilot's note and seconds, where it chose no light subpaths
+    /// ([`PathTracer::vcm_without_light_subpaths`]).
+    pilot: Option<(String, f64)>,
     // Kept alive for the bind group.
     _scene: Arc<SceneBuffers>,
 }
@@ -80,7 +83,8 @@ impl PathTracer {
                 Self::max_rows(device, scene)
             )));
         }
-        frame.nee = (r.method == Method::PtNee) as u32;
+        // vcm here is vcm without light subpaths (light::camera_subpaths_alone): pt-nee.
+        frame.nee = matches!(r.method, Method::PtNee | Method::Vcm) as u32;
 
         let path_trace = super::specialization(scene, data).kernel(device, "path_trace")?;
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -105,8 +109,28 @@ impl PathTracer {
             frame_buffer,
             sums,
             submissions: crate::gpu::submissions::Submissions::new(),
+            pilot: None,
             _scene: scene_buffers,
         })
+    }
+
+    /// vcm without light subpaths ([`super::light::camera_subpaths_alone`]): pt-nee's kernel on
+    /// vcm's scene, refused where vcm refuses the scene, reporting what vcm's pilot said of its
+    /// choice and the seconds it took, `pilot`, where it chose ([`Integrator::notes`],
+    /// [`Integrator::setup_seconds`]).
+    pub(super) fn vcm_without_light_subpaths(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &Scene,
+        data: &SceneData,
+        scene_buffers: Arc<SceneBuffers>,
+        rows: Range<u32>,
+        pilot: Option<(String, f64)>,
+    ) -> Result<Self, Error> {
+        super::LightTracer::check_scene(scene)?;
+        let mut tracer = Self::with_scene_buffers(device, queue, scene, data, scene_buffers, rows)?;
+        tracer.pilot = pilot;
+        Ok(tracer)
     }
 }
 
@@ -158,6 +182,14 @@ impl Integrator for PathTracer {
 
     fn work_unit(&self) -> &'static str {
         "samples"
+    }
+
+    fn notes(&self) -> Vec<String> {
+        self.pilot.iter().map(|(note, _)| note.clone()).collect()
+    }
+
+    fn setup_seconds(&self) -> f64 {
+        self.pilot.as_ref().map_or(0.0, |(_, seconds)| *seconds)
     }
 
     fn image(&mut self) -> Result<Rgb32Image, Error> {

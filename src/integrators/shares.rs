@@ -208,7 +208,7 @@ impl fmt::Display for Pilot {
         if self.chosen.light_subpaths {
             write!(f, "connect share {} and merge share {}", chosen.connect, chosen.merge)?;
         } else {
-            write!(f, "no light subpaths (light_paths = 0)")?;
+            write!(f, "no light subpaths (light_paths = 0: camera subpaths with next-event estimation, as pt-nee)")?;
         }
         write!(f, " (relative variance x cost of connect/merge shares, none for no light subpaths:")?;
         for c in &self.candidates {

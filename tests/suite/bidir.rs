@@ -161,17 +161,16 @@ fn vcm_matches_the_references() {
 /// `merge_share`: each strategy's count in the MIS, a join taken divided by it) renders the
 /// same image in expectation: cornell-box with shares between 0 and 1, and point-light (a delta
 /// light) with neither connections nor merges (next-event estimation, light tracing and
-/// emission alone), and with no light subpaths at all (`light_paths = 0`: next-event
-/// estimation and emission alone, the light-tracing weight gone with the subpaths). A count
-/// left out of one weight darkens or brightens the image by the weight it misses (the oracle,
-/// vcm::, checks the weights themselves).
+/// emission alone). A count left out of one weight darkens or brightens the image by the
+/// weight it misses (the oracle, vcm::, checks the weights themselves). Without light subpaths
+/// (`light_paths = 0`) vcm is pt-nee (vcm_pilot_chooses_from_the_scene_alone).
 #[test]
 fn vcm_at_shares_matches_the_references() {
     if common::gpu().is_none() {
         return;
     }
     for (name, passes, (connect, merge), light_paths) in
-        [("cornell-box", 64, (0.3, 0.6), None), ("point-light", 128, (0.0, 0.0), None), ("point-light", 128, (0.0, 0.0), Some(0))]
+        [("cornell-box", 64, (0.3, 0.6), None), ("point-light", 128, (0.0, 0.0), None)]
     {
         let mut scene = common::load_scene(&format!("{name}.toml"));
         scene.render.connect_share = Some(connect);
@@ -192,7 +191,9 @@ fn vcm_at_shares_matches_the_references() {
 /// chooses merging without connections; connections without merging cost the most for their
 /// noise (session 23's fixed-pass figures: 5.5x merging without connections; the pilot's few
 /// passes miss the rarest paths and see 1.3x). cornell-box, all diffuse, adds light tracing
-/// alone beside the camera's strategies and no light subpaths at all.
+/// alone beside the camera's strategies and no light subpaths at all, which is pt-nee's
+/// estimator (dVCM starts at 0, and nothing connects or merges) and renders by its kernel: the
+/// same bits as pt-nee.
 #[test]
 fn vcm_pilot_chooses_from_the_scene_alone() {
     let Some(gpu) = common::gpu() else { return };
@@ -245,6 +246,11 @@ fn vcm_pilot_chooses_from_the_scene_alone() {
         (Some(0), 0)
     );
     assert!(!sppm_gpu::integrators::light::pilot_chooses_shares(&none));
+    let none_image = common::render_at(&none, Method::Vcm, 32, 3);
+    assert!(
+        none_image.pixels == common::render_at(&none, Method::PtNee, 32, 3).pixels,
+        "vcm without light subpaths is not pt-nee"
+    );
 }
 
 /// vcm merges only where the BSDF is diffuse (bidir.wgsl's vcm_merges_at): on cornell-glossy
