@@ -80,8 +80,9 @@ pub fn light_paths(r: &RenderSettings, limit: u64) -> Result<u32, Error> {
 /// its pilot): camera subpaths with next-event estimation weighed by the power heuristic, which
 /// is pt-nee's estimator (dVCM starts at 0 and no vertex connects or merges, so every weight
 /// but next-event estimation's and emission's against each other is 0). It runs pt-nee's
-/// kernel ([`super::PathTracer`]) without the bidirectional bookkeeping, about 5% of a pass
-/// (BENCHMARKS.md "VCM").
+/// kernel ([`super::PathTracer`]): the same image as pt-nee to the bit, without setting up the
+/// bidirectional kernels (a pass of either kernel within 8% of the other's, either way by
+/// scene: BENCHMARKS.md "VCM").
 pub fn camera_subpaths_alone(r: &RenderSettings) -> bool {
     r.method == Method::Vcm && r.light_paths == Some(0)
 }

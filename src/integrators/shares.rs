@@ -114,8 +114,10 @@ pub const REPRESENTATIVE_PASS: u32 = 256;
 /// to the camera), and a pixel's splats added to its estimate where light subpaths are traced
 /// (2.1e-8 s on the two cores: 400 passes of cornell-box without light subpaths, 8.99 s with
 /// that pass and 8.43 s without). The rest fitted on lavapipe to the pass times of the
-/// candidates on seven scenes (`scripts/measure/vcm-pilot-cost.sh`, BENCHMARKS.md "VCM"; the
-/// mean of two runs, each within 11% of every pass time, the light vertex the loosest figure):
+/// candidates on seven scenes (`scripts/measure/vcm-pilot-cost.sh`, BENCHMARKS.md "VCM"; after
+/// merging read merge entries, the mean of four runs for the scenes traced by code and two for
+/// those traced through a BVH, each within 15% of every pass time, the light vertex the
+/// loosest figure):
 /// a camera vertex and a connection cost what the scene's rays cost, about three
 /// times more in scenes traced through a BVH than in those small enough to be traced by code
 /// ([`crate::gpu::baked_bvh`]), a merge candidate less so.
@@ -135,11 +137,11 @@ pub struct CostModel {
 
 /// [`CostModel`] of a scene traced by code (at most
 /// [`MAX_BAKED_PRIMITIVES`](crate::gpu::scene_buffers::MAX_BAKED_PRIMITIVES) primitives).
-pub const BAKED_COST: CostModel = CostModel { connection: 0.69, merge_candidate: 0.34, light_vertex: 1.12, splat_pixel: 0.14 };
+pub const BAKED_COST: CostModel = CostModel { connection: 0.63, merge_candidate: 0.27, light_vertex: 0.29, splat_pixel: 0.14 };
 
 /// [`CostModel`] of a scene traced through a BVH.
 pub const TRAVERSED_COST: CostModel =
-    CostModel { connection: 0.55, merge_candidate: 0.15, light_vertex: 0.90, splat_pixel: 0.04 };
+    CostModel { connection: 0.56, merge_candidate: 0.15, light_vertex: 1.04, splat_pixel: 0.04 };
 
 impl CostModel {
     /// The cost model of the scene of `data`.
