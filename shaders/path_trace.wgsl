@@ -1,6 +1,6 @@
 // Path tracing, for comparison with SPPM: one sample per pixel per pass, added to `radiance`.
-// Naive (frame.nee == 0): emission is found only by hitting it, so point and directional
-// lights stay dark. With next-event estimation (frame.nee == 1): direct light at diffuse,
+// Naive (PATH_NEE false): emission is found only by hitting it, so point and directional
+// lights stay dark. With next-event estimation (PATH_NEE true): direct light at diffuse,
 // glossy and rough dielectric vertices and at medium scattering events, and emission hit by
 // BSDF sampling weighted by MIS. The path is shared/camera_path.wgsl's, SPPM's camera pass's
 // loop, run to max_depth scattering events under Russian roulette (CAMERA_PATH_PT).
@@ -16,6 +16,11 @@
 
 const STREAM_PATH: u32 = 2u;
 
+// Next-event estimation (pt-nee; src/integrators/path.rs sets it from frame.nee): a constant,
+// so that each method's kernel holds only its own path (pt-nee's pass 12% faster on cornell-box
+// than under frame.nee read at run time, the same on the bunny box: BENCHMARKS.md "VCM").
+override PATH_NEE: bool = false;
+
 @compute @workgroup_size(64)
 fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
     // This dispatch's part of the pass: pixels [work_first, work_end).
@@ -28,7 +33,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     // With the Sobol sampler: the pixel's sample pass_index, one per pass.
     rng_sobol(&rng, frame.pass_index, sobol_seed(frame.seed, STREAM_PATH, pixel + frame.row_offset * frame.width));
     let ray = camera_ray(pixel % frame.width, pixel / frame.width, &rng);
-    let l = trace_camera_path(ray, CAMERA_PATH_PT, frame.nee != 0u, &rng).l;
+    let l = trace_camera_path(ray, CAMERA_PATH_PT, PATH_NEE, &rng).l;
     // A NaN or infinite sample counts as black rather than poisoning the pixel.
     let ok = all(l == l) && all(abs(l) < vec3f(3.0e38));
     radiance[pixel] += vec4f(select(vec3f(0.0), l, ok), 1.0);

@@ -86,7 +86,9 @@ impl PathTracer {
         // vcm here is vcm without light subpaths (light::camera_subpaths_alone): pt-nee.
         frame.nee = matches!(r.method, Method::PtNee | Method::Vcm) as u32;
 
-        let path_trace = super::specialization(scene, data).kernel(device, "path_trace")?;
+        let mut spec = super::specialization(scene, data);
+        spec.constants.push(("PATH_NEE", frame.nee as f64));
+        let path_trace = spec.kernel(device, "path_trace")?;
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
             contents: bytemuck::bytes_of(&frame),

@@ -169,13 +169,10 @@ fn vcm_at_shares_matches_the_references() {
     if common::gpu().is_none() {
         return;
     }
-    for (name, passes, (connect, merge), light_paths) in
-        [("cornell-box", 64, (0.3, 0.6), None), ("point-light", 128, (0.0, 0.0), None)]
-    {
+    for (name, passes, (connect, merge)) in [("cornell-box", 64, (0.3, 0.6)), ("point-light", 128, (0.0, 0.0))] {
         let mut scene = common::load_scene(&format!("{name}.toml"));
         scene.render.connect_share = Some(connect);
         scene.render.merge_share = Some(merge);
-        scene.render.light_paths = light_paths;
         check_method(&scene, Method::Vcm, name, passes, 6e-4, 0.01);
     }
 }
