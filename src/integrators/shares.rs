@@ -133,15 +133,21 @@ pub struct CostModel {
     /// A pixel's cost in camera vertices where a pass traces light subpaths: its splats added
     /// to its estimate (`splat_accumulate`).
     pub splat_pixel: f64,
+    /// A camera vertex where no light subpath is traced, in camera vertices of the pilot's
+    /// kernel: that candidate renders by pt-nee's kernel (`light::camera_subpaths_alone`),
+    /// whose pass at 256x256 took 0.89 of the bidirectional kernel's on cornell-box and 0.91
+    /// on the bunny box (passes a second, alternating, BENCHMARKS.md "VCM").
+    pub camera_vertex_alone: f64,
 }
 
 /// [`CostModel`] of a scene traced by code (at most
 /// [`MAX_BAKED_PRIMITIVES`](crate::gpu::scene_buffers::MAX_BAKED_PRIMITIVES) primitives).
-pub const BAKED_COST: CostModel = CostModel { connection: 0.63, merge_candidate: 0.27, light_vertex: 0.29, splat_pixel: 0.14 };
+pub const BAKED_COST: CostModel =
+    CostModel { connection: 0.63, merge_candidate: 0.27, light_vertex: 0.29, splat_pixel: 0.14, camera_vertex_alone: 0.89 };
 
 /// [`CostModel`] of a scene traced through a BVH.
 pub const TRAVERSED_COST: CostModel =
-    CostModel { connection: 0.56, merge_candidate: 0.15, light_vertex: 1.04, splat_pixel: 0.04 };
+    CostModel { connection: 0.56, merge_candidate: 0.15, light_vertex: 1.04, splat_pixel: 0.04, camera_vertex_alone: 0.91 };
 
 impl CostModel {
     /// The cost model of the scene of `data`.
@@ -154,15 +160,18 @@ impl CostModel {
         }
     }
 
-    /// A pass's cost, in camera vertices, from its counts of work (`WORK_*` words) and the
-    /// pixels whose splats it adds (all where it traces light subpaths, else none).
-    pub fn cost(&self, counts: &[u32], splat_pixels: u32) -> f64 {
+    /// A pass's cost, in camera vertices, from its counts of work (`WORK_*` words), whether it
+    /// traces light subpaths, and its `pixels` (whose splats it adds where it does).
+    pub fn cost(&self, counts: &[u32], light_subpaths: bool, pixels: u32) -> f64 {
         let n = |word: u32| counts[word as usize] as f64;
+        if !light_subpaths {
+            return self.camera_vertex_alone * n(WORK_CAMERA_VERTICES);
+        }
         n(WORK_CAMERA_VERTICES)
             + self.connection * n(WORK_CONNECTIONS)
             + self.merge_candidate * n(WORK_MERGE_CANDIDATES)
             + self.light_vertex * n(WORK_LIGHT_VERTICES)
-            + self.splat_pixel * splat_pixels as f64
+            + self.splat_pixel * pixels as f64
     }
 }
 
@@ -299,8 +308,7 @@ pub fn choose(
         let estimate: Vec<[f32; 3]> = sums.iter().zip(&before).map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]]).collect();
         before = sums;
         estimates[k].push(estimate);
-        let splat_pixels = if counts[k] > 0 { pixels as u32 } else { 0 };
-        costs[k] += model.cost(&work_counts, splat_pixels) / PILOT_PASSES as f64;
+        costs[k] += model.cost(&work_counts, counts[k] > 0, pixels as u32) / PILOT_PASSES as f64;
         for (w, &n) in work[k].iter_mut().zip(&work_counts) {
             *w += n as f64 / PILOT_PASSES as f64;
         }
