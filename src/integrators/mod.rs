@@ -159,21 +159,22 @@ pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Resu
     check_device_for(device, scene)?;
     let data = SceneData::new(scene)?;
     let buffers = Arc::new(SceneBuffers::new(device, &data));
-    create_resolved(device, queue, scene, &data, buffers)
+    let (scene, pilot) = resolve(device, queue, scene, &data, &buffers)?;
+    create_on(device, queue, &scene, &data, buffers, pilot)
 }
 
-/// [`create_on`], with vcm's shares chosen first where its pilot chooses them.
-fn create_resolved(
+/// `scene` with vcm's shares chosen where its pilot chooses them, and the pilot; else `scene`.
+fn resolve<'a>(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
-    scene: &Scene,
+    scene: &'a Scene,
     data: &SceneData,
-    buffers: Arc<SceneBuffers>,
-) -> Result<Box<dyn Integrator>, Error> {
-    match shares::resolve(device, queue, scene, data, &buffers)? {
-        Some((resolved, pilot)) => create_on(device, queue, &resolved, data, buffers, Some(pilot)),
-        None => create_on(device, queue, scene, data, buffers, None),
-    }
+    buffers: &Arc<SceneBuffers>,
+) -> Result<(std::borrow::Cow<'a, Scene>, Option<shares::Pilot>), Error> {
+    Ok(match shares::resolve(device, queue, scene, data, buffers)? {
+        Some((resolved, pilot)) => (std::borrow::Cow::Owned(resolved), Some(pilot)),
+        None => (std::borrow::Cow::Borrowed(scene), None),
+    })
 }
 
 /// SPPM, and any method in bands, need the device's storage buffers and workgroups
@@ -195,19 +196,18 @@ fn create_on(
     pilot: Option<shares::Pilot>,
 ) -> Result<Box<dyn Integrator>, Error> {
     let (rows, height) = (max_rows(device, scene), scene.render.height);
+    // What the pilot says of its choice, and its seconds, for the integrator to report.
+    let report = pilot.map(|p| (p.to_string(), p.seconds));
     Ok(match scene.render.method {
         // An image whose per-pixel buffers do not fit in one storage buffer goes in bands.
         _ if rows < height => Box::new(Bands::with_scene_buffers(device, queue, scene, data, buffers, rows)?),
         Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?),
         Method::Pt | Method::PtNee => Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
         Method::Vcm if light::camera_subpaths_alone(&scene.render) => {
-            let pilot = pilot.map(|p| (p.to_string(), p.seconds));
-            Box::new(PathTracer::vcm_without_light_subpaths(device, queue, scene, data, buffers, 0..height, pilot)?)
+            Box::new(PathTracer::vcm_without_light_subpaths(device, queue, scene, data, buffers, 0..height, report)?)
         }
-        Method::Lt | Method::Bpt | Method::Vcm => match &pilot {
-            Some(pilot) => {
-                Box::new(LightTracer::with_pilot(device, queue, scene, data, buffers, (pilot.to_string(), pilot.seconds))?)
-            }
+        Method::Lt | Method::Bpt | Method::Vcm => match report {
+            Some(report) => Box::new(LightTracer::with_pilot(device, queue, scene, data, buffers, report)?),
             None => Box::new(LightTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
         },
     })
@@ -279,19 +279,15 @@ pub fn create_compiled(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene
         // and its render use (the render keeps the pilot's kernels whatever shares it chose).
         warm_up(scene)?;
         let mut seconds = start.elapsed().as_secs_f64();
-        let integrator = match shares::resolve(device, queue, scene, &data, &buffers)? {
-            Some((resolved, pilot)) => {
-                // Without light subpaths the render runs pt-nee's kernel, which no kernel made
-                // so far is.
-                if light::camera_subpaths_alone(&resolved.render) {
-                    let start = std::time::Instant::now();
-                    warm_up(&resolved)?;
-                    seconds += start.elapsed().as_secs_f64();
-                }
-                create_on(device, queue, &resolved, &data, buffers.clone(), Some(pilot))?
-            }
-            None => create_on(device, queue, scene, &data, buffers.clone(), None)?,
-        };
+        let (resolved, pilot) = resolve(device, queue, scene, &data, &buffers)?;
+        // Where the pilot chose no light subpaths the render runs pt-nee's kernel, which no
+        // kernel made so far is.
+        if pilot.is_some() && light::camera_subpaths_alone(&resolved.render) {
+            let start = std::time::Instant::now();
+            warm_up(&resolved)?;
+            seconds += start.elapsed().as_secs_f64();
+        }
+        let integrator = create_on(device, queue, &resolved, &data, buffers.clone(), pilot)?;
         Ok((integrator, seconds))
     })
 }
