@@ -6,11 +6,11 @@
 
 use std::sync::Arc;
 
-use super::{Deposits, Integrator, PathTracer, Sppm};
+use super::{Deposits, Integrator, PathTracer, Renderer, Sppm};
 use crate::error::Error;
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
 use crate::image_io::Rgb32Image;
-use crate::scene::{Method, Scene};
+use crate::scene::Scene;
 
 /// `scene.render.method` over bands of at most `rows_per_band` rows.
 pub struct Bands {
@@ -55,23 +55,20 @@ impl Bands {
             .map(|y0| {
                 let rows = y0..(y0 + rows_per_band).min(height);
                 let shared = scene_buffers.clone();
-                Ok::<_, Error>(match scene.render.method {
-                    Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, shared, rows, Deposits::Auto)?)
-                        as Box<dyn Integrator>,
-                    Method::Pt | Method::PtNee => {
-                        Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, shared, rows)?)
+                Ok::<_, Error>(match Renderer::of(&scene.render) {
+                    Renderer::Sppm => {
+                        Box::new(Sppm::with_scene_buffers(device, queue, scene, data, shared, rows, Deposits::Auto)?)
+                            as Box<dyn Integrator>
                     }
-                    Method::Vcm if super::light::camera_subpaths_alone(&scene.render) => {
-                        Box::new(PathTracer::vcm_without_light_subpaths(device, queue, scene, data, shared, rows, None)?)
-                    }
-                    Method::Lt | Method::Bpt | Method::Vcm => {
+                    Renderer::Path => Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, shared, rows)?),
+                    Renderer::Light => {
                         Box::new(super::LightTracer::with_scene_buffers(device, queue, scene, data, shared, rows)?)
                     }
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
         let r = &scene.render;
-        let work_summed = matches!(r.method, Method::Pt | Method::PtNee) || super::light::camera_subpaths_alone(r);
+        let work_summed = Renderer::of(r) == Renderer::Path;
         Ok(Self { bands, current: 0, work_summed, width: r.width, height })
     }
 

@@ -56,8 +56,8 @@ pub const PIXELS_PER_LIGHT_PATH_MERGING: u32 = 4;
 /// Light subpaths a pass of the render `r`, within `limit` bytes a buffer: lt one a pixel
 /// (of the whole image); bpt and vcm `light_paths`, or one for every
 /// [`PIXELS_PER_LIGHT_PATH`] pixels ([`PIXELS_PER_LIGHT_PATH_MERGING`] for vcm merging
-/// without connecting), at most as many as the light-vertex store holds (at least one but
-/// for vcm's `light_paths = 0`).
+/// without connecting), at most as many as the light-vertex store holds and as vcm's merge
+/// entries fit one buffer of `limit` bytes (at least one but for vcm's `light_paths = 0`).
 pub fn light_paths(r: &RenderSettings, limit: u64) -> Result<u32, Error> {
     let pixels = r
         .width
@@ -69,12 +69,20 @@ pub fn light_paths(r: &RenderSettings, limit: u64) -> Result<u32, Error> {
     if r.light_paths == Some(0) {
         return Ok(0);
     }
-    let per_path = r.max_depth.max(1) as u64 * LIGHT_VERTEX_BYTES;
+    let depth = r.max_depth.max(1) as u64;
+    // vcm's buffers hold a light-vertex slot's merge entries, more bytes than its vertex: the
+    // largest a slot has a part of (vcm's pilot builds them whatever share it chooses).
+    let slot_bytes = if r.method == Method::Vcm { LIGHT_VERTEX_BYTES.max(MERGE_ENTRY_BYTES) } else { LIGHT_VERTEX_BYTES };
     let merging_alone = r.connect_share == Some(0.0) && merges(r);
     let per_path_pixels = if merging_alone { PIXELS_PER_LIGHT_PATH_MERGING } else { PIXELS_PER_LIGHT_PATH };
     let wanted = r.light_paths.unwrap_or((pixels / per_path_pixels).max(1));
-    Ok((LIGHT_VERTEX_BUDGET.min(limit) / per_path).clamp(1, wanted as u64) as u32)
+    let most = (LIGHT_VERTEX_BUDGET.min(limit) / (depth * LIGHT_VERTEX_BYTES)).min(limit / (depth * slot_bytes));
+    Ok(most.clamp(1, wanted as u64) as u32)
 }
+
+/// Bytes of a light-vertex slot's merge entries: a point in up to 8 buckets, each entry its
+/// position and slot (`merge_order.wgsl`).
+const MERGE_ENTRY_BYTES: u64 = 8 * 16;
 
 /// Whether the render `r` is vcm without light subpaths (`light_paths = 0`, set or chosen by
 /// its pilot): camera subpaths with next-event estimation weighed by the power heuristic, which
@@ -140,8 +148,8 @@ pub struct LightTracer {
     grid_buffers: Vec<(&'static str, wgpu::Buffer)>,
     /// What the kernels did, counted in a pass of vcm's pilot ([`WORK_COUNTS`] words).
     work_counts: wgpu::Buffer,
-    /// What vcm's pilot chose for this render, for [`Integrator::notes`], and its seconds.
-    pilot: Option<(String, f64)>,
+    /// What vcm's pilot said of its choice for this render.
+    pilot: super::PilotReport,
     sums: PixelSums,
     /// [`Integrator::run_pass`]'s submissions in flight.
     submissions: crate::gpu::submissions::Submissions,
@@ -217,7 +225,7 @@ impl LightTracer {
     }
 
     /// The light tracer of a scene whose shares vcm's pilot chose (`integrators::shares`),
-    /// reporting what the pilot says of its choice, `note`, and the `seconds` it took
+    /// reporting what the pilot says of its choice and the seconds it took, `pilot`
     /// ([`Integrator::notes`], [`Integrator::setup_seconds`]). Its kernels are the
     /// pilot's, which merge where the share says so: a merge share of 0 chosen leaves them
     /// (and the grid's buffers) as they are rather than compiling others within the render's time.
@@ -227,10 +235,10 @@ impl LightTracer {
         scene: &Scene,
         data: &SceneData,
         scene_buffers: Arc<SceneBuffers>,
-        (note, seconds): (String, f64),
+        pilot: super::PilotReport,
     ) -> Result<Self, Error> {
         let mut tracer = Self::build(device, queue, scene, data, scene_buffers, 0..scene.render.height, true)?;
-        tracer.pilot = Some((note, seconds));
+        tracer.pilot = pilot;
         Ok(tracer)
     }
 
@@ -350,7 +358,7 @@ impl LightTracer {
             light_path_length,
             grid_buffers,
             work_counts,
-            pilot: None,
+            pilot: Default::default(),
             sums,
             submissions: crate::gpu::submissions::Submissions::new(),
             _scene: scene_buffers,
@@ -465,11 +473,11 @@ impl Integrator for LightTracer {
     }
 
     fn notes(&self) -> Vec<String> {
-        self.pilot.iter().map(|(note, _)| note.clone()).collect()
+        self.pilot.notes()
     }
 
     fn setup_seconds(&self) -> f64 {
-        self.pilot.as_ref().map_or(0.0, |(_, seconds)| *seconds)
+        self.pilot.seconds()
     }
 
     /// Light subpaths, or without them (vcm's `light_paths = 0`) camera subpaths.
@@ -558,7 +566,7 @@ pub fn pilot_chooses_shares(scene: &Scene) -> bool {
 /// the buckets, 4 a subpath, are in the margin).
 fn merge_bytes(scene: &Scene) -> u64 {
     if merges(&scene.render) {
-        size_of::<VisiblePoint>() as u64 + 8 * 4 + 8 * 16 + 4
+        size_of::<VisiblePoint>() as u64 + 8 * 4 + MERGE_ENTRY_BYTES + 4
     } else {
         0
     }
@@ -597,6 +605,6 @@ fn grid_buffers(
         ("grid_cell_count", storage_buffer(device, "grid_cell_count", &words(table_size as usize))),
         ("grid_cell_start", storage_buffer(device, "grid_cell_start", &words(table_size as usize + 1))),
         ("grid_entries", storage_buffer(device, "grid_entries", &words(8 * slots as usize))),
-        ("merge_entries", storage_buffer(device, "merge_entries", &words(8 * 4 * slots as usize))),
+        ("merge_entries", storage_buffer(device, "merge_entries", &words(slots as usize * (MERGE_ENTRY_BYTES / 4) as usize))),
     ]
 }

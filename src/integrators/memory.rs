@@ -2,11 +2,11 @@
 //! a render will need, computed before anything is allocated ([`memory_need`],
 //! [`check_memory`]).
 
-use super::{LightTracer, PathTracer, Sppm};
+use super::{LightTracer, PathTracer, Renderer, Sppm};
 use crate::error::Error;
 use crate::layout::{GpuBvhNode, GpuSphere, GpuTriangle};
 use crate::scene::files::available_memory;
-use crate::scene::{Method, Scene};
+use crate::scene::Scene;
 
 /// Bytes of one `vec4f` of `attributes` or `texels` (a texel, or a third of a triangle's
 /// shading normals).
@@ -68,11 +68,10 @@ pub fn memory_need(device: &wgpu::Device, scene: &Scene) -> MemoryNeed {
     let rows = max_rows(device, scene).clamp(1, r.height.max(1));
     let bands = (0..r.height).step_by(rows as usize).map(|y0| (y0 + rows).min(r.height) - y0);
     let renderer = bands
-        .map(|band| match r.method {
-            Method::Sppm => Sppm::renderer_bytes(scene, band, device.limits().max_storage_buffer_binding_size),
-            Method::Pt | Method::PtNee => PathTracer::renderer_bytes(scene, band),
-            Method::Vcm if super::light::camera_subpaths_alone(r) => PathTracer::renderer_bytes(scene, band),
-            Method::Lt | Method::Bpt | Method::Vcm => LightTracer::renderer_bytes(scene, band),
+        .map(|band| match Renderer::of(r) {
+            Renderer::Sppm => Sppm::renderer_bytes(scene, band, device.limits().max_storage_buffer_binding_size),
+            Renderer::Path => PathTracer::renderer_bytes(scene, band),
+            Renderer::Light => LightTracer::renderer_bytes(scene, band),
         })
         .sum();
     // Per triangle: itself, its reference in `prim_refs` and a BVH node at most, shading
@@ -145,10 +144,9 @@ pub fn check_memory(device: &wgpu::Device, adapter: &wgpu::AdapterInfo, scene: &
 /// Rows of `scene`'s image that one integrator of `scene.render.method` holds on `device`;
 /// [`create`](super::create) splits taller images into [`Bands`](super::Bands) of this many rows.
 pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
-    match scene.render.method {
-        Method::Sppm => Sppm::max_rows(device, scene),
-        Method::Pt | Method::PtNee => PathTracer::max_rows(device, scene),
-        Method::Vcm if super::light::camera_subpaths_alone(&scene.render) => PathTracer::max_rows(device, scene),
-        Method::Lt | Method::Bpt | Method::Vcm => LightTracer::max_rows(device, scene),
+    match Renderer::of(&scene.render) {
+        Renderer::Sppm => Sppm::max_rows(device, scene),
+        Renderer::Path => PathTracer::max_rows(device, scene),
+        Renderer::Light => LightTracer::max_rows(device, scene),
     }
 }

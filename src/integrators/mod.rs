@@ -196,21 +196,67 @@ fn create_on(
     pilot: Option<shares::Pilot>,
 ) -> Result<Box<dyn Integrator>, Error> {
     let (rows, height) = (max_rows(device, scene), scene.render.height);
-    // What the pilot says of its choice, and its seconds, for the integrator to report.
-    let report = pilot.map(|p| (p.to_string(), p.seconds));
-    Ok(match scene.render.method {
+    let report = pilot.as_ref().map(PilotReport::of).unwrap_or_default();
+    Ok(match Renderer::of(&scene.render) {
         // An image whose per-pixel buffers do not fit in one storage buffer goes in bands.
         _ if rows < height => Box::new(Bands::with_scene_buffers(device, queue, scene, data, buffers, rows)?),
-        Method::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?),
-        Method::Pt | Method::PtNee => Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
-        Method::Vcm if light::camera_subpaths_alone(&scene.render) => {
-            Box::new(PathTracer::vcm_without_light_subpaths(device, queue, scene, data, buffers, 0..height, report)?)
+        Renderer::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?),
+        Renderer::Path => {
+            Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?.reporting(report))
         }
-        Method::Lt | Method::Bpt | Method::Vcm => match report {
-            Some(report) => Box::new(LightTracer::with_pilot(device, queue, scene, data, buffers, report)?),
-            None => Box::new(LightTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
-        },
+        Renderer::Light if report.is_some() => Box::new(LightTracer::with_pilot(device, queue, scene, data, buffers, report)?),
+        Renderer::Light => Box::new(LightTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?),
     })
+}
+
+/// What vcm's pilot said of its choice and the seconds it took, kept by the integrator that
+/// renders the choice for [`Integrator::notes`] and [`Integrator::setup_seconds`] (empty where
+/// no pilot chose).
+#[derive(Clone, Debug, Default)]
+pub struct PilotReport(Option<(String, f64)>);
+
+impl PilotReport {
+    /// The report of `pilot`.
+    pub fn of(pilot: &shares::Pilot) -> Self {
+        Self(Some((pilot.to_string(), pilot.seconds)))
+    }
+
+    /// The pilot's note, where one chose.
+    pub fn notes(&self) -> Vec<String> {
+        self.0.iter().map(|(note, _)| note.clone()).collect()
+    }
+
+    /// The pilot's seconds (0 where none chose).
+    pub fn seconds(&self) -> f64 {
+        self.0.as_ref().map_or(0.0, |(_, seconds)| *seconds)
+    }
+
+    /// Whether a pilot chose.
+    pub fn is_some(&self) -> bool {
+        self.0.is_some()
+    }
+}
+
+/// The integrator that renders a scene's settings: [`Sppm`], [`PathTracer`] (pt, pt-nee, and
+/// vcm without light subpaths, [`light::camera_subpaths_alone`], which is pt-nee's estimator)
+/// or [`LightTracer`] (lt, bpt, vcm).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Renderer {
+    Sppm,
+    Path,
+    Light,
+}
+
+impl Renderer {
+    /// The integrator of the render settings `r`.
+    pub(crate) fn of(r: &crate::scene::RenderSettings) -> Self {
+        match r.method {
+            Method::Sppm => Self::Sppm,
+            Method::Pt | Method::PtNee => Self::Path,
+            Method::Vcm if light::camera_subpaths_alone(r) => Self::Path,
+            Method::Lt | Method::Bpt | Method::Vcm => Self::Light,
+        }
+    }
 }
 
 /// What `scene.render.method` cannot render of this scene, or renders badly, one sentence
@@ -282,7 +328,7 @@ pub fn create_compiled(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene
         let (resolved, pilot) = resolve(device, queue, scene, &data, &buffers)?;
         // Where the pilot chose no light subpaths the render runs pt-nee's kernel, which no
         // kernel made so far is.
-        if pilot.is_some() && light::camera_subpaths_alone(&resolved.render) {
+        if pilot.is_some() && Renderer::of(&resolved.render) == Renderer::Path {
             let start = std::time::Instant::now();
             warm_up(&resolved)?;
             seconds += start.elapsed().as_secs_f64();

@@ -31,9 +31,8 @@ pub struct PathTracer {
     sums: PixelSums,
     /// [`Integrator::run_pass`]'s submissions in flight.
     submissions: crate::gpu::submissions::Submissions,
-    /// vcm's pilot's note and seconds, where it chose no light subpaths
-    /// ([`PathTracer::vcm_without_light_subpaths`]).
-    pilot: Option<(String, f64)>,
+    /// What vcm's pilot said, where it chose no light subpaths.
+    pilot: super::PilotReport,
     // Kept alive for the bind group.
     _scene: Arc<SceneBuffers>,
 }
@@ -83,7 +82,11 @@ impl PathTracer {
                 Self::max_rows(device, scene)
             )));
         }
-        // vcm here is vcm without light subpaths (light::camera_subpaths_alone): pt-nee.
+        // vcm here is vcm without light subpaths (light::camera_subpaths_alone): pt-nee on
+        // vcm's scene, refused where vcm refuses it.
+        if r.method == Method::Vcm {
+            super::LightTracer::check_scene(scene)?;
+        }
         frame.nee = matches!(r.method, Method::PtNee | Method::Vcm) as u32;
 
         let mut spec = super::specialization(scene, data);
@@ -111,28 +114,16 @@ impl PathTracer {
             frame_buffer,
             sums,
             submissions: crate::gpu::submissions::Submissions::new(),
-            pilot: None,
+            pilot: Default::default(),
             _scene: scene_buffers,
         })
     }
 
-    /// vcm without light subpaths ([`super::light::camera_subpaths_alone`]): pt-nee's kernel on
-    /// vcm's scene, refused where vcm refuses the scene, reporting what vcm's pilot said of its
-    /// choice and the seconds it took, `pilot`, where it chose ([`Integrator::notes`],
-    /// [`Integrator::setup_seconds`]).
-    pub(super) fn vcm_without_light_subpaths(
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        scene: &Scene,
-        data: &SceneData,
-        scene_buffers: Arc<SceneBuffers>,
-        rows: Range<u32>,
-        pilot: Option<(String, f64)>,
-    ) -> Result<Self, Error> {
-        super::LightTracer::check_scene(scene)?;
-        let mut tracer = Self::with_scene_buffers(device, queue, scene, data, scene_buffers, rows)?;
-        tracer.pilot = pilot;
-        Ok(tracer)
+    /// The path tracer reporting what vcm's pilot said of its choice of no light subpaths and
+    /// the seconds it took ([`Integrator::notes`], [`Integrator::setup_seconds`]).
+    pub(super) fn reporting(mut self, pilot: super::PilotReport) -> Self {
+        self.pilot = pilot;
+        self
     }
 }
 
@@ -187,11 +178,11 @@ impl Integrator for PathTracer {
     }
 
     fn notes(&self) -> Vec<String> {
-        self.pilot.iter().map(|(note, _)| note.clone()).collect()
+        self.pilot.notes()
     }
 
     fn setup_seconds(&self) -> f64 {
-        self.pilot.as_ref().map_or(0.0, |(_, seconds)| *seconds)
+        self.pilot.seconds()
     }
 
     fn image(&mut self) -> Result<Rgb32Image, Error> {

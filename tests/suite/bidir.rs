@@ -119,6 +119,27 @@ fn bpt_is_bit_exact_and_refuses_what_it_cannot_render() {
     }
 }
 
+/// vcm's light subpaths a pass fit the device's buffers: at 512x512 merging alone wants one for
+/// 4 pixels (65,536) and keeps, at the scene's depth 64, 8 merge entries of 16 bytes a
+/// light-vertex slot, more than one storage buffer holds on lavapipe (128 MiB). It traces as
+/// many as fit and renders; before, the pass failed on a binding over the limit (cornell-glossy
+/// at 512x512 with vcm's default settings, whose pilot chooses merging alone).
+#[test]
+fn vcm_light_subpaths_fit_the_devices_buffers() {
+    let Some(gpu) = common::gpu() else { return };
+    let mut scene = common::load_scene("cornell-glossy.toml");
+    let r = &mut scene.render;
+    (r.method, r.width, r.height, r.connect_share, r.merge_share) = (Method::Vcm, 512, 512, Some(0.0), Some(1.0));
+    let limit = gpu.device.limits().max_storage_buffer_binding_size;
+    let paths = integrators::light::light_paths(r, limit).unwrap() as u64;
+    assert!(paths * r.max_depth as u64 * 128 <= limit, "{paths} light subpaths' merge entries exceed {limit} bytes");
+    let mut vcm = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap_or_else(|e| panic!("{e}"));
+    vcm.run_pass().unwrap_or_else(|e| panic!("{e}"));
+    let image = vcm.image().unwrap_or_else(|e| panic!("{e}"));
+    let mean = image.pixels.iter().map(|p| (p[0] + p[1] + p[2]) as f64).sum::<f64>() / image.pixels.len() as f64;
+    assert!(mean.is_finite() && mean > 0.0, "mean {mean}");
+}
+
 /// vcm gives the same bits for the same seed: the hashed grid lists a bucket's light vertices
 /// in an order that depends on timing, and merge_order.wgsl sorts them so that merging sums
 /// in one order (without it, about 80 of 4,096 pixels differed in the last bits).
