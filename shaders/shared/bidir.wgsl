@@ -127,6 +127,17 @@ fn bidir_emission_weight(camera: SubpathMis, shape: u32, cos_l: f32, first_segme
     return mis_weight_emission(camera, pdfs.direct_pdf_a, pdfs.emission_pdf_w);
 }
 
+// Weight of the environment a camera subpath (its quantities `camera`, as its last vertex
+// left them: a light at infinity's densities are not in area measure, so no mis_hit) finds
+// along d, escaping; seen straight from the camera, 1 (no other strategy makes that path).
+fn bidir_escaped_weight(camera: SubpathMis, d: vec3f, first_segment: bool) -> f32 {
+    if first_segment {
+        return 1.0;
+    }
+    let pdfs = environment_emission_pdfs(environment(), d);
+    return mis_weight_emission(camera, pdfs.direct_pdf_a, pdfs.emission_pdf_w);
+}
+
 // Next-event estimate at surface s seen from wo (direct_light's, the same numbers and
 // visibility), weighted against every other strategy that makes the same path; `first`
 // whether s is the camera subpath's first vertex.

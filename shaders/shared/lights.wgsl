@@ -83,9 +83,8 @@ fn emit_light(e: Emitter, u_pos: vec2f, u_dir: vec2f, aim: EnvironmentAim) -> Em
     return area_emit(e, u_pos, u_dir, scale);
 }
 
-// The MIS densities (EmissionPdfs) of photon ph that light e emitted (emit_light), for the
-// bidirectional methods, which take every kind but the environment (src/integrators/light.rs
-// refuses it).
+// The MIS densities (EmissionPdfs) of photon ph that light e emitted (emit_light, an
+// environment's without aim), for the bidirectional methods.
 fn emission_pdfs(e: Emitter, ph: EmittedPhoton) -> EmissionPdfs {
     if USES_POINT_LIGHTS && e.kind == EMITTER_POINT {
         return point_emission_pdfs(e);
@@ -95,6 +94,9 @@ fn emission_pdfs(e: Emitter, ph: EmittedPhoton) -> EmissionPdfs {
     }
     if USES_DIRECTIONAL_LIGHTS && e.kind == EMITTER_DIRECTIONAL {
         return directional_emission_pdfs(e);
+    }
+    if USES_ENVIRONMENT && e.kind == EMITTER_ENVIRONMENT {
+        return environment_emission_pdfs(e, -ph.d);
     }
     return area_emission_pdfs(area_light_shape(e), dot(ph.d, ph.n));
 }
@@ -127,6 +129,10 @@ fn sample_light_mis(p: vec3f, u: vec3f) -> LightSampleMis {
     }
     if USES_DIRECTIONAL_LIGHTS && e.kind == EMITTER_DIRECTIONAL {
         return LightSampleMis(directional_sample(e, p, u), directional_emission_pdfs(e));
+    }
+    if USES_ENVIRONMENT && e.kind == EMITTER_ENVIRONMENT {
+        let ls = environment_sample(e, p, u);
+        return LightSampleMis(ls, environment_emission_pdfs(e, ls.wi));
     }
     let ls = area_sample(e, p, u);
     return LightSampleMis(ls, area_emission_pdfs(area_light_shape(e), ls.cos_l));

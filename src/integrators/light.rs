@@ -177,8 +177,9 @@ impl LightTracer {
         scene.render.width as u64 * rows as u64 * (2 * PIXEL_BYTES + SPLAT_BYTES) + size_of::<Frame>() as u64 + store
     }
 
-    /// What a light tracer (or bpt) cannot render of `scene`, as an error naming it:
-    /// participating media and an environment light (seen directly only by camera paths).
+    /// What a light tracer (or bpt, vcm) cannot render of `scene`, as an error naming it:
+    /// participating media, and for lt an environment light (seen directly only by camera
+    /// paths, which bpt and vcm trace).
     pub fn check_scene(scene: &Scene) -> Result<(), Error> {
         let method = crate::scene::Named::name(scene.render.method);
         let refuse =
@@ -186,7 +187,7 @@ impl LightTracer {
         if let Some(m) = scene.media.first() {
             return refuse(format!("does not render participating media yet (medium {:?})", m.name));
         }
-        if scene.lights.iter().any(|l| l.kind.is_environment()) {
+        if scene.render.method == Method::Lt && scene.lights.iter().any(|l| l.kind.is_environment()) {
             return refuse("cannot show an environment light seen directly".into());
         }
         let r = &scene.render;

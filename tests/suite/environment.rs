@@ -250,6 +250,34 @@ fn furnace_envmap_of_one_reads_albedo() {
     }
 }
 
+/// bpt, and vcm at every strategy (connections and merging at every camera vertex), under the
+/// constant environment and the map of ones: light subpaths leave the environment's disk with a
+/// light at infinity's densities, and camera subpaths weigh the environment they escape to or
+/// sample against the light subpaths' strategies.
+#[test]
+fn furnace_bidirectional_reads_albedo() {
+    for method in [Method::Bpt, Method::Vcm] {
+        let run = (method, DirectLight::Sampled, 64, 1);
+        let shares = |s: &mut Scene| {
+            if s.render.method == Method::Vcm {
+                (s.render.connect_share, s.render.merge_share) = (Some(1.0), Some(1.0));
+            }
+        };
+        check_edited("albedo 0.8", grey, shares, 0.8, run);
+        check_edited("glass", glass, shares, 1.0, run);
+        check_edited(
+            "envmap, albedo 0.8",
+            grey,
+            |s| {
+                envmap_of_one(s);
+                shares(s);
+            },
+            0.8,
+            run,
+        );
+    }
+}
+
 /// The TOML scene of the furnace renders the same answer from the command line's path.
 #[test]
 fn furnace_scene_file_reads_point_eight() {

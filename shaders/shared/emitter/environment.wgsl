@@ -48,6 +48,16 @@ fn environment_radiance(e: Emitter, w: vec3f) -> EnvmapEval {
     return EnvmapEval(e.radiance, e.pmf * (0.25 * INV_PI));
 }
 
+// The MIS densities of environment e (EmissionPdfs) for the direction w towards it (unit): a
+// light at infinity's, not in area measure (SmallVCM's BackgroundLight): next-event
+// estimation's solid-angle density of w (environment_radiance's, its choice included), and a
+// photon's, that density times a point uniform on the disk of area e.area (environment_emit
+// without aim, as the bidirectional methods' light subpaths leave it); not delta.
+fn environment_emission_pdfs(e: Emitter, w: vec3f) -> EmissionPdfs {
+    let pdf_w = environment_radiance(e, w).pdf;
+    return EmissionPdfs(pdf_w, pdf_w / e.area, 1.0, false, false);
+}
+
 // The visible points a share of an environment's photons is aimed at (SPPM, photon_pass.wgsl):
 // that share `fraction` (frame.env_aim; 0 for none), the points' largest radius and the box of
 // their positions.
