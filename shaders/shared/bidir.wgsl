@@ -129,12 +129,14 @@ fn bidir_emission_weight(camera: SubpathMis, shape: u32, cos_l: f32, first_segme
 
 // Weight of the environment a camera subpath (its quantities `camera`, as its last vertex
 // left them: a light at infinity's densities are not in area measure, so no mis_hit) finds
-// along d, escaping; seen straight from the camera, 1 (no other strategy makes that path).
-fn bidir_escaped_weight(camera: SubpathMis, d: vec3f, first_segment: bool) -> f32 {
+// along d from o, escaping; seen straight from the camera, 1 (no other strategy makes that
+// path).
+fn bidir_escaped_weight(camera: SubpathMis, o: vec3f, d: vec3f, first_segment: bool) -> f32 {
     if first_segment {
         return 1.0;
     }
-    let pdfs = environment_emission_pdfs(environment(), d);
+    let e = environment();
+    let pdfs = environment_emission_pdfs(e, d, o, environment_light_aim(e, frame.env_aim));
     return mis_weight_emission(camera, pdfs.direct_pdf_a, pdfs.emission_pdf_w);
 }
 

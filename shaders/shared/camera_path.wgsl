@@ -153,7 +153,7 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
             // The ray escapes: the environment, weighted as emission is.
             if USES_ENVIRONMENT {
                 if bidir {
-                    let weight = bidir_escaped_weight(cm, d, depth == 0u) * kept(STRATEGY_EMISSION);
+                    let weight = bidir_escaped_weight(cm, o, d, depth == 0u) * kept(STRATEGY_EMISSION);
                     path.l += beta * environment_eval(d).l * weight;
                 } else {
                     path.l += beta * escaped_light(d, pdf_prev);

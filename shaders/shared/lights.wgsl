@@ -84,7 +84,7 @@ fn emit_light(e: Emitter, u_pos: vec2f, u_dir: vec2f, aim: EnvironmentAim) -> Em
 }
 
 // The MIS densities (EmissionPdfs) of photon ph that light e emitted (emit_light, an
-// environment's without aim), for the bidirectional methods.
+// environment's with environment_light_aim), for the bidirectional methods.
 fn emission_pdfs(e: Emitter, ph: EmittedPhoton) -> EmissionPdfs {
     if USES_POINT_LIGHTS && e.kind == EMITTER_POINT {
         return point_emission_pdfs(e);
@@ -96,7 +96,7 @@ fn emission_pdfs(e: Emitter, ph: EmittedPhoton) -> EmissionPdfs {
         return directional_emission_pdfs(e);
     }
     if USES_ENVIRONMENT && e.kind == EMITTER_ENVIRONMENT {
-        return environment_emission_pdfs(e, -ph.d);
+        return environment_emission_pdfs(e, -ph.d, ph.o, environment_light_aim(e, frame.env_aim));
     }
     return area_emission_pdfs(area_light_shape(e), dot(ph.d, ph.n));
 }
@@ -132,7 +132,7 @@ fn sample_light_mis(p: vec3f, u: vec3f) -> LightSampleMis {
     }
     if USES_ENVIRONMENT && e.kind == EMITTER_ENVIRONMENT {
         let ls = environment_sample(e, p, u);
-        return LightSampleMis(ls, environment_emission_pdfs(e, ls.wi));
+        return LightSampleMis(ls, environment_emission_pdfs(e, ls.wi, p, environment_light_aim(e, frame.env_aim)));
     }
     let ls = area_sample(e, p, u);
     return LightSampleMis(ls, area_emission_pdfs(area_light_shape(e), ls.cos_l));

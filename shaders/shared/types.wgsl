@@ -202,9 +202,11 @@ struct Emitter {
     radiance: vec3f,
     // Radius of the directional light's disk; a spot's cutoff angle (radians).
     radius: f32,
-    // Directional: direction of travel. Spot: the axis of its cone.
+    // Directional: direction of travel. Spot: the axis of its cone. Environment: the centre of
+    // the sphere its light subpaths are aimed at (bpt, vcm: emitter/environment.wgsl).
     direction: vec3f,
-    // Spot: cutoff angle minus beam width (radians, >= 0); 0 for the other kinds.
+    // Spot: cutoff angle minus beam width (radians, >= 0). Environment: the radius of that
+    // sphere (0: not aimed). 0 for the other kinds.
     width: f32,
 }
 

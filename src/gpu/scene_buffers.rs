@@ -237,7 +237,13 @@ impl SceneData {
         let (swept_min, swept_max) = swept_bounds(scene, bounds_min, bounds_max);
         let center = 0.5 * (swept_min + swept_max);
         let radius = (0.5 * (swept_max - swept_min).length()).max(1e-3);
-        let lights = crate::scene::emitter::pack(scene, center, radius, &mut texels)?;
+        let mut lights = crate::scene::emitter::pack(scene, center, radius, &mut texels)?;
+        // The environment's light subpaths (bpt, vcm) aimed at what the camera sees.
+        if let Some(env) = lights.emitters.last_mut().filter(|e| e.kind == crate::scene::emitter::EMITTER_ENVIRONMENT) {
+            if let Some((centre, r)) = camera_sees(scene, &bvh, radius).filter(|&(_, r)| r < radius) {
+                (env.direction, env.width) = (centre.into(), r);
+            }
+        }
 
         Ok(Self {
             packed_bvh: bvh.pack(),
@@ -376,6 +382,31 @@ pub struct SceneBuffers {
     pub shapes: wgpu::Buffer,
     /// [`SceneData::emitters`]: `array<Emitter>`.
     pub emitters: wgpu::Buffer,
+}
+
+/// The sphere around what the camera sees directly: the points 32 x 32 rays through the image
+/// first meet (the shapes at rest), its radius grown by 1% of the scene's, `scene_radius`;
+/// `None` where every ray escapes. An environment's light subpaths are aimed at it
+/// ([`Emitter::direction`], [`Emitter::width`]), as SPPM's photons are at its visible points.
+fn camera_sees(scene: &Scene, bvh: &Bvh, scene_radius: f32) -> Option<(Vec3, f32)> {
+    let c = &scene.camera;
+    let forward = (c.look_at - c.position).normalize();
+    let right = forward.cross(c.up).normalize();
+    let up = right.cross(forward);
+    let tan_half = (c.fov.to_radians() * 0.5).tan();
+    let aspect = scene.render.width as f32 / scene.render.height.max(1) as f32;
+    let mut bounds: Option<(Vec3, Vec3)> = None;
+    for j in 0..32 {
+        for i in 0..32 {
+            let (sx, sy) = ((i as f32 + 0.5) / 16.0 - 1.0, (j as f32 + 0.5) / 16.0 - 1.0);
+            let d = forward + right * (sx * tan_half * aspect) + up * (sy * tan_half);
+            if let Some(hit) = bvh.intersect(&scene.triangles, &scene.spheres, c.position, d, f32::INFINITY) {
+                let p = c.position + hit.t * d;
+                bounds = Some(bounds.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p))));
+            }
+        }
+    }
+    bounds.map(|(lo, hi)| (0.5 * (lo + hi), 0.5 * (hi - lo).length() + 0.01 * scene_radius))
 }
 
 /// A read-only storage buffer holding `data` (one zeroed element when it is empty).

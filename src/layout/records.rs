@@ -287,10 +287,12 @@ pub struct Emitter {
     /// Radius R of the directional light's or environment's disk, the scene's bounding
     /// sphere's; a spot light's cutoff angle (radians).
     pub radius: f32,
-    /// Direction of travel of a directional light; the axis of a spot light's cone.
+    /// Direction of travel of a directional light; the axis of a spot light's cone; the centre
+    /// of the sphere an environment's light subpaths are aimed at (bpt, vcm).
     pub direction: [f32; 3],
     /// A spot light's falloff width, cutoff angle minus beam width (radians, >= 0; 0: a hard
-    /// edge); 0 for the other kinds.
+    /// edge); the radius of the sphere an environment's light subpaths are aimed at (0: not
+    /// aimed); 0 for the other kinds.
     pub width: f32,
 }
 

@@ -253,7 +253,10 @@ fn furnace_envmap_of_one_reads_albedo() {
 /// bpt, and vcm at every strategy (connections and merging at every camera vertex), under the
 /// constant environment and the map of ones: light subpaths leave the environment's disk with a
 /// light at infinity's densities, and camera subpaths weigh the environment they escape to or
-/// sample against the light subpaths' strategies.
+/// sample against the light subpaths' strategies. With a speck far behind the camera the
+/// scene's bounding sphere grows to 27 times the furnace's sphere, and the light subpaths are
+/// aimed at what the camera sees (90% through a disk around the sphere): the disk densities'
+/// mixture in every weight (the speck hides 1e-5 of the sky).
 #[test]
 fn furnace_bidirectional_reads_albedo() {
     for method in [Method::Bpt, Method::Vcm] {
@@ -275,6 +278,8 @@ fn furnace_bidirectional_reads_albedo() {
             0.8,
             run,
         );
+        let speck = |b: SceneBuilder| grey(b).sphere([0.0, 0.0, 50.0], 0.1, "m");
+        check_edited("aimed, albedo 0.8", speck, shares, 0.8, run);
     }
 }
 

@@ -48,16 +48,6 @@ fn environment_radiance(e: Emitter, w: vec3f) -> EnvmapEval {
     return EnvmapEval(e.radiance, e.pmf * (0.25 * INV_PI));
 }
 
-// The MIS densities of environment e (EmissionPdfs) for the direction w towards it (unit): a
-// light at infinity's, not in area measure (SmallVCM's BackgroundLight): next-event
-// estimation's solid-angle density of w (environment_radiance's, its choice included), and a
-// photon's, that density times a point uniform on the disk of area e.area (environment_emit
-// without aim, as the bidirectional methods' light subpaths leave it); not delta.
-fn environment_emission_pdfs(e: Emitter, w: vec3f) -> EmissionPdfs {
-    let pdf_w = environment_radiance(e, w).pdf;
-    return EmissionPdfs(pdf_w, pdf_w / e.area, 1.0, false, false);
-}
-
 // The visible points a share of an environment's photons is aimed at (SPPM, photon_pass.wgsl):
 // that share `fraction` (frame.env_aim; 0 for none), the points' largest radius and the box of
 // their positions.
@@ -66,6 +56,48 @@ struct EnvironmentAim {
     max_radius: f32,
     lo: vec3f,
     hi: vec3f,
+}
+
+// The aim of the bidirectional methods' light subpaths (light_trace.wgsl): the share
+// `fraction` (frame.env_aim) of them drawn through the sphere around what the camera sees, the
+// record's `direction` (its centre) and `width` (its radius; 0 where not aimed:
+// src/gpu/scene_buffers.rs, camera_sees).
+fn environment_light_aim(e: Emitter, fraction: f32) -> EnvironmentAim {
+    return EnvironmentAim(select(0.0, fraction, e.width > 0.0), e.width, e.direction, e.direction);
+}
+
+// pi R^2 times the density, on the plane facing w (unit, towards the environment), of the
+// point where the line through x along w crosses it, as environment_origin draws it with
+// `aim`: 1 without aim, else f (R / r)^2 inside the small disk plus (1 - f) inside the large
+// one. x is any point of the line (a photon's origin, a vertex that samples or escapes to w).
+fn environment_disk_density(e: Emitter, w: vec3f, x: vec3f, aim: EnvironmentAim) -> f32 {
+    let f = aim.fraction;
+    let big = e.radius;
+    if !(f > 0.0) || !(aim.max_radius > 0.0) {
+        return 1.0;
+    }
+    let r = 0.5 * length(aim.hi - aim.lo) + aim.max_radius;
+    if !(r < big) {
+        return 1.0;
+    }
+    // Each disk's centre is its sphere's centre seen along w: the line's distance from it.
+    let to_small = x - 0.5 * (aim.lo + aim.hi);
+    let s = to_small - dot(to_small, w) * w;
+    let to_big = x - e.position;
+    let b = to_big - dot(to_big, w) * w;
+    let ratio = big / r;
+    return select(0.0, f * ratio * ratio, dot(s, s) <= r * r) + select(0.0, 1.0 - f, dot(b, b) <= big * big);
+}
+
+// The MIS densities of environment e (EmissionPdfs) for the direction w towards it (unit),
+// along the line through x: a light at infinity's, not in area measure (SmallVCM's
+// BackgroundLight): next-event estimation's solid-angle density of w (environment_radiance's,
+// its choice included), and a photon's, that density times its point's on the disk
+// (environment_disk_density over the disk's area e.area: environment_emit with `aim`, as the
+// bidirectional methods' light subpaths leave it); not delta.
+fn environment_emission_pdfs(e: Emitter, w: vec3f, x: vec3f, aim: EnvironmentAim) -> EmissionPdfs {
+    let pdf_w = environment_radiance(e, w).pdf;
+    return EmissionPdfs(pdf_w, pdf_w * environment_disk_density(e, w, x, aim) / e.area, 1.0, false, false);
 }
 
 // A point where an environment photon crosses the plane facing w (coordinates in the plane's
