@@ -81,6 +81,7 @@ pub fn trace_rays(
 /// Kernels only tests run, by name (`tests/shaders/<name>.wgsl`, its entry point named like
 /// the file): kept out of the library's kernel table, assembled with the library's shared WGSL.
 pub const TEST_KERNELS: &[(&str, &str)] = &[
+    ("env_aim_test", include_str!("../../shaders/env_aim_test.wgsl")),
     ("mis_test", include_str!("../../shaders/mis_test.wgsl")),
     ("sampler_test", include_str!("../../shaders/sampler_test.wgsl")),
     ("sobol_test", include_str!("../../shaders/sobol_test.wgsl")),
