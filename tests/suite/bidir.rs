@@ -132,17 +132,19 @@ fn bpt_is_bit_exact_and_refuses_what_it_cannot_render() {
     assert!(err.contains("participating media") && err.contains("method bpt") && err.contains(name), "{name}: {err}");
 }
 
-/// vcm's light subpaths a pass fit the device's buffers: at 512x512 merging alone wants one for
-/// 4 pixels (65,536) and keeps, at the scene's depth 64, 8 merge entries of 16 bytes a
-/// light-vertex slot, more than one storage buffer holds on lavapipe (128 MiB). It traces as
-/// many as fit and renders; before, the pass failed on a binding over the limit (cornell-glossy
-/// at 512x512 with vcm's default settings, whose pilot chooses merging alone).
+/// vcm's light subpaths a pass fit the device's buffers: at 128x128 merging alone wants one for
+/// 4 pixels (4,096) and keeps, at depth 1,024 (Mitsuba's unbounded depth as read), 8 merge
+/// entries of 16 bytes a light-vertex slot, more than one storage buffer holds on lavapipe
+/// (128 MiB). It traces as many as fit and renders; before, the pass failed on a binding over
+/// the limit (as cornell-glossy did at 512x512 and depth 64 with vcm's default settings, whose
+/// pilot chooses merging alone).
 #[test]
 fn vcm_light_subpaths_fit_the_devices_buffers() {
     let Some(gpu) = common::gpu() else { return };
     let mut scene = common::load_scene("cornell-glossy.toml");
     let r = &mut scene.render;
-    (r.method, r.width, r.height, r.connect_share, r.merge_share) = (Method::Vcm, 512, 512, Some(0.0), Some(1.0));
+    (r.method, r.width, r.height, r.max_depth) = (Method::Vcm, 128, 128, 1024);
+    (r.connect_share, r.merge_share) = (Some(0.0), Some(1.0));
     let limit = gpu.device.limits().max_storage_buffer_binding_size;
     let paths = integrators::light::light_paths(r, limit).unwrap() as u64;
     assert!(paths * r.max_depth as u64 * 128 <= limit, "{paths} light subpaths' merge entries exceed {limit} bytes");
