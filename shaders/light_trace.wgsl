@@ -71,7 +71,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     let u_pos = rng_next2(&rng);
     let u_dir = rng_next2(&rng);
     // An environment's aimed at what the camera sees (emitter/environment.wgsl).
-    let ph = emit_light(e, u_pos, u_dir, environment_light_aim(e, frame.env_aim));
+    let ph = emit_light(e, u_pos, u_dir, environment_light_aim(e));
     let scale = frame.power_total / f32(frame.photon_count);
     var beta = ph.beta * scale;
     var lm = SubpathMis(0.0, 0.0, 0.0);

@@ -16,9 +16,9 @@
 
 const STREAM_PATH: u32 = 2u;
 
-// Next-event estimation (pt-nee; src/integrators/path.rs sets it from frame.nee): a constant,
-// so that each method's kernel holds only its own path (pt-nee's pass 12% faster on cornell-box
-// than under frame.nee read at run time, the same on the bunny box: BENCHMARKS.md "VCM").
+// Next-event estimation (pt-nee; src/integrators/path.rs sets it): a constant, so that each
+// method's kernel holds only its own path (pt-nee's pass 12% faster on cornell-box than under
+// a frame field read at run time, the same on the bunny box: BENCHMARKS.md "VCM").
 override PATH_NEE: bool = false;
 
 @compute @workgroup_size(64)

@@ -136,7 +136,7 @@ fn bidir_escaped_weight(camera: SubpathMis, o: vec3f, d: vec3f, first_segment: b
         return 1.0;
     }
     let e = environment();
-    let pdfs = environment_emission_pdfs(e, d, o, environment_light_aim(e, frame.env_aim));
+    let pdfs = environment_emission_pdfs(e, d, o, environment_light_aim(e));
     return mis_weight_emission(camera, pdfs.direct_pdf_a, pdfs.emission_pdf_w);
 }
 

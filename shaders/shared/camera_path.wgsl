@@ -70,7 +70,7 @@ fn roulette(beta: ptr<function, vec3f>, eta_scale: f32, rng: ptr<function, Rng>)
 // Trace a camera path from `ray` (camera_ray's). flags: CAMERA_PATH_*, a constant, so that
 // what a kernel does not ask for compiles away. nee: sample direct light at diffuse, glossy,
 // rough dielectric and plastic vertices and at medium scattering events, and weight emission
-// hit after a BSDF or phase sample by MIS (frame.nee in the path tracers, frame.direct in SPPM).
+// hit after a BSDF or phase sample by MIS (path_trace.wgsl's PATH_NEE in the path tracers, frame.direct in SPPM).
 fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -> CameraPath {
     let use_roulette = (flags & CAMERA_PATH_ROULETTE) != 0u;
     let shared_streams = (flags & CAMERA_PATH_SHARED_STREAMS) != 0u;

@@ -96,7 +96,7 @@ fn emission_pdfs(e: Emitter, ph: EmittedPhoton) -> EmissionPdfs {
         return directional_emission_pdfs(e);
     }
     if USES_ENVIRONMENT && e.kind == EMITTER_ENVIRONMENT {
-        return environment_emission_pdfs(e, -ph.d, ph.o, environment_light_aim(e, frame.env_aim));
+        return environment_emission_pdfs(e, -ph.d, ph.o, environment_light_aim(e));
     }
     return area_emission_pdfs(area_light_shape(e), dot(ph.d, ph.n));
 }
@@ -132,7 +132,7 @@ fn sample_light_mis(p: vec3f, u: vec3f) -> LightSampleMis {
     }
     if USES_ENVIRONMENT && e.kind == EMITTER_ENVIRONMENT {
         let ls = environment_sample(e, p, u);
-        return LightSampleMis(ls, environment_emission_pdfs(e, ls.wi, p, environment_light_aim(e, frame.env_aim)));
+        return LightSampleMis(ls, environment_emission_pdfs(e, ls.wi, p, environment_light_aim(e)));
     }
     let ls = area_sample(e, p, u);
     return LightSampleMis(ls, area_emission_pdfs(area_light_shape(e), ls.cos_l));

@@ -26,8 +26,7 @@ struct Frame {
     vp_count: u32,
     // Shutter time of this pass in [0, 1); camera and photon paths both see the scene then.
     time: f32,
-    // Path tracing: 1 for next-event estimation, 0 for naive.
-    nee: u32,
+    _pad3: u32,
     // This renderer covers rows [row_offset, row_offset + height) of an image image_height
     // rows high (a band of a large image).
     row_offset: u32,

@@ -390,9 +390,7 @@ pub struct SceneBuffers {
 /// ([`Emitter::direction`], [`Emitter::width`]), as SPPM's photons are at its visible points.
 fn camera_sees(scene: &Scene, bvh: &Bvh, scene_radius: f32) -> Option<(Vec3, f32)> {
     let c = &scene.camera;
-    let forward = (c.look_at - c.position).normalize();
-    let right = forward.cross(c.up).normalize();
-    let up = right.cross(forward);
+    let (forward, right, up) = c.basis();
     let tan_half = (c.fov.to_radians() * 0.5).tan();
     let aspect = scene.render.width as f32 / scene.render.height.max(1) as f32;
     let mut bounds: Option<(Vec3, Vec3)> = None;

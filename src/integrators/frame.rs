@@ -81,9 +81,7 @@ pub fn camera_frame(scene: &Scene) -> Frame {
 /// The camera fields of [`Frame`] (and the image size) for `camera` on a `width` x `height`
 /// image.
 pub fn camera_frame_for(c: &Camera, width: u32, height: u32) -> Frame {
-    let forward = (c.look_at - c.position).normalize();
-    let right = forward.cross(c.up).normalize();
-    let up = right.cross(forward);
+    let (forward, right, up) = c.basis();
     let tan_half = (c.fov.to_radians() * 0.5).tan();
     let (min, max) = c.crop.map_or((glam::Vec2::ZERO, glam::Vec2::ONE), |w| (w.min, w.max));
     // The whole film's aspect ratio, of which the image is the window [min, max].

@@ -271,12 +271,12 @@ impl LightTracer {
         // The shares of camera vertices that connect and merge (shaders/shared/bidir.wgsl).
         let shares = Shares::of(r);
         (frame.connect_share, frame.merge_share) = (shares.connect, shares.merge);
+        let bidir = is_bidirectional(r.method);
         // An environment's light subpaths aimed at what the camera sees, at SPPM's share
         // (`environment_light_aim` in shaders/shared/emitter/environment.wgsl).
-        if is_bidirectional(r.method) && scene.lights.iter().any(|l| l.kind.is_environment()) {
+        if bidir && scene.lights.iter().any(|l| l.kind.is_environment()) {
             frame.env_aim = super::sppm::ENV_AIM;
         }
-        let bidir = is_bidirectional(r.method);
         let merge = merge && r.method == Method::Vcm;
 
         let mut spec = super::specialization(scene, data);

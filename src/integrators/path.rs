@@ -70,7 +70,7 @@ impl PathTracer {
         rows: Range<u32>,
     ) -> Result<Self, Error> {
         let r = &scene.render;
-        let mut frame = super::band_frame(scene, data, &rows)?;
+        let frame = super::band_frame(scene, data, &rows)?;
         let band_height = frame.height;
         let pixel_count = r.width.checked_mul(band_height).ok_or_else(|| Error::Setting("image too large".into()))?;
         let bytes = pixel_count as u64 * PIXEL_BYTES;
@@ -87,10 +87,10 @@ impl PathTracer {
         if r.method == Method::Vcm {
             super::LightTracer::check_scene(scene)?;
         }
-        frame.nee = matches!(r.method, Method::PtNee | Method::Vcm) as u32;
+        let nee = matches!(r.method, Method::PtNee | Method::Vcm);
 
         let mut spec = super::specialization(scene, data);
-        spec.constants.push(("PATH_NEE", frame.nee as f64));
+        spec.constants.push(("PATH_NEE", if nee { 1.0 } else { 0.0 }));
         let path_trace = spec.kernel(device, "path_trace")?;
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),

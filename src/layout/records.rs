@@ -52,9 +52,8 @@ pub struct Frame {
     pub vp_count: u32,
     /// Shutter time of this pass in [0, 1): camera and photon paths both see the scene then.
     pub time: f32,
-    /// Path tracing: 1 for next-event estimation, 0 for naive (`path_trace` is specialized
-    /// on it, as its constant `PATH_NEE`).
-    pub nee: u32,
+    /// Padding; always 0.
+    pub _pad3: u32,
     /// First image row this renderer covers: `height` rows from here of an image
     /// `image_height` rows high (a band of a large image; 0 for a whole image).
     pub row_offset: u32,

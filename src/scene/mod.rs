@@ -418,6 +418,16 @@ pub struct Camera {
     pub medium: Option<u32>,
 }
 
+impl Camera {
+    /// The view's orthonormal basis: forward (towards `look_at`), right and up (in the plane
+    /// of `up` and forward), as the kernels' image plane and the host's camera rays take it.
+    pub fn basis(&self) -> (Vec3, Vec3, Vec3) {
+        let forward = (self.look_at - self.position).normalize();
+        let right = forward.cross(self.up).normalize();
+        (forward, right, right.cross(forward))
+    }
+}
+
 /// A window of the film, in fractions of its width and height from its top-left corner:
 /// `min` < `max`, both in [0, 1].
 #[derive(Clone, Copy, Debug, PartialEq)]

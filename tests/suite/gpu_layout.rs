@@ -47,7 +47,7 @@ fn gpu_structs_match_wgsl() {
             alpha,
             vp_count,
             time,
-            nee,
+            _pad3,
             row_offset,
             image_height,
             direct,

@@ -59,11 +59,11 @@ struct EnvironmentAim {
 }
 
 // The aim of the bidirectional methods' light subpaths (light_trace.wgsl): the share
-// `fraction` (frame.env_aim) of them drawn through the sphere around what the camera sees, the
-// record's `direction` (its centre) and `width` (its radius; 0 where not aimed:
+// frame.env_aim of them drawn through the sphere around what the camera sees, the record's
+// `direction` (its centre) and `width` (its radius; 0 where not aimed:
 // src/gpu/scene_buffers.rs, camera_sees).
-fn environment_light_aim(e: Emitter, fraction: f32) -> EnvironmentAim {
-    return EnvironmentAim(select(0.0, fraction, e.width > 0.0), e.width, e.direction, e.direction);
+fn environment_light_aim(e: Emitter) -> EnvironmentAim {
+    return EnvironmentAim(select(0.0, frame.env_aim, e.width > 0.0), e.width, e.direction, e.direction);
 }
 
 // pi R^2 times the density, on the plane facing w (unit, towards the environment), of the
