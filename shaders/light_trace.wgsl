@@ -75,7 +75,12 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     let scale = frame.power_total / f32(frame.photon_count);
     var beta = ph.beta * scale;
     var lm = SubpathMis(0.0, 0.0, 0.0);
+    // Vertices kept, and the slot of the last.
     var stored = 0u;
+    var last = LIGHT_VERTEX_NONE;
+    if BIDIR {
+        light_path_first[index] = LIGHT_VERTEX_NONE;
+    }
     var finite_light = true;
     if BIDIR {
         let pdfs = emission_pdfs(e, ph);
@@ -120,13 +125,26 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             lm = mis_hit(lm, hit.t, dot(d, s.ns), depth > 0u || finite_light);
             // Kept for the camera subpaths' connections, its throughput for one subpath.
             if bsdf_samples_lights(m) {
-                let slot = light_vertex_slot(index, stored);
-                light_vertices[slot] =
-                    LightVertex(s.p, s.material, s.ng, s.shape, s.ns, depth + 1u, -d, lm.d_vcm, beta * f32(frame.photon_count), lm.d_vc, s.uv, lm.d_vm, 0u);
-                if vcm_merges_at(m) {
-                    visible_points[atomicAdd(&merge_count[0], 1u)] = VisiblePoint(s.p, frame.global_radius, vec3f(0.0), slot);
+                let slot = atomicAdd(&light_vertex_count[0], 1u);
+                if slot < arrayLength(&light_vertices) {
+                    light_vertices[slot] = LightVertex(s.p, s.material, s.ng, s.shape, s.ns, depth + 1u, -d, lm.d_vcm,
+                        beta * f32(frame.photon_count), lm.d_vc, s.uv, lm.d_vm, LIGHT_VERTEX_NONE);
+                    if last == LIGHT_VERTEX_NONE {
+                        light_path_first[index] = slot;
+                    } else {
+                        light_vertices[last].next = slot;
+                    }
+                    last = slot;
+                    if vcm_merges_at(m) {
+                        let key = bitcast<f32>(light_vertex_key(index, stored));
+                        visible_points[atomicAdd(&merge_count[0], 1u)] = VisiblePoint(s.p, frame.global_radius, vec3f(key, 0.0, 0.0), slot);
+                    }
+                    stored += 1u;
+                } else {
+                    // The store is full: the host sized it from a probe (light.rs) and says
+                    // how many were not kept.
+                    atomicAdd(&light_vertex_count[1], 1u);
                 }
-                stored += 1u;
             }
         }
         // Join this vertex to the camera: wo towards the camera, the light arriving along d.
@@ -186,7 +204,6 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         }
     }
     if BIDIR {
-        light_path_length[index] = stored;
         bidir_count_work();
     }
 }

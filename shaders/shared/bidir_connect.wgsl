@@ -30,11 +30,9 @@ var<private> bidir_light_path: u32;
 // from s to light vertex v (w, distance d): f_c(wo, w) |w.ns| f_l(-w, w_prev) |w.ng_l| / d^2
 // times v's throughput and the shading-normal correction of its arrival (light_trace.wgsl).
 fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32) -> vec3f {
-    let path = bidir_light_path;
-    let count = light_path_length[path];
     var sum = vec3f(0.0);
-    for (var k = 0u; k < count; k++) {
-        let v = light_vertices[light_vertex_slot(path, k)];
+    for (var slot = light_path_first[bidir_light_path]; slot != LIGHT_VERTEX_NONE; slot = light_vertices[slot].next) {
+        let v = light_vertices[slot];
         // The connected path has camera_length + v.length scattering events; the vertices come
         // in order of length.
         if camera_length + v.length > frame.max_depth {

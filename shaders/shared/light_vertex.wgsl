@@ -1,9 +1,12 @@
 // The light-vertex store of the bidirectional methods (bpt): each light subpath of a pass
 // (light_trace.wgsl) keeps its vertices where a BSDF can be evaluated, so that camera subpaths
 // (bidir_connect.wgsl) can connect to them (Veach 1997 sec. 10.2; SmallVCM's light vertices).
-// Subpath i's k-th stored vertex lies at slot k n_light + i (light_vertex_slot; a subpath has at
-// most max_depth of them); light_path_length[i] says how many it has. frame.photon_count
-// subpaths a pass, n_light; pixel j's camera subpath connects to subpath j mod n_light.
+// The store is a cache of a pass's vertices (Davidovic et al. 2014, sec. 4.1, "light vertex
+// cache"): a vertex takes the next free slot (light_vertex_count[0]), so the store holds what the
+// pass's subpaths keep (a few vertices each) rather than max_depth slots a subpath.
+// light_path_first[i] is subpath i's first vertex, each vertex's `next` the one after it
+// (LIGHT_VERTEX_NONE ends the list). frame.photon_count subpaths a pass, n_light; pixel j's
+// camera subpath connects to subpath j mod n_light.
 
 #import types
 #import scene
@@ -27,23 +30,30 @@ struct LightVertex {
     d_vc: f32,
     uv: vec2f,
     d_vm: f32,
-    pad: u32,
+    // The slot of the subpath's next stored vertex, or LIGHT_VERTEX_NONE.
+    next: u32,
 }
 
+// No light vertex: the end of a subpath's list.
+const LIGHT_VERTEX_NONE: u32 = 0xffffffffu;
+
 @group(0) @binding(29) var<storage, read_write> light_vertices: array<LightVertex>;
-@group(0) @binding(30) var<storage, read_write> light_path_length: array<u32>;
+@group(0) @binding(30) var<storage, read_write> light_path_first: array<u32>;
+// The slots the pass's vertices took ([0], cleared each pass; past the store's length they
+// were not kept) and the vertices not kept over the render ([1]), which the host reports.
+@group(0) @binding(36) var<storage, read_write> light_vertex_count: array<atomic<u32>>;
 // vcm: each stored vertex also as a point of the radius (frame.global_radius), appended
-// (merge_count of them this pass; `normal` holds the vertex's index in light_vertices), which
+// (merge_count of them this pass; `normal` holds the vertex's slot in light_vertices, and
+// `weight.x` the bits of its key, light_vertex_key), which
 // SPPM's grid build (grid_count.wgsl, grid_fill.wgsl) lists in the hashed grid's buckets for
 // merging (bidir_connect.wgsl), over the dispatch merge_setup.wgsl sizes.
 @group(0) @binding(8) var<storage, read_write> visible_points: array<VisiblePoint>;
 @group(0) @binding(32) var<storage, read_write> merge_count: array<atomic<u32>>;
 
-// The slot of subpath i's k-th stored vertex: the subpaths' k-th vertices side by side, so that
-// the vertices a pass stores (a few a subpath, of max_depth slots each) lie together at the
-// store's start rather than spread over all of it, which merging reads at random (at
-// max_depth 64 a spread store cost merging alone 10% of its pass: docs/journal/session-25.md).
-fn light_vertex_slot(i: u32, k: u32) -> u32 {
+// The order in which merging sums a bucket's vertices (merge_order.wgsl): subpath i's k-th
+// stored vertex, the subpaths' k-th vertices side by side. Slots depend on which thread took
+// one first; keys do not, so a seed's image is the same bit for bit.
+fn light_vertex_key(i: u32, k: u32) -> u32 {
     return k * frame.photon_count + i;
 }
 

@@ -411,6 +411,9 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
             Ok(())
         })?;
     }
+    for warning in integrator.warnings()? {
+        eprintln!("warning: {warning}");
+    }
     let work = (integrator.passes() - first_pass) as u64 * integrator.work_per_pass();
     let ended = match (interrupt.received(), r.time_limit) {
         (Some((name, _)), _) => format!("ended by {name}"),

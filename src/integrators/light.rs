@@ -56,9 +56,10 @@ pub const PIXELS_PER_LIGHT_PATH_MERGING: u32 = 4;
 /// Light subpaths a pass of the render `r`, within `limit` bytes a buffer: lt one a pixel
 /// (of the whole image); bpt and vcm `light_paths`, or one for every
 /// [`PIXELS_PER_LIGHT_PATH`] pixels ([`PIXELS_PER_LIGHT_PATH_MERGING`] for vcm merging
-/// without connecting), at most as many as the light-vertex store holds and as vcm's merge
-/// entries fit one buffer of `limit` bytes (at least one but for vcm's `light_paths = 0`).
-pub fn light_paths(r: &RenderSettings, limit: u64) -> Result<u32, Error> {
+/// without connecting), at most as many as the light-vertex store holds ([`store_slots`] for
+/// `vertices` kept a subpath on average, `None` for every subpath at full depth) and as vcm's
+/// merge entries fit one buffer of `limit` bytes (at least one but for vcm's `light_paths = 0`).
+pub fn light_paths(r: &RenderSettings, limit: u64, vertices: Option<f64>) -> Result<u32, Error> {
     let pixels = r
         .width
         .checked_mul(r.height)
@@ -70,15 +71,48 @@ pub fn light_paths(r: &RenderSettings, limit: u64) -> Result<u32, Error> {
         return Ok(0);
     }
     let depth = r.max_depth.max(1) as u64;
-    // vcm's buffers hold a light-vertex slot's merge entries, more bytes than its vertex: the
-    // largest a slot has a part of (vcm's pilot builds them whatever share it chooses).
-    let slot_bytes = if r.method == Method::Vcm { LIGHT_VERTEX_BYTES.max(MERGE_ENTRY_BYTES) } else { LIGHT_VERTEX_BYTES };
     let merging_alone = r.connect_share == Some(0.0) && merges(r);
     let per_path_pixels = if merging_alone { PIXELS_PER_LIGHT_PATH_MERGING } else { PIXELS_PER_LIGHT_PATH };
     let wanted = r.light_paths.unwrap_or((pixels / per_path_pixels).max(1));
-    let most = (LIGHT_VERTEX_BUDGET.min(limit) / (depth * LIGHT_VERTEX_BYTES)).min(limit / (depth * slot_bytes));
-    Ok(most.clamp(1, wanted as u64) as u32)
+    let slots = most_slots(r.method, limit);
+    // The most subpaths whose slots fit: all at full depth, or as the mean says.
+    let at_full_depth = slots / depth;
+    let by_mean = match vertices {
+        Some(mean) if slots > 4 * depth + 1 => ((slots - 4 * depth - 1) as f64 / (2.0 * mean + 1.0)).floor() as u64,
+        _ => 0,
+    };
+    Ok(at_full_depth.max(by_mean).clamp(1, wanted as u64) as u32)
 }
+
+/// Light-vertex slots the buffers of `method` hold within `limit` bytes a buffer: the store at
+/// most [`LIGHT_VERTEX_BUDGET`] bytes, and vcm's merge entries, more bytes a slot than its
+/// vertex (the largest a slot has a part of; vcm's pilot builds them whatever share it
+/// chooses), within one buffer.
+fn most_slots(method: Method, limit: u64) -> u64 {
+    let slot_bytes = if method == Method::Vcm { LIGHT_VERTEX_BYTES.max(MERGE_ENTRY_BYTES) } else { LIGHT_VERTEX_BYTES };
+    (LIGHT_VERTEX_BUDGET.min(limit) / LIGHT_VERTEX_BYTES).min(limit / slot_bytes)
+}
+
+/// Light-vertex slots of a pass of `paths` subpaths of at most `depth` stored vertices that keep
+/// `vertices` each on average (`None`: each `depth`): twice the mean and one more a subpath,
+/// and four subpaths at full depth beyond (a pass of few subpaths), never more than every
+/// subpath at full depth. A pass's subpaths take the slots in turn
+/// (`shaders/shared/light_vertex.wgsl`); the mean comes from a probe of the render's own light
+/// subpaths ([`PROBE_PATHS`]), and at 16,384 subpaths of 3 to 5 vertices the store holds 8 to
+/// 11 a subpath where it held `max_depth` (64, or 1,024 for Mitsuba's unbounded depth).
+pub fn store_slots(paths: u32, depth: u32, vertices: Option<f64>) -> u64 {
+    let (paths, depth) = (paths as u64, depth.max(1) as u64);
+    let full = paths * depth;
+    match vertices {
+        Some(mean) => (((2.0 * mean + 1.0) * paths as f64).ceil() as u64 + 4 * depth).min(full),
+        None => full,
+    }
+}
+
+/// Light subpaths of the probe that measures how many vertices a subpath of the render keeps:
+/// its mean within about 2% (a subpath keeps a geometric-like number, standard deviation about
+/// the mean), twice of which the store holds.
+pub const PROBE_PATHS: u32 = 4096;
 
 /// Bytes of a light-vertex slot's merge entries: a point in up to 8 buckets, each entry its
 /// position and slot (`merge_order.wgsl`).
@@ -140,9 +174,8 @@ pub struct LightTracer {
     progress: Progress,
     frame_buffer: wgpu::Buffer,
     splat: wgpu::Buffer,
-    /// bpt's light vertices and each subpath's count (a word each for lt, which keeps none).
-    light_vertices: wgpu::Buffer,
-    light_path_length: wgpu::Buffer,
+    /// bpt's and vcm's light vertices (one for lt, which keeps none).
+    store: Store,
     /// vcm's grid: its points (one a light-vertex slot), parameters and lists (a word each
     /// otherwise).
     grid_buffers: Vec<(&'static str, wgpu::Buffer)>,
@@ -168,13 +201,17 @@ impl LightTracer {
     /// [`Integrator::gpu_memory`] reports them: the sums per pixel and their read-back copy, the
     /// splats, and the frame.
     pub fn renderer_bytes(scene: &Scene, rows: u32) -> u64 {
-        let store = match light_paths(&scene.render, u64::MAX) {
-            Ok(n) if is_bidirectional(scene.render.method) => {
-                n as u64 * (scene.render.max_depth as u64 * (LIGHT_VERTEX_BYTES + merge_bytes(scene)) + 4)
+        let r = &scene.render;
+        // The store as large as it may be: its slots are sized by a probe after this estimate
+        // ([`store_slots`]), no more than every subpath at full depth or the budget hold.
+        let store = match light_paths(r, u64::MAX, Some(0.0)) {
+            Ok(n) if is_bidirectional(r.method) => {
+                let slots = store_slots(n, r.max_depth, None).min(most_slots(r.method, u64::MAX));
+                slots * (LIGHT_VERTEX_BYTES + merge_bytes(scene)) + 4 * n as u64 + 8
             }
             _ => 8,
         };
-        scene.render.width as u64 * rows as u64 * (2 * PIXEL_BYTES + SPLAT_BYTES) + size_of::<Frame>() as u64 + store
+        r.width as u64 * rows as u64 * (2 * PIXEL_BYTES + SPLAT_BYTES) + size_of::<Frame>() as u64 + store
     }
 
     /// What a light tracer (or bpt, vcm) cannot render of `scene`, as an error naming it:
@@ -265,9 +302,7 @@ impl LightTracer {
                 Self::max_rows(device, scene)
             )));
         }
-        // One light subpath a pixel of the whole image a pass (bpt: as many as the store holds).
         let limit = device.limits().max_storage_buffer_binding_size;
-        frame.photon_count = light_paths(r, limit)?;
         // The shares of camera vertices that connect and merge (shaders/shared/bidir.wgsl).
         let shares = Shares::of(r);
         (frame.connect_share, frame.merge_share) = (shares.connect, shares.merge);
@@ -294,30 +329,29 @@ impl LightTracer {
         });
         let splat = storage_buffer(device, "splat", &vec![0u32; pixel_count as usize * (SPLAT_BYTES / 4) as usize]);
         let sums = PixelSums::new(device, queue, pixel_count);
+        let work_counts = storage_buffer(device, "work_counts", &[0u32; WORK_COUNTS as usize]);
+        let own = Own { frame: &frame_buffer, splat: &splat, radiance: &sums.radiance, work_counts: &work_counts };
+        // bpt and vcm: as many light subpaths as their vertices fit the store, by the mean a
+        // probe of the render's own subpaths keeps; lt one a pixel of the whole image.
+        let vertices = if bidir {
+            Some(probe_vertices(device, queue, &light_trace, &frame, scene, data, &scene_buffers, &own)?)
+        } else {
+            None
+        };
+        frame.photon_count = light_paths(r, limit, vertices)?;
         // Room for one subpath at least (vcm may trace none).
-        let capacity = frame.photon_count.max(1);
-        let (vertex_words, paths) = if bidir {
-            (capacity as usize * r.max_depth as usize * (LIGHT_VERTEX_BYTES / 4) as usize, capacity as usize)
+        let paths = frame.photon_count.max(1);
+        let (slots, paths) = if bidir {
+            (store_slots(paths, r.max_depth, vertices).min(most_slots(r.method, limit)), paths)
         } else {
             // One vertex: the smallest binding the kernel's declaration takes.
-            ((LIGHT_VERTEX_BYTES / 4) as usize, 1)
+            (1, 1)
         };
-        let light_vertices = storage_buffer(device, "light_vertices", &vec![0u32; vertex_words]);
-        let light_path_length = storage_buffer(device, "light_path_length", &vec![0u32; paths]);
-        let slots = if merge { (vertex_words / (LIGHT_VERTEX_BYTES / 4) as usize) as u32 } else { 1 };
-        frame.vp_count = if merge { slots } else { 0 };
-        let grid_buffers = grid_buffers(device, scene, data, slots, paths as u32);
-        let work_counts = storage_buffer(device, "work_counts", &[0u32; WORK_COUNTS as usize]);
-        let mut resources = scene_buffers.resources();
-        resources.push(Resource { name: "frame", buffer: &frame_buffer });
-        resources.push(Resource { name: "splat", buffer: &splat });
-        resources.push(Resource { name: "radiance", buffer: &sums.radiance });
-        resources.push(Resource { name: "light_vertices", buffer: &light_vertices });
-        resources.push(Resource { name: "light_path_length", buffer: &light_path_length });
-        resources.push(Resource { name: "work_counts", buffer: &work_counts });
-        for (name, buffer) in &grid_buffers {
-            resources.push(Resource { name, buffer });
-        }
+        let store = Store::new(device, slots, paths);
+        let merge_slots = if merge { slots as u32 } else { 1 };
+        frame.vp_count = if merge { merge_slots } else { 0 };
+        let grid_buffers = grid_buffers(device, scene, data, merge_slots, paths);
+        let resources = own.resources(&scene_buffers, &store, &grid_buffers);
         let trace_group = light_trace.bind_group(device, &resources)?;
         let merge_grid = if merge {
             let stage = |name: &'static str| -> Result<(Kernel, wgpu::BindGroup), Error> {
@@ -360,8 +394,7 @@ impl LightTracer {
             progress: Progress::default(),
             frame_buffer,
             splat,
-            light_vertices,
-            light_path_length,
+            store,
             grid_buffers,
             work_counts,
             pilot: Default::default(),
@@ -385,7 +418,7 @@ impl LightTracer {
     /// tracer was built for), its kernels counting their work. Returns the pixel sums after it
     /// and the counts ([`WORK_COUNTS`] words).
     pub(super) fn counted_pass(&mut self, shares: Shares, paths: u32) -> Result<(Vec<[f32; 4]>, Vec<u32>), Error> {
-        let capacity = (self.light_path_length.size() / 4) as u32;
+        let capacity = (self.store.light_path_first.size() / 4) as u32;
         if paths > capacity {
             return Err(Error::Setting(format!("vcm's pilot: {paths} light subpaths a pass, room for {capacity}")));
         }
@@ -412,6 +445,10 @@ impl Integrator for LightTracer {
     fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> Part {
         let paths = self.paths();
         let (first, end, pass_done) = self.progress.next_part(&mut self.frame, size.photons, paths);
+        if first == 0 {
+            // The pass's vertices take the store's slots from the first.
+            encoder.clear_buffer(&self.store.light_vertex_count, 0, Some(4));
+        }
         if self.merge_grid.is_some() {
             self.frame.global_radius = vcm_radius(&self.scene, self.frame.pass_index);
             if first == 0 {
@@ -470,6 +507,7 @@ impl Integrator for LightTracer {
     /// Start over: no estimate in any pixel, and no splat of a pass under way.
     fn reset(&mut self) {
         self.sums.clear();
+        self.queue.write_buffer(&self.store.light_vertex_count, 0, &[0u8; 8]);
         self.queue.write_buffer(&self.splat, 0, &vec![0u8; self.splat.size() as usize]);
         self.progress.reset();
     }
@@ -480,6 +518,23 @@ impl Integrator for LightTracer {
 
     fn notes(&self) -> Vec<String> {
         self.pilot.notes()
+    }
+
+    /// Light vertices the store had no room for: their connections and merges are missing
+    /// from the image, which is then darker than it should be where they would have added.
+    fn warnings(&mut self) -> Result<Vec<String>, Error> {
+        if self.store.light_vertices.size() <= LIGHT_VERTEX_BYTES {
+            return Ok(Vec::new());
+        }
+        let counts: Vec<u32> = crate::gpu::readback::read_whole(&self.device, &self.queue, &self.store.light_vertex_count)?;
+        Ok(match counts[1] {
+            0 => Vec::new(),
+            lost => vec![format!(
+                "{lost} light vertices found no room in the light-vertex store ({} slots, sized by a probe of {PROBE_PATHS} \
+                 light subpaths): the image misses their connections and merges; set render.light_paths lower",
+                self.store.light_vertices.size() / LIGHT_VERTEX_BYTES
+            )],
+        })
     }
 
     fn setup_seconds(&self) -> f64 {
@@ -509,8 +564,9 @@ impl Integrator for LightTracer {
         let own = [
             ("frame", &self.frame_buffer),
             ("splat", &self.splat),
-            ("light_vertices", &self.light_vertices),
-            ("light_path_length", &self.light_path_length),
+            ("light_vertices", &self.store.light_vertices),
+            ("light_path_first", &self.store.light_path_first),
+            ("light_vertex_count", &self.store.light_vertex_count),
         ]
         .into_iter()
         .chain(self.grid_buffers.iter().map(|(name, buffer)| (*name, buffer)))
@@ -566,6 +622,87 @@ impl Shares {
 pub fn pilot_chooses_shares(scene: &Scene) -> bool {
     let r = &scene.render;
     r.method == Method::Vcm && r.connect_share.is_none() && r.merge_share.is_none() && r.light_paths != Some(0)
+}
+
+/// The light-vertex store (`shaders/shared/light_vertex.wgsl`): its slots, each subpath's
+/// first vertex, and the slots taken this pass and the vertices not kept over the render.
+struct Store {
+    light_vertices: wgpu::Buffer,
+    light_path_first: wgpu::Buffer,
+    light_vertex_count: wgpu::Buffer,
+}
+
+impl Store {
+    /// A store of `slots` vertices for `paths` subpaths.
+    fn new(device: &wgpu::Device, slots: u64, paths: u32) -> Self {
+        let words = |n: u64| vec![0u32; n.max(1) as usize];
+        Self {
+            light_vertices: storage_buffer(device, "light_vertices", &words(slots * LIGHT_VERTEX_BYTES / 4)),
+            light_path_first: storage_buffer(device, "light_path_first", &words(paths as u64)),
+            light_vertex_count: storage_buffer(device, "light_vertex_count", &words(2)),
+        }
+    }
+}
+
+/// The light tracer's buffers that a probe and the render share.
+struct Own<'a> {
+    frame: &'a wgpu::Buffer,
+    splat: &'a wgpu::Buffer,
+    radiance: &'a wgpu::Buffer,
+    work_counts: &'a wgpu::Buffer,
+}
+
+impl<'a> Own<'a> {
+    /// Every buffer the light tracer's kernels bind, by name.
+    fn resources(
+        &self,
+        scene_buffers: &'a SceneBuffers,
+        store: &'a Store,
+        grid_buffers: &'a [(&'static str, wgpu::Buffer)],
+    ) -> Vec<Resource<'a>> {
+        let mut resources = scene_buffers.resources();
+        resources.push(Resource { name: "frame", buffer: self.frame });
+        resources.push(Resource { name: "splat", buffer: self.splat });
+        resources.push(Resource { name: "radiance", buffer: self.radiance });
+        resources.push(Resource { name: "light_vertices", buffer: &store.light_vertices });
+        resources.push(Resource { name: "light_path_first", buffer: &store.light_path_first });
+        resources.push(Resource { name: "light_vertex_count", buffer: &store.light_vertex_count });
+        resources.push(Resource { name: "work_counts", buffer: self.work_counts });
+        for (name, buffer) in grid_buffers {
+            resources.push(Resource { name, buffer });
+        }
+        resources
+    }
+}
+
+/// The mean number of vertices a light subpath of the render keeps: the light pass alone
+/// (`light_trace`, the render's kernel) over [`PROBE_PATHS`] subpaths into a store of one slot,
+/// which counts the slots they ask for all the same. Its splats are cleared; its numbers are
+/// those of the render's first pass, and nothing of it reaches the image.
+#[allow(clippy::too_many_arguments)]
+fn probe_vertices(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    light_trace: &Kernel,
+    frame: &Frame,
+    scene: &Scene,
+    data: &SceneData,
+    scene_buffers: &SceneBuffers,
+    own: &Own,
+) -> Result<f64, Error> {
+    let paths = PROBE_PATHS;
+    let probe = Frame { photon_count: paths, work_first: 0, work_end: paths, pass_index: 0, count_work: 0, ..*frame };
+    let store = Store::new(device, 1, paths);
+    let grid = grid_buffers(device, scene, data, 1, paths);
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("light_trace") });
+    queue.write_buffer(own.frame, 0, bytemuck::bytes_of(&probe));
+    let group = light_trace.bind_group(device, &own.resources(scene_buffers, &store, &grid))?;
+    light_trace.dispatch(&mut encoder, &group, paths);
+    encoder.clear_buffer(own.splat, 0, None);
+    queue.submit([encoder.finish()]);
+    let counts: Vec<u32> = crate::gpu::readback::read_whole(device, queue, &store.light_vertex_count)?;
+    queue.write_buffer(own.frame, 0, bytemuck::bytes_of(frame));
+    Ok(counts[0] as f64 / paths as f64)
 }
 
 /// Bytes of vcm's grid a light-vertex slot (its point, 8 grid entries and 8 merge entries;

@@ -152,6 +152,12 @@ pub trait Integrator {
     fn radius_stats(&self) -> Result<Option<sppm::RadiusStats>, Error> {
         Ok(None)
     }
+    /// What the passes so far did that the image does not show and the user should know, one
+    /// sentence each (read back once the render ends: bpt's and vcm's light vertices that the
+    /// store had no room for).
+    fn warnings(&mut self) -> Result<Vec<String>, Error> {
+        Ok(Vec::new())
+    }
 }
 
 /// The integrator for `scene.render.method`, on the caller's device.

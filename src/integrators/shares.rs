@@ -249,7 +249,7 @@ fn pilot_scene(scene: &Scene, candidates: &[Choice], limit: u64) -> Result<(Scen
     let with = |r: &RenderSettings, choice: &Choice| {
         let mut r = r.clone();
         choice.apply(&mut r);
-        light_paths(&r, limit)
+        light_paths(&r, limit, None)
     };
     let counts = candidates.iter().map(|c| with(&pilot.render, c)).collect::<Result<Vec<u32>, Error>>()?;
     let n_render = with(&scene.render, &candidates[0])? as f64;

@@ -368,8 +368,9 @@ pub struct LightVertex {
     pub uv: [f32; 2],
     /// SmallVCM's dVM.
     pub d_vm: f32,
-    /// Padding to 96 bytes; 0.
-    pub pad: u32,
+    /// The slot of the subpath's next stored vertex, or `u32::MAX` (the store is a cache
+    /// filled in the order the vertices come: `shaders/shared/light_vertex.wgsl`).
+    pub next: u32,
 }
 
 /// Where a camera path of the current pass ended on a diffuse surface (Hachisuka & Jensen

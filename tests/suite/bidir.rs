@@ -55,23 +55,34 @@ fn bpt_matches_the_references() {
     }
 }
 
-/// Asked for one light subpath a pixel with max_depth 1024, the store holds 2,730 subpaths of
-/// 1024 vertices (256 MiB), fewer than the 4,096 pixels: pixel i connects to subpath i mod
-/// 2,730, and light tracing counts 2,730 subpaths a pass. The image is the same one (by
-/// default 16 pixels share each subpath: the other tests).
+/// The light-vertex store holds what a pass's subpaths keep, not `max_depth` slots each: at
+/// depth 1,024 and one light subpath a pixel (4,096), a store of every subpath at full depth
+/// would hold 2,730 of them in 256 MiB (what it held before the store became a cache); the
+/// probe's store holds all 4,096 in under 16 slots a subpath (cornell-box's keep about 3), and
+/// loses none. Then with 2,730 asked for, pixel i connects to subpath i mod 2,730, and light
+/// tracing counts 2,730 subpaths a pass: the image is the same one (by default 16 pixels
+/// share each subpath: the other tests).
 #[test]
-fn bpt_with_pixels_sharing_light_subpaths() {
-    if common::gpu().is_none() {
-        return;
-    }
+fn bpt_light_vertex_store_holds_what_subpaths_keep() {
+    let Some(gpu) = common::gpu() else { return };
     let mut scene = common::load_scene("cornell-box.toml");
     scene.render.method = Method::Bpt;
     scene.render.max_depth = 1024;
     scene.render.width = SIZE;
     scene.render.height = SIZE;
     scene.render.light_paths = Some(SIZE * SIZE);
-    let paths = integrators::light::light_paths(&scene.render, u64::MAX).unwrap();
-    assert_eq!(paths, 2730, "light subpaths for {} pixels", SIZE * SIZE);
+    let full_depth = integrators::light::light_paths(&scene.render, u64::MAX, None).unwrap();
+    assert_eq!(full_depth, 2730, "light subpaths at full depth for {} pixels", SIZE * SIZE);
+    let mut bpt = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap_or_else(|e| panic!("{e}"));
+    for _ in 0..2 {
+        bpt.run_pass().unwrap_or_else(|e| panic!("{e}"));
+    }
+    assert_eq!(bpt.work_per_pass(), (SIZE * SIZE) as u64, "light subpaths a pass");
+    let store = bpt.gpu_memory().renderer.iter().find(|(name, _)| name == "light_vertices").map(|(_, bytes)| *bytes).unwrap();
+    let slots = store / size_of::<sppm_gpu::layout::LightVertex>() as u64;
+    assert!(slots < 16 * (SIZE * SIZE) as u64, "{slots} light-vertex slots for {} subpaths", SIZE * SIZE);
+    assert_eq!(bpt.warnings().unwrap(), Vec::<String>::new());
+    scene.render.light_paths = Some(2730);
     check(&scene, "cornell-box", 32, 2e-4);
 }
 
@@ -132,9 +143,9 @@ fn bpt_is_bit_exact_and_refuses_what_it_cannot_render() {
     assert!(err.contains("participating media") && err.contains("method bpt") && err.contains(name), "{name}: {err}");
 }
 
-/// vcm's light subpaths a pass fit the device's buffers: at 128x128 merging alone wants one for
-/// 4 pixels (4,096) and keeps, at depth 1,024 (Mitsuba's unbounded depth as read), 8 merge
-/// entries of 16 bytes a light-vertex slot, more than one storage buffer holds on lavapipe
+/// vcm's light subpaths a pass fit the device's buffers: at 128x128, depth 1,024 (Mitsuba's
+/// unbounded depth as read), merging alone and asked for 2^20 light subpaths, a pass keeps 8
+/// merge entries of 16 bytes a light-vertex slot, more than one storage buffer holds on lavapipe
 /// (128 MiB). It traces as many as fit and renders; before, the pass failed on a binding over
 /// the limit (as cornell-glossy did at 512x512 and depth 64 with vcm's default settings, whose
 /// pilot chooses merging alone).
@@ -143,16 +154,20 @@ fn vcm_light_subpaths_fit_the_devices_buffers() {
     let Some(gpu) = common::gpu() else { return };
     let mut scene = common::load_scene("cornell-glossy.toml");
     let r = &mut scene.render;
-    (r.method, r.width, r.height, r.max_depth) = (Method::Vcm, 128, 128, 1024);
+    (r.method, r.width, r.height, r.max_depth, r.light_paths) = (Method::Vcm, 128, 128, 1024, Some(1 << 20));
     (r.connect_share, r.merge_share) = (Some(0.0), Some(1.0));
     let limit = gpu.device.limits().max_storage_buffer_binding_size;
-    let paths = integrators::light::light_paths(r, limit).unwrap() as u64;
-    assert!(paths * r.max_depth as u64 * 128 <= limit, "{paths} light subpaths' merge entries exceed {limit} bytes");
     let mut vcm = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap_or_else(|e| panic!("{e}"));
+    let paths = vcm.work_per_pass();
+    assert!(paths > 1 << 16 && paths < 1 << 20, "{paths} light subpaths a pass");
+    for (name, bytes) in vcm.gpu_memory().renderer {
+        assert!(bytes <= limit, "{name}: {bytes} bytes, over one buffer's {limit}");
+    }
     vcm.run_pass().unwrap_or_else(|e| panic!("{e}"));
     let image = vcm.image().unwrap_or_else(|e| panic!("{e}"));
     let mean = image.pixels.iter().map(|p| (p[0] + p[1] + p[2]) as f64).sum::<f64>() / image.pixels.len() as f64;
     assert!(mean.is_finite() && mean > 0.0, "mean {mean}");
+    assert_eq!(vcm.warnings().unwrap(), Vec::<String>::new());
 }
 
 /// vcm gives the same bits for the same seed: the hashed grid lists a bucket's light vertices
@@ -275,7 +290,7 @@ fn vcm_pilot_chooses_from_the_scene_alone() {
     let mut none = room.clone();
     CANDIDATES[4].apply(&mut none.render);
     assert_eq!(
-        (none.render.light_paths, sppm_gpu::integrators::light::light_paths(&none.render, u64::MAX).unwrap()),
+        (none.render.light_paths, sppm_gpu::integrators::light::light_paths(&none.render, u64::MAX, None).unwrap()),
         (Some(0), 0)
     );
     assert!(!sppm_gpu::integrators::light::pilot_chooses_shares(&none));
