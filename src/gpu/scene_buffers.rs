@@ -418,6 +418,17 @@ pub fn storage_buffer<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, data
     })
 }
 
+/// A storage buffer of `bytes` zero bytes (at least 4), zeroed by the device rather than
+/// uploaded: a large store costs no host memory or copy.
+pub fn zeroed_storage_buffer(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.max(4).next_multiple_of(4),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
 impl SceneBuffers {
     /// Upload every array of `data` to a storage buffer named like its WGSL global.
     pub fn new(device: &wgpu::Device, data: &SceneData) -> Self {

@@ -17,7 +17,7 @@
 use super::pixel_sums::{PixelSums, Progress, PIXEL_BYTES};
 use super::{Integrator, Part, PartSize, Work};
 use crate::error::Error;
-use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers, SceneData};
+use crate::gpu::scene_buffers::{storage_buffer, zeroed_storage_buffer, SceneBuffers, SceneData};
 use crate::gpu::{Kernel, Resource};
 use crate::image_io::Rgb32Image;
 use crate::layout::{Frame, GridParams, GridScene, VisiblePoint, WORK_COUNTS};
@@ -635,11 +635,10 @@ struct Store {
 impl Store {
     /// A store of `slots` vertices for `paths` subpaths.
     fn new(device: &wgpu::Device, slots: u64, paths: u32) -> Self {
-        let words = |n: u64| vec![0u32; n.max(1) as usize];
         Self {
-            light_vertices: storage_buffer(device, "light_vertices", &words(slots * LIGHT_VERTEX_BYTES / 4)),
-            light_path_first: storage_buffer(device, "light_path_first", &words(paths as u64)),
-            light_vertex_count: storage_buffer(device, "light_vertex_count", &words(2)),
+            light_vertices: zeroed_storage_buffer(device, "light_vertices", slots.max(1) * LIGHT_VERTEX_BYTES),
+            light_path_first: zeroed_storage_buffer(device, "light_path_first", 4 * paths as u64),
+            light_vertex_count: zeroed_storage_buffer(device, "light_vertex_count", 8),
         }
     }
 }
@@ -732,7 +731,7 @@ fn grid_buffers(
     let grid_scene = GridScene { lo: lo.into(), table_size, hi: hi.into(), _pad: 0 };
     let words = |n: usize| vec![0u32; n.max(1)];
     vec![
-        ("visible_points", storage_buffer(device, "visible_points", &vec![0u32; slots as usize * size_of::<VisiblePoint>() / 4])),
+        ("visible_points", zeroed_storage_buffer(device, "visible_points", slots as u64 * size_of::<VisiblePoint>() as u64)),
         ("merge_count", storage_buffer(device, "merge_count", &words(1))),
         (
             "merge_args",
@@ -747,7 +746,7 @@ fn grid_buffers(
         ("grid_params", storage_buffer(device, "grid_params", &words(size_of::<GridParams>() / 4))),
         ("grid_cell_count", storage_buffer(device, "grid_cell_count", &words(table_size as usize))),
         ("grid_cell_start", storage_buffer(device, "grid_cell_start", &words(table_size as usize + 1))),
-        ("grid_entries", storage_buffer(device, "grid_entries", &words(8 * slots as usize))),
-        ("merge_entries", storage_buffer(device, "merge_entries", &words(slots as usize * (MERGE_ENTRY_BYTES / 4) as usize))),
+        ("grid_entries", zeroed_storage_buffer(device, "grid_entries", 8 * 4 * slots as u64)),
+        ("merge_entries", zeroed_storage_buffer(device, "merge_entries", slots as u64 * MERGE_ENTRY_BYTES)),
     ]
 }
