@@ -51,8 +51,9 @@ const LIGHT_VERTEX_NONE: u32 = 0xffffffffu;
 @group(0) @binding(32) var<storage, read_write> merge_count: array<atomic<u32>>;
 
 // The order in which merging sums a bucket's vertices (merge_order.wgsl): subpath i's k-th
-// stored vertex, the subpaths' k-th vertices side by side. Slots depend on which thread took
-// one first; keys do not, so a seed's image is the same bit for bit.
+// stored vertex, the subpaths' k-th vertices side by side (light.rs bounds the subpaths so that
+// keys fit 32 bits). Slots depend on which thread took one first; keys do not, so a seed's
+// image is the same bit for bit.
 fn light_vertex_key(i: u32, k: u32) -> u32 {
     return k * frame.photon_count + i;
 }

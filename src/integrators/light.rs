@@ -81,7 +81,9 @@ pub fn light_paths(r: &RenderSettings, limit: u64, vertices: Option<f64>) -> Res
         Some(mean) if slots > 4 * depth + 1 => ((slots - 4 * depth - 1) as f64 / (2.0 * mean + 1.0)).floor() as u64,
         _ => 0,
     };
-    Ok(at_full_depth.max(by_mean).clamp(1, wanted as u64) as u32)
+    // A light vertex's key, depth times subpaths, fits 32 bits (`light_vertex_key`).
+    let keys = u32::MAX as u64 / depth;
+    Ok(at_full_depth.max(by_mean).min(keys).clamp(1, wanted as u64) as u32)
 }
 
 /// Light-vertex slots the buffers of `method` hold within `limit` bytes a buffer: the store at

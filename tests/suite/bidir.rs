@@ -189,6 +189,11 @@ fn vcm_is_bit_exact() {
     let mut other = scene.clone();
     other.render.seed += 1;
     assert!(common::render_at(&other, Method::Vcm, 64, 4).pixels != a.pixels, "another seed gave the same image");
+    // Buckets of hundreds of light vertices (16 light subpaths a pixel), which merge_order
+    // heapsorts rather than insertion sorts.
+    scene.render.light_paths = Some(65536);
+    let many = common::render_at(&scene, Method::Vcm, 64, 2);
+    assert!(many.pixels == common::render_at(&scene, Method::Vcm, 64, 2).pixels, "two renders of one seed differ (long buckets)");
 }
 
 /// vcm converges to the references: merging's bias (the density estimate's blur over the
