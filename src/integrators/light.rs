@@ -185,6 +185,8 @@ pub struct LightTracer {
     work_counts: wgpu::Buffer,
     /// What vcm's pilot said of its choice for this render.
     pilot: super::PilotReport,
+    /// The vertices a light subpath keeps on average, by the probe (bpt, vcm).
+    vertices: Option<f64>,
     sums: PixelSums,
     /// [`Integrator::run_pass`]'s submissions in flight.
     submissions: crate::gpu::submissions::Submissions,
@@ -400,6 +402,7 @@ impl LightTracer {
             grid_buffers,
             work_counts,
             pilot: Default::default(),
+            vertices,
             sums,
             submissions: crate::gpu::submissions::Submissions::new(),
             _scene: scene_buffers,
@@ -414,6 +417,18 @@ impl LightTracer {
     /// Light subpaths a pass.
     fn paths(&self) -> u32 {
         self.frame.photon_count
+    }
+
+    /// The vertices a light subpath keeps on average, by the probe that sized the store (bpt,
+    /// vcm; `None` for lt).
+    pub(super) fn vertices_per_subpath(&self) -> Option<f64> {
+        self.vertices
+    }
+
+    /// vcm's radius `radius` at the first pass (its pilot's, set once the probe has said how
+    /// many light subpaths a pass takes).
+    pub(super) fn set_radius(&mut self, radius: Option<f32>) {
+        self.scene.render.radius = radius;
     }
 
     /// vcm's pilot: one pass at `shares` with `paths` light subpaths (at most as many as the

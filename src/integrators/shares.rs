@@ -230,8 +230,9 @@ impl fmt::Display for Pilot {
 }
 
 /// The scene the pilot renders for `scene` (see the module's documentation), and each
-/// candidate's light subpaths a pilot pass, in proportion to the render's.
-fn pilot_scene(scene: &Scene, candidates: &[Choice], limit: u64) -> Result<(Scene, Vec<u32>), Error> {
+/// candidate's light subpaths a pilot pass, in proportion to the render's, for light subpaths
+/// that keep `vertices` each on average ([`light_paths`]).
+fn pilot_scene(scene: &Scene, candidates: &[Choice], limit: u64, vertices: Option<f64>) -> Result<(Scene, Vec<u32>), Error> {
     let mut pilot = scene.clone();
     // Every strategy weighed and kept (a render for `--strategy-images` keeps one).
     (pilot.render.method, pilot.render.strategies) = (crate::scene::Method::Vcm, crate::layout::STRATEGIES_ALL);
@@ -249,7 +250,7 @@ fn pilot_scene(scene: &Scene, candidates: &[Choice], limit: u64) -> Result<(Scen
     let with = |r: &RenderSettings, choice: &Choice| {
         let mut r = r.clone();
         choice.apply(&mut r);
-        light_paths(&r, limit, None)
+        light_paths(&r, limit, vertices)
     };
     let counts = candidates.iter().map(|c| with(&pilot.render, c)).collect::<Result<Vec<u32>, Error>>()?;
     let n_render = with(&scene.render, &candidates[0])? as f64;
@@ -286,11 +287,15 @@ pub fn choose(
     let start = std::time::Instant::now();
     let limit = device.limits().max_storage_buffer_binding_size;
     let choices = candidates(scene);
-    let (pilot, counts) = pilot_scene(scene, &choices, limit)?;
-    let (width, height) = (pilot.render.width, pilot.render.height);
+    // The tracer first, with room for the light subpaths the candidates want: its probe says
+    // how many vertices they keep, and so how many a pass of the pilot and of the render hold.
+    let (wanting, _) = pilot_scene(scene, &choices, limit, Some(0.0))?;
+    let (width, height) = (wanting.render.width, wanting.render.height);
+    let mut tracer = LightTracer::with_scene_buffers(device, queue, &wanting, data, buffers, 0..height)?;
+    let (pilot, counts) = pilot_scene(scene, &choices, limit, tracer.vertices_per_subpath())?;
+    tracer.set_radius(pilot.render.radius);
     let pixels = (width * height) as usize;
     let model = CostModel::of(data);
-    let mut tracer = LightTracer::with_scene_buffers(device, queue, &pilot, data, buffers, 0..height)?;
     // Each candidate's passes' estimates, pixel by pixel.
     let mut estimates = vec![Vec::new(); choices.len()];
     let mut costs = vec![0.0; choices.len()];

@@ -307,6 +307,27 @@ fn vcm_pilot_chooses_from_the_scene_alone() {
     );
 }
 
+/// vcm's pilot weighs its candidates at the light subpaths a pass the render traces: at depth
+/// 1,024 (Mitsuba's unbounded depth as read) the store its probe sizes holds merging alone's one
+/// for 4 pixels (4,096 at 128x128) and connections' one for 16 (1,024), where a store of every
+/// subpath at full depth held 1,024 for each and the pilot weighed merging alone at a quarter
+/// of its light subpaths.
+#[test]
+fn vcm_pilot_traces_the_renders_light_subpaths() {
+    use sppm_gpu::integrators::shares::choose_for;
+    let Some(gpu) = common::gpu() else { return };
+    let mut scene = common::load_scene("cornell-glossy.toml");
+    let r = &mut scene.render;
+    (r.method, r.width, r.height, r.max_depth) = (Method::Vcm, 128, 128, 1024);
+    let limit = gpu.device.limits().max_storage_buffer_binding_size;
+    let mut merging = r.clone();
+    (merging.connect_share, merging.merge_share) = (Some(0.0), Some(1.0));
+    assert_eq!(integrators::light::light_paths(&merging, limit, None).unwrap(), 1024, "at full depth");
+    let pilot = choose_for(&gpu.device, &gpu.queue, &scene).unwrap();
+    let [both, merge_only] = [0, 1].map(|k| pilot.candidates[k].light_paths);
+    assert_eq!((both, merge_only), (1024, 4096), "{pilot}");
+}
+
 /// vcm merges only where the BSDF is diffuse (bidir.wgsl's vcm_merges_at): on cornell-glossy
 /// with its walls made glossy too, merging's share of the image is black, while with the
 /// walls diffuse it carries the room's light (merging on a glossy lobe blurred the reflection:
