@@ -105,6 +105,18 @@ impl Integrator for Bands {
     fn passes(&self) -> u32 {
         self.bands[self.bands.len() - 1].passes()
     }
+    /// Each band's warnings, one line each where bands say the same.
+    fn warnings(&mut self) -> Result<Vec<String>, Error> {
+        let mut all: Vec<String> = Vec::new();
+        for band in &mut self.bands {
+            for warning in band.warnings()? {
+                if !all.contains(&warning) {
+                    all.push(warning);
+                }
+            }
+        }
+        Ok(all)
+    }
     /// What a pass adds to the estimate: the pass's photons for SPPM (each band traces them
     /// again, for its own points; the light tracer's subpaths likewise, for its own pixels), a
     /// sample per pixel of every band for the path tracers (and vcm without light subpaths).
