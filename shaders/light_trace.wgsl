@@ -78,11 +78,9 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     // Vertices kept, and the slot of the last.
     var stored = 0u;
     var last = LIGHT_VERTEX_NONE;
-    if BIDIR {
-        light_path_first[index] = LIGHT_VERTEX_NONE;
-    }
     var finite_light = true;
     if BIDIR {
+        light_path_first[index] = LIGHT_VERTEX_NONE;
         let pdfs = emission_pdfs(e, ph);
         lm = mis_light_start(pdfs.direct_pdf_a, pdfs.emission_pdf_w, pdfs.cos_light, pdfs.delta, bidir_factors());
         finite_light = pdfs.finite;

@@ -418,16 +418,15 @@ pub fn storage_buffer<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, data
     })
 }
 
-/// A storage buffer of `bytes` zero bytes (at least 4), zeroed by the device rather than
-/// uploaded: a large store costs no host memory or copy.
-pub fn zeroed_storage_buffer(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some(label),
-        size: bytes.max(4).next_multiple_of(4),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    })
+/// A buffer of `size` bytes (at least 16) for `usage`, zeroed by the device rather than
+/// uploaded from the host: a large one costs no host memory or copy.
+pub fn zeroed_buffer(device: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false })
 }
+
+/// The usages of a storage buffer that the host writes, clears and reads back.
+pub const STORAGE_USAGE: wgpu::BufferUsages =
+    wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST).union(wgpu::BufferUsages::COPY_SRC);
 
 impl SceneBuffers {
     /// Upload every array of `data` to a storage buffer named like its WGSL global.

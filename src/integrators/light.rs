@@ -17,7 +17,7 @@
 use super::pixel_sums::{PixelSums, Progress, PIXEL_BYTES};
 use super::{Integrator, Part, PartSize, Work};
 use crate::error::Error;
-use crate::gpu::scene_buffers::{storage_buffer, zeroed_storage_buffer, SceneBuffers, SceneData};
+use crate::gpu::scene_buffers::{storage_buffer, zeroed_buffer, SceneBuffers, SceneData, STORAGE_USAGE};
 use crate::gpu::{Kernel, Resource};
 use crate::image_io::Rgb32Image;
 use crate::layout::{Frame, GridParams, GridScene, VisiblePoint, WORK_COUNTS};
@@ -75,10 +75,12 @@ pub fn light_paths(r: &RenderSettings, limit: u64, vertices: Option<f64>) -> Res
     let per_path_pixels = if merging_alone { PIXELS_PER_LIGHT_PATH_MERGING } else { PIXELS_PER_LIGHT_PATH };
     let wanted = r.light_paths.unwrap_or((pixels / per_path_pixels).max(1));
     let slots = most_slots(r.method, limit);
-    // The most subpaths whose slots fit: all at full depth, or as the mean says.
+    // The most subpaths whose slots fit ([`store_slots`] inverted): all at full depth, or as
+    // the mean says.
     let at_full_depth = slots / depth;
+    let spare = SPARE_SUBPATHS * depth + 1;
     let by_mean = match vertices {
-        Some(mean) if slots > 4 * depth + 1 => ((slots - 4 * depth - 1) as f64 / (2.0 * mean + 1.0)).floor() as u64,
+        Some(mean) if slots > spare => ((slots - spare) as f64 / slots_a_subpath(mean)).floor() as u64,
         _ => 0,
     };
     // A light vertex's key, depth times subpaths, fits 32 bits (`light_vertex_key`).
@@ -106,10 +108,18 @@ pub fn store_slots(paths: u32, depth: u32, vertices: Option<f64>) -> u64 {
     let (paths, depth) = (paths as u64, depth.max(1) as u64);
     let full = paths * depth;
     match vertices {
-        Some(mean) => (((2.0 * mean + 1.0) * paths as f64).ceil() as u64 + 4 * depth).min(full),
+        Some(mean) => ((slots_a_subpath(mean) * paths as f64).ceil() as u64 + SPARE_SUBPATHS * depth).min(full),
         None => full,
     }
 }
+
+/// The store's slots a subpath that keeps `mean` vertices on average: twice the mean and one more.
+fn slots_a_subpath(mean: f64) -> f64 {
+    2.0 * mean + 1.0
+}
+
+/// Subpaths at full depth the store holds beyond its slots a subpath ([`store_slots`]).
+const SPARE_SUBPATHS: u64 = 4;
 
 /// Light subpaths of the probe that measures how many vertices a subpath of the render keeps:
 /// its mean within about 2% (a subpath keeps a geometric-like number, standard deviation about
@@ -540,7 +550,8 @@ impl Integrator for LightTracer {
     /// Light vertices the store had no room for: their connections and merges are missing
     /// from the image, which is then darker than it should be where they would have added.
     fn warnings(&mut self) -> Result<Vec<String>, Error> {
-        if self.store.light_vertices.size() <= LIGHT_VERTEX_BYTES {
+        if self.vertices.is_none() {
+            // lt keeps no light vertices.
             return Ok(Vec::new());
         }
         let counts: Vec<u32> = crate::gpu::readback::read_whole(&self.device, &self.queue, &self.store.light_vertex_count)?;
@@ -653,9 +664,9 @@ impl Store {
     /// A store of `slots` vertices for `paths` subpaths.
     fn new(device: &wgpu::Device, slots: u64, paths: u32) -> Self {
         Self {
-            light_vertices: zeroed_storage_buffer(device, "light_vertices", slots.max(1) * LIGHT_VERTEX_BYTES),
-            light_path_first: zeroed_storage_buffer(device, "light_path_first", 4 * paths as u64),
-            light_vertex_count: zeroed_storage_buffer(device, "light_vertex_count", 8),
+            light_vertices: zeroed_buffer(device, "light_vertices", slots.max(1) * LIGHT_VERTEX_BYTES, STORAGE_USAGE),
+            light_path_first: zeroed_buffer(device, "light_path_first", 4 * paths as u64, STORAGE_USAGE),
+            light_vertex_count: zeroed_buffer(device, "light_vertex_count", 8, STORAGE_USAGE),
         }
     }
 }
@@ -748,7 +759,10 @@ fn grid_buffers(
     let grid_scene = GridScene { lo: lo.into(), table_size, hi: hi.into(), _pad: 0 };
     let words = |n: usize| vec![0u32; n.max(1)];
     vec![
-        ("visible_points", zeroed_storage_buffer(device, "visible_points", slots as u64 * size_of::<VisiblePoint>() as u64)),
+        (
+            "visible_points",
+            zeroed_buffer(device, "visible_points", slots as u64 * size_of::<VisiblePoint>() as u64, STORAGE_USAGE),
+        ),
         ("merge_count", storage_buffer(device, "merge_count", &words(1))),
         (
             "merge_args",
@@ -763,7 +777,7 @@ fn grid_buffers(
         ("grid_params", storage_buffer(device, "grid_params", &words(size_of::<GridParams>() / 4))),
         ("grid_cell_count", storage_buffer(device, "grid_cell_count", &words(table_size as usize))),
         ("grid_cell_start", storage_buffer(device, "grid_cell_start", &words(table_size as usize + 1))),
-        ("grid_entries", zeroed_storage_buffer(device, "grid_entries", 8 * 4 * slots as u64)),
-        ("merge_entries", zeroed_storage_buffer(device, "merge_entries", slots as u64 * MERGE_ENTRY_BYTES)),
+        ("grid_entries", zeroed_buffer(device, "grid_entries", 8 * 4 * slots as u64, STORAGE_USAGE)),
+        ("merge_entries", zeroed_buffer(device, "merge_entries", slots as u64 * MERGE_ENTRY_BYTES, STORAGE_USAGE)),
     ]
 }

@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use super::PHOTONS_PER_THREAD;
-use crate::gpu::scene_buffers::{storage_buffer, SceneBuffers};
+use crate::gpu::scene_buffers::{storage_buffer, zeroed_buffer, SceneBuffers, STORAGE_USAGE};
 use crate::gpu::Resource;
 use crate::layout::*;
 use crate::scene::{RadiusRule, RenderSettings, Scene};
@@ -171,13 +171,6 @@ impl Buffers {
     }
 }
 
-pub(super) fn buffer(device: &wgpu::Device, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16), usage, mapped_at_creation: false })
-}
-
-pub(super) const STORAGE: wgpu::BufferUsages =
-    wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST).union(wgpu::BufferUsages::COPY_SRC);
-
 /// Bytes of every buffer of an SPPM renderer over `points` visible points and `pixels`
 /// pixels, each at least 16 (wgpu binds nothing smaller). Per visible point: the point,
 /// its statistics, its flux (with the offset moments of the adaptive radius rule), its
@@ -297,27 +290,27 @@ impl Buffers {
     ) -> Self {
         debug_assert_eq!(sizes.vp_stats, size_of_val(stats).max(16) as u64);
         let uniform = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
-        let indirect = STORAGE | wgpu::BufferUsages::INDIRECT;
+        let indirect = STORAGE_USAGE | wgpu::BufferUsages::INDIRECT;
         let s = sizes;
         Buffers {
             scene,
-            frame: buffer(device, "frame", s.frame, uniform),
-            visible_points: buffer(device, "visible_points", s.visible_points, STORAGE),
+            frame: zeroed_buffer(device, "frame", s.frame, uniform),
+            visible_points: zeroed_buffer(device, "visible_points", s.visible_points, STORAGE_USAGE),
             vp_stats: storage_buffer(device, "vp_stats", stats),
-            flux_accum: buffer(device, "flux_accum", s.flux_accum, STORAGE),
-            image: buffer(device, "image", s.image, STORAGE),
+            flux_accum: zeroed_buffer(device, "flux_accum", s.flux_accum, STORAGE_USAGE),
+            image: zeroed_buffer(device, "image", s.image, STORAGE_USAGE),
             grid_scene: storage_buffer(device, "grid_scene", &[grid_scene]),
-            grid_max_radius: buffer(device, "grid_max_radius", s.grid_max_radius, STORAGE),
-            grid_params: buffer(device, "grid_params", s.grid_params, STORAGE),
-            grid: buffer(device, "grid", s.grid, uniform),
-            grid_cell_count: buffer(device, "grid_cell_count", s.grid_cell_count, STORAGE),
-            grid_cell_start: buffer(device, "grid_cell_start", s.grid_cell_start, STORAGE),
-            grid_entries: buffer(device, "grid_entries", s.grid_entries, STORAGE),
-            photon_hits: buffer(device, "photon_hits", s.photon_hits, STORAGE),
-            photon_hit_lists: buffer(device, "photon_hit_lists", s.photon_hit_lists, STORAGE),
-            photon_suspended: buffer(device, "photon_suspended", s.photon_suspended, STORAGE),
-            photon_resume_args: buffer(device, "photon_resume_args", s.photon_resume_args, indirect),
-            radius_tests: buffer(device, "radius_tests", s.radius_tests, STORAGE),
+            grid_max_radius: zeroed_buffer(device, "grid_max_radius", s.grid_max_radius, STORAGE_USAGE),
+            grid_params: zeroed_buffer(device, "grid_params", s.grid_params, STORAGE_USAGE),
+            grid: zeroed_buffer(device, "grid", s.grid, uniform),
+            grid_cell_count: zeroed_buffer(device, "grid_cell_count", s.grid_cell_count, STORAGE_USAGE),
+            grid_cell_start: zeroed_buffer(device, "grid_cell_start", s.grid_cell_start, STORAGE_USAGE),
+            grid_entries: zeroed_buffer(device, "grid_entries", s.grid_entries, STORAGE_USAGE),
+            photon_hits: zeroed_buffer(device, "photon_hits", s.photon_hits, STORAGE_USAGE),
+            photon_hit_lists: zeroed_buffer(device, "photon_hit_lists", s.photon_hit_lists, STORAGE_USAGE),
+            photon_suspended: zeroed_buffer(device, "photon_suspended", s.photon_suspended, STORAGE_USAGE),
+            photon_resume_args: zeroed_buffer(device, "photon_resume_args", s.photon_resume_args, indirect),
+            radius_tests: zeroed_buffer(device, "radius_tests", s.radius_tests, STORAGE_USAGE),
         }
     }
 }
