@@ -74,7 +74,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     let ph = emit_light(e, u_pos, u_dir, environment_light_aim(e));
     let scale = frame.power_total / f32(frame.photon_count);
     var beta = ph.beta * scale;
-    var lm = SubpathMis(0.0, 0.0, 0.0);
+    var lm = SubpathMis(0.0, 0.0, 0.0, vec2f(0.0));
     // Vertices kept, and the slot of the last.
     var stored = 0u;
     var last = LIGHT_VERTEX_NONE;
@@ -126,7 +126,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
                 let slot = atomicAdd(&light_vertex_count[0], 1u);
                 if slot < arrayLength(&light_vertices) {
                     light_vertices[slot] = LightVertex(s.p, s.material, s.ng, s.shape, s.ns, depth + 1u, -d, lm.d_vcm,
-                        beta * f32(frame.photon_count), lm.d_vc, s.uv, lm.d_vm, LIGHT_VERTEX_NONE);
+                        beta * f32(frame.photon_count), lm.d_vc, s.uv, lm.d_vm, LIGHT_VERTEX_NONE, lm.d_merge);
                     if last == LIGHT_VERTEX_NONE {
                         light_path_first[index] = slot;
                     } else {

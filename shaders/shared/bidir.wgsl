@@ -124,7 +124,7 @@ fn bidir_emission_weight(camera: SubpathMis, shape: u32, cos_l: f32, first_segme
         return 1.0;
     }
     let pdfs = area_emission_pdfs(shape, cos_l);
-    return mis_weight_emission(camera, pdfs.direct_pdf_a, pdfs.emission_pdf_w);
+    return mis_weight_emission(camera, pdfs.direct_pdf_a, pdfs.emission_pdf_w, bidir_factors());
 }
 
 // Weight of the environment a camera subpath (its quantities `camera`, as its last vertex
@@ -137,13 +137,14 @@ fn bidir_escaped_weight(camera: SubpathMis, o: vec3f, d: vec3f, first_segment: b
     }
     let e = environment();
     let pdfs = environment_emission_pdfs(e, d, o, environment_light_aim(e));
-    return mis_weight_emission(camera, pdfs.direct_pdf_a, pdfs.emission_pdf_w);
+    return mis_weight_emission(camera, pdfs.direct_pdf_a, pdfs.emission_pdf_w, bidir_factors());
 }
 
 // Next-event estimate at surface s seen from wo (direct_light's, the same numbers and
 // visibility), weighted against every other strategy that makes the same path; `first`
-// whether s is the camera subpath's first vertex.
-fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera: SubpathMis, first: bool, u: vec3f) -> vec3f {
+// whether s is the camera subpath's first vertex, `merges` whether merging at s is a strategy
+// (camera_path.wgsl: one of the subpath's first MERGES_A_PATH vertices that merge).
+fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera: SubpathMis, first: bool, merges: bool, u: vec3f) -> vec3f {
     let sample = sample_light_mis(s.p, u);
     let ls = sample.ls;
     if all(ls.li == vec3f(0.0)) || !bsdf_joins(m, s, wo, ls.wi) {
@@ -161,13 +162,14 @@ fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera:
     if p.finite {
         direct_pdf_w *= ls.dist * ls.dist / max(p.cos_light, 1e-8);
     }
-    // Only dVC weighs the reverse density (0 at the first vertex, and without light subpaths).
+    // Only dVC and the latest merges weigh the reverse density (0 at the first vertex, and
+    // without light subpaths).
     var rev_pdf_w = 0.0;
-    if camera.d_vc != 0.0 {
+    if camera.d_vc != 0.0 || any(camera.d_merge != vec2f(0.0)) {
         rev_pdf_w = bsdf_eval(s, m, albedo, ls.wi, wo).pdf;
     }
     let cos_to_light = dot(ls.wi, s.ns);
     let weight = mis_weight_nee(camera, direct_pdf_w, p.emission_pdf_w, cos_to_light, p.cos_light, b.pdf, rev_pdf_w, p.delta,
-        vcm_merges_at(m), first, bidir_factors());
+        merges, first, bidir_factors());
     return b.f * abs(cos_to_light) * ls.li * weight;
 }

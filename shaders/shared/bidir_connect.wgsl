@@ -29,7 +29,8 @@ var<private> bidir_light_path: u32;
 // subpath's throughput; camera_length the camera subpath's segments to s. Along the segment
 // from s to light vertex v (w, distance d): f_c(wo, w) |w.ns| f_l(-w, w_prev) |w.ng_l| / d^2
 // times v's throughput and the shading-normal correction of its arrival (light_trace.wgsl).
-fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32) -> vec3f {
+fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32, camera_merges: bool,
+    camera_merged: u32) -> vec3f {
     var sum = vec3f(0.0);
     for (var slot = light_path_first[bidir_light_path]; slot != LIGHT_VERTEX_NONE; slot = light_vertices[slot].next) {
         let v = light_vertices[slot];
@@ -65,16 +66,17 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
             continue;
         }
         let light_pdf_w = bsdf_eval(sl, ml, ml.albedo, v.w_prev, wl).pdf;
-        // Only dVC weighs the camera's reverse density (0 at its first vertex).
+        // Only dVC and the latest merges weigh the camera's reverse density (0 at its first
+        // vertex).
         var camera_rev_pdf_w = 0.0;
-        if camera.d_vc != 0.0 {
+        if camera.d_vc != 0.0 || any(camera.d_merge != vec2f(0.0)) {
             camera_rev_pdf_w = bsdf_eval(s, m, albedo, w, wo).pdf;
         }
         let camera_pdf_a = bc.pdf * abs(dot(wl, sl.ns)) / dist2;
         let light_pdf_a = light_pdf_w * abs(dot(w, s.ns)) / dist2;
-        let light = SubpathMis(v.d_vcm, v.d_vc, v.d_vm);
-        let weight = mis_weight_connection(camera, light, camera_pdf_a, camera_rev_pdf_w, light_pdf_a, bl.pdf, vcm_merges_at(m),
-            vcm_merges_at(ml), camera_length == 1u, v.length == 1u, bidir_factors());
+        let light = SubpathMis(v.d_vcm, v.d_vc, v.d_vm, v.d_merge);
+        let weight = mis_weight_connection(camera, light, camera_pdf_a, camera_rev_pdf_w, light_pdf_a, bl.pdf, camera_merges,
+            camera_merged, vcm_merges_at(ml), camera_length == 1u, v.length == 1u, bidir_factors());
         if unoccluded(offset_origin(s.p, s.ng, w), offset_origin(v.p, sl.ng, wl)) {
             sum += c * weight;
         }
@@ -91,7 +93,8 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
 // arriving on the side of the surface that wo sees merges, as SmallVCM's BSDF evaluation
 // decides (a thin shell's other side does not), on the same surface or one facing it (below).
 // The bias of the rest, the density estimate's over the radius, vanishes with it.
-fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32) -> vec3f {
+fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32,
+    camera_merged: u32) -> vec3f {
     let h = bucket_of(grid_params, s.p);
     if h == NO_BUCKET {
         return vec3f(0.0);
@@ -127,12 +130,14 @@ fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camer
         if all(b.f == vec3f(0.0)) {
             continue;
         }
-        // Only dVM weighs the camera's reverse density (0 at its first vertex).
+        // Only dVM and the merges before weigh the camera's reverse density (0 at its first
+        // vertex).
         var rev_pdf_w = 0.0;
-        if camera.d_vm != 0.0 {
+        if camera.d_vm != 0.0 || any(camera.d_merge != vec2f(0.0)) {
             rev_pdf_w = bsdf_eval(s, m, albedo, wi, wo).pdf;
         }
-        let weight = mis_weight_merge(camera, SubpathMis(v.d_vcm, v.d_vc, v.d_vm), b.pdf, rev_pdf_w, camera_length == 1u,
+        let weight = mis_weight_merge(camera, SubpathMis(v.d_vcm, v.d_vc, v.d_vm, v.d_merge), b.pdf, rev_pdf_w, camera_merged,
+            camera_length == 1u,
             v.length == 1u, bidir_factors());
         sum += b.f * v.beta * weight;
     }

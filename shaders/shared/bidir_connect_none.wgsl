@@ -6,10 +6,12 @@
 #import scene
 #import vcm
 
-fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32) -> vec3f {
+fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32, camera_merges: bool,
+    camera_merged: u32) -> vec3f {
     return vec3f(0.0);
 }
 
-fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32) -> vec3f {
+fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32,
+    camera_merged: u32) -> vec3f {
     return vec3f(0.0);
 }

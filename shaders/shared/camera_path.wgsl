@@ -94,7 +94,9 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
     // Whether the path has left its visible point (CAMERA_PATH_VISIBLE_POINT with NEE).
     var past_vp = false;
     // The bidirectional MIS quantities of the subpath so far (shared/vcm.wgsl).
-    var cm = SubpathMis(0.0, 0.0, 0.0);
+    var cm = SubpathMis(0.0, 0.0, 0.0, vec2f(0.0));
+    // The subpath's vertices that merged (vcm merges at the first MERGES_A_PATH: vcm.wgsl).
+    var merged = 0u;
     if bidir {
         cm = bidir_camera_start(d);
     }
@@ -196,15 +198,18 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         // NEE where the BSDF can sample lights (mirrors and smooth glass cannot), from one
         // call site: the shadow ray's traversal is inlined once.
         let nee_here = nee && bsdf_samples_lights(m);
+        // Merging is a strategy here (vcm): one of the subpath's first vertices that merge.
+        let merges = bidir && vcm_merges_at(m) && merged < MERGES_A_PATH;
+        let merged_here = merged + select(0u, 1u, merges);
         if nee_here && bidir {
             bidir_work[WORK_CAMERA_VERTICES] += 1u;
-            path.l += beta * bidir_direct_light(s, wo, m, albedo, cm, depth == 0u, vec3f(rng_next(rng), rng_next2(rng)))
+            path.l += beta * bidir_direct_light(s, wo, m, albedo, cm, depth == 0u, merges, vec3f(rng_next(rng), rng_next2(rng)))
                 * kept(STRATEGY_NEE);
             if (frame.strategies & STRATEGY_CONNECT) != 0u && bidir_takes(frame.connect_share, 0u, depth) {
-                path.l += beta * connect_light_subpath(s, m, albedo, wo, cm, depth + 1u) / frame.connect_share;
+                path.l += beta * connect_light_subpath(s, m, albedo, wo, cm, depth + 1u, merges, merged_here) / frame.connect_share;
             }
-            if vcm_merges_at(m) && (frame.strategies & STRATEGY_MERGE) != 0u && bidir_takes(frame.merge_share, 1u, depth) {
-                path.l += beta * merge_light_vertices(s, m, albedo, wo, cm, depth + 1u) / frame.merge_share;
+            if merges && (frame.strategies & STRATEGY_MERGE) != 0u && bidir_takes(frame.merge_share, 1u, depth) {
+                path.l += beta * merge_light_vertices(s, m, albedo, wo, cm, depth + 1u, merged_here) / frame.merge_share;
             }
         } else if nee_here {
             path.l += beta * direct_light(s, wo, m, albedo, medium, vec3f(rng_next(rng), rng_next2(rng)));
@@ -237,13 +242,17 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         if bidir {
             // A delta lobe (mirror, smooth glass, a smooth plastic's coating) has no density.
             let specular = !nee_here || next.pdf <= 0.0;
-            // The reverse density weighs only the strategies dVC and dVM carry: none yet at the
-            // subpath's first vertex, and none without light subpaths (light_paths = 0).
+            // The reverse density weighs only the strategies dVC, dVM and the latest merges carry:
+            // none yet at the subpath's first vertex, and none without light subpaths
+            // (light_paths = 0). After a delta lobe dVC and dVM may be 0 where the merge is not.
             var pdf_rev = 0.0;
-            if !specular && (cm.d_vc != 0.0 || cm.d_vm != 0.0) {
+            if !specular && (cm.d_vc != 0.0 || cm.d_vm != 0.0 || any(cm.d_merge != vec2f(0.0))) {
                 pdf_rev = bsdf_eval(s, m, albedo, next.wi, wo).pdf;
             }
-            cm = mis_scatter(cm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, vcm_merges_at(m), depth == 0u, bidir_factors());
+            cm = mis_scatter(cm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, merges, depth == 0u, bidir_factors());
+            // Past a delta lobe the path's vertex is specular: merging there is no strategy of
+            // it, and a later vertex may merge in its place.
+            merged += select(0u, 1u, merges && !specular);
         }
         if use_roulette {
             eta_scale *= refraction_eta2(m, s, d, next.wi);

@@ -11,7 +11,7 @@
 #import types
 #import scene
 
-// A light subpath's vertex, 96 bytes (LightVertex in src/layout/records.rs): the
+// A light subpath's vertex, 112 bytes (LightVertex in src/layout/records.rs): the
 // surface it lies on (its material's albedo looked up again from uv), the direction back along
 // the subpath, the throughput (the flux estimate beta, over the whole power, not yet divided
 // by the number of subpaths), its segment count from the light, and its MIS quantities.
@@ -32,6 +32,8 @@ struct LightVertex {
     d_vm: f32,
     // The slot of the subpath's next stored vertex, or LIGHT_VERTEX_NONE.
     next: u32,
+    // The subpath's two latest merges, apart from d_vc and d_vm (vcm.wgsl's SubpathMis).
+    d_merge: vec2f,
 }
 
 // No light vertex: the end of a subpath's list.

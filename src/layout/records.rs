@@ -339,7 +339,7 @@ pub struct PhotonHit {
 }
 
 /// A light subpath's vertex where a BSDF can be evaluated, kept for the bidirectional methods'
-/// connections and merging (`LightVertex` in `shaders/shared/light_vertex.wgsl`), 96 bytes.
+/// connections and merging (`LightVertex` in `shaders/shared/light_vertex.wgsl`), 112 bytes.
 /// Written and read only by the kernels; the host sizes their buffers by it.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -371,6 +371,11 @@ pub struct LightVertex {
     /// The slot of the subpath's next stored vertex, or `u32::MAX` (the store is a cache
     /// filled in the order the vertices come: `shaders/shared/light_vertex.wgsl`).
     pub next: u32,
+    /// The subpath's two latest merges, apart from `d_vc` and `d_vm` (`SubpathMis` in
+    /// `shaders/shared/vcm.wgsl`).
+    pub d_merge: [f32; 2],
+    /// Padding to the WGSL struct's 16-byte alignment.
+    pub _pad: [u32; 2],
 }
 
 /// Where a camera path of the current pass ended on a diffuse surface (Hachisuka & Jensen

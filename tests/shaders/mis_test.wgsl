@@ -4,8 +4,9 @@
 // quantities carried along each subpath, and the weights are summed: 1 for a right recursion.
 // Strategies: emission hit by the camera subpath, next-event estimation at x1, a connection
 // between x(s-1) and x(s) for 1 < s < k, light tracing (x(k-1) joined to the camera) and, with
-// merging, a merge at each interior vertex that merges (its flag: vcm merges only at some
-// materials, bidir.wgsl's vcm_merges_at). Each path has its own shares of camera vertices that
+// merging, a merge at each of the MERGES_A_PATH interior vertices nearest the camera of those
+// that merge (its flag: vcm merges only at some materials, bidir.wgsl's vcm_merges_at; and only
+// at the camera subpath's first vertices that merge, vcm.wgsl). Each path has its own shares of camera vertices that
 // connect (c) and merge (m), the strategies' counts in the heuristic.
 
 #import vcm
@@ -53,6 +54,22 @@ fn merges(i: u32) -> bool {
     return paths[base + MAX_VERTICES + i].w > 0.5;
 }
 
+// How many of the vertices from x(i) to the camera merge, at most MERGES_A_PATH: those of a
+// camera subpath that reaches x(i).
+fn merged_from(k: u32, i: u32) -> u32 {
+    var n = 0u;
+    for (var j = i; j < k; j++) {
+        n += select(0u, 1u, merges(j));
+    }
+    return min(n, MERGES_A_PATH);
+}
+
+// Whether merging at camera-side vertex x(i) is a strategy: one of the camera subpath's first
+// MERGES_A_PATH vertices that merge.
+fn camera_merges(k: u32, i: u32) -> bool {
+    return merges(i) && merged_from(k, i + 1u) < MERGES_A_PATH;
+}
+
 // |cos| at vertex i towards vertex j.
 fn cos_at(i: u32, j: u32) -> f32 {
     return abs(dot(n(i), dir(i, j)));
@@ -97,7 +114,7 @@ fn camera_subpath(k: u32, first: u32, f: MisFactors) -> SubpathMis {
         // camera itself for i = k - 1: a pinhole's direction is not sampled by the BSDF, but
         // the reverse density only enters through d_vc, which is 0 there).
         let rev = select(pdf_w(i, i + 1u), 0.0, i + 1u == k);
-        m = mis_scatter(m, pdf_w(i, i - 1u), rev, cos_at(i, i - 1u), false, merges(i), i + 1u == k, f);
+        m = mis_scatter(m, pdf_w(i, i - 1u), rev, cos_at(i, i - 1u), false, camera_merges(k, i), i + 1u == k, f);
         m = mis_hit(m, length(x(i - 1u) - x(i)), cos_at(i - 1u, i), true);
     }
     return m;
@@ -117,21 +134,22 @@ fn weight_sum(k: u32, f: MisFactors, with_merging: bool) -> vec2f {
     let direct_pdf_a = params.pick / params.area;
     // Emission hit by the camera subpath at x0.
     let c0 = camera_subpath(k, 0u, f);
-    sum += mis_weight_emission(c0, direct_pdf_a, direct_pdf_a * pdf_w(0u, 1u));
+    sum += mis_weight_emission(c0, direct_pdf_a, direct_pdf_a * pdf_w(0u, 1u), f);
     count += 1.0;
     // Next-event estimation at x1.
     let c1 = camera_subpath(k, 1u, f);
     let d01 = length(x(1u) - x(0u));
     let direct_pdf_w = direct_pdf_a * d01 * d01 / cos_at(0u, 1u);
     sum += mis_weight_nee(c1, direct_pdf_w, direct_pdf_a * pdf_w(0u, 1u), cos_at(1u, 0u), cos_at(0u, 1u), pdf_w(1u, 0u),
-        camera_rev(k, 1u), false, merges(1u), k == 2u, f);
+        camera_rev(k, 1u), false, camera_merges(k, 1u), k == 2u, f);
     count += 1.0;
     // Connections of x(s - 1) to x(s).
     for (var s = 2u; s < k; s++) {
         let l = light_subpath(s - 1u, f);
         let c = camera_subpath(k, s, f);
         sum += mis_weight_connection(c, l, to_area(pdf_w(s, s - 1u), s, s - 1u), camera_rev(k, s),
-            to_area(pdf_w(s - 1u, s), s - 1u, s), pdf_w(s - 1u, s - 2u), merges(s), merges(s - 1u), s + 1u == k, s == 2u, f);
+            to_area(pdf_w(s - 1u, s), s - 1u, s), pdf_w(s - 1u, s - 2u), camera_merges(k, s), merged_from(k, s),
+            merges(s - 1u), s + 1u == k, s == 2u, f);
         count += 1.0;
     }
     // Light tracing: x(k - 1) joined to the camera.
@@ -139,15 +157,16 @@ fn weight_sum(k: u32, f: MisFactors, with_merging: bool) -> vec2f {
     let camera_pdf_a = to_area(camera_pdf_w(k, k - 1u), k, k - 1u);
     sum += mis_weight_to_camera(lt, camera_pdf_a, pdf_w(k - 1u, k - 2u), params.n_light, merges(k - 1u), k == 2u, f);
     count += 1.0;
-    // Merges at x(i), the light subpath's last direction from x(i - 1).
+    // A merge at x(i), one of the MERGES_A_PATH vertices nearest the camera of those that merge,
+    // the light subpath's last direction from x(i - 1).
     if with_merging {
         for (var i = 1u; i < k; i++) {
-            if !merges(i) {
+            if !camera_merges(k, i) {
                 continue;
             }
             let l = light_subpath(i, f);
             let c = camera_subpath(k, i, f);
-            sum += mis_weight_merge(c, l, pdf_w(i, i - 1u), camera_rev(k, i), i + 1u == k, i == 1u, f);
+            sum += mis_weight_merge(c, l, pdf_w(i, i - 1u), camera_rev(k, i), merged_from(k, i), i + 1u == k, i == 1u, f);
             count += 1.0;
         }
     }

@@ -116,7 +116,12 @@ fn gpu_structs_match_wgsl() {
 #[test]
 fn light_vertex_matches_wgsl() {
     let module = naga::front::wgsl::parse_str(&shader_source("light_trace").unwrap()).unwrap();
-    check!(module, LightVertex, "LightVertex", [p, material, ng, shape, ns, length, w_prev, d_vcm, beta, d_vc, uv, d_vm, next]);
+    check!(
+        module,
+        LightVertex,
+        "LightVertex",
+        [p, material, ng, shape, ns, length, w_prev, d_vcm, beta, d_vc, uv, d_vm, next, d_merge]
+    );
 }
 
 #[test]
