@@ -10,9 +10,9 @@
 //! camera pass (`shaders/bidir_camera.wgsl`) whose subpaths connect to them, every strategy
 //! weighted by the balance heuristic (`shaders/shared/vcm.wgsl`, SmallVCM's recursive form).
 //! Vertex connection and merging (`method = "vcm"`) adds merging: the light vertices are also
-//! points of the pass's radius, listed in a hashed grid by SPPM's grid kernels, and each camera
-//! vertex merges with those within the radius, weighted with the other strategies by the power
-//! heuristic.
+//! points of the pass's radius, listed in a hashed grid by SPPM's grid kernels, and a camera
+//! subpath's first two diffuse vertices merge with those within the radius, weighted with the
+//! other strategies by the power heuristic.
 
 use super::pixel_sums::{PixelSums, Progress, PIXEL_BYTES};
 use super::{Integrator, Part, PartSize, Work};

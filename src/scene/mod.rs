@@ -170,8 +170,9 @@ pub enum Method {
     /// Bidirectional path tracing: camera and light subpaths, every connection between them,
     /// next-event estimation, emission hit and light tracing weighted by the balance heuristic.
     Bpt,
-    /// Vertex connection and merging: bpt's strategies and photon merging at every diffuse
-    /// camera vertex, one estimator weighted by the power heuristic (Georgiev et al. 2012).
+    /// Vertex connection and merging: bpt's strategies and photon merging at a camera
+    /// subpath's first two diffuse vertices, one estimator weighted by the power heuristic
+    /// (Georgiev et al. 2012).
     Vcm,
 }
 
