@@ -29,6 +29,8 @@ var<private> bidir_light_path: u32;
 // subpath's throughput; camera_length the camera subpath's segments to s. Along the segment
 // from s to light vertex v (w, distance d): f_c(wo, w) |w.ns| f_l(-w, w_prev) |w.ng_l| / d^2
 // times v's throughput and the shading-normal correction of its arrival (light_trace.wgsl).
+// camera_merges: whether merging at s is a strategy; camera_merged: how many of the camera
+// subpath's vertices merge, s and those before (vcm.wgsl's mis_weight_connection).
 fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32, camera_merges: bool,
     camera_merged: u32) -> vec3f {
     var sum = vec3f(0.0);
@@ -93,6 +95,8 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
 // arriving on the side of the surface that wo sees merges, as SmallVCM's BSDF evaluation
 // decides (a thin shell's other side does not), on the same surface or one facing it (below).
 // The bias of the rest, the density estimate's over the radius, vanishes with it.
+// camera_merged: how many of the camera subpath's vertices merge, s and those before (s is one
+// of its first MERGES_A_PATH that merge: vcm.wgsl).
 fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32,
     camera_merged: u32) -> vec3f {
     let h = bucket_of(grid_params, s.p);
@@ -137,8 +141,7 @@ fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camer
             rev_pdf_w = bsdf_eval(s, m, albedo, wi, wo).pdf;
         }
         let weight = mis_weight_merge(camera, SubpathMis(v.d_vcm, v.d_vc, v.d_vm, v.d_merge), b.pdf, rev_pdf_w, camera_merged,
-            camera_length == 1u,
-            v.length == 1u, bidir_factors());
+            camera_length == 1u, v.length == 1u, bidir_factors());
         sum += b.f * v.beta * weight;
     }
     return sum / eta_vcm();
