@@ -162,10 +162,8 @@ fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera:
     if p.finite {
         direct_pdf_w *= ls.dist * ls.dist / max(p.cos_light, 1e-8);
     }
-    // Only dVC and the latest merges weigh the reverse density (0 at the first vertex, and
-    // without light subpaths).
     var rev_pdf_w = 0.0;
-    if camera.d_vc != 0.0 || any(camera.d_merge != vec2f(0.0)) {
+    if weighs_reverse(camera) {
         rev_pdf_w = bsdf_eval(s, m, albedo, ls.wi, wo).pdf;
     }
     let cos_to_light = dot(ls.wi, s.ns);

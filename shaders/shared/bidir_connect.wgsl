@@ -68,10 +68,8 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
             continue;
         }
         let light_pdf_w = bsdf_eval(sl, ml, ml.albedo, v.w_prev, wl).pdf;
-        // Only dVC and the latest merges weigh the camera's reverse density (0 at its first
-        // vertex).
         var camera_rev_pdf_w = 0.0;
-        if camera.d_vc != 0.0 || any(camera.d_merge != vec2f(0.0)) {
+        if weighs_reverse(camera) {
             camera_rev_pdf_w = bsdf_eval(s, m, albedo, w, wo).pdf;
         }
         let camera_pdf_a = bc.pdf * abs(dot(wl, sl.ns)) / dist2;
@@ -134,10 +132,8 @@ fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camer
         if all(b.f == vec3f(0.0)) {
             continue;
         }
-        // Only dVM and the merges before weigh the camera's reverse density (0 at its first
-        // vertex).
         var rev_pdf_w = 0.0;
-        if camera.d_vm != 0.0 || any(camera.d_merge != vec2f(0.0)) {
+        if weighs_reverse(camera) {
             rev_pdf_w = bsdf_eval(s, m, albedo, wi, wo).pdf;
         }
         let weight = mis_weight_merge(camera, SubpathMis(v.d_vcm, v.d_vc, v.d_vm, v.d_merge), b.pdf, rev_pdf_w, camera_merged,

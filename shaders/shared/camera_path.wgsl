@@ -242,11 +242,8 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         if bidir {
             // A delta lobe (mirror, smooth glass, a smooth plastic's coating) has no density.
             let specular = !nee_here || next.pdf <= 0.0;
-            // The reverse density weighs only the strategies dVC, dVM and the latest merges carry:
-            // none yet at the subpath's first vertex, and none without light subpaths
-            // (light_paths = 0). After a delta lobe dVC and dVM may be 0 where the merge is not.
             var pdf_rev = 0.0;
-            if !specular && (cm.d_vc != 0.0 || cm.d_vm != 0.0 || any(cm.d_merge != vec2f(0.0))) {
+            if !specular && weighs_reverse(cm) {
                 pdf_rev = bsdf_eval(s, m, albedo, next.wi, wo).pdf;
             }
             cm = mis_scatter(cm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, merges, depth == 0u, bidir_factors());

@@ -58,6 +58,14 @@ fn merges_left(camera_merges: u32, own: bool) -> u32 {
     return left - select(0u, 1u, own && left > 0u);
 }
 
+// Whether the subpath's quantities weigh the reverse density at its vertex (the other
+// subpath's sampling of the direction back along it): where dVC, dVM or its merges are not 0.
+// They are all 0 at a camera subpath's first vertex and without light subpaths; past a delta
+// lobe dVC and dVM may be 0 where the merges are not.
+fn weighs_reverse(m: SubpathMis) -> bool {
+    return m.d_vc != 0.0 || m.d_vm != 0.0 || any(m.d_merge != vec2f(0.0));
+}
+
 // dVC with the subpath's n latest merges.
 fn d_vc_of(m: SubpathMis, f: MisFactors, n: u32) -> f32 {
     return m.d_vc + f.vm * merge_terms(m, n);
@@ -188,7 +196,7 @@ fn mis_weight_nee(camera: SubpathMis, direct_pdf_w: f32, emission_pdf_w: f32, co
 fn mis_weight_connection(camera: SubpathMis, light: SubpathMis, camera_pdf_a: f32, camera_rev_pdf_w: f32,
     light_pdf_a: f32, light_rev_pdf_w: f32, camera_merges: bool, camera_merged: u32, light_merges: bool, camera_first: bool,
     light_first: bool, f: MisFactors) -> f32 {
-    let light_own = light_merges && camera_merged < MERGES_A_PATH;
+    let light_own = light_merges && merges_left(camera_merged, false) > 0u;
     let w_light = mis(camera_pdf_a) * (vm_at(f, light_own) + light.d_vcm * vcm_count(f, light_first)
         + d_vc_of(light, f, merges_left(camera_merged, light_merges)) * mis(light_rev_pdf_w));
     let w_camera = mis(light_pdf_a) * (vm_at(f, camera_merges) + camera.d_vcm * vcm_count(f, camera_first)

@@ -50,13 +50,8 @@ fn check_image(
 
 /// The mean of rows `rows` and columns `cols` of an image, over its channels.
 fn region_mean(img: &Rgb32Image, rows: std::ops::Range<u32>, cols: std::ops::Range<u32>) -> f64 {
-    let mut sum = 0.0;
-    for y in rows.clone() {
-        for x in cols.clone() {
-            sum += img.pixels[(y * img.width + x) as usize].iter().map(|&v| f64::from(v)).sum::<f64>();
-        }
-    }
-    sum / (3 * rows.len() * cols.len()) as f64
+    let region = Rgb32Image::from_fn(cols.len() as u32, rows.len() as u32, |x, y| img.get(cols.start + x, rows.start + y));
+    region.mean().iter().sum::<f64>() / 3.0
 }
 
 #[test]
