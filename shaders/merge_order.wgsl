@@ -10,8 +10,11 @@
 // lie beyond the radius). One thread a bucket sorts the entries by key, with the bucket's
 // point indices, then writes each entry's slot for its key: an insertion sort for a short
 // bucket, a heapsort (Williams 1964) for a long one, whose steps grow as b log b rather than
-// b^2 (a bucket lists tens of entries at one light subpath for 4 pixels, hundreds at several
-// a pixel, where insertion sorting took most of the pass: docs/journal/session-28.md).
+// b^2 (a bucket lists a few entries at one light subpath for 4 pixels, tens to hundreds at
+// several a pixel, where insertion sorting took most of the pass: docs/journal/session-28.md).
+// Each light vertex is listed once, in its own cell's bucket (grid_build.wgsl's
+// LISTS_OWN_CELL): in every bucket its radius reaches, as SPPM's points are, it made the
+// buckets 8 times as long and this sort a tenth of the pass (docs/journal/session-30.md).
 
 #import types
 #import light_vertex

@@ -97,48 +97,55 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
 // of its first MERGES_A_PATH that merge: vcm.wgsl).
 fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32,
     camera_merged: u32) -> vec3f {
-    let h = bucket_of(grid_params, s.p);
-    if h == NO_BUCKET {
-        return vec3f(0.0);
-    }
     let r = frame.global_radius;
+    // Each light vertex is listed in the bucket of its own cell (grid_build.wgsl's
+    // LISTS_OWN_CELL): those within r of s.p lie in the cells its box [s.p - r, s.p + r]
+    // overlaps, each bucket visited once.
+    let buckets = point_buckets(grid_params, s.p, r);
     var sum = vec3f(0.0);
-    for (var e = grid_cell_start[h]; e < grid_cell_start[h + 1u]; e++) {
-        // Its position first: most of a bucket's vertices lie beyond the radius.
-        let entry = merge_entries[e];
-        bidir_work[WORK_MERGE_CANDIDATES] += 1u;
-        if !within_radius(s.p, r, entry.xyz) {
+    for (var k = 0u; k < 8u; k++) {
+        if !visits(buckets, k) {
             continue;
         }
-        let v = light_vertices[bitcast<u32>(entry.w)];
-        if camera_length + v.length > frame.max_depth + 1u {
-            continue;
+        let h = buckets.h[k];
+        for (var e = grid_cell_start[h]; e < grid_cell_start[h + 1u]; e++) {
+            // Its position first: most of a bucket's vertices lie beyond the radius.
+            let entry = merge_entries[e];
+            bidir_work[WORK_MERGE_CANDIDATES] += 1u;
+            if !within_radius(s.p, r, entry.xyz) {
+                continue;
+            }
+            let v = light_vertices[bitcast<u32>(entry.w)];
+            if camera_length + v.length > frame.max_depth + 1u {
+                continue;
+            }
+            let wi = v.w_prev;
+            if dot(wi, s.ng) * dot(wo, s.ng) <= 0.0 || one_sided_culls(m, s, wi) {
+                continue;
+            }
+            // One surface (normals within 60 degrees), or two that face each other (a room's
+            // corner: each vertex in front of the other's surface). Two faces of a block that
+            // turn away from each other do not merge: the band of width r along its edge would
+            // take the light of the other face (on cornell-box its lit top into the front's top
+            // rows).
+            let n = select(-s.ng, s.ng, dot(wo, s.ng) > 0.0);
+            let n_light = select(-v.ng, v.ng, dot(wi, v.ng) > 0.0);
+            let to = v.p - s.p;
+            if dot(n, n_light) < 0.5 && !(dot(to, n) > 0.0 && dot(to, n_light) < 0.0) {
+                continue;
+            }
+            let b = bsdf_eval(s, m, albedo, wo, wi);
+            if all(b.f == vec3f(0.0)) {
+                continue;
+            }
+            var rev_pdf_w = 0.0;
+            if weighs_reverse(camera) {
+                rev_pdf_w = bsdf_eval(s, m, albedo, wi, wo).pdf;
+            }
+            let weight = mis_weight_merge(camera, SubpathMis(v.d_vcm, v.d_vc, v.d_vm, v.d_merge), b.pdf, rev_pdf_w, camera_merged,
+                camera_length == 1u, v.length == 1u, bidir_factors());
+            sum += b.f * v.beta * weight;
         }
-        let wi = v.w_prev;
-        if dot(wi, s.ng) * dot(wo, s.ng) <= 0.0 || one_sided_culls(m, s, wi) {
-            continue;
-        }
-        // One surface (normals within 60 degrees), or two that face each other (a room's
-        // corner: each vertex in front of the other's surface). Two faces of a block that turn
-        // away from each other do not merge: the band of width r along its edge would take the
-        // light of the other face (on cornell-box its lit top into the front's top rows).
-        let n = select(-s.ng, s.ng, dot(wo, s.ng) > 0.0);
-        let n_light = select(-v.ng, v.ng, dot(wi, v.ng) > 0.0);
-        let to = v.p - s.p;
-        if dot(n, n_light) < 0.5 && !(dot(to, n) > 0.0 && dot(to, n_light) < 0.0) {
-            continue;
-        }
-        let b = bsdf_eval(s, m, albedo, wo, wi);
-        if all(b.f == vec3f(0.0)) {
-            continue;
-        }
-        var rev_pdf_w = 0.0;
-        if weighs_reverse(camera) {
-            rev_pdf_w = bsdf_eval(s, m, albedo, wi, wo).pdf;
-        }
-        let weight = mis_weight_merge(camera, SubpathMis(v.d_vcm, v.d_vc, v.d_vm, v.d_merge), b.pdf, rev_pdf_w, camera_merged,
-            camera_length == 1u, v.length == 1u, bidir_factors());
-        sum += b.f * v.beta * weight;
     }
     return sum / eta_vcm();
 }

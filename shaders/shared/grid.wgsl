@@ -117,6 +117,15 @@ fn point_buckets(g: GridParams, p: vec3f, r: f32) -> PointBuckets {
     return out;
 }
 
+// The bucket of the cell holding p alone (corner 0), as a PointBuckets; none for no point
+// (radius 0) or outside the grid.
+fn own_bucket(g: GridParams, p: vec3f, r: f32) -> PointBuckets {
+    var out: PointBuckets;
+    out.h[0] = bucket_of(g, p);
+    out.keep = select(0u, 1u, r > 0.0 && out.h[0] != NO_BUCKET);
+    return out;
+}
+
 // Whether corner k's bucket is one to visit (bit k of b.keep).
 fn visits(b: PointBuckets, k: u32) -> bool {
     return ((b.keep >> k) & 1u) != 0u;

@@ -66,7 +66,19 @@ impl Specialization {
 
     /// Kernel `name` compiled for this scene.
     pub fn kernel(&self, device: &wgpu::Device, name: &'static str) -> Result<super::Kernel, super::GpuError> {
+        self.kernel_with(device, name, &[])
+    }
+
+    /// Kernel `name` compiled for this scene with `constants` besides (overrides a kernel
+    /// declares for its own uses, such as shared/grid_build.wgsl's `LISTS_OWN_CELL`).
+    pub fn kernel_with(
+        &self,
+        device: &wgpu::Device,
+        name: &'static str,
+        constants: &[(&'static str, f64)],
+    ) -> Result<super::Kernel, super::GpuError> {
         let replace: Vec<(&str, &str)> = self.replace.iter().map(|(token, code)| (*token, code.as_str())).collect();
-        super::Kernel::specialized(device, name, &replace, &self.constants)
+        let all: Vec<(&str, f64)> = self.constants.iter().chain(constants).copied().collect();
+        super::Kernel::specialized(device, name, &replace, &all)
     }
 }

@@ -35,7 +35,7 @@ pub const LIGHT_VERTEX_BYTES: u64 = size_of::<crate::layout::LightVertex>() as u
 
 /// Bytes the light-vertex store of bpt may take at most: a pass has one light subpath a pixel
 /// where `max_depth` vertices of each fit, fewer (pixels then share them) where not.
-const LIGHT_VERTEX_BUDGET: u64 = 256 << 20;
+pub const LIGHT_VERTEX_BUDGET: u64 = 256 << 20;
 
 /// Pixels for each light subpath of a bpt or vcm pass unless `light_paths` says otherwise.
 /// Light subpaths cost as much as camera subpaths, and on the diffuse canonical scenes the
@@ -74,7 +74,7 @@ pub fn light_paths(r: &RenderSettings, limit: u64, vertices: Option<f64>) -> Res
     let merging_alone = r.connect_share == Some(0.0) && merges(r);
     let per_path_pixels = if merging_alone { PIXELS_PER_LIGHT_PATH_MERGING } else { PIXELS_PER_LIGHT_PATH };
     let wanted = r.light_paths.unwrap_or((pixels / per_path_pixels).max(1));
-    let slots = most_slots(r.method, limit);
+    let slots = most_slots(limit);
     // The most subpaths whose slots fit ([`store_slots`] inverted): all at full depth, or as
     // the mean says.
     let at_full_depth = slots / depth;
@@ -88,13 +88,12 @@ pub fn light_paths(r: &RenderSettings, limit: u64, vertices: Option<f64>) -> Res
     Ok(at_full_depth.max(by_mean).min(keys).clamp(1, wanted as u64) as u32)
 }
 
-/// Light-vertex slots the buffers of `method` hold within `limit` bytes a buffer: the store at
-/// most [`LIGHT_VERTEX_BUDGET`] bytes, and vcm's merge entries, more bytes a slot than its
-/// vertex (the largest a slot has a part of; vcm's pilot builds them whatever share it
-/// chooses), within one buffer.
-fn most_slots(method: Method, limit: u64) -> u64 {
-    let slot_bytes = if method == Method::Vcm { LIGHT_VERTEX_BYTES.max(MERGE_ENTRY_BYTES) } else { LIGHT_VERTEX_BYTES };
-    (LIGHT_VERTEX_BUDGET.min(limit) / LIGHT_VERTEX_BYTES).min(limit / slot_bytes)
+/// Light-vertex slots the buffers hold within `limit` bytes a buffer: the store at most
+/// [`LIGHT_VERTEX_BUDGET`] bytes. Its vertex is the largest part a slot has in any buffer (vcm's
+/// point and merge entry are smaller), so the store's buffer is the one to fit.
+fn most_slots(limit: u64) -> u64 {
+    const _: () = assert!(MERGE_ENTRY_BYTES <= LIGHT_VERTEX_BYTES && size_of::<VisiblePoint>() as u64 <= LIGHT_VERTEX_BYTES);
+    LIGHT_VERTEX_BUDGET.min(limit) / LIGHT_VERTEX_BYTES
 }
 
 /// Light-vertex slots of a pass of `paths` subpaths of at most `depth` stored vertices that keep
@@ -126,9 +125,9 @@ const SPARE_SUBPATHS: u64 = 4;
 /// the mean), twice of which the store holds.
 pub const PROBE_PATHS: u32 = 4096;
 
-/// Bytes of a light-vertex slot's merge entries: a point in up to 8 buckets, each entry its
-/// position and slot (`merge_order.wgsl`).
-const MERGE_ENTRY_BYTES: u64 = 8 * 16;
+/// Bytes of a light-vertex slot's merge entry: a point in the bucket of its own cell, the
+/// entry its position and slot (`merge_order.wgsl`).
+const MERGE_ENTRY_BYTES: u64 = 16;
 
 /// Whether the render `r` is vcm without light subpaths (`light_paths = 0`, set or chosen by
 /// its pilot): camera subpaths with next-event estimation weighed by the power heuristic, which
@@ -154,7 +153,9 @@ pub fn vcm_radius(scene: &Scene, pass: u32) -> f32 {
     (r1 * ((pass as f64 + 1.0).powf(0.5 * (scene.render.alpha as f64 - 1.0)))) as f32
 }
 
-/// vcm's hashed grid of light vertices: SPPM's grid kernels over the light vertices' slots.
+/// vcm's hashed grid of light vertices: SPPM's grid kernels over the light vertices' slots,
+/// each vertex listed in the bucket of its own cell (`LISTS_OWN_CELL`), where a merge looks it
+/// up from the cells its radius reaches (bidir_connect.wgsl).
 struct MergeGrid {
     merge_setup: (Kernel, wgpu::BindGroup),
     setup: (Kernel, wgpu::BindGroup),
@@ -220,7 +221,7 @@ impl LightTracer {
         // ([`store_slots`]), no more than every subpath at full depth or the budget hold.
         let store = match light_paths(r, u64::MAX, Some(0.0)) {
             Ok(n) if is_bidirectional(r.method) => {
-                let slots = store_slots(n, r.max_depth, None).min(most_slots(r.method, u64::MAX));
+                let slots = store_slots(n, r.max_depth, None).min(most_slots(u64::MAX));
                 slots * (LIGHT_VERTEX_BYTES + merge_bytes(scene)) + 4 * n as u64 + 8
             }
             _ => 8,
@@ -356,7 +357,7 @@ impl LightTracer {
         // Room for one subpath at least (vcm may trace none).
         let paths = frame.photon_count.max(1);
         let (slots, paths) = if bidir {
-            (store_slots(paths, r.max_depth, vertices).min(most_slots(r.method, limit)), paths)
+            (store_slots(paths, r.max_depth, vertices).min(most_slots(limit)), paths)
         } else {
             // One vertex: the smallest binding the kernel's declaration takes.
             (1, 1)
@@ -369,7 +370,8 @@ impl LightTracer {
         let trace_group = light_trace.bind_group(device, &resources)?;
         let merge_grid = if merge {
             let stage = |name: &'static str| -> Result<(Kernel, wgpu::BindGroup), Error> {
-                let kernel = spec.kernel(device, name)?;
+                // Each light vertex listed in its own cell's bucket (shared/grid_build.wgsl).
+                let kernel = spec.kernel_with(device, name, &[("LISTS_OWN_CELL", 1.0)])?;
                 let group = kernel.bind_group(device, &resources)?;
                 Ok((kernel, group))
             };
@@ -732,11 +734,11 @@ fn probe_vertices(
     Ok(counts[0] as f64 / paths as f64)
 }
 
-/// Bytes of vcm's grid a light-vertex slot (its point, 8 grid entries and 8 merge entries;
+/// Bytes of vcm's grid a light-vertex slot (its point, its grid entry and its merge entry;
 /// the buckets, 4 a subpath, are in the margin).
 fn merge_bytes(scene: &Scene) -> u64 {
     if merges(&scene.render) {
-        size_of::<VisiblePoint>() as u64 + 8 * 4 + MERGE_ENTRY_BYTES + 4
+        size_of::<VisiblePoint>() as u64 + 4 + MERGE_ENTRY_BYTES + 4
     } else {
         0
     }
@@ -745,8 +747,9 @@ fn merge_bytes(scene: &Scene) -> u64 {
 /// vcm's grid over `slots` light-vertex slots of `paths` subpaths (a word each where `slots`
 /// is 1): room for a point a slot and their count, the grid build's dispatch, the box of the
 /// scene's surfaces, the pass's radius, the grid's parameters, a count and a start a bucket (4
-/// buckets a subpath: a pass stores a few vertices a subpath), and room for each point in 8
-/// buckets, as its index and as its merge entry (position and slot, merge_order.wgsl).
+/// buckets a subpath: a pass stores a few vertices a subpath), and room for each point in the
+/// bucket of its own cell, as its index and as its merge entry (position and slot,
+/// merge_order.wgsl).
 fn grid_buffers(
     device: &wgpu::Device,
     scene: &Scene,
@@ -777,7 +780,7 @@ fn grid_buffers(
         ("grid_params", storage_buffer(device, "grid_params", &words(size_of::<GridParams>() / 4))),
         ("grid_cell_count", storage_buffer(device, "grid_cell_count", &words(table_size as usize))),
         ("grid_cell_start", storage_buffer(device, "grid_cell_start", &words(table_size as usize + 1))),
-        ("grid_entries", zeroed_buffer(device, "grid_entries", 8 * 4 * slots as u64, STORAGE_USAGE)),
+        ("grid_entries", zeroed_buffer(device, "grid_entries", 4 * slots as u64, STORAGE_USAGE)),
         ("merge_entries", zeroed_buffer(device, "merge_entries", slots as u64 * MERGE_ENTRY_BYTES, STORAGE_USAGE)),
     ]
 }
