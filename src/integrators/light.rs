@@ -57,8 +57,8 @@ pub const PIXELS_PER_LIGHT_PATH_MERGING: u32 = 4;
 /// (of the whole image); bpt and vcm `light_paths`, or one for every
 /// [`PIXELS_PER_LIGHT_PATH`] pixels ([`PIXELS_PER_LIGHT_PATH_MERGING`] for vcm merging
 /// without connecting), at most as many as the light-vertex store holds ([`store_slots`] for
-/// `vertices` kept a subpath on average, `None` for every subpath at full depth) and as vcm's
-/// merge entries fit one buffer of `limit` bytes (at least one but for vcm's `light_paths = 0`).
+/// `vertices` kept a subpath on average, `None` for every subpath at full depth) within one
+/// buffer of `limit` bytes (at least one but for vcm's `light_paths = 0`).
 pub fn light_paths(r: &RenderSettings, limit: u64, vertices: Option<f64>) -> Result<u32, Error> {
     let pixels = r
         .width
