@@ -18,7 +18,7 @@
 // The hashed grid of the pass's light vertices (vcm), built by SPPM's grid kernels.
 @group(0) @binding(31) var<storage, read> grid_params: GridParams;
 @group(0) @binding(12) var<storage, read> grid_cell_start: array<u32>;
-// A bucket's light vertices in order of slot (merge_order.wgsl): position and slot.
+// A bucket's light vertices in order of key (merge_order.wgsl): position and slot.
 @group(0) @binding(35) var<storage, read> merge_entries: array<vec4f>;
 
 // The light subpath the camera subpath being traced connects to.
@@ -33,6 +33,7 @@ var<private> bidir_light_path: u32;
 // subpath's vertices merge, s and those before (vcm.wgsl's mis_weight_connection).
 fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32, camera_merges: bool,
     camera_merged: u32) -> vec3f {
+    let reverse = weighs_reverse(camera);
     var sum = vec3f(0.0);
     for (var slot = light_path_first[bidir_light_path]; slot != LIGHT_VERTEX_NONE; slot = light_vertices[slot].next) {
         let v = light_vertices[slot];
@@ -69,7 +70,7 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
         }
         let light_pdf_w = bsdf_eval(sl, ml, ml.albedo, v.w_prev, wl).pdf;
         var camera_rev_pdf_w = 0.0;
-        if weighs_reverse(camera) {
+        if reverse {
             camera_rev_pdf_w = bsdf_eval(s, m, albedo, w, wo).pdf;
         }
         let camera_pdf_a = bc.pdf * abs(dot(wl, sl.ns)) / dist2;
@@ -87,9 +88,11 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
 // Vertex merging (Georgiev et al. 2012, sec. 4; SmallVCM's RangeQuery): the light vertices
 // within the pass's radius r of surface point s, each the density estimate
 // f(wo, w_prev) beta / (pi r^2 n_light) of the light arriving at s, weighted against the other
-// strategies; without the camera subpath's throughput. Every vertex within r lies in the
-// bucket of s's own cell (each is listed in the cells its box of radius r overlaps; the
-// bucket lists their slots in light_vertices, in ascending order: merge_order.wgsl). Only light
+// strategies; without the camera subpath's throughput. Each light vertex is listed in the
+// bucket of its own cell alone (grid_build.wgsl's LISTS_OWN_CELL), so every one within r of s
+// lies in a cell that s's box [s.p - r, s.p + r] overlaps: the buckets of those cells are
+// visited, each once (point_buckets), each listing its vertices' positions and slots in
+// ascending order of key (merge_order.wgsl). Only light
 // arriving on the side of the surface that wo sees merges, as SmallVCM's BSDF evaluation
 // decides (a thin shell's other side does not), on the same surface or one facing it (below).
 // The bias of the rest, the density estimate's over the radius, vanishes with it.
@@ -98,10 +101,8 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
 fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camera: SubpathMis, camera_length: u32,
     camera_merged: u32) -> vec3f {
     let r = frame.global_radius;
-    // Each light vertex is listed in the bucket of its own cell (grid_build.wgsl's
-    // LISTS_OWN_CELL): those within r of s.p lie in the cells its box [s.p - r, s.p + r]
-    // overlaps, each bucket visited once.
     let buckets = point_buckets(grid_params, s.p, r);
+    let reverse = weighs_reverse(camera);
     var sum = vec3f(0.0);
     for (var k = 0u; k < 8u; k++) {
         if !visits(buckets, k) {
@@ -139,7 +140,7 @@ fn merge_light_vertices(s: Surface, m: Material, albedo: vec3f, wo: vec3f, camer
                 continue;
             }
             var rev_pdf_w = 0.0;
-            if weighs_reverse(camera) {
+            if reverse {
                 rev_pdf_w = bsdf_eval(s, m, albedo, wi, wo).pdf;
             }
             let weight = mis_weight_merge(camera, SubpathMis(v.d_vcm, v.d_vc, v.d_vm, v.d_merge), b.pdf, rev_pdf_w, camera_merged,
