@@ -133,7 +133,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
                         light_vertices[last].next = slot;
                     }
                     last = slot;
-                    if vcm_merges_at(m) {
+                    if vcm_merges_light(m, depth + 1u) {
                         let key = bitcast<f32>(light_vertex_key(index, stored));
                         visible_points[atomicAdd(&merge_count[0], 1u)] = VisiblePoint(s.p, frame.global_radius, vec3f(key, 0.0, 0.0), slot);
                     }
@@ -163,7 +163,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
                     // The camera's density of this vertex: its direction's, per pixel area
                     // (bidir.wgsl's camera_pdf_w), in area measure here.
                     let camera_pdf_a = view.importance * abs(dot(wo, s.ns));
-                    c *= mis_weight_to_camera(lm, camera_pdf_a, b.pdf, f32(frame.photon_count), vcm_merges_at(m), depth == 0u,
+                    c *= mis_weight_to_camera(lm, camera_pdf_a, b.pdf, f32(frame.photon_count), vcm_merges_light(m, depth + 1u), depth == 0u,
                         bidir_factors()) * kept(STRATEGY_LIGHT_TRACE);
                 }
                 connect_to_camera(offset_origin(s.p, s.ng, wo), view, c);
@@ -186,7 +186,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             if !specular {
                 pdf_rev = bsdf_eval(s, m, m.albedo, next.wi, -d).pdf;
             }
-            lm = mis_scatter(lm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, vcm_merges_at(m), depth == 0u, bidir_factors());
+            lm = mis_scatter(lm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, vcm_merges_light(m, depth + 1u), depth == 0u, bidir_factors());
         }
         // Russian roulette that keeps the subpath's largest channel constant.
         let beta_new = beta * next.weight;

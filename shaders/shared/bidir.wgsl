@@ -81,6 +81,17 @@ fn vcm_merges_at(m: Material) -> bool {
     return VCM_MERGE && frame.merge_share > 0.0 && (m.kind == MATERIAL_DIFFUSE || (is_plastic(m) && !rough_coat(m)));
 }
 
+// Whether a light vertex of material m, `length` scattering events from its light (1: reached
+// straight from it), merges: where its material merges, but not straight from the light. The
+// light there is next-event estimation's and BSDF sampling's to find, without a density
+// estimate's noise and blur, as SPPM's photons deposit only after a bounce when its camera pass
+// samples direct light (photon_pass.wgsl). Merging a light vertex of length 1 is then no
+// strategy of any path: next-event estimation's weight and emission's leave it out on the
+// camera's side too (vcm.wgsl).
+fn vcm_merges_light(m: Material, length: u32) -> bool {
+    return vcm_merges_at(m) && length > 1u;
+}
+
 // 1 where `strategy` is kept, else 0.
 fn kept(strategy: u32) -> f32 {
     return select(0.0, 1.0, (frame.strategies & strategy) != 0u);
@@ -118,33 +129,33 @@ fn bidir_camera_start(d: vec3f) -> SubpathMis {
 
 // Weight of the emission a camera subpath (its quantities `camera`, updated at the hit) finds
 // on area light shape `shape` at cosine cos_l; seen straight from the camera, 1 (light tracing
-// does not join a light's own point to the camera in bpt).
-fn bidir_emission_weight(camera: SubpathMis, shape: u32, cos_l: f32, first_segment: bool) -> f32 {
+// does not join a light's own point to the camera in bpt). last_merges: whether the subpath's
+// vertex before the light merges (vcm.wgsl's mis_weight_emission).
+fn bidir_emission_weight(camera: SubpathMis, shape: u32, cos_l: f32, first_segment: bool, last_merges: bool) -> f32 {
     if first_segment {
         return 1.0;
     }
     let pdfs = area_emission_pdfs(shape, cos_l);
-    return mis_weight_emission(camera, pdfs.direct_pdf_a, pdfs.emission_pdf_w, bidir_factors());
+    return mis_weight_emission(camera, pdfs.direct_pdf_a, pdfs.emission_pdf_w, last_merges, bidir_factors());
 }
 
 // Weight of the environment a camera subpath (its quantities `camera`, as its last vertex
 // left them: a light at infinity's densities are not in area measure, so no mis_hit) finds
 // along d from o, escaping; seen straight from the camera, 1 (no other strategy makes that
-// path).
-fn bidir_escaped_weight(camera: SubpathMis, o: vec3f, d: vec3f, first_segment: bool) -> f32 {
+// path). last_merges as for bidir_emission_weight.
+fn bidir_escaped_weight(camera: SubpathMis, o: vec3f, d: vec3f, first_segment: bool, last_merges: bool) -> f32 {
     if first_segment {
         return 1.0;
     }
     let e = environment();
     let pdfs = environment_emission_pdfs(e, d, o, environment_light_aim(e));
-    return mis_weight_emission(camera, pdfs.direct_pdf_a, pdfs.emission_pdf_w, bidir_factors());
+    return mis_weight_emission(camera, pdfs.direct_pdf_a, pdfs.emission_pdf_w, last_merges, bidir_factors());
 }
 
 // Next-event estimate at surface s seen from wo (direct_light's, the same numbers and
 // visibility), weighted against every other strategy that makes the same path; `first`
-// whether s is the camera subpath's first vertex, `merges` whether merging at s is a strategy
-// (camera_path.wgsl: one of the subpath's first MERGES_A_PATH vertices that merge).
-fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera: SubpathMis, first: bool, merges: bool, u: vec3f) -> vec3f {
+// whether s is the camera subpath's first vertex.
+fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera: SubpathMis, first: bool, u: vec3f) -> vec3f {
     let sample = sample_light_mis(s.p, u);
     let ls = sample.ls;
     if all(ls.li == vec3f(0.0)) || !bsdf_joins(m, s, wo, ls.wi) {
@@ -168,6 +179,6 @@ fn bidir_direct_light(s: Surface, wo: vec3f, m: Material, albedo: vec3f, camera:
     }
     let cos_to_light = dot(ls.wi, s.ns);
     let weight = mis_weight_nee(camera, direct_pdf_w, p.emission_pdf_w, cos_to_light, p.cos_light, b.pdf, rev_pdf_w, p.delta,
-        merges, first, bidir_factors());
+        first, bidir_factors());
     return b.f * abs(cos_to_light) * ls.li * weight;
 }

@@ -77,7 +77,7 @@ fn connect_light_subpath(s: Surface, m: Material, albedo: vec3f, wo: vec3f, came
         let light_pdf_a = light_pdf_w * abs(dot(w, s.ns)) / dist2;
         let light = SubpathMis(v.d_vcm, v.d_vc, v.d_vm, v.d_merge);
         let weight = mis_weight_connection(camera, light, camera_pdf_a, camera_rev_pdf_w, light_pdf_a, bl.pdf, camera_merges,
-            camera_merged, vcm_merges_at(ml), camera_length == 1u, v.length == 1u, bidir_factors());
+            camera_merged, vcm_merges_light(ml, v.length), camera_length == 1u, v.length == 1u, bidir_factors());
         if unoccluded(offset_origin(s.p, s.ng, w), offset_origin(v.p, sl.ng, wl)) {
             sum += c * weight;
         }

@@ -95,8 +95,10 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
     var past_vp = false;
     // The bidirectional MIS quantities of the subpath so far (shared/vcm.wgsl).
     var cm = SubpathMis(0.0, 0.0, 0.0, vec2f(0.0));
-    // The subpath's vertices that merged (vcm merges at the first MERGES_A_PATH: vcm.wgsl).
+    // The subpath's vertices that merged (vcm merges at the first MERGES_A_PATH: vcm.wgsl), and
+    // whether its latest vertex did (emission found next leaves that merge out of its weight).
     var merged = 0u;
+    var last_merged = false;
     if bidir {
         cm = bidir_camera_start(d);
     }
@@ -155,7 +157,7 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
             // The ray escapes: the environment, weighted as emission is.
             if USES_ENVIRONMENT {
                 if bidir {
-                    let weight = bidir_escaped_weight(cm, o, d, depth == 0u) * kept(STRATEGY_EMISSION);
+                    let weight = bidir_escaped_weight(cm, o, d, depth == 0u, last_merged) * kept(STRATEGY_EMISSION);
                     path.l += beta * environment_eval(d).l * weight;
                 } else {
                     path.l += beta * escaped_light(d, pdf_prev);
@@ -172,7 +174,7 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         let shape = shapes[s.shape];
         if shape.emits != 0u && dot(d, s.ng) < 0.0 {
             if bidir {
-                path.l += beta * shape.emission * (bidir_emission_weight(cm, s.shape, -dot(d, s.ng), depth == 0u) * kept(STRATEGY_EMISSION));
+                path.l += beta * shape.emission * (bidir_emission_weight(cm, s.shape, -dot(d, s.ng), depth == 0u, last_merged) * kept(STRATEGY_EMISSION));
             } else {
                 path.l += beta * shape.emission * emission_weight(pdf_prev, mis_o, hit, s, d);
             }
@@ -203,7 +205,7 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         let merged_here = merged + select(0u, 1u, merges);
         if nee_here && bidir {
             bidir_work[WORK_CAMERA_VERTICES] += 1u;
-            path.l += beta * bidir_direct_light(s, wo, m, albedo, cm, depth == 0u, merges, vec3f(rng_next(rng), rng_next2(rng)))
+            path.l += beta * bidir_direct_light(s, wo, m, albedo, cm, depth == 0u, vec3f(rng_next(rng), rng_next2(rng)))
                 * kept(STRATEGY_NEE);
             if (frame.strategies & STRATEGY_CONNECT) != 0u && bidir_takes(frame.connect_share, 0u, depth) {
                 path.l += beta * connect_light_subpath(s, m, albedo, wo, cm, depth + 1u, merges, merged_here) / frame.connect_share;
@@ -250,6 +252,7 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
             // Past a delta lobe the path's vertex is specular: merging there is no strategy of
             // it, and a later vertex may merge in its place.
             merged += select(0u, 1u, merges && !specular);
+            last_merged = merges && !specular;
         }
         if use_roulette {
             eta_scale *= refraction_eta2(m, s, d, next.wi);

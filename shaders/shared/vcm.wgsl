@@ -84,8 +84,9 @@ struct MisFactors {
 }
 
 // Merging's factor at a vertex: f.vm where merging there is a strategy (`merges`: where the
-// vertex's material merges, bidir.wgsl's vcm_merges_at, as both subpaths see it, and it is one
-// of the MERGES_A_PATH nearest the camera), else 0.
+// vertex's material merges, bidir.wgsl's vcm_merges_at, as both subpaths see it, it is one of
+// the MERGES_A_PATH nearest the camera, and not the light subpath's first: vcm_merges_light),
+// else 0.
 fn vm_at(f: MisFactors, merges: bool) -> f32 {
     return select(0.0, f.vm, merges);
 }
@@ -166,9 +167,13 @@ fn mis_weight_to_camera(light: SubpathMis, camera_pdf_a: f32, bsdf_rev_pdf_w: f3
 
 // Weight of emission hit by a camera subpath (`camera` updated by mis_hit at the light):
 // next-event estimation would have sampled the point with direct_pdf_a, and a light subpath
-// the point and the direction to the camera's previous vertex with emission_pdf_w.
-fn mis_weight_emission(camera: SubpathMis, direct_pdf_a: f32, emission_pdf_w: f32, f: MisFactors) -> f32 {
-    let w_camera = mis(direct_pdf_a) * camera.d_vcm + mis(emission_pdf_w) * d_vc_of(camera, f, MERGES_A_PATH);
+// the point and the direction to the camera's previous vertex with emission_pdf_w. A merge at
+// that vertex (`last_merges`, its term the latest of camera.d_merge) would take a light vertex
+// straight from the light, which no light vertex merges as (bidir.wgsl's vcm_merges_light):
+// no strategy, left out.
+fn mis_weight_emission(camera: SubpathMis, direct_pdf_a: f32, emission_pdf_w: f32, last_merges: bool, f: MisFactors) -> f32 {
+    let merges = select(merge_terms(camera, MERGES_A_PATH), camera.d_merge.y, last_merges);
+    let w_camera = mis(direct_pdf_a) * camera.d_vcm + mis(emission_pdf_w) * (camera.d_vc + f.vm * merges);
     return 1.0 / (1.0 + w_camera);
 }
 
@@ -176,13 +181,14 @@ fn mis_weight_emission(camera: SubpathMis, direct_pdf_a: f32, emission_pdf_w: f3
 // (solid angle from the vertex, light choice included; 0 for a delta light, which BSDF
 // sampling cannot hit), and would have emitted towards the vertex with emission_pdf_w; the
 // BSDF samples the light's direction with bsdf_pdf_w and the opposite with bsdf_rev_pdf_w;
-// cos_to_light at the vertex, cos_at_light at the light; `merges` whether the vertex merges,
-// `first` whether it is the camera subpath's first.
+// cos_to_light at the vertex, cos_at_light at the light; `first` whether the vertex is the
+// camera subpath's first. A merge at the vertex would take a light vertex straight from the
+// light: no strategy (bidir.wgsl's vcm_merges_light).
 fn mis_weight_nee(camera: SubpathMis, direct_pdf_w: f32, emission_pdf_w: f32, cos_to_light: f32, cos_at_light: f32,
-    bsdf_pdf_w: f32, bsdf_rev_pdf_w: f32, delta: bool, merges: bool, first: bool, f: MisFactors) -> f32 {
+    bsdf_pdf_w: f32, bsdf_rev_pdf_w: f32, delta: bool, first: bool, f: MisFactors) -> f32 {
     let w_light = select(mis(bsdf_pdf_w / direct_pdf_w), 0.0, delta);
     let w_camera = mis(emission_pdf_w * abs(cos_to_light) / (direct_pdf_w * abs(cos_at_light)))
-        * (vm_at(f, merges) + camera.d_vcm * vcm_count(f, first) + d_vc_of(camera, f, MERGES_A_PATH) * mis(bsdf_rev_pdf_w));
+        * (camera.d_vcm * vcm_count(f, first) + d_vc_of(camera, f, MERGES_A_PATH) * mis(bsdf_rev_pdf_w));
     return 1.0 / (w_light + 1.0 + w_camera);
 }
 
@@ -191,7 +197,7 @@ fn mis_weight_nee(camera: SubpathMis, direct_pdf_w: f32, emission_pdf_w: f32, co
 // direction with *_rev_pdf_w; camera_merges whether merging at the camera vertex is a strategy
 // (one of the camera subpath's first MERGES_A_PATH vertices that merge), camera_merged how many
 // of the camera subpath's vertices merge, there and before; light_merges whether the light
-// vertex's material merges; *_first whether it is its subpath's first past the start. The
+// vertex merges (bidir.wgsl's vcm_merges_light); *_first whether it is its subpath's first past the start. The
 // connection's own count is f.connect.
 fn mis_weight_connection(camera: SubpathMis, light: SubpathMis, camera_pdf_a: f32, camera_rev_pdf_w: f32,
     light_pdf_a: f32, light_rev_pdf_w: f32, camera_merges: bool, camera_merged: u32, light_merges: bool, camera_first: bool,

@@ -5,8 +5,9 @@
 // Strategies: emission hit by the camera subpath, next-event estimation at x1, a connection
 // between x(s-1) and x(s) for 1 < s < k, light tracing (x(k-1) joined to the camera) and, with
 // merging, a merge at each of the MERGES_A_PATH interior vertices nearest the camera of those
-// that merge (its flag: vcm merges only at some materials, bidir.wgsl's vcm_merges_at; and only
-// at the camera subpath's first vertices that merge, vcm.wgsl). Each path has its own shares of camera vertices that
+// that merge (its flag: vcm merges only at some materials, bidir.wgsl's vcm_merges_at; only
+// at the camera subpath's first vertices that merge, vcm.wgsl; and not at x1, whose light
+// vertex comes straight from the light, vcm_merges_light). Each path has its own shares of camera vertices that
 // connect (c) and merge (m), the strategies' counts in the heuristic.
 
 #import vcm
@@ -64,6 +65,12 @@ fn merged_from(k: u32, i: u32) -> u32 {
     return min(n, MERGES_A_PATH);
 }
 
+// Whether light-side vertex x(i) merges (bidir.wgsl's vcm_merges_light): where it merges,
+// but not x1, reached straight from the light.
+fn light_merges(i: u32) -> bool {
+    return merges(i) && i > 1u;
+}
+
 // Whether merging at camera-side vertex x(i) is a strategy: one of the camera subpath's first
 // MERGES_A_PATH vertices that merge.
 fn camera_merges(k: u32, i: u32) -> bool {
@@ -99,7 +106,7 @@ fn light_subpath(last: u32, f: MisFactors) -> SubpathMis {
     var m = mis_light_start(direct_pdf_a, emission_pdf_w, cos_at(0u, 1u), false, f);
     m = mis_hit(m, length(x(1u) - x(0u)), cos_at(1u, 0u), true);
     for (var i = 1u; i < last; i++) {
-        m = mis_scatter(m, pdf_w(i, i + 1u), pdf_w(i, i - 1u), cos_at(i, i + 1u), false, merges(i), i == 1u, f);
+        m = mis_scatter(m, pdf_w(i, i + 1u), pdf_w(i, i - 1u), cos_at(i, i + 1u), false, light_merges(i), i == 1u, f);
         m = mis_hit(m, length(x(i + 1u) - x(i)), cos_at(i + 1u, i), true);
     }
     return m;
@@ -134,14 +141,14 @@ fn weight_sum(k: u32, f: MisFactors, with_merging: bool) -> vec2f {
     let direct_pdf_a = params.pick / params.area;
     // Emission hit by the camera subpath at x0.
     let c0 = camera_subpath(k, 0u, f);
-    sum += mis_weight_emission(c0, direct_pdf_a, direct_pdf_a * pdf_w(0u, 1u), f);
+    sum += mis_weight_emission(c0, direct_pdf_a, direct_pdf_a * pdf_w(0u, 1u), camera_merges(k, 1u), f);
     count += 1.0;
     // Next-event estimation at x1.
     let c1 = camera_subpath(k, 1u, f);
     let d01 = length(x(1u) - x(0u));
     let direct_pdf_w = direct_pdf_a * d01 * d01 / cos_at(0u, 1u);
     sum += mis_weight_nee(c1, direct_pdf_w, direct_pdf_a * pdf_w(0u, 1u), cos_at(1u, 0u), cos_at(0u, 1u), pdf_w(1u, 0u),
-        camera_rev(k, 1u), false, camera_merges(k, 1u), k == 2u, f);
+        camera_rev(k, 1u), false, k == 2u, f);
     count += 1.0;
     // Connections of x(s - 1) to x(s).
     for (var s = 2u; s < k; s++) {
@@ -149,19 +156,20 @@ fn weight_sum(k: u32, f: MisFactors, with_merging: bool) -> vec2f {
         let c = camera_subpath(k, s, f);
         sum += mis_weight_connection(c, l, to_area(pdf_w(s, s - 1u), s, s - 1u), camera_rev(k, s),
             to_area(pdf_w(s - 1u, s), s - 1u, s), pdf_w(s - 1u, s - 2u), camera_merges(k, s), merged_from(k, s),
-            merges(s - 1u), s + 1u == k, s == 2u, f);
+            light_merges(s - 1u), s + 1u == k, s == 2u, f);
         count += 1.0;
     }
     // Light tracing: x(k - 1) joined to the camera.
     let lt = light_subpath(k - 1u, f);
     let camera_pdf_a = to_area(camera_pdf_w(k, k - 1u), k, k - 1u);
-    sum += mis_weight_to_camera(lt, camera_pdf_a, pdf_w(k - 1u, k - 2u), params.n_light, merges(k - 1u), k == 2u, f);
+    sum += mis_weight_to_camera(lt, camera_pdf_a, pdf_w(k - 1u, k - 2u), params.n_light, light_merges(k - 1u), k == 2u, f);
     count += 1.0;
     // A merge at x(i), one of the MERGES_A_PATH vertices nearest the camera of those that merge,
     // the light subpath's last direction from x(i - 1).
     if with_merging {
         for (var i = 1u; i < k; i++) {
-            if !camera_merges(k, i) {
+            // x1's light vertex is straight from the light: not in the grid.
+            if !camera_merges(k, i) || i == 1u {
                 continue;
             }
             let l = light_subpath(i, f);

@@ -90,7 +90,9 @@ fn mis_weights_of_every_strategy_sum_to_one() {
         if let Some(words) = random_path(&mut rng, k, &merges, shares) {
             paths.extend(words);
             lengths.push(k);
-            merging.push(merges.iter().filter(|&&m| m).count());
+            // The merges: at the two interior vertices nearest the camera that merge, but not
+            // at x1, whose light vertex comes straight from the light (vcm_merges_light).
+            merging.push((1..k).rev().filter(|&i| merges[i]).take(2).filter(|&i| i > 1).count());
         }
     }
     let count = lengths.len();
@@ -127,9 +129,8 @@ fn mis_weights_of_every_strategy_sum_to_one() {
         let staging = staging_buffer(&gpu.device, "sums_staging", sums.size());
         let out: Vec<[f32; 4]> = read_buffer(&gpu.device, &gpu.queue, &sums, &staging, sums.size()).unwrap();
         for (i, ((s, k), merges)) in out.iter().zip(&lengths).zip(&merging).enumerate() {
-            // Strategies: emission, NEE, k - 2 connections, light tracing; and a merge at each of
-            // the two interior vertices nearest the camera that merge.
-            assert_eq!((s[2], s[3]), ((k + 1) as f32, (k + 1 + merges.min(&2)) as f32), "path {i}: strategies counted");
+            // Strategies: emission, NEE, k - 2 connections, light tracing; and the merges.
+            assert_eq!((s[2], s[3]), ((k + 1) as f32, (k + 1 + merges) as f32), "path {i}: strategies counted");
             assert!((s[0] - 1.0).abs() < 1e-4, "path {i} of {k} segments, power {power}: BPT's weights sum to {}", s[0]);
             assert!((s[1] - 1.0).abs() < 1e-4, "path {i} of {k} segments, power {power}: VCM's weights sum to {}", s[1]);
             worst = (worst.0.max((s[0] - 1.0).abs()), worst.1.max((s[1] - 1.0).abs()));
