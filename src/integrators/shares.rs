@@ -9,7 +9,8 @@
 //! [`CANDIDATES`]: everything (1, 1), merging without connections (0, 1), connections without
 //! merging (1, 0), light tracing alone beside the camera's strategies (0, 0), and no light
 //! subpaths at all (camera subpaths with next-event estimation, as pt-nee but weighed by the
-//! power heuristic). Each candidate's error is the
+//! power heuristic); then, where merging alone is the best of those, merging alone with four
+//! times its light subpaths. Each candidate's error is the
 //! relative variance of its passes' estimates (the mean over pixels and channels of each
 //! pixel's sample variance over `mu^2 + 0.01`, `mu` the pixel's mean over every pilot pass: a
 //! pass's relMSE as `diff` measures it, less the bias); its cost is a weighted count of the
@@ -35,46 +36,62 @@ use std::fmt;
 use std::sync::Arc;
 
 /// A configuration of vcm's strategies: the shares of camera vertices that connect and that
-/// merge, and whether light subpaths are traced at all.
+/// merge, whether light subpaths are traced at all, and how many.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Choice {
     /// The shares.
     pub shares: Shares,
     /// Whether light subpaths are traced (else `light_paths = 0`, and both shares are 0).
     pub light_subpaths: bool,
+    /// Pixels for each light subpath of a pass; 0 for the method's own count
+    /// ([`light_paths`]).
+    pub pixels_per_light_path: u32,
 }
 
 impl Choice {
-    const fn new(connect: f32, merge: f32, light_subpaths: bool) -> Self {
-        Self { shares: Shares { connect, merge }, light_subpaths }
+    const fn new(connect: f32, merge: f32, light_subpaths: bool, pixels_per_light_path: u32) -> Self {
+        Self { shares: Shares { connect, merge }, light_subpaths, pixels_per_light_path }
     }
 
-    /// Sets the choice in `render`: its shares, and no light subpaths where it traces none.
+    /// Sets the choice in `render`: its shares, no light subpaths where it traces none, and
+    /// its light subpaths a pass where it sets them.
     pub fn apply(&self, render: &mut RenderSettings) {
         (render.connect_share, render.merge_share) = (Some(self.shares.connect), Some(self.shares.merge));
         if !self.light_subpaths {
             render.light_paths = Some(0);
+        } else if let Some(n) = render.width.saturating_mul(render.height).checked_div(self.pixels_per_light_path) {
+            render.light_paths = Some(n.max(1));
         }
     }
 }
 
 impl fmt::Display for Choice {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.light_subpaths {
-            write!(f, "{}/{}", self.shares.connect, self.shares.merge)
-        } else {
-            write!(f, "none")
+        if !self.light_subpaths {
+            return write!(f, "none");
         }
+        write!(f, "{}/{}", self.shares.connect, self.shares.merge)?;
+        if self.pixels_per_light_path > 0 {
+            write!(f, "@{}", self.pixels_per_light_path)?;
+        }
+        Ok(())
     }
 }
 
-/// The configurations the pilot weighs ([`candidates`] says which of them for a scene).
-pub const CANDIDATES: [Choice; 5] = [
-    Choice::new(1.0, 1.0, true),
-    Choice::new(0.0, 1.0, true),
-    Choice::new(1.0, 0.0, true),
-    Choice::new(0.0, 0.0, true),
-    Choice::new(0.0, 0.0, false),
+/// The configurations the pilot weighs ([`candidates`] says which of them for a scene). The
+/// last merges alone with a light subpath for every pixel, four times merging alone's own
+/// ([`super::light::PIXELS_PER_LIGHT_PATH_MERGING`]): where light reaches every surface through
+/// glass, merging finds it and nothing else does, and its variance is the image's (on
+/// cornell-skylight 85% of it, `--strategy-images`); there the pilot rates it 0.65x merging
+/// alone (relative variance x cost) and at 60 s it renders 2.46e-3 against 2.72e-3, where on the
+/// other canonical scenes the pilot rates it 1.13x to 1.34x (BENCHMARKS.md "VCM").
+pub const CANDIDATES: [Choice; 6] = [
+    Choice::new(1.0, 1.0, true, 0),
+    Choice::new(0.0, 1.0, true, 0),
+    Choice::new(1.0, 0.0, true, 0),
+    Choice::new(0.0, 0.0, true, 0),
+    Choice::new(0.0, 0.0, false, 0),
+    Choice::new(0.0, 1.0, true, 1),
 ];
 
 /// The candidates the pilot weighs for `scene`: every one of [`CANDIDATES`], but where a
@@ -86,11 +103,17 @@ pub const CANDIDATES: [Choice; 5] = [
 /// rates (relative variance x cost) light tracing beside the camera's strategies at 1.03x
 /// merging alone and camera subpaths alone at 1.05x, where at 30 s their relMSE is 2x and
 /// (pt-nee's) 10x merging alone's (BENCHMARKS.md "VCM").
+/// A scene that sets `light_paths` keeps its count: the candidates that set one are left out.
 pub fn candidates(scene: &Scene) -> Vec<Choice> {
     // A measuring hook (scripts/measure/vcm-pilot-cost.sh): every candidate on every scene.
     let every = std::env::var_os("SPPM_GPU_PILOT_ALL").is_some();
     let hidden = !every && scene.materials.iter().any(|m| m.kind.hides_lights());
-    CANDIDATES.into_iter().filter(|c| !hidden || c.shares.connect > 0.0 || c.shares.merge > 0.0).collect()
+    let counted = scene.render.light_paths.is_some();
+    CANDIDATES
+        .into_iter()
+        .filter(|c| !hidden || c.shares.connect > 0.0 || c.shares.merge > 0.0)
+        .filter(|c| !counted || c.pixels_per_light_path == 0)
+        .collect()
 }
 
 /// Pixels of the pilot's image on its longer side (at most the render's).
@@ -110,23 +133,29 @@ pub const REPRESENTATIVE_PASS: u32 = 256;
 /// What a pass's work costs, in units of a camera vertex (its next-event estimate and its
 /// next segment, with its share of the pass's camera subpaths' starts): a connection (a shadow
 /// ray and four BSDF evaluations), a light vertex a merging camera vertex looks at in the grid
-/// (with its share of building the grid), a light vertex (its segment, light tracing's join
-/// to the camera), and a pixel's splats added to its estimate where light subpaths are traced
-/// (2.1e-8 s on the two cores: 400 passes of cornell-box without light subpaths, 8.99 s with
-/// that pass and 8.43 s without). The rest fitted on lavapipe to the pass times of the
-/// candidates on seven scenes (`scripts/measure/vcm-pilot-cost.sh`, BENCHMARKS.md "VCM"; after
-/// merging read merge entries, the mean of four runs for the scenes traced by code and two for
-/// those traced through a BVH, each within 15% of every pass time, the light vertex the
-/// loosest figure):
+/// (with its share of building the grid), a camera vertex's lookups where the pass merges, a
+/// light vertex (its segment, light tracing's join to the camera), and a pixel's splats added
+/// to its estimate where light subpaths are traced (2.1e-8 s on the two cores: 400 passes of
+/// cornell-box without light subpaths, 8.99 s with that pass and 8.43 s without). The
+/// connection, the merge candidate and the lookups fitted on lavapipe to the pass times of the
+/// candidates on six scenes, the light vertex held at earlier fits' figure (it and the
+/// candidates grow together, and a free fit gives it a cost below 0; `scripts/measure/vcm-pilot-cost.sh`,
+/// BENCHMARKS.md "VCM"; since light straight from a lamp stopped merging, the mean of two runs,
+/// each pass time within 17% of either run's fit on the scenes traced by code, 4% on the one
+/// through a BVH):
 /// a camera vertex and a connection cost what the scene's rays cost, about three
 /// times more in scenes traced through a BVH than in those small enough to be traced by code
-/// ([`crate::gpu::baked_bvh`]), a merge candidate less so.
+/// ([`crate::gpu::baked_bvh`]), a merge candidate and a lookup less so.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CostModel {
     /// A connection's cost in camera vertices.
     pub connection: f64,
     /// A merge candidate's cost in camera vertices.
     pub merge_candidate: f64,
+    /// A camera vertex's cost besides, in camera vertices, where the pass merges: the lookups
+    /// in the grid of its subpath's merging vertices (the bounds of the buckets their radius
+    /// reaches), which the candidates they find do not stand for.
+    pub merging_camera_vertex: f64,
     /// A light vertex's cost in camera vertices (its segment, storing it, light tracing's join
     /// to the camera).
     pub light_vertex: f64,
@@ -142,12 +171,24 @@ pub struct CostModel {
 
 /// [`CostModel`] of a scene traced by code (at most
 /// [`MAX_BAKED_PRIMITIVES`](crate::gpu::scene_buffers::MAX_BAKED_PRIMITIVES) primitives).
-pub const BAKED_COST: CostModel =
-    CostModel { connection: 0.63, merge_candidate: 0.27, light_vertex: 0.29, splat_pixel: 0.14, camera_vertex_alone: 0.89 };
+pub const BAKED_COST: CostModel = CostModel {
+    connection: 0.55,
+    merge_candidate: 0.35,
+    merging_camera_vertex: 0.55,
+    light_vertex: 0.29,
+    splat_pixel: 0.14,
+    camera_vertex_alone: 0.89,
+};
 
 /// [`CostModel`] of a scene traced through a BVH.
-pub const TRAVERSED_COST: CostModel =
-    CostModel { connection: 0.56, merge_candidate: 0.15, light_vertex: 1.04, splat_pixel: 0.04, camera_vertex_alone: 0.91 };
+pub const TRAVERSED_COST: CostModel = CostModel {
+    connection: 0.62,
+    merge_candidate: 0.16,
+    merging_camera_vertex: 0.14,
+    light_vertex: 1.04,
+    splat_pixel: 0.04,
+    camera_vertex_alone: 0.91,
+};
 
 impl CostModel {
     /// The cost model of the scene of `data`.
@@ -167,7 +208,8 @@ impl CostModel {
         if !light_subpaths {
             return self.camera_vertex_alone * n(WORK_CAMERA_VERTICES);
         }
-        n(WORK_CAMERA_VERTICES)
+        let merging = if n(WORK_MERGE_CANDIDATES) > 0.0 { self.merging_camera_vertex } else { 0.0 };
+        n(WORK_CAMERA_VERTICES) * (1.0 + merging)
             + self.connection * n(WORK_CONNECTIONS)
             + self.merge_candidate * n(WORK_MERGE_CANDIDATES)
             + self.light_vertex * n(WORK_LIGHT_VERTICES)
@@ -195,7 +237,8 @@ pub struct Candidate {
 pub struct Pilot {
     /// The candidate of least relative variance times cost.
     pub chosen: Choice,
-    /// Every candidate's figures, in the order of [`candidates`].
+    /// The figures of each candidate the pilot ran: those of [`candidates`] at the method's own
+    /// light subpaths in order, then, where merging alone was the best of them, the rest.
     pub candidates: Vec<Candidate>,
     /// The pilot image's width.
     pub width: u32,
@@ -218,10 +261,18 @@ impl fmt::Display for Pilot {
         let chosen = self.chosen.shares;
         if self.chosen.light_subpaths {
             write!(f, "connect share {} and merge share {}", chosen.connect, chosen.merge)?;
+            match self.chosen.pixels_per_light_path {
+                0 => {}
+                1 => write!(f, ", a light subpath a pixel")?,
+                n => write!(f, ", a light subpath for every {n} pixels")?,
+            }
         } else {
             write!(f, "no light subpaths (light_paths = 0: camera subpaths with next-event estimation, as pt-nee)")?;
         }
-        write!(f, " (relative variance x cost of connect/merge shares, none for no light subpaths:")?;
+        write!(
+            f,
+            " (relative variance x cost of connect/merge shares, @ pixels a light subpath where set, none for no light subpaths:"
+        )?;
         for c in &self.candidates {
             write!(f, " {} {:.3e}", c.choice, c.rel_variance * c.cost)?;
         }
@@ -303,43 +354,62 @@ pub fn choose(
     let mut before = vec![[0.0f32; 4]; pixels];
     // A measuring hook (scripts/measure/vcm-pilot-cost.sh): each pilot pass's time and counts.
     let log = std::env::var_os("SPPM_GPU_PILOT_LOG").is_some();
-    for pass in 0..PILOT_PASSES * choices.len() as u32 {
-        let k = pass as usize % choices.len();
-        let pass_start = std::time::Instant::now();
-        let (sums, work_counts) = tracer.counted_pass(choices[k].shares, counts[k])?;
-        if log {
-            eprintln!("pilot pass {k} {:.6} {work_counts:?}", pass_start.elapsed().as_secs_f64());
+    // The passes of candidates `ks`, in turn; then every candidate run so far, its figures
+    // with each pixel's mean over every pilot pass so far.
+    let mut ran: Vec<usize> = Vec::new();
+    let mut run = |ks: &[usize]| -> Result<Vec<Candidate>, Error> {
+        for pass in 0..PILOT_PASSES * ks.len() as u32 {
+            let k = ks[pass as usize % ks.len()];
+            let pass_start = std::time::Instant::now();
+            let (sums, work_counts) = tracer.counted_pass(choices[k].shares, counts[k])?;
+            if log {
+                eprintln!("pilot pass {k} {:.6} {work_counts:?}", pass_start.elapsed().as_secs_f64());
+            }
+            let estimate: Vec<[f32; 3]> =
+                sums.iter().zip(&before).map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]]).collect();
+            before = sums;
+            estimates[k].push(estimate);
+            costs[k] += model.cost(&work_counts, counts[k] > 0, pixels as u32) / PILOT_PASSES as f64;
+            for (w, &n) in work[k].iter_mut().zip(&work_counts) {
+                *w += n as f64 / PILOT_PASSES as f64;
+            }
         }
-        let estimate: Vec<[f32; 3]> = sums.iter().zip(&before).map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]]).collect();
-        before = sums;
-        estimates[k].push(estimate);
-        costs[k] += model.cost(&work_counts, counts[k] > 0, pixels as u32) / PILOT_PASSES as f64;
-        for (w, &n) in work[k].iter_mut().zip(&work_counts) {
-            *w += n as f64 / PILOT_PASSES as f64;
-        }
+        ran.extend_from_slice(ks);
+        let all = tracer.passes().max(1) as f64;
+        let mu: Vec<[f64; 3]> = before.iter().map(|s| [s[0] as f64 / all, s[1] as f64 / all, s[2] as f64 / all]).collect();
+        Ok(ran
+            .iter()
+            .map(|&k| Candidate {
+                choice: choices[k],
+                light_paths: counts[k],
+                rel_variance: rel_variance(&estimates[k], &mu),
+                cost: costs[k],
+                counts: work[k],
+            })
+            .collect())
+    };
+    let best = |candidates: &[Candidate]| {
+        candidates
+            .iter()
+            .min_by(|a, b| (a.rel_variance * a.cost).total_cmp(&(b.rel_variance * b.cost)))
+            .map(|c| c.choice)
+            .unwrap_or(CANDIDATES[0])
+    };
+    // Those at the method's own light subpaths first; those that set their count (merging
+    // alone with more light subpaths) only where merging alone is the best of them, or for
+    // the measuring hook.
+    let (first, more): (Vec<usize>, Vec<usize>) = (0..choices.len()).partition(|&k| choices[k].pixels_per_light_path == 0);
+    let mut candidates = run(&first)?;
+    let merging_alone = best(&candidates).shares == CANDIDATES[1].shares && best(&candidates).light_subpaths;
+    if !more.is_empty() && (merging_alone || std::env::var_os("SPPM_GPU_PILOT_ALL").is_some()) {
+        candidates = run(&more)?;
     }
-    // Each pixel's mean over every pilot pass.
-    let all = tracer.passes().max(1) as f64;
-    let mu: Vec<[f64; 3]> = before.iter().map(|s| [s[0] as f64 / all, s[1] as f64 / all, s[2] as f64 / all]).collect();
-    let candidates: Vec<Candidate> = (0..choices.len())
-        .map(|k| Candidate {
-            choice: choices[k],
-            light_paths: counts[k],
-            rel_variance: rel_variance(&estimates[k], &mu),
-            cost: costs[k],
-            counts: work[k],
-        })
-        .collect();
     if log {
         for c in &candidates {
             eprintln!("pilot candidate {} {:.6e} {:.6e}", c.choice, c.rel_variance, c.cost);
         }
     }
-    let chosen = candidates
-        .iter()
-        .min_by(|a, b| (a.rel_variance * a.cost).total_cmp(&(b.rel_variance * b.cost)))
-        .map(|c| c.choice)
-        .unwrap_or(CANDIDATES[0]);
+    let chosen = best(&candidates);
     Ok(Pilot { chosen, candidates, width, height, seconds: start.elapsed().as_secs_f64() })
 }
 

@@ -268,7 +268,8 @@ fn vcm_at_shares_matches_the_references() {
 /// whatever the shares (the passes' numbers differ: within 5% for the camera's, some 45,000 a
 /// candidate, and 15% for the light's, some 2,300 of 1,152 subpaths, whose lengths vary more;
 /// merging alone traces 4 times the subpaths). On cornell-spheres, whose light reaches the
-/// floor through a glass sphere, the pilot weighs only candidates that connect or merge, and
+/// floor through a glass sphere, the pilot weighs only candidates that connect or merge, then,
+/// merging alone being the best of them, merging alone with four times the light subpaths, and
 /// chooses merging without connections; connections without merging cost the most for their
 /// noise (session 23's fixed-pass figures: 5.5x merging without connections; the pilot's few
 /// passes miss the rarest paths and see 1.3x). cornell-box, all diffuse, adds light tracing
@@ -290,12 +291,15 @@ fn vcm_pilot_chooses_from_the_scene_alone() {
     for (a, b) in pilot.candidates.iter().zip(&again.candidates) {
         assert_eq!((a.rel_variance, a.cost, a.counts), (b.rel_variance, b.cost, b.counts), "the pilot ran twice");
     }
-    assert_eq!(pilot.candidates.len(), 3, "{pilot}");
-    let [both, merge_only, connect_only] = [0, 1, 2].map(|k| &pilot.candidates[k]);
-    assert_eq!([both.choice, merge_only.choice, connect_only.choice], CANDIDATES[..3]);
+    // Merging alone is the best of the first three: merging alone with four times its light
+    // subpaths is weighed after them.
+    assert_eq!(pilot.candidates.len(), 4, "{pilot}");
+    let [both, merge_only, connect_only, dense] = [0, 1, 2, 3].map(|k| &pilot.candidates[k]);
+    assert_eq!([both.choice, merge_only.choice, connect_only.choice, dense.choice], [0, 1, 2, 5].map(|k| CANDIDATES[k]));
     assert_eq!(merge_only.light_paths, 4 * both.light_paths);
+    assert_eq!(dense.light_paths, 4 * merge_only.light_paths);
     let count = |c: &sppm_gpu::integrators::shares::Candidate, word: u32| c.counts[word as usize];
-    assert_eq!(count(merge_only, WORK_CONNECTIONS), 0.0);
+    assert_eq!((count(merge_only, WORK_CONNECTIONS), count(dense, WORK_CONNECTIONS)), (0.0, 0.0));
     assert_eq!(count(connect_only, WORK_MERGE_CANDIDATES), 0.0);
     for c in [both, merge_only, connect_only] {
         let per_subpath = |c: &sppm_gpu::integrators::shares::Candidate| count(c, WORK_LIGHT_VERTICES) / c.light_paths as f64;
