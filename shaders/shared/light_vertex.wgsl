@@ -44,7 +44,8 @@ const LIGHT_VERTEX_NONE: u32 = 0xffffffffu;
 // The slots the pass's vertices took ([0], cleared each pass; past the store's length they
 // were not kept) and the vertices not kept over the render ([1]), which the host reports.
 @group(0) @binding(36) var<storage, read_write> light_vertex_count: array<atomic<u32>>;
-// vcm: each stored vertex also as a point of the radius (frame.global_radius), appended
+// vcm: each stored vertex that merges (bidir.wgsl's vcm_merges_light) also as a point of the
+// radius (frame.global_radius), appended
 // (merge_count of them this pass; `normal` holds the vertex's slot in light_vertices, and
 // `weight.x` the bits of its key, light_vertex_key), which
 // SPPM's grid build (grid_count.wgsl, grid_fill.wgsl) lists in the hashed grid's buckets for

@@ -197,8 +197,8 @@ fn mis_weight_nee(camera: SubpathMis, direct_pdf_w: f32, emission_pdf_w: f32, co
 // direction with *_rev_pdf_w; camera_merges whether merging at the camera vertex is a strategy
 // (one of the camera subpath's first MERGES_A_PATH vertices that merge), camera_merged how many
 // of the camera subpath's vertices merge, there and before; light_merges whether the light
-// vertex merges (bidir.wgsl's vcm_merges_light); *_first whether it is its subpath's first past the start. The
-// connection's own count is f.connect.
+// vertex merges (bidir.wgsl's vcm_merges_light); *_first whether it is its subpath's first
+// past the start. The connection's own count is f.connect.
 fn mis_weight_connection(camera: SubpathMis, light: SubpathMis, camera_pdf_a: f32, camera_rev_pdf_w: f32,
     light_pdf_a: f32, light_rev_pdf_w: f32, camera_merges: bool, camera_merged: u32, light_merges: bool, camera_first: bool,
     light_first: bool, f: MisFactors) -> f32 {

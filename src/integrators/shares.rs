@@ -82,9 +82,10 @@ impl fmt::Display for Choice {
 /// last merges alone with a light subpath for every pixel, four times merging alone's own
 /// ([`super::light::PIXELS_PER_LIGHT_PATH_MERGING`]): where light reaches every surface through
 /// glass, merging finds it and nothing else does, and its variance is the image's (on
-/// cornell-skylight 85% of it, `--strategy-images`); there the pilot rates it 0.65x merging
-/// alone (relative variance x cost) and at 60 s it renders 2.46e-3 against 2.72e-3, where on the
-/// other canonical scenes the pilot rates it 1.13x to 1.34x (BENCHMARKS.md "VCM").
+/// cornell-skylight 85% of it, `--strategy-images`); there the pilot rates it 0.75x merging
+/// alone (relative variance x cost) and at 60 s it renders 2.43e-3 against 2.72e-3 (sppm's
+/// 2.67e-3 to 2.70e-3), where on the other canonical scenes the pilot rates it 1.04x to 1.54x
+/// (BENCHMARKS.md "VCM").
 pub const CANDIDATES: [Choice; 6] = [
     Choice::new(1.0, 1.0, true, 0),
     Choice::new(0.0, 1.0, true, 0),
