@@ -119,6 +119,8 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         if !finite {
             break;
         }
+        // Whether merging at this vertex is a strategy (vcm), for the grid and the weights.
+        let merges = vcm_merges_light(m, depth + 1u);
         if BIDIR {
             lm = mis_hit(lm, hit.t, dot(d, s.ns), depth > 0u || finite_light);
             // Kept for the camera subpaths' connections, its throughput for one subpath.
@@ -133,7 +135,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
                         light_vertices[last].next = slot;
                     }
                     last = slot;
-                    if vcm_merges_light(m, depth + 1u) {
+                    if merges {
                         let key = bitcast<f32>(light_vertex_key(index, stored));
                         visible_points[atomicAdd(&merge_count[0], 1u)] = VisiblePoint(s.p, frame.global_radius, vec3f(key, 0.0, 0.0), slot);
                     }
@@ -163,7 +165,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
                     // The camera's density of this vertex: its direction's, per pixel area
                     // (bidir.wgsl's camera_pdf_w), in area measure here.
                     let camera_pdf_a = view.importance * abs(dot(wo, s.ns));
-                    c *= mis_weight_to_camera(lm, camera_pdf_a, b.pdf, f32(frame.photon_count), vcm_merges_light(m, depth + 1u), depth == 0u,
+                    c *= mis_weight_to_camera(lm, camera_pdf_a, b.pdf, f32(frame.photon_count), merges, depth == 0u,
                         bidir_factors()) * kept(STRATEGY_LIGHT_TRACE);
                 }
                 connect_to_camera(offset_origin(s.p, s.ng, wo), view, c);
@@ -186,7 +188,7 @@ fn light_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
             if !specular {
                 pdf_rev = bsdf_eval(s, m, m.albedo, next.wi, -d).pdf;
             }
-            lm = mis_scatter(lm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, vcm_merges_light(m, depth + 1u), depth == 0u, bidir_factors());
+            lm = mis_scatter(lm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, merges, depth == 0u, bidir_factors());
         }
         // Russian roulette that keeps the subpath's largest channel constant.
         let beta_new = beta * next.weight;

@@ -251,8 +251,8 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
             cm = mis_scatter(cm, next.pdf, pdf_rev, abs(dot(next.wi, s.ns)), specular, merges, depth == 0u, bidir_factors());
             // Past a delta lobe the path's vertex is specular: merging there is no strategy of
             // it, and a later vertex may merge in its place.
-            merged += select(0u, 1u, merges && !specular);
             last_merged = merges && !specular;
+            merged += select(0u, 1u, last_merged);
         }
         if use_roulette {
             eta_scale *= refraction_eta2(m, s, d, next.wi);

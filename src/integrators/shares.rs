@@ -401,8 +401,7 @@ pub fn choose(
     // the measuring hook.
     let (first, more): (Vec<usize>, Vec<usize>) = (0..choices.len()).partition(|&k| choices[k].pixels_per_light_path == 0);
     let mut candidates = run(&first)?;
-    let merging_alone = best(&candidates).shares == CANDIDATES[1].shares && best(&candidates).light_subpaths;
-    if !more.is_empty() && (merging_alone || std::env::var_os("SPPM_GPU_PILOT_ALL").is_some()) {
+    if !more.is_empty() && (best(&candidates) == CANDIDATES[1] || std::env::var_os("SPPM_GPU_PILOT_ALL").is_some()) {
         candidates = run(&more)?;
     }
     if log {
