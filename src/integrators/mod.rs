@@ -186,7 +186,7 @@ fn resolve<'a>(
 /// SPPM, and any method in bands, need the device's storage buffers and workgroups
 /// ([`crate::gpu::check_device`]): refused before the scene is built.
 fn check_device_for(device: &wgpu::Device, scene: &Scene) -> Result<(), Error> {
-    if scene.render.method == Method::Sppm || max_rows(device, scene) < scene.render.height {
+    if Renderer::of(&scene.render) == Renderer::Sppm || max_rows(device, scene) < scene.render.height {
         crate::gpu::check_device(device)?;
     }
     Ok(())
@@ -206,7 +206,9 @@ fn create_on(
     Ok(match Renderer::of(&scene.render) {
         // An image whose per-pixel buffers do not fit in one storage buffer goes in bands.
         _ if rows < height => Box::new(Bands::with_scene_buffers(device, queue, scene, data, buffers, rows)?),
-        Renderer::Sppm => Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?),
+        Renderer::Sppm => {
+            Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?.reporting(report))
+        }
         Renderer::Path => {
             Box::new(PathTracer::with_scene_buffers(device, queue, scene, data, buffers, 0..height)?.reporting(report))
         }
@@ -243,9 +245,10 @@ impl PilotReport {
     }
 }
 
-/// The integrator that renders a scene's settings: [`Sppm`], [`PathTracer`] (pt, pt-nee, and
-/// vcm without light subpaths, [`light::camera_subpaths_alone`], which is pt-nee's estimator)
-/// or [`LightTracer`] (lt, bpt, vcm).
+/// The integrator that renders a scene's settings: [`Sppm`] (sppm, and vcm as photon mapping,
+/// [`crate::scene::RenderSettings::photon_mapping`], which is SPPM's estimator), [`PathTracer`]
+/// (pt, pt-nee, and vcm without light subpaths, [`light::camera_subpaths_alone`], which is
+/// pt-nee's estimator) or [`LightTracer`] (lt, bpt, vcm).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Renderer {
     Sppm,
@@ -258,6 +261,7 @@ impl Renderer {
     pub(crate) fn of(r: &crate::scene::RenderSettings) -> Self {
         match r.method {
             Method::Sppm => Self::Sppm,
+            Method::Vcm if r.photon_mapping => Self::Sppm,
             Method::Pt | Method::PtNee => Self::Path,
             Method::Vcm if light::camera_subpaths_alone(r) => Self::Path,
             Method::Lt | Method::Bpt | Method::Vcm => Self::Light,
@@ -330,11 +334,18 @@ pub fn create_compiled(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene
         // vcm's shares are the kernels' data: the warm-up's (1, 1) compiles the kernels its pilot
         // and its render use (the render keeps the pilot's kernels whatever shares it chose).
         warm_up(scene)?;
+        // Where the pilot may weigh photon mapping, SPPM's kernels too (for photon mapping),
+        // so that the pilot's time, which the time limit counts, is its passes'.
+        if shares::weighs_photon_mapping(scene) {
+            let mut mapping = scene.clone();
+            shares::Choice::PHOTON_MAPPING.apply(&mut mapping.render);
+            warm_up(&mapping)?;
+        }
         let mut seconds = start.elapsed().as_secs_f64();
         let (resolved, pilot) = resolve(device, queue, scene, &data, &buffers)?;
-        // Where the pilot chose no light subpaths the render runs pt-nee's kernel, which no
-        // kernel made so far is.
-        if pilot.is_some() && Renderer::of(&resolved.render) == Renderer::Path {
+        // Where the pilot chose no light subpaths the render runs pt-nee's kernels, and where
+        // it chose photon mapping SPPM's (compiled by the pilot, but made again here).
+        if pilot.is_some() && Renderer::of(&resolved.render) != Renderer::Light {
             let start = std::time::Instant::now();
             warm_up(&resolved)?;
             seconds += start.elapsed().as_secs_f64();

@@ -10,7 +10,10 @@
 //! merging (1, 0), light tracing alone beside the camera's strategies (0, 0), and no light
 //! subpaths at all (camera subpaths with next-event estimation, as pt-nee but weighed by the
 //! power heuristic); then, where merging alone is the best of those, merging alone with four
-//! times its light subpaths. Each candidate's error is the
+//! times its light subpaths, and photon mapping (merging at each camera subpath's first
+//! diffuse vertex alone, where the subpath ends: SPPM's estimator, by SPPM's kernels), set
+//! aside where its image departs from the others' beyond their noise (a bias, [`MAX_DEPARTURE`]).
+//! Each candidate's error is the
 //! relative variance of its passes' estimates (the mean over pixels and channels of each
 //! pixel's sample variance over `mu^2 + 0.01`, `mu` the pixel's mean over every pilot pass: a
 //! pass's relMSE as `diff` measures it, less the bias); its cost is a weighted count of the
@@ -31,7 +34,7 @@ use super::Integrator;
 use crate::error::Error;
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
 use crate::layout::{WORK_CAMERA_VERTICES, WORK_CONNECTIONS, WORK_COUNTS, WORK_LIGHT_VERTICES, WORK_MERGE_CANDIDATES};
-use crate::scene::{RenderSettings, Scene};
+use crate::scene::{RadiusSchedule, RenderSettings, Scene};
 use std::fmt;
 use std::sync::Arc;
 
@@ -46,18 +49,26 @@ pub struct Choice {
     /// Pixels for each light subpath of a pass; 0 for the method's own count
     /// ([`light_paths`]).
     pub pixels_per_light_path: u32,
+    /// Photon mapping ([`RenderSettings::photon_mapping`]): merging at each camera subpath's
+    /// first diffuse vertex alone, SPPM's estimator, its photons a pass SPPM's `photons`.
+    pub photon_mapping: bool,
 }
 
 impl Choice {
     const fn new(connect: f32, merge: f32, light_subpaths: bool, pixels_per_light_path: u32) -> Self {
-        Self { shares: Shares { connect, merge }, light_subpaths, pixels_per_light_path }
+        Self { shares: Shares { connect, merge }, light_subpaths, pixels_per_light_path, photon_mapping: false }
     }
+
+    /// Photon mapping, whose shares read as merging alone's.
+    pub const PHOTON_MAPPING: Self = Self { photon_mapping: true, ..Self::new(0.0, 1.0, true, 0) };
 
     /// Sets the choice in `render`: its shares, no light subpaths where it traces none, and
     /// its light subpaths a pass where it sets them.
     pub fn apply(&self, render: &mut RenderSettings) {
         (render.connect_share, render.merge_share) = (Some(self.shares.connect), Some(self.shares.merge));
-        if !self.light_subpaths {
+        if self.photon_mapping {
+            (render.photon_mapping, render.radius_schedule) = (true, RadiusSchedule::Global);
+        } else if !self.light_subpaths {
             render.light_paths = Some(0);
         } else if let Some(n) = render.width.saturating_mul(render.height).checked_div(self.pixels_per_light_path) {
             render.light_paths = Some(n.max(1));
@@ -70,6 +81,9 @@ impl fmt::Display for Choice {
         if !self.light_subpaths {
             return write!(f, "none");
         }
+        if self.photon_mapping {
+            return write!(f, "sppm");
+        }
         write!(f, "{}/{}", self.shares.connect, self.shares.merge)?;
         if self.pixels_per_light_path > 0 {
             write!(f, "@{}", self.pixels_per_light_path)?;
@@ -79,20 +93,25 @@ impl fmt::Display for Choice {
 }
 
 /// The configurations the pilot weighs ([`candidates`] says which of them for a scene). The
-/// last merges alone with a light subpath for every pixel, four times merging alone's own
+/// sixth merges alone with a light subpath for every pixel, four times merging alone's own
 /// ([`super::light::PIXELS_PER_LIGHT_PATH_MERGING`]): where light reaches every surface through
 /// glass, merging finds it and nothing else does, and its variance is the image's (on
 /// cornell-skylight 85% of it, `--strategy-images`); there the pilot rates it 0.75x merging
 /// alone (relative variance x cost) and at 60 s it renders 2.43e-3 against 2.72e-3 (sppm's
 /// 2.67e-3 to 2.70e-3), where on the other canonical scenes the pilot rates it 1.04x to 1.54x
-/// (BENCHMARKS.md "VCM").
-pub const CANDIDATES: [Choice; 6] = [
+/// (BENCHMARKS.md "VCM"). The last is photon mapping, SPPM's estimator: its camera subpaths
+/// end at their first diffuse vertex, which merges with many photons (200,000 a pass by
+/// default, twelve times merging alone's light subpaths at 256x256) and samples direct light
+/// several times; where light crosses rough glass onto diffuse walls (the bunny box) it
+/// renders at equal passes and photons half the error of merging alone at every camera vertex.
+pub const CANDIDATES: [Choice; 7] = [
     Choice::new(1.0, 1.0, true, 0),
     Choice::new(0.0, 1.0, true, 0),
     Choice::new(1.0, 0.0, true, 0),
     Choice::new(0.0, 0.0, true, 0),
     Choice::new(0.0, 0.0, false, 0),
     Choice::new(0.0, 1.0, true, 1),
+    Choice::PHOTON_MAPPING,
 ];
 
 /// The candidates the pilot weighs for `scene`: every one of [`CANDIDATES`], but where a
@@ -113,8 +132,14 @@ pub fn candidates(scene: &Scene) -> Vec<Choice> {
     CANDIDATES
         .into_iter()
         .filter(|c| !hidden || c.shares.connect > 0.0 || c.shares.merge > 0.0)
-        .filter(|c| !counted || c.pixels_per_light_path == 0)
+        .filter(|c| !counted || (c.pixels_per_light_path == 0 && !c.photon_mapping))
         .collect()
+}
+
+/// Whether vcm's pilot may weigh photon mapping for `scene` (where it chooses the shares, and
+/// photon mapping is one of its [`candidates`]).
+pub fn weighs_photon_mapping(scene: &Scene) -> bool {
+    super::light::pilot_chooses_shares(scene) && candidates(scene).iter().any(|c| c.photon_mapping)
 }
 
 /// Pixels of the pilot's image on its longer side (at most the render's).
@@ -168,6 +193,14 @@ pub struct CostModel {
     /// whose pass at 256x256 took 0.89 of the bidirectional kernel's on cornell-box and 0.91
     /// on the bunny box (passes a second, alternating, BENCHMARKS.md "VCM").
     pub camera_vertex_alone: f64,
+    /// Photon mapping (SPPM's kernels): a camera path of its camera pass (to the first diffuse
+    /// vertex, with next-event estimation along it), with its share of the visible points'
+    /// grid.
+    pub visible_point_path: f64,
+    /// Photon mapping: a photon hit gathered (the visible points of its cell looked at).
+    pub photon_hit: f64,
+    /// Photon mapping: a photon (its path, but for its hits' gathering).
+    pub photon: f64,
 }
 
 /// [`CostModel`] of a scene traced by code (at most
@@ -179,6 +212,9 @@ pub const BAKED_COST: CostModel = CostModel {
     light_vertex: 0.29,
     splat_pixel: 0.14,
     camera_vertex_alone: 0.89,
+    visible_point_path: 1.02,
+    photon_hit: 1.43,
+    photon: 1.35,
 };
 
 /// [`CostModel`] of a scene traced through a BVH.
@@ -189,6 +225,9 @@ pub const TRAVERSED_COST: CostModel = CostModel {
     light_vertex: 1.04,
     splat_pixel: 0.04,
     camera_vertex_alone: 0.91,
+    visible_point_path: 1.37,
+    photon_hit: 0.10,
+    photon: 1.47,
 };
 
 impl CostModel {
@@ -216,6 +255,12 @@ impl CostModel {
             + self.light_vertex * n(WORK_LIGHT_VERTICES)
             + self.splat_pixel * pixels as f64
     }
+
+    /// A pass of photon mapping's cost, in camera vertices, from its camera paths, the photon
+    /// hits it gathered and its photons.
+    pub fn photon_mapping_cost(&self, camera_paths: f64, hits: f64, photons: f64) -> f64 {
+        self.visible_point_path * camera_paths + self.photon_hit * hits + self.photon * photons
+    }
 }
 
 /// One candidate's figures.
@@ -229,9 +274,35 @@ pub struct Candidate {
     pub rel_variance: f64,
     /// The cost of one of its passes, in camera vertices ([`CostModel`]).
     pub cost: f64,
-    /// Its work a pass, by `WORK_*` word (the mean over its passes).
+    /// Its work a pass, by `WORK_*` word (the mean over its passes); for photon mapping its
+    /// camera paths in the camera vertices' word, its photon hits in the merge candidates'.
     pub counts: [f64; WORK_COUNTS as usize],
+    /// For photon mapping, how far the mean of its passes lies from that of the other
+    /// candidates' beyond what their noise explains, in standard errors ([`departure`]); 0 for
+    /// the others.
+    pub departure: f64,
 }
+
+impl Candidate {
+    /// Whether the pilot may choose it: not photon mapping whose image departs from the other
+    /// candidates' by more than [`MAX_DEPARTURE`] standard errors.
+    pub fn eligible(&self) -> bool {
+        self.departure <= MAX_DEPARTURE
+    }
+}
+
+/// Standard errors by which photon mapping's pilot image may depart from the other candidates'
+/// before the pilot sets it aside. The relative variance of a pass cannot show a bias, and SPPM's
+/// gather has one the others' merges do not: a visible point near a block's edge takes the
+/// photons of the block's other face (`same_side` in `shaders/shared/grid.wgsl`), so on
+/// cornell-skylight, whose pane lights the tall block's top, the row below that edge reads 2.5
+/// times the reference, and photon mapping, which the pilot rates at half merging alone's noise
+/// times cost, renders 1.1x `sppm`'s error at 60 s where merging alone renders 0.9x. Its
+/// departure there is 14 to 15 standard errors (two seeds); on cornell-glossy, cornell-spheres,
+/// Mitsuba's box and the bunny box, where photon mapping renders within 1.05x of merging alone
+/// or better, from -9 to 4 (the noise the statistic subtracts is estimated from eight passes,
+/// so its errors spread wider than one standard error). BENCHMARKS.md "VCM".
+pub const MAX_DEPARTURE: f64 = 8.0;
 
 /// What vcm's pilot measured and chose.
 #[derive(Clone, Debug)]
@@ -260,7 +331,9 @@ impl fmt::Display for Pilot {
             self.seconds,
         )?;
         let chosen = self.chosen.shares;
-        if self.chosen.light_subpaths {
+        if self.chosen.photon_mapping {
+            write!(f, "photon mapping (merging at each camera subpath's first diffuse vertex alone: sppm with the global radius schedule)")?;
+        } else if self.chosen.light_subpaths {
             write!(f, "connect share {} and merge share {}", chosen.connect, chosen.merge)?;
             match self.chosen.pixels_per_light_path {
                 0 => {}
@@ -276,6 +349,9 @@ impl fmt::Display for Pilot {
         )?;
         for c in &self.candidates {
             write!(f, " {} {:.3e}", c.choice, c.rel_variance * c.cost)?;
+            if !c.eligible() {
+                write!(f, " (set aside: its image departs from the others' by {:.0} standard errors)", c.departure)?;
+            }
         }
         write!(f, ")")
     }
@@ -343,7 +419,7 @@ pub fn choose(
     // how many vertices they keep, and so how many a pass of the pilot and of the render hold.
     let (wanting, _) = pilot_scene(scene, &choices, limit, Some(0.0))?;
     let (width, height) = (wanting.render.width, wanting.render.height);
-    let mut tracer = LightTracer::with_scene_buffers(device, queue, &wanting, data, buffers, 0..height)?;
+    let mut tracer = LightTracer::with_scene_buffers(device, queue, &wanting, data, buffers.clone(), 0..height)?;
     let (pilot, counts) = pilot_scene(scene, &choices, limit, tracer.vertices_per_subpath())?;
     tracer.set_radius(pilot.render.radius);
     let pixels = (width * height) as usize;
@@ -356,9 +432,9 @@ pub fn choose(
     // A measuring hook (scripts/measure/vcm-pilot-cost.sh): each pilot pass's time and counts.
     let log = std::env::var_os("SPPM_GPU_PILOT_LOG").is_some();
     // The passes of candidates `ks`, in turn; then every candidate run so far, its figures
-    // with each pixel's mean over every pilot pass so far.
+    // with each pixel's mean over every pilot pass so far, and those means.
     let mut ran: Vec<usize> = Vec::new();
-    let mut run = |ks: &[usize]| -> Result<Vec<Candidate>, Error> {
+    let mut run = |ks: &[usize]| -> Result<(Vec<Candidate>, Means), Error> {
         for pass in 0..PILOT_PASSES * ks.len() as u32 {
             let k = ks[pass as usize % ks.len()];
             let pass_start = std::time::Instant::now();
@@ -378,7 +454,16 @@ pub fn choose(
         ran.extend_from_slice(ks);
         let all = tracer.passes().max(1) as f64;
         let mu: Vec<[f64; 3]> = before.iter().map(|s| [s[0] as f64 / all, s[1] as f64 / all, s[2] as f64 / all]).collect();
-        Ok(ran
+        // The variance of each pixel's mean: sum over candidates of n_k var_k / N^2.
+        let mut variance = vec![[0.0; 3]; mu.len()];
+        for &k in &ran {
+            let n = estimates[k].len() as f64;
+            for (p, v) in variance.iter_mut().enumerate() {
+                let (_, var) = mean_and_variance(&estimates[k], p);
+                (0..3).for_each(|c| v[c] += n * var[c] / (all * all));
+            }
+        }
+        let candidates = ran
             .iter()
             .map(|&k| Candidate {
                 choice: choices[k],
@@ -386,23 +471,33 @@ pub fn choose(
                 rel_variance: rel_variance(&estimates[k], &mu),
                 cost: costs[k],
                 counts: work[k],
+                departure: 0.0,
             })
-            .collect())
+            .collect();
+        Ok((candidates, Means { mu, variance }))
     };
     let best = |candidates: &[Candidate]| {
         candidates
             .iter()
+            .filter(|c| c.eligible())
             .min_by(|a, b| (a.rel_variance * a.cost).total_cmp(&(b.rel_variance * b.cost)))
             .map(|c| c.choice)
             .unwrap_or(CANDIDATES[0])
     };
-    // Those at the method's own light subpaths first; those that set their count (merging
-    // alone with more light subpaths) only where merging alone is the best of them, or for
-    // the measuring hook.
-    let (first, more): (Vec<usize>, Vec<usize>) = (0..choices.len()).partition(|&k| choices[k].pixels_per_light_path == 0);
-    let mut candidates = run(&first)?;
+    // Those at the method's own light subpaths first; merging alone with more light subpaths,
+    // and photon mapping, only where merging alone is the best of them, or for the measuring
+    // hook.
+    let (first, more): (Vec<usize>, Vec<usize>) =
+        (0..choices.len()).partition(|&k| choices[k].pixels_per_light_path == 0 && !choices[k].photon_mapping);
+    let (mut candidates, mut means) = run(&first)?;
     if !more.is_empty() && (best(&candidates) == CANDIDATES[1] || std::env::var_os("SPPM_GPU_PILOT_ALL").is_some()) {
-        candidates = run(&more)?;
+        let (mapping, denser): (Vec<usize>, Vec<usize>) = more.iter().partition(|&&k| choices[k].photon_mapping);
+        if !denser.is_empty() {
+            (candidates, means) = run(&denser)?;
+        }
+        if !mapping.is_empty() {
+            candidates.push(photon_mapping(device, queue, scene, &pilot, data, buffers, &means, &model, log)?);
+        }
     }
     if log {
         for c in &candidates {
@@ -411,6 +506,118 @@ pub fn choose(
     }
     let chosen = best(&candidates);
     Ok(Pilot { chosen, candidates, width, height, seconds: start.elapsed().as_secs_f64() })
+}
+
+/// Photon mapping's figures ([`Choice::PHOTON_MAPPING`]): [`PILOT_PASSES`] passes of SPPM's
+/// estimator on the pilot's image `pilot` (its size and seed), with photons in the same
+/// proportion to the render's as its pixels and a fixed radius that keeps the density
+/// estimate as noisy as the render's at [`REPRESENTATIVE_PASS`] (as the other candidates'
+/// merges); its relative variance against `means`, each pixel's mean over the other
+/// candidates' passes, and its [`departure`] from them. Under the global schedule the image
+/// after k passes is the mean of their estimates, so pass k's own is k times it less the sum
+/// before.
+#[allow(clippy::too_many_arguments)]
+fn photon_mapping(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    pilot: &Scene,
+    data: &SceneData,
+    buffers: Arc<SceneBuffers>,
+    means: &Means,
+    model: &CostModel,
+    log: bool,
+) -> Result<Candidate, Error> {
+    let mut mapping = pilot.clone();
+    Choice::PHOTON_MAPPING.apply(&mut mapping.render);
+    let r = &mut mapping.render;
+    let share = (r.width as f64 * r.height as f64) / (scene.render.width as f64 * scene.render.height as f64);
+    r.photons = ((scene.render.photons as f64 * share).round() as u32).max(1);
+    let r1 = scene.render.radius.unwrap_or_else(|| super::sppm::auto_radius(scene));
+    let radius = super::sppm::global_radius_sq(r1, scene.render.alpha, REPRESENTATIVE_PASS).sqrt();
+    (r.radius, r.alpha) = (Some((radius * (scene.render.photons as f64 / r.photons as f64).sqrt()) as f32), 1.0);
+    r.iterations = PILOT_PASSES;
+    let pixels = r.width as usize * r.height as usize;
+    let camera_paths = (pixels as u64 * r.spp as u64 * super::sppm::direct_samples(r) as u64) as f64;
+    let photons = r.photons as f64;
+    let height = r.height;
+    let mut sppm = super::Sppm::with_scene_buffers(device, queue, &mapping, data, buffers, 0..height, super::Deposits::Auto)?;
+    let mut sum = vec![[0.0f64; 3]; pixels];
+    let (mut estimates, mut cost, mut hits) = (Vec::new(), 0.0, 0.0);
+    for pass in 1..=PILOT_PASSES {
+        let start = std::time::Instant::now();
+        sppm.run_pass()?;
+        let image = sppm.image()?;
+        let gathered = sppm.photon_hits_gathered()?.0 as f64;
+        if log {
+            eprintln!("pilot sppm pass {:.6} [{camera_paths}, {gathered}, {photons}]", start.elapsed().as_secs_f64());
+        }
+        let k = pass as f64;
+        let estimate = image
+            .pixels
+            .iter()
+            .zip(sum.iter_mut())
+            .map(|(mean, sum)| {
+                let e = [0, 1, 2].map(|c| k * mean[c] as f64 - sum[c]);
+                (0..3).for_each(|c| sum[c] += e[c]);
+                e.map(|x| x as f32)
+            })
+            .collect();
+        estimates.push(estimate);
+        cost += model.photon_mapping_cost(camera_paths, gathered, photons) / PILOT_PASSES as f64;
+        hits += gathered / PILOT_PASSES as f64;
+    }
+    let mut counts = [0.0; WORK_COUNTS as usize];
+    (counts[WORK_CAMERA_VERTICES as usize], counts[WORK_MERGE_CANDIDATES as usize]) = (camera_paths, hits);
+    Ok(Candidate {
+        choice: Choice::PHOTON_MAPPING,
+        light_paths: mapping.render.photons,
+        rel_variance: rel_variance(&estimates, &means.mu),
+        cost,
+        counts,
+        departure: departure(&estimates, means),
+    })
+}
+
+/// Each pixel's mean over the pilot's passes of the candidates run so far, and the variance of
+/// that mean.
+struct Means {
+    mu: Vec<[f64; 3]>,
+    variance: Vec<[f64; 3]>,
+}
+
+/// The mean and sample variance of pixel `p` over `passes`.
+fn mean_and_variance(passes: &[Vec<[f32; 3]>], p: usize) -> ([f64; 3], [f64; 3]) {
+    let n = passes.len() as f64;
+    let mean = [0, 1, 2].map(|c| passes.iter().map(|x| x[p][c] as f64).sum::<f64>() / n);
+    let variance = [0, 1, 2].map(|c| passes.iter().map(|x| (x[p][c] as f64 - mean[c]).powi(2)).sum::<f64>() / (n - 1.0));
+    (mean, variance)
+}
+
+/// How far the mean of `passes` lies from `means` beyond their noise, in standard errors: over
+/// pixels and channels, the squared difference of the two means less the variance of each
+/// (their sum is the squared difference expected where the two estimate one image), relative
+/// to `mu^2 + 0.01` as [`rel_variance`]; their mean, over its standard error. A squared bias of
+/// one estimate against the other, and 0 in expectation where neither has one.
+fn departure(passes: &[Vec<[f32; 3]>], means: &Means) -> f64 {
+    let n = passes.len() as f64;
+    let (mut sum, mut sum_sq) = (0.0, 0.0);
+    for (p, (mu, mu_variance)) in means.mu.iter().zip(&means.variance).enumerate() {
+        let (mean, variance) = mean_and_variance(passes, p);
+        for c in 0..3 {
+            let excess = (mean[c] - mu[c]).powi(2) - variance[c] / n - mu_variance[c];
+            let z = excess / (mu[c] * mu[c] + crate::metrics::REL_MSE_EPSILON);
+            (sum, sum_sq) = (sum + z, sum_sq + z * z);
+        }
+    }
+    let k = (3 * means.mu.len()) as f64;
+    let mean = sum / k;
+    let standard_error = ((sum_sq / k - mean * mean) / k).sqrt();
+    if mean.is_finite() && standard_error > 0.0 {
+        mean / standard_error
+    } else {
+        0.0
+    }
 }
 
 /// The mean over pixels and channels of each pixel's sample variance over `passes` relative

@@ -216,6 +216,7 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         sampler: t.or("sampler", d.sampler, Value::named)?,
         work_given: super::WorkGiven { photons: t.get("photons").is_some(), spp: t.get("spp").is_some() },
         strategies: d.strategies,
+        photon_mapping: d.photon_mapping,
     })
 }
 

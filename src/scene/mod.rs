@@ -312,6 +312,12 @@ pub struct RenderSettings {
     /// [`crate::layout::STRATEGIES_ALL`]): one alone gives that strategy's share of the image
     /// (`--strategy-images`). Not a scene key.
     pub strategies: u32,
+    /// vcm as photon mapping: each camera subpath merges at its first diffuse vertex alone
+    /// and ends there, with next-event estimation there and at the glossy vertices before it:
+    /// SPPM's estimator (sampled direct light, the global radius schedule), rendered by SPPM's
+    /// kernels. Chosen by vcm's pilot (`integrators::shares`) where it is the best of vcm's
+    /// configurations. Not a scene key.
+    pub photon_mapping: bool,
 }
 
 /// Which of [`PassWork`]'s settings a scene gave.
@@ -374,6 +380,7 @@ impl Default for RenderSettings {
             sampler: crate::sampler::Sampler::DEFAULT,
             work_given: WorkGiven::default(),
             strategies: crate::layout::STRATEGIES_ALL,
+            photon_mapping: false,
         }
     }
 }

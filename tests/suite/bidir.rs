@@ -292,10 +292,13 @@ fn vcm_pilot_chooses_from_the_scene_alone() {
         assert_eq!((a.rel_variance, a.cost, a.counts), (b.rel_variance, b.cost, b.counts), "the pilot ran twice");
     }
     // Merging alone is the best of the first three: merging alone with four times its light
-    // subpaths is weighed after them.
-    assert_eq!(pilot.candidates.len(), 4, "{pilot}");
-    let [both, merge_only, connect_only, dense] = [0, 1, 2, 3].map(|k| &pilot.candidates[k]);
-    assert_eq!([both.choice, merge_only.choice, connect_only.choice, dense.choice], [0, 1, 2, 5].map(|k| CANDIDATES[k]));
+    // subpaths, and photon mapping, are weighed after them.
+    assert_eq!(pilot.candidates.len(), 5, "{pilot}");
+    let [both, merge_only, connect_only, dense, mapping] = [0, 1, 2, 3, 4].map(|k| &pilot.candidates[k]);
+    assert_eq!(
+        [both.choice, merge_only.choice, connect_only.choice, dense.choice, mapping.choice],
+        [0, 1, 2, 5, 6].map(|k| CANDIDATES[k])
+    );
     assert_eq!(merge_only.light_paths, 4 * both.light_paths);
     assert_eq!(dense.light_paths, 4 * merge_only.light_paths);
     let count = |c: &sppm_gpu::integrators::shares::Candidate, word: u32| c.counts[word as usize];
@@ -336,6 +339,48 @@ fn vcm_pilot_chooses_from_the_scene_alone() {
         none_image.pixels == common::render_at(&none, Method::PtNee, 32, 3).pixels,
         "vcm without light subpaths is not pt-nee"
     );
+}
+
+/// vcm as photon mapping (`RenderSettings::photon_mapping`, which its pilot chooses where that
+/// is the best of its configurations: merging at each camera subpath's first diffuse vertex
+/// alone) is SPPM's estimator with the global radius schedule, rendered by SPPM's kernels: the
+/// same bits as `sppm` with `radius_schedule = "global"`, and its pilot's figures for it those
+/// of SPPM's passes (their photons, and a camera path for each direct-light sample).
+#[test]
+fn vcm_as_photon_mapping_is_sppm_with_the_global_schedule() {
+    let Some(gpu) = common::gpu() else { return };
+    use sppm_gpu::integrators::shares::{choose_for, Choice, CANDIDATES};
+    let mut scene = common::load_scene("cornell-spheres.toml");
+    scene.render.photons = 20_000;
+    let mut mapping = scene.clone();
+    Choice::PHOTON_MAPPING.apply(&mut mapping.render);
+    assert!(mapping.render.photon_mapping && !integrators::light::pilot_chooses_shares(&mapping));
+    let vcm = common::render_at(&mapping, Method::Vcm, 32, 3);
+    scene.render.radius_schedule = sppm_gpu::scene::RadiusSchedule::Global;
+    let sppm = common::render_at(&scene, Method::Sppm, 32, 3);
+    assert!(vcm.pixels == sppm.pixels, "vcm as photon mapping is not sppm with the global schedule");
+    assert!(vcm.pixels.iter().any(|p| p[0] > 0.0));
+
+    // The pilot weighs it where merging alone is the best of the first candidates, with photons
+    // in proportion to the pilot's pixels, a visible point's camera paths each pass.
+    (scene.render.method, scene.render.width, scene.render.height) = (Method::Vcm, 64, 64);
+    let pilot = choose_for(&gpu.device, &gpu.queue, &scene).unwrap();
+    let mapped = pilot.candidates.iter().find(|c| c.choice == CANDIDATES[6]).expect("photon mapping weighed");
+    assert_eq!(mapped.light_paths, 20_000, "{pilot}");
+    let camera_paths = 64.0 * 64.0 * sppm_gpu::integrators::sppm::direct_samples(&scene.render) as f64;
+    assert_eq!(mapped.counts[sppm_gpu::layout::WORK_CAMERA_VERTICES as usize], camera_paths);
+    assert!(mapped.rel_variance.is_finite() && mapped.rel_variance > 0.0 && mapped.cost > 0.0, "{pilot}");
+    assert!(mapped.eligible(), "{pilot}");
+
+    // On the room lit through a pane, SPPM's gather takes the light of the tall block's lit top
+    // into its front's top rows (a bias the others' merges do not have): the pilot rates photon
+    // mapping at half merging alone's noise times cost, but sets it aside.
+    let mut skylight = common::load_scene("cornell-skylight.toml");
+    (skylight.render.method, skylight.render.width, skylight.render.height) = (Method::Vcm, 64, 64);
+    let pilot = choose_for(&gpu.device, &gpu.queue, &skylight).unwrap();
+    let mapped = pilot.candidates.iter().find(|c| c.choice == CANDIDATES[6]).expect("photon mapping weighed");
+    assert!(mapped.departure > sppm_gpu::integrators::shares::MAX_DEPARTURE && !mapped.eligible(), "{pilot}");
+    assert!(!pilot.chosen.photon_mapping, "{pilot}");
 }
 
 /// vcm's pilot weighs its candidates at the light subpaths a pass the render traces: at depth

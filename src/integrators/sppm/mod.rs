@@ -242,6 +242,8 @@ pub struct Sppm {
     image_staging: wgpu::Buffer,
     /// [`Sppm::run_pass`]'s submissions in flight.
     submissions: crate::gpu::submissions::Submissions,
+    /// What vcm's pilot said, where it chose photon mapping.
+    pilot: super::PilotReport,
 }
 
 /// A kernel and its bind group.
@@ -418,7 +420,15 @@ impl Sppm {
             image_staging: staging_buffer(device, "image_staging", sizes.image_staging),
             buffers,
             submissions: crate::gpu::submissions::Submissions::new(),
+            pilot: Default::default(),
         })
+    }
+
+    /// The renderer reporting what vcm's pilot said of its choice of photon mapping and the
+    /// seconds it took ([`Integrator::notes`], [`Integrator::setup_seconds`]).
+    pub(super) fn reporting(mut self, pilot: super::PilotReport) -> Self {
+        self.pilot = pilot;
+        self
     }
 
     /// Passes completed.
@@ -860,6 +870,14 @@ impl Integrator for Sppm {
 
     fn radius_stats(&self) -> Result<Option<RadiusStats>, Error> {
         Sppm::radius_stats(self).map(Some)
+    }
+
+    fn notes(&self) -> Vec<String> {
+        self.pilot.notes()
+    }
+
+    fn setup_seconds(&self) -> f64 {
+        self.pilot.seconds()
     }
 
     /// Only with a global radius schedule: with a radius per point, each pass depends on all
