@@ -278,8 +278,8 @@ pub struct Candidate {
     /// camera paths in the camera vertices' word, its photon hits in the merge candidates'.
     pub counts: [f64; WORK_COUNTS as usize],
     /// For photon mapping, how far the mean of its passes lies from that of the other
-    /// candidates' beyond what their noise explains, in standard errors ([`departure`]); 0 for
-    /// the others.
+    /// candidates' beyond what their noise explains (the squared difference of the two less
+    /// their variances, over pixels and channels), in standard errors; 0 for the others.
     pub departure: f64,
 }
 
