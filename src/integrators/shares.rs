@@ -12,8 +12,9 @@
 //! power heuristic); then, where merging alone is the best of those, merging alone with four
 //! times its light subpaths, and photon mapping (merging at each camera subpath's first
 //! diffuse vertex alone, where the subpath ends: SPPM's estimator, by SPPM's kernels), set
-//! aside where its image departs from the others' beyond their noise (a bias, [`MAX_DEPARTURE`]).
-//! Each candidate's error is the
+//! aside where its image departs from the others' beyond their noise (a bias, [`MAX_DEPARTURE`])
+//! and chosen only well below the others ([`PHOTON_MAPPING_MARGIN`]). Each candidate's error is
+//! the
 //! relative variance of its passes' estimates (the mean over pixels and channels of each
 //! pixel's sample variance over `mu^2 + 0.01`, `mu` the pixel's mean over every pilot pass: a
 //! pass's relMSE as `diff` measures it, less the bias); its cost is a weighted count of the
@@ -123,7 +124,8 @@ pub const CANDIDATES: [Choice; 7] = [
 /// rates (relative variance x cost) light tracing beside the camera's strategies at 1.03x
 /// merging alone and camera subpaths alone at 1.05x, where at 30 s their relMSE is 2x and
 /// (pt-nee's) 10x merging alone's (BENCHMARKS.md "VCM").
-/// A scene that sets `light_paths` keeps its count: the candidates that set one are left out.
+/// A scene that sets `light_paths` keeps its count: the candidates that set one, and photon
+/// mapping (whose photons stand for them), are left out.
 pub fn candidates(scene: &Scene) -> Vec<Choice> {
     // A measuring hook (scripts/measure/vcm-pilot-cost.sh): every candidate on every scene.
     let every = std::env::var_os("SPPM_GPU_PILOT_ALL").is_some();
@@ -645,10 +647,9 @@ fn rel_variance(passes: &[Vec<[f32; 3]>], mu: &[[f64; 3]]) -> f64 {
     }
     let mut sum = 0.0;
     for (p, mu) in mu.iter().enumerate() {
+        let (_, variance) = mean_and_variance(passes, p);
         for c in 0..3 {
-            let mean = passes.iter().map(|x| x[p][c] as f64).sum::<f64>() / n;
-            let variance = passes.iter().map(|x| (x[p][c] as f64 - mean).powi(2)).sum::<f64>() / (n - 1.0);
-            sum += variance / (mu[c] * mu[c] + crate::metrics::REL_MSE_EPSILON);
+            sum += variance[c] / (mu[c] * mu[c] + crate::metrics::REL_MSE_EPSILON);
         }
     }
     let v = sum / (3 * mu.len()) as f64;
