@@ -397,7 +397,12 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         sppm_gpu::batch::write_partial(partial, &image, first_pass, integrator.passes(), &fingerprint)?;
         written.push(format!("{} (passes {first_pass}..{})", partial.display(), integrator.passes()));
     }
-    if !strategy_outputs.is_empty() && interrupt.received().is_none() {
+    if !strategy_outputs.is_empty() && !integrator.splits_strategies() {
+        eprintln!(
+            "warning: --strategy-images: vcm's pilot chose photon mapping, sppm's estimator, whose image is not split by \
+             strategy: no strategy images written (set --connect-share and --merge-share to render vcm's strategies)"
+        );
+    } else if !strategy_outputs.is_empty() && interrupt.received().is_none() {
         // One strategy's renderer after another, the same kernels: made once.
         sppm_gpu::gpu::share_kernels(|| -> Result<(), Error> {
             for (strategy, path) in &strategy_outputs {

@@ -152,6 +152,11 @@ pub trait Integrator {
     fn radius_stats(&self) -> Result<Option<sppm::RadiusStats>, Error> {
         Ok(None)
     }
+    /// Whether the image is a sum of strategies' weighted shares that `RenderSettings::strategies`
+    /// can keep one of (`--strategy-images`): not SPPM's, which renders vcm's photon mapping.
+    fn splits_strategies(&self) -> bool {
+        true
+    }
     /// What the passes so far did that the image does not show and the user should know, one
     /// sentence each (read back once the render ends: bpt's and vcm's light vertices that the
     /// store had no room for).

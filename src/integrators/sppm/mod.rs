@@ -880,6 +880,10 @@ impl Integrator for Sppm {
         self.pilot.seconds()
     }
 
+    fn splits_strategies(&self) -> bool {
+        false
+    }
+
     /// Only with a global radius schedule: with a radius per point, each pass depends on all
     /// the passes before it.
     fn start_at_pass(&mut self, first: u32) -> Result<(), Error> {
