@@ -348,9 +348,9 @@ pub fn create_compiled(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene
         }
         let mut seconds = start.elapsed().as_secs_f64();
         let (resolved, pilot) = resolve(device, queue, scene, &data, &buffers)?;
-        // Where the pilot chose no light subpaths the render runs pt-nee's kernels, and where
-        // it chose photon mapping SPPM's (compiled by the pilot, but made again here).
-        if pilot.is_some() && Renderer::of(&resolved.render) != Renderer::Light {
+        // Where the pilot chose no light subpaths the render runs pt-nee's kernel, which no
+        // kernel made so far is (photon mapping's, SPPM's, were made above).
+        if pilot.is_some() && Renderer::of(&resolved.render) == Renderer::Path {
             let start = std::time::Instant::now();
             warm_up(&resolved)?;
             seconds += start.elapsed().as_secs_f64();

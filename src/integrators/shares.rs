@@ -452,7 +452,7 @@ pub fn choose(
     // The passes of candidates `ks`, in turn; then every candidate run so far, its figures
     // with each pixel's mean over every pilot pass so far, and those means.
     let mut ran: Vec<usize> = Vec::new();
-    let mut run = |ks: &[usize]| -> Result<(Vec<Candidate>, Means), Error> {
+    let mut run = |ks: &[usize]| -> Result<(Vec<Candidate>, Vec<[f64; 3]>), Error> {
         for pass in 0..PILOT_PASSES * ks.len() as u32 {
             let k = ks[pass as usize % ks.len()];
             let pass_start = std::time::Instant::now();
@@ -472,15 +472,6 @@ pub fn choose(
         ran.extend_from_slice(ks);
         let all = tracer.passes().max(1) as f64;
         let mu: Vec<[f64; 3]> = before.iter().map(|s| [s[0] as f64 / all, s[1] as f64 / all, s[2] as f64 / all]).collect();
-        // The variance of each pixel's mean: sum over candidates of n_k var_k / N^2.
-        let mut variance = vec![[0.0; 3]; mu.len()];
-        for &k in &ran {
-            let n = estimates[k].len() as f64;
-            for (p, v) in variance.iter_mut().enumerate() {
-                let (_, var) = mean_and_variance(&estimates[k], p);
-                (0..3).for_each(|c| v[c] += n * var[c] / (all * all));
-            }
-        }
         let candidates = ran
             .iter()
             .map(|&k| Candidate {
@@ -492,7 +483,7 @@ pub fn choose(
                 departure: 0.0,
             })
             .collect();
-        Ok((candidates, Means { mu, variance }))
+        Ok((candidates, mu))
     };
     let best = |candidates: &[Candidate]| {
         candidates
@@ -507,13 +498,14 @@ pub fn choose(
     // hook.
     let (first, more): (Vec<usize>, Vec<usize>) =
         (0..choices.len()).partition(|&k| choices[k].pixels_per_light_path == 0 && !choices[k].photon_mapping);
-    let (mut candidates, mut means) = run(&first)?;
+    let (mut candidates, mut mu) = run(&first)?;
     if !more.is_empty() && (best(&candidates) == CANDIDATES[1] || std::env::var_os("SPPM_GPU_PILOT_ALL").is_some()) {
         let (mapping, denser): (Vec<usize>, Vec<usize>) = more.iter().partition(|&&k| choices[k].photon_mapping);
         if !denser.is_empty() {
-            (candidates, means) = run(&denser)?;
+            (candidates, mu) = run(&denser)?;
         }
         if !mapping.is_empty() {
+            let means = Means::of(mu, &estimates, &ran);
             candidates.push(photon_mapping(device, queue, scene, &pilot, data, buffers, &means, &model, log)?);
         }
     }
@@ -602,6 +594,23 @@ fn photon_mapping(
 struct Means {
     mu: Vec<[f64; 3]>,
     variance: Vec<[f64; 3]>,
+}
+
+impl Means {
+    /// The means `mu` over the passes of candidates `ran`, whose passes' estimates are
+    /// `estimates[k]`, with their variance: over the candidates, n_k var_k / N^2.
+    fn of(mu: Vec<[f64; 3]>, estimates: &[Vec<Vec<[f32; 3]>>], ran: &[usize]) -> Self {
+        let all = ran.iter().map(|&k| estimates[k].len()).sum::<usize>().max(1) as f64;
+        let mut variance = vec![[0.0; 3]; mu.len()];
+        for &k in ran {
+            let n = estimates[k].len() as f64;
+            for (p, v) in variance.iter_mut().enumerate() {
+                let (_, var) = mean_and_variance(&estimates[k], p);
+                (0..3).for_each(|c| v[c] += n * var[c] / (all * all));
+            }
+        }
+        Self { mu, variance }
+    }
 }
 
 /// The mean and sample variance of pixel `p` over `passes`.
