@@ -344,9 +344,22 @@ fn texture_value(header: u32, size_bits: u32, uv: vec2f) -> vec3f {
     let x1 = u32(wrap_texel(i0.x + 1, size.x, flags));
     let row0 = first + u32(wrap_texel(i0.y, size.y, flags) * size.x);
     let row1 = first + u32(wrap_texel(i0.y + 1, size.y, flags) * size.x);
-    let top = mix(texels[row0 + x0].xyz, texels[row0 + x1].xyz, f.x);
-    let bottom = mix(texels[row1 + x0].xyz, texels[row1 + x1].xyz, f.x);
+    let top = mix(texel(row0 + x0, first, flags), texel(row0 + x1, first, flags), f.x);
+    let bottom = mix(texel(row1 + x0, first, flags), texel(row1 + x1, first, flags), f.x);
     return mix(top, bottom, f.y);
+}
+
+// Texel `first + i` of an image stored from `first`: as floats, or palette-coded (see
+// TEXTURE_PALETTE: the palette's PALETTE_ENTRIES values, four a texel, then each texel's
+// three 8-bit indices in one word, four words a texel).
+fn texel(at: u32, first: u32, flags: u32) -> vec3f {
+    if (flags & TEXTURE_PALETTE) == 0u {
+        return texels[at].xyz;
+    }
+    let i = at - first;
+    let word = bitcast<u32>(texels[first + PALETTE_ENTRIES / 4u + i / 4u][i % 4u]);
+    let c = vec3u(word, word >> 8u, word >> 16u) & vec3u(0xffu);
+    return vec3f(texels[first + c.x / 4u][c.x % 4u], texels[first + c.y / 4u][c.y % 4u], texels[first + c.z / 4u][c.z % 4u]);
 }
 
 // Offset a ray origin off the surface, to the side of `side` (pbrt-v4 sec. 6.8.6 in spirit:

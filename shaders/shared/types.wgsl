@@ -292,6 +292,8 @@ const NO_TEXTURE: u32 = 0xffffffffu;
 const TEXTURE_NEAREST: u32 = 1u;
 const TEXTURE_MIRROR: u32 = 2u;
 const TEXTURE_CLAMP: u32 = 4u;
+const TEXTURE_PALETTE: u32 = 8u;
+const PALETTE_ENTRIES: u32 = 256u;
 const SPHERE_BIT: u32 = 0x80000000u;
 
 // A Material's kind, MATERIAL_*, is declared by its family in shared/bsdf/.

@@ -87,7 +87,8 @@ impl SceneData {
         // to its texture's header.
         let mut texels: Vec<[f32; 4]> = Vec::new();
         let mut texture_at = Vec::new();
-        let mut image_at: Vec<(usize, u32)> = Vec::new();
+        // Each distinct image once: (its first texture, its first texel, TEXTURE_PALETTE or 0).
+        let mut image_at: Vec<(usize, u32, u32)> = Vec::new();
         for (i, t) in scene.textures.iter().enumerate() {
             if t.width > 0xffff || t.height > 0xffff {
                 return Err(SceneError {
@@ -99,16 +100,18 @@ impl SceneData {
             }
             let header = texels.len() as u32;
             texture_at.push((header, t.width | (t.height << 16)));
-            let same_image = |&&(j, _): &&(usize, u32)| {
+            let same_image = |&&(j, _, _): &&(usize, u32, u32)| {
                 let u = &scene.textures[j];
                 (&u.path, u.width, &u.texels) == (&t.path, t.width, &t.texels)
             };
-            let first = match image_at.iter().find(same_image) {
-                Some(&(_, first)) => first,
+            let (first, coding, image) = match image_at.iter().find(same_image) {
+                Some(&(_, first, coding)) => (first, coding, None),
                 None => {
                     let first = header + 2;
-                    image_at.push((i, first));
-                    first
+                    let image = palette_coded(&t.texels);
+                    let coding = if image.is_some() { TEXTURE_PALETTE } else { 0 };
+                    image_at.push((i, first, coding));
+                    (first, coding, Some(image))
                 }
             };
             let flags = match t.filter {
@@ -118,12 +121,14 @@ impl SceneData {
                 TextureWrap::Repeat => 0,
                 TextureWrap::Mirror => TEXTURE_MIRROR,
                 TextureWrap::Clamp => TEXTURE_CLAMP,
-            };
+            } | coding;
             let (m, o) = (t.to_uv.matrix2, t.to_uv.translation);
             texels.push([m.x_axis.x, m.y_axis.x, o.x, f32::from_bits(first)]);
             texels.push([m.x_axis.y, m.y_axis.y, o.y, f32::from_bits(flags)]);
-            if first == header + 2 {
-                texels.extend(t.texels.iter().map(|c| [c.x, c.y, c.z, 0.0]));
+            match image {
+                Some(Some(coded)) => texels.extend(coded),
+                Some(None) => texels.extend(t.texels.iter().map(|c| [c.x, c.y, c.z, 0.0])),
+                None => {}
             }
         }
         if texels.len() > ATTRIBUTE_INDEX_MASK as usize {
@@ -407,6 +412,50 @@ fn camera_sees(scene: &Scene, bvh: &Bvh, scene_radius: f32) -> Option<(Vec3, f32
     bounds.map(|(lo, hi)| (0.5 * (lo + hi), 0.5 * (hi - lo).length() + 0.01 * scene_radius))
 }
 
+/// `texels` palette-coded ([`TEXTURE_PALETTE`]) as the `texels` buffer stores them, or
+/// `None` when their channels take more than [`PALETTE_ENTRIES`] distinct values. Lossless:
+/// the palette holds the very `f32`s, so lookups return what the float texels would.
+pub fn palette_coded(texels: &[Vec3]) -> Option<Vec<[f32; 4]>> {
+    const PALETTE: usize = PALETTE_ENTRIES as usize;
+    // An open-addressing table of the values' bits (a hash map's per-lookup cost is most of
+    // the time on a texture of millions of texels); `EMPTY` is a NaN no image holds.
+    const SLOTS: usize = 4 * PALETTE;
+    const EMPTY: u32 = 0x7fff_ffff;
+    let mut slots = [(EMPTY, 0u8); SLOTS];
+    let mut palette = [0.0f32; PALETTE];
+    let mut used = 0;
+    let mut index = |value: f32| -> Option<u32> {
+        let bits = value.to_bits();
+        let mut slot = (bits.wrapping_mul(0x9e37_79b1) >> 22) as usize;
+        loop {
+            match slots[slot] {
+                (b, i) if b == bits => return Some(i as u32),
+                (EMPTY, _) => {
+                    if used == PALETTE || bits == EMPTY {
+                        return None;
+                    }
+                    slots[slot] = (bits, used as u8);
+                    palette[used] = value;
+                    used += 1;
+                    return Some(used as u32 - 1);
+                }
+                _ => slot = (slot + 1) % SLOTS,
+            }
+        }
+    };
+    let mut words = Vec::with_capacity(texels.len());
+    for c in texels {
+        words.push(index(c.x)? | index(c.y)? << 8 | index(c.z)? << 16);
+    }
+    let mut coded: Vec<[f32; 4]> = palette.chunks(4).map(|p| [p[0], p[1], p[2], p[3]]).collect();
+    coded.extend(words.chunks(4).map(|w| {
+        let mut texel = [0.0; 4];
+        texel.iter_mut().zip(w).for_each(|(t, w)| *t = f32::from_bits(*w));
+        texel
+    }));
+    Some(coded)
+}
+
 /// A read-only storage buffer holding `data` (one zeroed element when it is empty).
 pub fn storage_buffer<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, data: &[T]) -> wgpu::Buffer {
     let placeholder = [T::zeroed()];
@@ -429,6 +478,39 @@ pub const STORAGE_USAGE: wgpu::BufferUsages =
     wgpu::BufferUsages::STORAGE.union(wgpu::BufferUsages::COPY_DST).union(wgpu::BufferUsages::COPY_SRC);
 
 impl SceneBuffers {
+    /// [`SceneBuffers::new`] after checking that each array of `data` fits in one binding of
+    /// `device` (128 MiB on lavapipe): a scene too large for the device is refused before
+    /// any work, naming what is too large, rather than failing its first pass.
+    pub fn upload(device: &wgpu::Device, scene: &Scene, data: &SceneData) -> Result<Self, SceneError> {
+        let limit = device.limits().max_storage_buffer_binding_size;
+        let bvh_nodes = match &data.cwbvh {
+            Some(cw) => std::mem::size_of_val(&cw.nodes[..]) + 48 * cw.prim_refs.len(),
+            None => std::mem::size_of_val(&data.packed_bvh.nodes[..]),
+        };
+        let arrays = [
+            ("BVH", bvh_nodes),
+            ("triangles", std::mem::size_of_val(&data.triangles[..])),
+            ("shading normals and texture coordinates", std::mem::size_of_val(&data.attributes[..])),
+            ("textures (and environment map)", std::mem::size_of_val(&data.texels[..])),
+        ];
+        for (what, bytes) in arrays {
+            if bytes as u64 > limit {
+                let mib = |b: u64| b as f64 / (1u64 << 20) as f64;
+                return Err(SceneError {
+                    file: scene.path.clone(),
+                    line: None,
+                    key: None,
+                    message: format!(
+                        "the scene's {what} take {:.1} MiB on the GPU, more than this device binds in one buffer ({:.1} MiB)",
+                        mib(bytes as u64),
+                        mib(limit)
+                    ),
+                });
+            }
+        }
+        Ok(Self::new(device, data))
+    }
+
     /// Upload every array of `data` to a storage buffer named like its WGSL global.
     pub fn new(device: &wgpu::Device, data: &SceneData) -> Self {
         let mut params = data.packed_bvh.params;

@@ -30,7 +30,7 @@ impl Bands {
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, rows_per_band: u32) -> Result<Self, Error> {
         crate::gpu::check_device(device)?;
         let data = SceneData::new(scene)?;
-        let scene_buffers = Arc::new(SceneBuffers::new(device, &data));
+        let scene_buffers = Arc::new(SceneBuffers::upload(device, scene, &data)?);
         Self::with_scene_buffers(device, queue, scene, &data, scene_buffers, rows_per_band)
     }
 

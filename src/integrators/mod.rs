@@ -169,7 +169,7 @@ pub trait Integrator {
 pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Box<dyn Integrator>, Error> {
     check_device_for(device, scene)?;
     let data = SceneData::new(scene)?;
-    let buffers = Arc::new(SceneBuffers::new(device, &data));
+    let buffers = Arc::new(SceneBuffers::upload(device, scene, &data)?);
     let (scene, pilot) = resolve(device, queue, scene, &data, &buffers)?;
     create_on(device, queue, &scene, &data, buffers, pilot)
 }
@@ -327,7 +327,7 @@ pub fn create_compiled(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene
         // The scene's records depend on its shapes, materials, lights and camera medium, not
         // on the image: one BVH and one upload serve both renderers.
         let data = SceneData::new(scene)?;
-        let buffers = Arc::new(SceneBuffers::new(device, &data));
+        let buffers = Arc::new(SceneBuffers::upload(device, scene, &data)?);
         let warm_up = |scene: &Scene| {
             let mut tiny = scene.clone();
             let r = &mut tiny.render;

@@ -41,7 +41,7 @@ impl PathTracer {
     /// Set up `scene.render.method` (`Pt` or `PtNee`) for `scene` on the caller's device.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Self, Error> {
         let data = SceneData::new(scene)?;
-        let scene_buffers = Arc::new(SceneBuffers::new(device, &data));
+        let scene_buffers = Arc::new(SceneBuffers::upload(device, scene, &data)?);
         Self::with_scene_buffers(device, queue, scene, &data, scene_buffers, 0..scene.render.height)
     }
 

@@ -418,7 +418,7 @@ fn pilot_scene(scene: &Scene, candidates: &[Choice], limit: u64, vertices: Optio
 /// shares, whether or not the scene sets them.
 pub fn choose_for(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Pilot, Error> {
     let data = SceneData::new(scene)?;
-    let buffers = Arc::new(SceneBuffers::new(device, &data));
+    let buffers = Arc::new(SceneBuffers::upload(device, scene, &data)?);
     choose(device, queue, scene, &data, buffers)
 }
 

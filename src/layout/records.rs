@@ -189,8 +189,8 @@ pub struct GpuMaterial {
     /// its two header entries in the `texels` buffer, (m00, m01, t0, first texel) and (m10,
     /// m11, t1, flags), the last word of each as bits, where m and t are its `to_uv`: image
     /// coordinates x = m00 u + m01 v + t0 and y = m10 u + m11 v + t1, y down. Flags:
-    /// [`TEXTURE_NEAREST`] and a wrap mode ([`TEXTURE_MIRROR`], [`TEXTURE_CLAMP`]; neither is
-    /// repeat).
+    /// [`TEXTURE_NEAREST`], a wrap mode ([`TEXTURE_MIRROR`], [`TEXTURE_CLAMP`]; neither is
+    /// repeat) and [`TEXTURE_PALETTE`] for a palette-coded image.
     pub texture: u32,
     /// Texture width in the low 16 bits, height in the high 16.
     pub texture_size: u32,
@@ -459,6 +459,15 @@ pub const TEXTURE_NEAREST: u32 = 1;
 pub const TEXTURE_MIRROR: u32 = 2;
 /// Texture header flag: edge texels extended.
 pub const TEXTURE_CLAMP: u32 = 4;
+/// Texture header flag: the image is palette-coded, losslessly: its first
+/// [`PALETTE_ENTRIES`]` / 4` texels hold the distinct channel values (at most
+/// [`PALETTE_ENTRIES`] of them, four to a texel), then each word of the following texels one
+/// texel's red, green and blue as 8-bit indices into them (bits 0-7, 8-15, 16-23), four
+/// words to a texel. An 8-bit image takes 4 bytes a texel rather than 16, whatever its
+/// transfer function; one with more distinct values is stored as floats.
+pub const TEXTURE_PALETTE: u32 = 8;
+/// The channel values a palette-coded texture can hold ([`TEXTURE_PALETTE`]).
+pub const PALETTE_ENTRIES: u32 = 256;
 /// Values in a rough plastic's table of its coating's transmittance ([`GpuMaterial::coat_table`]).
 pub const COAT_TABLE_SIZE: u32 = 64;
 /// [`GpuMaterial::distribution`]: GGX (Trowbridge-Reitz).

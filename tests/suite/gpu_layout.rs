@@ -142,6 +142,8 @@ fn wgsl_constants_match_rust() {
     assert_eq!(constant("TEXTURE_NEAREST"), TEXTURE_NEAREST);
     assert_eq!(constant("TEXTURE_MIRROR"), TEXTURE_MIRROR);
     assert_eq!(constant("TEXTURE_CLAMP"), TEXTURE_CLAMP);
+    assert_eq!(constant("TEXTURE_PALETTE"), TEXTURE_PALETTE);
+    assert_eq!(constant("PALETTE_ENTRIES"), PALETTE_ENTRIES);
     assert_eq!(constant("SPHERE_BIT"), sppm_gpu::accel::SPHERE_BIT);
     assert_eq!(constant("MICROFACET_GGX"), MICROFACET_GGX);
     assert_eq!(constant("MICROFACET_BECKMANN"), MICROFACET_BECKMANN);

@@ -1816,3 +1816,34 @@ fn info_prints_numbers_shortest() {
     assert!(stdout.contains("radius 0.015,"), "{stdout}");
     assert!(stdout.contains("at [0, 0, 4] looking at [0, 0, 0], up [1, 0, 0], vertical fov 40 deg"), "{stdout}");
 }
+
+/// Bitterli's staircase (Mitsuba form): an unnamed top-level BSDF (a bump map around a named
+/// BSDF) is passed over with a warning, as Mitsuba never uses it, while the named BSDF inside
+/// it is still found by its id; a mesh whose every triangle has no area adds nothing, with a
+/// warning, but as an area light it is refused (nothing to emit from).
+#[test]
+fn unnamed_bsdfs_and_meshes_without_area_load_as_mitsuba_loads_them() {
+    let flat_obj = "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\nf 1 3 2\n";
+    let body = r#"    <bsdf type="bumpmap">
+        <bsdf type="twosided" id="Brushed"><bsdf type="diffuse"/></bsdf>
+    </bsdf>
+    <shape type="obj"><string name="filename" value="flat.obj"/><ref id="Brushed"/></shape>"#;
+    let text = legacy_scene_with(body);
+    let (s, warnings) = load_warned("unnamed-bsdf", &[("s.xml", &text), ("flat.obj", flat_obj)]);
+    let s = s.unwrap_or_else(|e| panic!("{e}"));
+    let lines: Vec<usize> = warned_keys(&warnings, "s.xml").into_iter().map(|(_, line)| line).collect();
+    assert_eq!(lines, [line_of(&text, "bumpmap"), line_of(&text, "flat.obj")], "{warnings:?}");
+    assert!(warnings[0].message.contains("no id"), "{}", warnings[0]);
+    assert!(warnings[1].message.contains("all 2 triangles"), "{}", warnings[1]);
+    assert_eq!(s.shapes.len(), 2, "the light and the empty mesh");
+    assert_eq!(s.triangles.len(), 2, "the light's two triangles alone");
+
+    let emitting = legacy_scene_with(
+        r#"    <shape type="obj"><string name="filename" value="flat.obj"/>
+        <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>"#,
+    );
+    let (s, _) = load_warned("flat-light", &[("s.xml", &emitting), ("flat.obj", flat_obj)]);
+    let e = s.expect_err("a light of no area");
+    assert_eq!(e.line, Some(line_of(&emitting, "flat.obj")));
+    assert!(e.message.contains("nothing to emit from"), "{e}");
+}

@@ -125,6 +125,34 @@ fn textured_scene_decodes_its_texture() {
     assert_eq!(floor.uv, Some([Vec2::ZERO, Vec2::new(2.0, 0.0), Vec2::new(2.0, 2.0)]));
 }
 
+/// An 8-bit texture is stored palette-coded (4 bytes a texel rather than 16: Bitterli's
+/// staircase's nine images did not fit lavapipe's 128 MiB binding as floats), and decoding the
+/// palette as the kernels do gives back the very floats; a texture of more distinct values
+/// stays floats.
+#[test]
+fn textures_are_palette_coded_without_loss() {
+    use sppm_gpu::gpu::scene_buffers::{palette_coded, SceneData};
+    use sppm_gpu::layout::{PALETTE_ENTRIES, TEXTURE_PALETTE};
+    let scene = canonical("textured");
+    let texels = &scene.textures[0].texels;
+    let coded = palette_coded(texels).expect("an 8-bit image has at most 256 channel values");
+    let palette = (PALETTE_ENTRIES / 4) as usize;
+    assert_eq!(coded.len(), palette + texels.len().div_ceil(4));
+    let value = |code: u32| coded[code as usize / 4][code as usize % 4];
+    for (i, t) in texels.iter().enumerate() {
+        let word = coded[palette + i / 4][i % 4].to_bits();
+        let decoded = Vec3::new(value(word & 0xff), value(word >> 8 & 0xff), value(word >> 16 & 0xff));
+        assert_eq!(decoded.to_array().map(f32::to_bits), t.to_array().map(f32::to_bits), "texel {i}");
+    }
+    // The header's flags (second header texel's w) say so.
+    let data = SceneData::new(&scene).unwrap();
+    assert_ne!(data.texels[1][3].to_bits() & TEXTURE_PALETTE, 0);
+    // 257 distinct values: floats.
+    let ramp: Vec<Vec3> = (0..257).map(|i| Vec3::splat(i as f32 / 256.0)).collect();
+    assert!(palette_coded(&ramp).is_none());
+    assert!(palette_coded(&ramp[..256]).is_some());
+}
+
 // --- Defaults and values ---
 
 #[test]

@@ -276,7 +276,7 @@ impl Sppm {
     pub fn with_deposits(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, deposits: Deposits) -> Result<Self, Error> {
         crate::gpu::check_device(device)?;
         let data = SceneData::new(scene)?;
-        let scene_buffers = Arc::new(SceneBuffers::new(device, &data));
+        let scene_buffers = Arc::new(SceneBuffers::upload(device, scene, &data)?);
         Self::with_scene_buffers(device, queue, scene, &data, scene_buffers, 0..scene.render.height, deposits)
     }
 
@@ -288,7 +288,7 @@ impl Sppm {
     pub fn new_rows(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, rows: Range<u32>) -> Result<Self, Error> {
         crate::gpu::check_device(device)?;
         let data = SceneData::new(scene)?;
-        let scene_buffers = Arc::new(SceneBuffers::new(device, &data));
+        let scene_buffers = Arc::new(SceneBuffers::upload(device, scene, &data)?);
         Self::with_scene_buffers(device, queue, scene, &data, scene_buffers, rows, Deposits::Auto)
     }
 

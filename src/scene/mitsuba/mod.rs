@@ -215,9 +215,14 @@ impl<'a> SceneReader<'a> {
                     }
                     self.integrator = Some(node);
                 }
-                // Declared for reference: read when a shape or BSDF refers to them.
+                // Declared for reference: read when a shape or BSDF refers to them. One without
+                // an id cannot be referred to: Mitsuba names it for itself and never uses it
+                // (Bitterli's staircase wraps a named BSDF in an unnamed bump map), so it is
+                // passed over with a warning; a named BSDF nested in it is still found by its id.
                 "bsdf" | "texture" => {
-                    node.req_attr("id")?;
+                    if node.attr("id").is_none() {
+                        node.warn(None, format!("{} has no id: no shape can refer to it, so it is not used", node.describe()));
+                    }
                 }
                 // Declared for reference, and checked as Mitsuba instantiates them: in the scene's
                 // media once the sensor or a shape refers to them.

@@ -182,7 +182,7 @@ impl<'a> SceneReader<'a> {
                     }
                 }
                 let normals = if face_normals { Normals::Flat } else { Normals::MitsubaSmooth };
-                self.add_mesh(node, indexed, &transform, normals, index, &path)?;
+                self.add_mesh(node, indexed, &transform, normals, index, &path, emission.is_some())?;
                 ShapeKind::Mesh
             }
             "rectangle" => {
@@ -203,7 +203,7 @@ impl<'a> SceneReader<'a> {
                 ShapeKind::Quad
             }
             "cube" => {
-                self.add_mesh(node, cube(), &transform, Normals::Flat, index, Path::new("cube"))?;
+                self.add_mesh(node, cube(), &transform, Normals::Flat, index, Path::new("cube"), emission.is_some())?;
                 ShapeKind::Cube
             }
             "disk" => {
@@ -273,7 +273,10 @@ impl<'a> SceneReader<'a> {
     }
 
     /// Appends a mesh's world-space triangles, keeping the file's winding under a mirroring
-    /// transform (Mitsuba's face normals are the cross products of world-space edges).
+    /// transform (Mitsuba's face normals are the cross products of world-space edges). A
+    /// mesh whose every triangle has no area adds nothing, with a warning, as Mitsuba loads
+    /// it; an emitting one is refused (a light of no area has no density to sample).
+    #[allow(clippy::too_many_arguments)]
     fn add_mesh(
         &mut self,
         node: &Node,
@@ -282,6 +285,7 @@ impl<'a> SceneReader<'a> {
         normals: Normals,
         shape: u32,
         path: &Path,
+        emits: bool,
     ) -> Result<()> {
         // Counted before the triangles are made.
         self.reserve(indexed.indices.len(), node, Some("filename"))?;
@@ -291,10 +295,15 @@ impl<'a> SceneReader<'a> {
         }
         let (triangles, skipped) =
             mesh::triangles(&indexed, transform, normals, shape).map_err(|e| node.error(Some("to_world"), e))?;
-        if triangles.is_empty() {
-            return Err(node.error(None, format!("all {skipped} triangles of {} have no area", path.display())));
+        if triangles.is_empty() && emits {
+            return Err(node.error(
+                None,
+                format!("all {skipped} triangles of {} have no area: the area light has nothing to emit from", path.display()),
+            ));
         }
-        if skipped > 0 {
+        if triangles.is_empty() {
+            node.warn(None, format!("all {skipped} triangles of {} have no area: the shape adds nothing", path.display()));
+        } else if skipped > 0 {
             node.warn(None, format!("{skipped} triangles of {} have no area and are skipped", path.display()));
         }
         self.triangles.extend(triangles);
