@@ -379,3 +379,20 @@ fn pfm_images_as_pbrt_reads_them() {
         [Vec3::new(1.0, 2.0, 3.0), Vec3::new(4.0, 5.0, 6.0), Vec3::new(0.1, 0.2, 0.3), Vec3::new(0.4, 0.5, 0.6)]
     );
 }
+
+/// A triangle mesh whose every triangle has no area adds nothing, with a warning naming its
+/// line, as pbrt-v4 loads it; as an area light it is refused.
+#[test]
+fn meshes_without_area_are_warned_and_refused_as_lights() {
+    let flat = "Shape \"trianglemesh\" \"point3 P\" [ 0 0 5  1 0 5  2 0 5 ] \"integer indices\" [ 0 1 2 ]\n";
+    let (scene, warnings) = read(flat);
+    let scene = scene.unwrap_or_else(|e| panic!("{e}"));
+    assert!(scene.triangles.is_empty());
+    let warning = warnings.iter().find(|w| w.message.contains("no area")).unwrap_or_else(|| panic!("{warnings:?}"));
+    assert_eq!(warning.line, Some(6), "{warning}");
+    let light = format!("AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n{flat}AttributeEnd\n");
+    let (scene, _) = read(&light);
+    let e = scene.expect_err("a light of no area");
+    assert!(e.message.contains("nothing to emit from"), "{e}");
+    assert_eq!(e.line, Some(7), "{e}");
+}

@@ -49,7 +49,7 @@ impl Reader {
         let shape_kind = match kind {
             "trianglemesh" | "bilinearmesh" => {
                 let (mesh, normals) = self.inline_mesh(kind, p)?;
-                self.add_mesh(p, mesh, &transform, normals, state.reverse, index)?;
+                self.add_mesh(p, mesh, &transform, normals, state.reverse, index, emission.is_some())?;
                 ShapeKind::Mesh
             }
             "plymesh" => {
@@ -61,7 +61,7 @@ impl Reader {
                 let path = p.resolve(name);
                 let mesh = ply::read_ply(&path).map_err(|e| p.error("filename", format!("{}: {e}", path.display())))?;
                 let has_normals = mesh.normals.is_some();
-                self.add_mesh(p, mesh, &transform, has_normals, state.reverse, index)?;
+                self.add_mesh(p, mesh, &transform, has_normals, state.reverse, index, emission.is_some())?;
                 ShapeKind::Mesh
             }
             "sphere" => {
@@ -98,12 +98,12 @@ impl Reader {
                 if !(radius > 0.0 && inner >= 0.0 && inner < radius) {
                     return Err(p.error("radius", "a disk's radius is more than its innerradius, which is >= 0"));
                 }
-                self.add_mesh(p, disk(height, radius, inner), &transform, false, state.reverse, index)?;
+                self.add_mesh(p, disk(height, radius, inner), &transform, false, state.reverse, index, emission.is_some())?;
                 ShapeKind::Mesh
             }
             "loopsubdiv" => {
                 let mesh = self.loop_subdiv(p)?;
-                self.add_mesh(p, mesh, &transform, true, state.reverse, index)?;
+                self.add_mesh(p, mesh, &transform, true, state.reverse, index, emission.is_some())?;
                 ShapeKind::Mesh
             }
             "cylinder" | "cone" | "paraboloid" | "hyperboloid" | "curve" | "heightfield" | "nurbs" => {
@@ -281,7 +281,10 @@ impl Reader {
         Ok((IndexedMesh { positions, normals, uvs, indices: faces }, has_normals))
     }
 
-    /// Appends a mesh's triangles, fronts as pbrt's (see the module's notes).
+    /// Appends a mesh's triangles, fronts as pbrt's (see the module's notes). A mesh whose
+    /// every triangle has no area adds nothing, with a warning (pbrt-v4 loads it and never
+    /// hits it); an emitting one is refused (a light of no area has no density to sample).
+    #[allow(clippy::too_many_arguments)]
     fn add_mesh(
         &mut self,
         p: &Params,
@@ -290,14 +293,19 @@ impl Reader {
         normals: bool,
         reverse: bool,
         shape: u32,
+        emits: bool,
     ) -> Result<()> {
         self.reserve(p, mesh.indices.len())?;
         let how = if normals { Normals::Smooth } else { Normals::Flat };
         let (mut triangles, skipped) = mesh::triangles(&mesh, transform, how, shape).map_err(|e| p.directive_error(e))?;
-        if triangles.is_empty() {
-            return Err(p.directive_error(format!("all {skipped} triangles of the shape have no area")));
+        if triangles.is_empty() && emits {
+            return Err(p.directive_error(format!(
+                "all {skipped} triangles of the shape have no area: the area light has nothing to emit from"
+            )));
         }
-        if skipped > 0 {
+        if triangles.is_empty() {
+            self.warnings.push(p.directive_error(format!("all {skipped} triangles of the shape have no area: it adds nothing")));
+        } else if skipped > 0 {
             self.warnings.push(p.directive_error(format!("{skipped} triangles have no area and are skipped")));
         }
         for t in &mut triangles {
