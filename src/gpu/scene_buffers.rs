@@ -413,10 +413,14 @@ fn camera_sees(scene: &Scene, bvh: &Bvh, scene_radius: f32) -> Option<(Vec3, f32
 }
 
 /// `texels` palette-coded ([`TEXTURE_PALETTE`]) as the `texels` buffer stores them, or
-/// `None` when their channels take more than [`PALETTE_ENTRIES`] distinct values. Lossless:
-/// the palette holds the very `f32`s, so lookups return what the float texels would.
+/// `None` when their channels take more than [`PALETTE_ENTRIES`] distinct values or the image
+/// is so small that its floats take no more room than the palette would. Lossless: the
+/// palette holds the very `f32`s, so lookups return what the float texels would.
 pub fn palette_coded(texels: &[Vec3]) -> Option<Vec<[f32; 4]>> {
     const PALETTE: usize = PALETTE_ENTRIES as usize;
+    if PALETTE / 4 + texels.len().div_ceil(4) >= texels.len() {
+        return None;
+    }
     // An open-addressing table of the values' bits (a hash map's per-lookup cost is most of
     // the time on a texture of millions of texels); `EMPTY` is a NaN no image holds.
     const SLOTS: usize = 4 * PALETTE;

@@ -151,6 +151,10 @@ fn textures_are_palette_coded_without_loss() {
     let ramp: Vec<Vec3> = (0..257).map(|i| Vec3::splat(i as f32 / 256.0)).collect();
     assert!(palette_coded(&ramp).is_none());
     assert!(palette_coded(&ramp[..256]).is_some());
+    // An image of 86 texels or fewer takes no more room as floats than with a palette:
+    // floats (memory's estimate, 16 bytes a texel, stays an upper bound).
+    assert!(palette_coded(&ramp[..86]).is_none());
+    assert!(palette_coded(&ramp[..87]).is_some());
 }
 
 // --- Defaults and values ---
