@@ -269,11 +269,15 @@ fn adaptive_furnace_is_two_everywhere() {
     }
 }
 
-/// 128x128, 24 passes of 200,000 photons against the 256x256 reference, both reduced to
-/// 32x32: the bounds of tests/suite/sppm.rs.
+/// 128x128, 12 passes of 100,000 photons against the 256x256 reference, both reduced to
+/// 32x32: the bounds of tests/suite/sppm.rs. At 24 passes of 200,000 (2026-11-30) the relMSE
+/// read 1.0e-4 (cornell-box), 4.8e-4 (cornell-spheres) and 1.5e-4 (cornell-glossy), the
+/// channel means within 0.08%; at a quarter of the photons 1.9e-4, 6.5e-4 and 3.0e-4, within
+/// 0.13%: under the bounds (3e-3, 1e-2, 6e-3; 2 to 3%) by 15x or more, where a biased rule
+/// shows as it did at 24 passes (the noise only adds to the relMSE).
 fn against_reference(gpu: &GpuContext, name: &str, rel_mse: f64, ratio: f64) {
-    let mut scene = adaptive(&format!("{name}.toml"), 128, 200_000);
-    scene.render.iterations = 24;
+    let mut scene = adaptive(&format!("{name}.toml"), 128, 100_000);
+    scene.render.iterations = 12;
     let img = common::render_sppm(gpu, &scene);
     let reference = downsample_box(&common::reference(&format!("{name}.exr")), 2).unwrap();
     let c = compare(&img, &reference, 4).unwrap();

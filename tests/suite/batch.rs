@@ -59,7 +59,11 @@ fn worst_against_bound(a: &Rgb32Image, b: &Rgb32Image) -> f32 {
 }
 
 /// The global schedule converges where the per-point one does: the furnace's 2.0, and the
-/// Cornell scenes against their references with the tolerances of `tests/suite/sppm.rs`.
+/// Cornell scenes against their references with the tolerances of `tests/suite/sppm.rs`, at
+/// 12 passes of 100,000 photons. At 24 passes of 200,000 (2026-11-30) the relMSE read 8.8e-5
+/// (cornell-box) and 4.3e-4 (cornell-spheres), the channel means within 0.08%; at a quarter of
+/// the photons 1.8e-4 and 6.0e-4, within 0.12%: under the bounds (3e-3, 1e-2; 2 and 3%) by
+/// 16x or more, where a schedule that converges elsewhere shows as it did at 24 passes.
 #[test]
 fn global_schedule_matches_references() {
     let Some(gpu) = common::gpu() else { return };
@@ -70,9 +74,9 @@ fn global_schedule_matches_references() {
         assert!((c - 2.0).abs() < 0.02, "furnace mean {mean:?}");
     }
     for (name, max_rel_mse, max_ratio) in [("cornell-box", 0.003, 0.02), ("cornell-spheres", 0.01, 0.03)] {
-        let mut scene = global(&format!("{name}.toml"), 128, 200_000);
-        scene.render.iterations = 24;
-        let image = batch(&gpu, &scene, 0, 24);
+        let mut scene = global(&format!("{name}.toml"), 128, 100_000);
+        scene.render.iterations = 12;
+        let image = batch(&gpu, &scene, 0, 12);
         let reference = downsample_box(&common::reference(&format!("{name}.exr")), 2).unwrap();
         let c = compare(&image, &reference, 4).unwrap();
         eprintln!("{name}, global schedule: {c:?}");

@@ -145,7 +145,11 @@ fn scaled(scene: &Scene, s: f32) -> Scene {
 }
 
 /// The same scene at 1e-3 and 1e3 times its size gives the same image: ray offsets, BVH
-/// quantization, grid cells and the automatic radius all follow the scene's size.
+/// quantization, grid cells and the automatic radius all follow the scene's size. The renders
+/// draw the same random numbers, so the images agree far below the noise: at 200,000 photons
+/// a pass (2026-11-30) the relMSE against scale 1 read 6.2e-11 and 6.5e-11, channel means
+/// within 3e-6; at 50,000 (a quarter of the work) 4.8e-10 and 3.3e-10, within 5e-6. A scale
+/// that leaks into the estimate changes the image at any photon count; the bound (3e-3) stays.
 #[test]
 fn image_does_not_depend_on_scene_scale() {
     let Some(gpu) = common::gpu() else { return };
@@ -153,10 +157,12 @@ fn image_does_not_depend_on_scene_scale() {
     scene.render.width = 64;
     scene.render.height = 64;
     scene.render.iterations = 16;
+    scene.render.photons = 50_000;
     let base = render_checked(&gpu, &scene);
     for s in [1.0e-3f32, 1.0e3] {
         let img = render_checked(&gpu, &scaled(&scene, s));
         let c = compare(&img, &base, 8).unwrap();
+        eprintln!("scale {s} against scale 1: {c:?}");
         assert!(c.rel_mse < 0.003, "scale {s}: relMSE {} against scale 1", c.rel_mse);
         for r in c.mean_ratio {
             assert!((r - 1.0).abs() < 0.02, "scale {s}: channel means {:?}", c.mean_ratio);
@@ -169,5 +175,6 @@ fn image_does_not_depend_on_scene_scale() {
     }
     let img = render_checked(&gpu, &dimmer);
     let c = compare(&img, &base, 8).unwrap();
+    eprintln!("10% dimmer against scale 1: {c:?}");
     assert!(c.mean_ratio.iter().all(|r| (r - 1.0).abs() > 0.05), "10% dimmer scene passed: {:?}", c.mean_ratio);
 }
