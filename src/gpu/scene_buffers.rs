@@ -89,6 +89,16 @@ impl SceneData {
         let mut texture_at = Vec::new();
         // Each distinct image once: (its first texture, its first texel, TEXTURE_PALETTE or 0).
         let mut image_at: Vec<(usize, u32, u32)> = Vec::new();
+        // Palette-coded only where the images' floats would pass the binding every device
+        // offers: a palette costs a lookup a channel (textured.toml's pt-nee 5% slower).
+        let mut distinct = std::collections::HashSet::new();
+        let float_bytes: u64 = scene
+            .textures
+            .iter()
+            .filter(|t| distinct.insert((&t.path, t.width, t.height)))
+            .map(|t| 16 * t.texels.len() as u64)
+            .sum();
+        let palettes = scene.render.texture_palettes || float_bytes > PALETTE_ABOVE_BYTES;
         for (i, t) in scene.textures.iter().enumerate() {
             if t.width > 0xffff || t.height > 0xffff {
                 return Err(SceneError {
@@ -108,7 +118,7 @@ impl SceneData {
                 Some(&(_, first, coding)) => (first, coding, None),
                 None => {
                     let first = header + 2;
-                    let image = palette_coded(&t.texels);
+                    let image = if palettes { palette_coded(&t.texels) } else { None };
                     let coding = if image.is_some() { TEXTURE_PALETTE } else { 0 };
                     image_at.push((i, first, coding));
                     (first, coding, Some(image))
@@ -411,6 +421,11 @@ fn camera_sees(scene: &Scene, bvh: &Bvh, scene_radius: f32) -> Option<(Vec3, f32
     }
     bounds.map(|(lo, hi)| (0.5 * (lo + hi), 0.5 * (hi - lo).length() + 0.01 * scene_radius))
 }
+
+/// Bytes of a scene's texture images as floats beyond which its 8-bit images are
+/// palette-coded ([`palette_coded`]): wgpu's default storage binding, which every device
+/// offers (lavapipe's too).
+pub const PALETTE_ABOVE_BYTES: u64 = 128 << 20;
 
 /// `texels` palette-coded ([`TEXTURE_PALETTE`]) as the `texels` buffer stores them, or
 /// `None` when their channels take more than [`PALETTE_ENTRIES`] distinct values or the image

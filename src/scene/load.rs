@@ -217,6 +217,7 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         work_given: super::WorkGiven { photons: t.get("photons").is_some(), spp: t.get("spp").is_some() },
         strategies: d.strategies,
         photon_mapping: d.photon_mapping,
+        texture_palettes: d.texture_palettes,
     })
 }
 

@@ -318,6 +318,10 @@ pub struct RenderSettings {
     /// kernels. Chosen by vcm's pilot (`integrators::shares`) where it is the best of vcm's
     /// configurations. Not a scene key.
     pub photon_mapping: bool,
+    /// Every 8-bit texture palette-coded whatever the textures' size, as only a scene whose
+    /// images pass `gpu::scene_buffers::PALETTE_ABOVE_BYTES` as floats has them: the same
+    /// image (the palette is lossless), for tests of that. Not a scene key.
+    pub texture_palettes: bool,
 }
 
 /// Which of [`PassWork`]'s settings a scene gave.
@@ -381,6 +385,7 @@ impl Default for RenderSettings {
             work_given: WorkGiven::default(),
             strategies: crate::layout::STRATEGIES_ALL,
             photon_mapping: false,
+            texture_palettes: false,
         }
     }
 }

@@ -144,9 +144,13 @@ fn textures_are_palette_coded_without_loss() {
         let decoded = Vec3::new(value(word & 0xff), value(word >> 8 & 0xff), value(word >> 16 & 0xff));
         assert_eq!(decoded.to_array().map(f32::to_bits), t.to_array().map(f32::to_bits), "texel {i}");
     }
-    // The header's flags (second header texel's w) say so.
-    let data = SceneData::new(&scene).unwrap();
-    assert_ne!(data.texels[1][3].to_bits() & TEXTURE_PALETTE, 0);
+    // Stored so only where the images pass PALETTE_ABOVE_BYTES as floats (or where told):
+    // the header's flags (second header texel's w) say so.
+    let flags = |scene: &Scene| SceneData::new(scene).unwrap().texels[1][3].to_bits();
+    assert_eq!(flags(&scene) & TEXTURE_PALETTE, 0);
+    let mut told = scene.clone();
+    told.render.texture_palettes = true;
+    assert_ne!(flags(&told) & TEXTURE_PALETTE, 0);
     // 257 distinct values: floats.
     let ramp: Vec<Vec3> = (0..257).map(|i| Vec3::splat(i as f32 / 256.0)).collect();
     assert!(palette_coded(&ramp).is_none());

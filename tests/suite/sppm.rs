@@ -8,7 +8,7 @@ use sppm_gpu::integrators::sppm::auto_radius;
 use sppm_gpu::integrators::{Deposits, Sppm};
 use sppm_gpu::layout::VpStats;
 use sppm_gpu::metrics::{compare, downsample_box};
-use sppm_gpu::scene::{DirectLight, Scene, SceneBuilder};
+use sppm_gpu::scene::{DirectLight, Method, Scene, SceneBuilder};
 
 /// Every surface has albedo 0.5 and emits 1 in a closed box: L = 1 / (1 - 0.5) = 2 everywhere.
 #[test]
@@ -142,6 +142,25 @@ fn point_light_matches_reference() {
 #[test]
 fn textured_matches_reference() {
     check_feature_scene("textured");
+}
+
+/// A palette-coded texture (`RenderSettings::texture_palettes`; a scene gets them where its
+/// images pass 128 MiB as floats, as Bitterli's staircase) renders the image of the float
+/// texels, bit for bit, by SPPM and pt-nee: the kernels' decoding (shared/scene.wgsl `texel`)
+/// gives back the very floats.
+#[test]
+fn palette_coded_textures_render_the_same_image() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let scene = common::load_scene("textured.toml");
+    let mut palettes = scene.clone();
+    palettes.render.texture_palettes = true;
+    for method in [Method::Sppm, Method::PtNee] {
+        let (a, b) = (common::render_at(&scene, method, 48, 4), common::render_at(&palettes, method, 48, 4));
+        assert!(a.mean().iter().all(|&m| m > 0.0), "{method:?}: a black image");
+        assert!(a.pixels == b.pixels, "{method:?}: palette-coded texels render another image");
+    }
 }
 
 #[test]
