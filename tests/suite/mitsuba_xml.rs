@@ -1838,7 +1838,7 @@ fn unnamed_bsdfs_and_meshes_without_area_load_as_mitsuba_loads_them() {
     assert_eq!(lines, [line_of(&text, "bumpmap"), line_of(&text, "flat.obj")], "{warnings:?}");
     assert!(warnings[0].message.contains("no id"), "{}", warnings[0]);
     assert!(warnings[1].message.contains("all 2 triangles"), "{}", warnings[1]);
-    assert_eq!(s.shapes.len(), 2, "the light and the empty mesh");
+    assert_eq!(s.shapes.len(), 1, "the light alone: the empty mesh adds no shape");
     assert_eq!(s.triangles.len(), 2, "the light's two triangles alone");
 
     let emitting = legacy_scene_with(

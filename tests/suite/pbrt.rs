@@ -387,7 +387,7 @@ fn meshes_without_area_are_warned_and_refused_as_lights() {
     let flat = "Shape \"trianglemesh\" \"point3 P\" [ 0 0 5  1 0 5  2 0 5 ] \"integer indices\" [ 0 1 2 ]\n";
     let (scene, warnings) = read(flat);
     let scene = scene.unwrap_or_else(|e| panic!("{e}"));
-    assert!(scene.triangles.is_empty());
+    assert!(scene.triangles.is_empty() && scene.shapes.is_empty(), "the empty mesh adds no shape");
     let warning = warnings.iter().find(|w| w.message.contains("no area")).unwrap_or_else(|| panic!("{warnings:?}"));
     assert_eq!(warning.line, Some(6), "{warning}");
     let light = format!("AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n{flat}AttributeEnd\n");

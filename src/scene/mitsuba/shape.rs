@@ -249,6 +249,11 @@ impl<'a> SceneReader<'a> {
             self.triangles[first..].iter_mut().filter(|t| t.uv.is_none()).for_each(|t| t.uv = Some(barycentric));
         }
         p.finish()?;
+        if shape_kind != ShapeKind::Sphere && self.triangles.len() == first {
+            // A mesh of no area (warned by add_mesh) adds no shape: `convert` would write it
+            // as a mesh file of no faces.
+            return Ok(());
+        }
         let triangles = &self.triangles[first..];
         let spheres = if shape_kind == ShapeKind::Sphere { &self.spheres[self.spheres.len() - 1..] } else { &[] };
         mesh::check_extent(triangles, spheres, Vec3::ZERO).map_err(|e| node.error(Some("to_world"), e))?;

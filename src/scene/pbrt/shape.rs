@@ -116,6 +116,11 @@ impl Reader {
             emission = Some(l * power / (std::f32::consts::PI * self.pbrt_shape_area(kind, p, first)?));
         }
         p.finish()?;
+        if shape_kind != ShapeKind::Sphere && self.triangles.len() == first {
+            // A mesh of no area (warned by add_mesh) adds no shape: `convert` would write it
+            // as a mesh file of no faces.
+            return Ok(());
+        }
         if self.materials[material as usize].kind.texture().is_some() {
             // pbrt's default uv on a triangle without them.
             let uv = [Vec2::ZERO, Vec2::X, Vec2::ONE];
