@@ -464,7 +464,9 @@ pub const TEXTURE_CLAMP: u32 = 4;
 /// [`PALETTE_ENTRIES`] of them, four to a texel), then each word of the following texels one
 /// texel's red, green and blue as 8-bit indices into them (bits 0-7, 8-15, 16-23), four
 /// words to a texel. An 8-bit image takes 4 bytes a texel rather than 16, whatever its
-/// transfer function; one with more distinct values is stored as floats.
+/// transfer function; one with more distinct values is stored as floats. Used only where a
+/// scene's images would pass `PALETTE_ABOVE_BYTES` as floats (gpu::scene_buffers): the
+/// lookups cost time.
 pub const TEXTURE_PALETTE: u32 = 8;
 /// The channel values a palette-coded texture can hold ([`TEXTURE_PALETTE`]).
 pub const PALETTE_ENTRIES: u32 = 256;
