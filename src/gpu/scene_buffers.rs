@@ -445,12 +445,16 @@ pub fn palette_coded(texels: &[Vec3]) -> Option<Vec<[f32; 4]>> {
     let mut used = 0;
     let mut index = |value: f32| -> Option<u32> {
         let bits = value.to_bits();
+        // Checked first: an empty slot would match it.
+        if bits == EMPTY {
+            return None;
+        }
         let mut slot = (bits.wrapping_mul(0x9e37_79b1) >> 22) as usize;
         loop {
             match slots[slot] {
                 (b, i) if b == bits => return Some(i as u32),
                 (EMPTY, _) => {
-                    if used == PALETTE || bits == EMPTY {
+                    if used == PALETTE {
                         return None;
                     }
                     slots[slot] = (bits, used as u8);
