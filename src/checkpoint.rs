@@ -9,11 +9,17 @@
 //! temporary file beside the target and renamed over it, so a process killed while writing
 //! leaves the previous checkpoint intact.
 //!
+//! Where vcm's pilot chose the render's strategies, the checkpoint keeps its choice, and a
+//! render resumed from it renders that choice without a pilot: under a time limit the pilot's
+//! choice depends on the passes that fit (`crate::integrators::shares::representative_pass`),
+//! and a resumed run has another limit.
+//!
 //! Layout: `SPPMGPU-CHECKPOINT`, a format version (u32), then length-prefixed (u64, little
-//! endian) fields: the settings text, the camera text, the two digests (u64 each), the state;
-//! last, the FNV-1a digest (u64) of every byte before it. A file whose digest differs, or with
-//! bytes after it, is refused as corrupt; the integrator checks the state itself on
-//! [`restore`](crate::integrators::Integrator::restore).
+//! endian) fields: the settings text, the camera text, the two digests (u64 each), the state,
+//! and (from version 3) the pilot's choice as text (empty where none chose); last, the FNV-1a
+//! digest (u64) of every byte before it. A file whose digest differs, or with bytes after it,
+//! is refused as corrupt; the integrator checks the state itself on
+//! [`restore`](crate::integrators::Integrator::restore). Version 2 (no choice) is read too.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -23,7 +29,18 @@ use crate::scene::Scene;
 
 /// The bytes a checkpoint starts with.
 pub const MAGIC: &[u8] = b"SPPMGPU-CHECKPOINT";
-const VERSION: u32 = 2;
+const VERSION: u32 = 3;
+
+/// A checkpoint: what made the render, its state, and vcm's pilot's choice.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Checkpoint {
+    /// What the render was made from.
+    pub fingerprint: Fingerprint,
+    /// The integrator's state ([`crate::integrators::Integrator::state`]).
+    pub state: Vec<u8>,
+    /// vcm's pilot's choice (`crate::integrators::shares::Choice` as text), where one chose.
+    pub pilot: Option<String>,
+}
 
 /// What a checkpoint was made from.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -149,8 +166,9 @@ fn field(out: &mut Vec<u8>, bytes: &[u8]) {
     out.extend_from_slice(bytes);
 }
 
-/// Write `state` of a render fingerprinted `fingerprint` to `path`, whole or not at all.
-pub fn write(path: &Path, fingerprint: &Fingerprint, state: &[u8]) -> Result<(), Error> {
+/// Write `checkpoint` to `path`, whole or not at all.
+pub fn write(path: &Path, checkpoint: &Checkpoint) -> Result<(), Error> {
+    let Checkpoint { fingerprint, state, pilot } = checkpoint;
     let mut bytes = Vec::with_capacity(state.len() + 256);
     bytes.extend_from_slice(MAGIC);
     bytes.extend_from_slice(&VERSION.to_le_bytes());
@@ -159,6 +177,7 @@ pub fn write(path: &Path, fingerprint: &Fingerprint, state: &[u8]) -> Result<(),
     field(&mut bytes, &fingerprint.geometry.to_le_bytes());
     field(&mut bytes, &fingerprint.appearance.to_le_bytes());
     field(&mut bytes, state);
+    field(&mut bytes, pilot.as_deref().unwrap_or("").as_bytes());
     let mut checksum = Fnv::new();
     checksum.write(&bytes);
     bytes.extend_from_slice(&checksum.0.to_le_bytes());
@@ -174,16 +193,16 @@ pub fn write(path: &Path, fingerprint: &Fingerprint, state: &[u8]) -> Result<(),
     })
 }
 
-/// The fingerprint and state of the checkpoint at `path`.
-pub fn read(path: &Path) -> Result<(Fingerprint, Vec<u8>), Error> {
+/// The checkpoint at `path`.
+pub fn read(path: &Path) -> Result<Checkpoint, Error> {
     let bytes =
         std::fs::read(path).map_err(|e| Error::Setting(format!("{}: cannot read the checkpoint: {e}", path.display())))?;
     let bad = |what: &str| Error::Setting(format!("{}: not a checkpoint of this renderer ({what})", path.display()));
     let rest = bytes.strip_prefix(MAGIC).ok_or_else(|| bad("no header"))?;
     let version = rest.get(..4).ok_or_else(|| bad("truncated"))?;
     let version = u32::from_le_bytes(version.try_into().expect("4 bytes"));
-    if version != VERSION {
-        return Err(bad(&format!("format version {version}, where this renderer reads {VERSION}")));
+    if version != VERSION && version != 2 {
+        return Err(bad(&format!("format version {version}, where this renderer reads 2 and {VERSION}")));
     }
     let corrupt = |what: &str| Error::Setting(format!("{}: the checkpoint is corrupt: {what}", path.display()));
     let body = bytes.len().checked_sub(8).filter(|&n| n >= MAGIC.len() + 4).ok_or_else(|| bad("truncated"))?;
@@ -208,8 +227,12 @@ pub fn read(path: &Path) -> Result<(Fingerprint, Vec<u8>), Error> {
     let geometry = digest(next()?)?;
     let appearance = digest(next()?)?;
     let state = next()?;
+    let pilot = match version {
+        2 => None,
+        _ => Some(text(next()?)?).filter(|p| !p.is_empty()),
+    };
     if !rest.is_empty() {
         return Err(corrupt(&format!("{} bytes after its fields", rest.len())));
     }
-    Ok((Fingerprint { settings, camera, geometry, appearance }, state))
+    Ok(Checkpoint { fingerprint: Fingerprint { settings, camera, geometry, appearance }, state, pilot })
 }

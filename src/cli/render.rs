@@ -5,8 +5,9 @@ use super::args::load_scene;
 use super::output::{self, Inputs, Kind};
 use super::Cli;
 use indicatif::{ProgressBar, ProgressStyle};
+use sppm_gpu::checkpoint::Checkpoint;
 use sppm_gpu::gpu::GpuContext;
-use sppm_gpu::integrators;
+use sppm_gpu::integrators::{self, light, shares::Choice};
 use sppm_gpu::pacing::{DeviceQueue, Goal, Pacer, PassQueue};
 use sppm_gpu::scene::{self, Method, Named};
 use sppm_gpu::{image_io, say, Error};
@@ -228,6 +229,25 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     for warning in integrators::limitations(&scene) {
         eprintln!("warning: {}: {warning}", scene.path.display());
     }
+    // A resumed render is checked against its checkpoint before the kernels, and renders the
+    // strategies vcm's pilot chose when it began, which the checkpoint keeps (under a time limit
+    // the pilot's choice depends on the passes that fit, and a resumed run has its own limit).
+    let fingerprint = sppm_gpu::checkpoint::Fingerprint::of(&scene);
+    let resumed = match &cli.resume {
+        Some(path) => {
+            let cannot = |e: String| Error::Setting(format!("{}: cannot resume: {e}", path.display()));
+            let saved = sppm_gpu::checkpoint::read(path)?;
+            saved.fingerprint.check(&fingerprint).map_err(cannot)?;
+            let kept = saved.pilot.as_deref().map(str::parse::<Choice>).transpose().map_err(cannot)?;
+            Some((path, saved.state, kept))
+        }
+        None => None,
+    };
+    let kept = resumed.as_ref().and_then(|(_, _, kept)| *kept).filter(|_| light::pilot_chooses_shares(&scene));
+    if let Some(choice) = kept {
+        choice.apply(&mut scene.render);
+        eprintln!("note: vcm renders {choice} as its pilot chose when the render began (kept by the checkpoint)");
+    }
     interrupt.stage("compiling the kernels");
     // Under a time limit the kernels are compiled first, so that the limit is spent on
     // passes (a first run on lavapipe compiles for seconds); otherwise the first pass does it.
@@ -253,11 +273,9 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
             if r.method == Method::Sppm { ", each tracing every pass's photons" } else { "" }
         );
     }
-    let fingerprint = sppm_gpu::checkpoint::Fingerprint::of(&scene);
-    if let Some(path) = &cli.resume {
-        let (saved, state) = sppm_gpu::checkpoint::read(path)?;
-        saved.check(&fingerprint).map_err(|e| Error::Setting(format!("{}: cannot resume: {e}", path.display())))?;
-        integrator.restore(&state).map_err(|e| Error::Setting(format!("{}: cannot resume: {e}", path.display())))?;
+    let pilot = kept.or_else(|| integrator.pilot_choice());
+    if let Some((path, state, _)) = &resumed {
+        integrator.restore(state).map_err(|e| Error::Setting(format!("{}: cannot resume: {e}", path.display())))?;
         eprintln!("resuming from {} after {} passes", path.display(), integrator.passes());
     }
     // The last checkpoint's state is also kept here: a lost device's render writes its image.
@@ -265,7 +283,9 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     let mut save = |integrator: &mut dyn integrators::Integrator| -> Result<(), Error> {
         if let Some(path) = &cli.checkpoint {
             let state = integrator.state()?;
-            sppm_gpu::checkpoint::write(path, &fingerprint, &state)?;
+            let checkpoint = Checkpoint { fingerprint: fingerprint.clone(), state, pilot: pilot.map(|c| c.to_string()) };
+            sppm_gpu::checkpoint::write(path, &checkpoint)?;
+            let state = checkpoint.state;
             saved = Some((integrator.passes(), state));
         }
         Ok(())
@@ -406,7 +426,7 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         // One strategy's renderer after another, the same kernels: made once.
         sppm_gpu::gpu::share_kernels(|| -> Result<(), Error> {
             for (strategy, path) in &strategy_outputs {
-                let share = strategy_image(&gpu, &scene, *strategy, integrator.passes())?;
+                let share = strategy_image(&gpu, &scene, *strategy, integrator.passes(), pilot)?;
                 if path.exists() {
                     eprintln!("note: replacing {}", path.display());
                 }
@@ -509,8 +529,13 @@ fn strategy_image(
     scene: &sppm_gpu::scene::Scene,
     strategy: u32,
     passes: u32,
+    pilot: Option<Choice>,
 ) -> Result<image_io::Rgb32Image, Error> {
     let mut scene = scene.clone();
+    // vcm's pilot's choice for the whole image (no pilot of its own for each strategy).
+    if let Some(choice) = pilot.filter(|_| light::pilot_chooses_shares(&scene)) {
+        choice.apply(&mut scene.render);
+    }
     scene.render.strategies = strategy;
     scene.render.iterations = passes;
     scene.render.time_limit = None;

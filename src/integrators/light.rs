@@ -571,6 +571,10 @@ impl Integrator for LightTracer {
         self.pilot.seconds()
     }
 
+    fn pilot_choice(&self) -> Option<super::shares::Choice> {
+        self.pilot.choice()
+    }
+
     /// Light subpaths, or without them (vcm's `light_paths = 0`) camera subpaths.
     fn work_per_pass(&self) -> u64 {
         match self.paths() {

@@ -148,6 +148,11 @@ pub trait Integrator {
     fn setup_seconds(&self) -> f64 {
         0.0
     }
+    /// vcm's pilot's choice for the render, where one chose: a checkpoint keeps it, and the
+    /// strategy images render it.
+    fn pilot_choice(&self) -> Option<shares::Choice> {
+        None
+    }
     /// SPPM's gather radii over the visible points (read back); `None` for the path tracers.
     fn radius_stats(&self) -> Result<Option<sppm::RadiusStats>, Error> {
         Ok(None)
@@ -226,22 +231,27 @@ fn create_on(
 /// renders the choice for [`Integrator::notes`] and [`Integrator::setup_seconds`] (empty where
 /// no pilot chose).
 #[derive(Clone, Debug, Default)]
-pub struct PilotReport(Option<(String, f64)>);
+pub struct PilotReport(Option<(String, f64, shares::Choice)>);
 
 impl PilotReport {
     /// The report of `pilot`.
     pub fn of(pilot: &shares::Pilot) -> Self {
-        Self(Some((pilot.to_string(), pilot.seconds)))
+        Self(Some((pilot.to_string(), pilot.seconds, pilot.chosen)))
     }
 
     /// The pilot's note, where one chose.
     pub fn notes(&self) -> Vec<String> {
-        self.0.iter().map(|(note, _)| note.clone()).collect()
+        self.0.iter().map(|(note, _, _)| note.clone()).collect()
     }
 
     /// The pilot's seconds (0 where none chose).
     pub fn seconds(&self) -> f64 {
-        self.0.as_ref().map_or(0.0, |(_, seconds)| *seconds)
+        self.0.as_ref().map_or(0.0, |(_, seconds, _)| *seconds)
+    }
+
+    /// The pilot's choice, where one chose.
+    pub fn choice(&self) -> Option<shares::Choice> {
+        self.0.as_ref().map(|(_, _, choice)| *choice)
     }
 
     /// Whether a pilot chose.

@@ -185,6 +185,10 @@ impl Integrator for PathTracer {
         self.pilot.seconds()
     }
 
+    fn pilot_choice(&self) -> Option<super::shares::Choice> {
+        self.pilot.choice()
+    }
+
     fn image(&mut self) -> Result<Rgb32Image, Error> {
         self.sums.image(self.frame.width, self.frame.height)
     }

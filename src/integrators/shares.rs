@@ -20,15 +20,18 @@
 //! pass's relMSE as `diff` measures it, less the bias); its cost is a weighted count of the
 //! work its kernels did ([`CostModel`]). The pair of least error times cost renders the image.
 //!
-//! The choice is a function of the scene and its seed alone (counted work, not time), so
-//! that on one device a seed's image stays the same to the bit from run to run and batch to
-//! batch.
+//! Without a time limit the choice is a function of the scene, its passes and its seed alone
+//! (counted work, not time), so that on one device a seed's image stays the same to the bit
+//! from run to run and batch to batch.
 //!
 //! Its passes are worth those of the render they stand for: the pilot's image has as many
 //! pixels as fit [`PILOT_SIDE`] on its longer side, light subpaths in the same proportion,
-//! and a radius that keeps merging's density estimate as noisy as the render's at
-//! [`REPRESENTATIVE_PASS`] (the variance of a merge goes as 1 / (n_light r^2), Georgiev et
-//! al. 2012, sec. 5.1).
+//! and a radius that keeps merging's density estimate as noisy as the render's at its
+//! [`representative_pass`] (the variance of a merge goes as 1 / (n_light r^2), Georgiev et
+//! al. 2012, sec. 5.1), from the passes the render will run: its `iterations`, or under a time
+//! limit as many as fit by a timed pass of the pilot ([`render_passes`]). Under a time limit the
+//! choice may then differ with the device's speed, as the passes do; a checkpoint keeps the
+//! choice, and a render resumed from it renders that choice again.
 
 use super::light::{light_paths, vcm_radius, LightTracer, Shares};
 use super::Integrator;
@@ -93,6 +96,26 @@ impl fmt::Display for Choice {
     }
 }
 
+impl std::str::FromStr for Choice {
+    type Err = String;
+
+    /// A choice as [`fmt::Display`] writes it: `none`, `sppm`, or `connect/merge` with
+    /// `@pixels` where it sets its light subpaths.
+    fn from_str(text: &str) -> Result<Self, String> {
+        let bad = || format!("`{text}` is not a choice of vcm's pilot (none, sppm, or connect/merge[@pixels])");
+        match text {
+            "none" => return Ok(Self::new(0.0, 0.0, false, 0)),
+            "sppm" => return Ok(Self::PHOTON_MAPPING),
+            _ => {}
+        }
+        let (shares, pixels) = text.split_once('@').map_or((text, None), |(s, p)| (s, Some(p)));
+        let (connect, merge) = shares.split_once('/').ok_or_else(bad)?;
+        let share = |v: &str| v.parse::<f32>().ok().filter(|s| (0.0..=1.0).contains(s)).ok_or_else(bad);
+        let pixels = pixels.map_or(Ok(0), |p| p.parse::<u32>().ok().filter(|&p| p > 0).ok_or_else(bad))?;
+        Ok(Self::new(share(connect)?, share(merge)?, true, pixels))
+    }
+}
+
 /// The configurations the pilot weighs ([`candidates`] says which of them for a scene). The
 /// sixth merges alone with a light subpath for every pixel, four times merging alone's own
 /// ([`super::light::PIXELS_PER_LIGHT_PATH_MERGING`]): where light reaches every surface through
@@ -147,16 +170,44 @@ pub fn weighs_photon_mapping(scene: &Scene) -> bool {
 /// Pixels of the pilot's image on its longer side (at most the render's).
 pub const PILOT_SIDE: u32 = 128;
 
-/// Pilot passes of each candidate.
+/// Pilot passes of each candidate, at most.
 pub const PILOT_PASSES: u32 = 8;
 
-/// The pass whose radius the pilot's merges stand for: the variance of a merge grows as the
-/// radius shrinks over the passes, and a render's error is most that of its later passes
-/// (for alpha = 2/3, a render of n passes has the mean of r^(-2) over its passes at pass
-/// 0.4 n; 256 stands for a render of some 640 passes, about 30 s of cornell-box at 256x256 on
-/// two cores). One pass for every render, so that the choice does not depend on how long it
-/// runs: a render's batches, and its strategy images, choose alike.
-pub const REPRESENTATIVE_PASS: u32 = 256;
+/// Pilot passes of each candidate, at least ([`PILOT_SHARE`]).
+pub const MIN_PILOT_PASSES: u32 = 4;
+
+/// The share of a time limit the pilot's passes may take: under a time limit each candidate
+/// runs as many passes as fit in it, from [`MIN_PILOT_PASSES`] to [`PILOT_PASSES`], by the time
+/// of a pilot pass with everything traced. On Bitterli's staircase (262k triangles, 180x320)
+/// 40 pilot passes took 6 s of 60, and the render's error goes as the inverse of its passes
+/// (BENCHMARKS.md "VCM"); on the canonical scenes the pilot's 8 passes take about 1 s.
+pub const PILOT_SHARE: f64 = 0.05;
+
+/// The pass whose radius the pilot's merges stand for in a render of `passes` passes: the
+/// variance of a merge grows as the radius shrinks over the passes, and a render's error is
+/// most that of its later passes. With r_i^2 = r_1^2 i^(alpha - 1) (Hachisuka and Jensen
+/// 2009; Georgiev et al. 2012, sec. 5.1) the mean of r_i^(-2) over n passes is about
+/// n^b / (1 + b), b = 1 - alpha, the value at pass k = n (1 + b)^(-1/b): 0.42 n for alpha =
+/// 2/3, n / e as alpha goes to 1 (a fixed radius, any pass).
+/// A fixed 256 (a render of some 640 passes) made the pilot rate merging's noise 1.9x too
+/// high on Bitterli's staircase, which runs 94 passes in 60 s (BENCHMARKS.md "VCM").
+pub fn representative_pass(passes: f64, alpha: f32) -> u32 {
+    let b = (1.0 - alpha as f64).clamp(0.0, 1.0);
+    let share = if b < 1e-6 { (-1.0f64).exp() } else { (1.0 + b).powf(-1.0 / b) };
+    (share * passes).round().clamp(1.0, u32::MAX as f64) as u32
+}
+
+/// The passes the render of `scene` will run: its `iterations`, and under a time limit at most
+/// as many as fit in what the pilot leaves of it, a render pass taking `pass_seconds` (a pilot
+/// pass's time, with everything traced, scaled to the render's pixels) and the pilot
+/// `pilot_seconds`.
+pub fn render_passes(scene: &Scene, pass_seconds: Option<f64>, pilot_seconds: f64) -> f64 {
+    let r = &scene.render;
+    match (r.time_limit, pass_seconds) {
+        (Some(limit), Some(pass)) if pass > 0.0 => ((limit - pilot_seconds).max(0.0) / pass).min(r.iterations as f64),
+        _ => r.iterations as f64,
+    }
+}
 
 /// What a pass's work costs, in units of a camera vertex (its next-event estimate and its
 /// next segment, with its share of the pass's camera subpaths' starts): a connection (a shadow
@@ -333,6 +384,10 @@ pub struct Pilot {
     pub width: u32,
     /// The pilot image's height.
     pub height: u32,
+    /// Its passes of each candidate ([`PILOT_PASSES`], fewer under a short time limit).
+    pub passes: u32,
+    /// The render's pass whose radius its merges stood for ([`representative_pass`]).
+    pub representative: u32,
     /// Seconds the pilot took (its passes and read-backs).
     pub seconds: f64,
 }
@@ -341,10 +396,11 @@ impl fmt::Display for Pilot {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "vcm's pilot ({} passes at {}x{}, {:.2} s) chose ",
-            PILOT_PASSES * self.candidates.len() as u32,
+            "vcm's pilot ({} passes at {}x{}, merges as at pass {}, {:.2} s) chose ",
+            self.passes * self.candidates.len() as u32,
             self.width,
             self.height,
+            self.representative,
             self.seconds,
         )?;
         let chosen = self.chosen.shares;
@@ -375,10 +431,17 @@ impl fmt::Display for Pilot {
     }
 }
 
-/// The scene the pilot renders for `scene` (see the module's documentation), and each
-/// candidate's light subpaths a pilot pass, in proportion to the render's, for light subpaths
-/// that keep `vertices` each on average ([`light_paths`]).
-fn pilot_scene(scene: &Scene, candidates: &[Choice], limit: u64, vertices: Option<f64>) -> Result<(Scene, Vec<u32>), Error> {
+/// The scene the pilot renders for `scene` (see the module's documentation), its merges as
+/// noisy as the render's at pass `representative`, and each candidate's light subpaths a pilot
+/// pass, in proportion to the render's, for light subpaths that keep `vertices` each on
+/// average ([`light_paths`]).
+fn pilot_scene(
+    scene: &Scene,
+    candidates: &[Choice],
+    limit: u64,
+    vertices: Option<f64>,
+    representative: u32,
+) -> Result<(Scene, Vec<u32>), Error> {
     let mut pilot = scene.clone();
     // Every strategy weighed and kept (a render for `--strategy-images` keeps one).
     (pilot.render.method, pilot.render.strategies) = (crate::scene::Method::Vcm, crate::layout::STRATEGIES_ALL);
@@ -401,7 +464,7 @@ fn pilot_scene(scene: &Scene, candidates: &[Choice], limit: u64, vertices: Optio
     let counts = candidates.iter().map(|c| with(&pilot.render, c)).collect::<Result<Vec<u32>, Error>>()?;
     let n_render = with(&scene.render, &candidates[0])? as f64;
     let n_pilot = counts[0] as f64;
-    let radius = vcm_radius(scene, REPRESENTATIVE_PASS) as f64;
+    let radius = vcm_radius(scene, representative) as f64;
     let r = &mut pilot.render;
     // Room for the most any candidate traces.
     r.light_paths = counts.iter().copied().max();
@@ -435,10 +498,34 @@ pub fn choose(
     let choices = candidates(scene);
     // The tracer first, with room for the light subpaths the candidates want: its probe says
     // how many vertices they keep, and so how many a pass of the pilot and of the render hold.
-    let (wanting, _) = pilot_scene(scene, &choices, limit, Some(0.0))?;
+    let (wanting, _) = pilot_scene(scene, &choices, limit, Some(0.0), 1)?;
     let (width, height) = (wanting.render.width, wanting.render.height);
     let mut tracer = LightTracer::with_scene_buffers(device, queue, &wanting, data, buffers.clone(), 0..height)?;
-    let (pilot, counts) = pilot_scene(scene, &choices, limit, tracer.vertices_per_subpath())?;
+    let vertices = tracer.vertices_per_subpath();
+    // Under a time limit, the pilot's passes and the render's from a pilot pass's time with
+    // everything traced.
+    let (mut pass_seconds, mut passes_each) = (None, PILOT_PASSES);
+    if let Some(time_limit) = scene.render.time_limit {
+        let (_, counts) = pilot_scene(scene, &choices, limit, vertices, 1)?;
+        let pilot_pass = timed_pass(&mut tracer, choices[0].shares, counts[0])?;
+        let fit = (PILOT_SHARE * time_limit / (pilot_pass * choices.len() as f64)).floor();
+        passes_each = fit.clamp(MIN_PILOT_PASSES as f64, PILOT_PASSES as f64) as u32;
+        let pilot_seconds = start.elapsed().as_secs_f64() + pilot_pass * (passes_each as usize * choices.len()) as f64;
+        let share = (scene.render.width as f64 * scene.render.height as f64) / (width as f64 * height as f64);
+        pass_seconds = Some((pilot_pass * share, pilot_seconds));
+    }
+    let passes = render_passes(scene, pass_seconds.map(|(pass, _)| pass), pass_seconds.map_or(0.0, |(_, pilot)| pilot));
+    let representative = representative_pass(passes, scene.render.alpha);
+    // A measuring hook (scripts/measure/vcm-pilot-cost.sh): what the render's passes came from.
+    let log = std::env::var_os("SPPM_GPU_PILOT_LOG").is_some();
+    if log {
+        eprintln!(
+            "pilot render passes {passes:.1} (a render pass {:?} s, the pilot {:?} s)",
+            pass_seconds.map(|p| p.0),
+            pass_seconds.map(|p| p.1)
+        );
+    }
+    let (pilot, counts) = pilot_scene(scene, &choices, limit, vertices, representative)?;
     tracer.set_radius(pilot.render.radius);
     let pixels = (width * height) as usize;
     let model = CostModel::of(data);
@@ -447,13 +534,12 @@ pub fn choose(
     let mut costs = vec![0.0; choices.len()];
     let mut work = vec![[0.0; WORK_COUNTS as usize]; choices.len()];
     let mut before = vec![[0.0f32; 4]; pixels];
-    // A measuring hook (scripts/measure/vcm-pilot-cost.sh): each pilot pass's time and counts.
-    let log = std::env::var_os("SPPM_GPU_PILOT_LOG").is_some();
+    // The hook's pilot passes: each one's time and counts.
     // The passes of candidates `ks`, in turn; then every candidate run so far, its figures
     // with each pixel's mean over every pilot pass so far, and those means.
     let mut ran: Vec<usize> = Vec::new();
     let mut run = |ks: &[usize]| -> Result<(Vec<Candidate>, Vec<[f64; 3]>), Error> {
-        for pass in 0..PILOT_PASSES * ks.len() as u32 {
+        for pass in 0..passes_each * ks.len() as u32 {
             let k = ks[pass as usize % ks.len()];
             let pass_start = std::time::Instant::now();
             let (sums, work_counts) = tracer.counted_pass(choices[k].shares, counts[k])?;
@@ -464,9 +550,9 @@ pub fn choose(
                 sums.iter().zip(&before).map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]]).collect();
             before = sums;
             estimates[k].push(estimate);
-            costs[k] += model.cost(&work_counts, counts[k] > 0, pixels as u32) / PILOT_PASSES as f64;
+            costs[k] += model.cost(&work_counts, counts[k] > 0, pixels as u32) / passes_each as f64;
             for (w, &n) in work[k].iter_mut().zip(&work_counts) {
-                *w += n as f64 / PILOT_PASSES as f64;
+                *w += n as f64 / passes_each as f64;
             }
         }
         ran.extend_from_slice(ks);
@@ -506,7 +592,9 @@ pub fn choose(
         }
         if !mapping.is_empty() {
             let means = Means::of(mu, &estimates, &ran);
-            candidates.push(photon_mapping(device, queue, scene, &pilot, data, buffers, &means, &model, log)?);
+            let at = (representative, passes_each);
+            let mapping = photon_mapping(device, queue, scene, &pilot, data, buffers, &means, &model, at, log)?;
+            candidates.push(mapping);
         }
     }
     if log {
@@ -515,13 +603,25 @@ pub fn choose(
         }
     }
     let chosen = best(&candidates);
-    Ok(Pilot { chosen, candidates, width, height, seconds: start.elapsed().as_secs_f64() })
+    let seconds = start.elapsed().as_secs_f64();
+    Ok(Pilot { chosen, candidates, width, height, passes: passes_each, representative, seconds })
 }
 
-/// Photon mapping's figures ([`Choice::PHOTON_MAPPING`]): [`PILOT_PASSES`] passes of SPPM's
+/// Seconds of a pass of `tracer` at `shares` with `paths` light subpaths: the second of two
+/// (the first may set up what later passes reuse). Then the tracer starts over.
+fn timed_pass(tracer: &mut LightTracer, shares: Shares, paths: u32) -> Result<f64, Error> {
+    tracer.counted_pass(shares, paths)?;
+    let start = std::time::Instant::now();
+    tracer.counted_pass(shares, paths)?;
+    let seconds = start.elapsed().as_secs_f64();
+    tracer.reset();
+    Ok(seconds)
+}
+
+/// Photon mapping's figures ([`Choice::PHOTON_MAPPING`]): `passes` passes of SPPM's
 /// estimator on the pilot's image `pilot` (its size and seed), with photons in the same
 /// proportion to the render's as its pixels and a fixed radius that keeps the density
-/// estimate as noisy as the render's at [`REPRESENTATIVE_PASS`] (as the other candidates'
+/// estimate as noisy as the render's at pass `representative` (as the other candidates'
 /// merges); its relative variance against `means`, each pixel's mean over the other
 /// candidates' passes, and its [`departure`] from them. Under the global schedule the image
 /// after k passes is the mean of their estimates, so pass k's own is k times it less the sum
@@ -536,6 +636,7 @@ fn photon_mapping(
     buffers: Arc<SceneBuffers>,
     means: &Means,
     model: &CostModel,
+    (representative, passes): (u32, u32),
     log: bool,
 ) -> Result<Candidate, Error> {
     let mut mapping = pilot.clone();
@@ -544,9 +645,9 @@ fn photon_mapping(
     let share = (r.width as f64 * r.height as f64) / (scene.render.width as f64 * scene.render.height as f64);
     r.photons = ((scene.render.photons as f64 * share).round() as u32).max(1);
     let r1 = scene.render.radius.unwrap_or_else(|| super::sppm::auto_radius(scene));
-    let radius = super::sppm::global_radius_sq(r1, scene.render.alpha, REPRESENTATIVE_PASS).sqrt();
+    let radius = super::sppm::global_radius_sq(r1, scene.render.alpha, representative).sqrt();
     (r.radius, r.alpha) = (Some((radius * (scene.render.photons as f64 / r.photons as f64).sqrt()) as f32), 1.0);
-    r.iterations = PILOT_PASSES;
+    r.iterations = passes;
     let pixels = r.width as usize * r.height as usize;
     let camera_paths = (pixels as u64 * r.spp as u64 * super::sppm::direct_samples(r) as u64) as f64;
     let photons = r.photons as f64;
@@ -554,7 +655,7 @@ fn photon_mapping(
     let mut sppm = super::Sppm::with_scene_buffers(device, queue, &mapping, data, buffers, 0..height, super::Deposits::Auto)?;
     let mut sum = vec![[0.0f64; 3]; pixels];
     let (mut estimates, mut cost, mut hits) = (Vec::new(), 0.0, 0.0);
-    for pass in 1..=PILOT_PASSES {
+    for pass in 1..=passes {
         let start = std::time::Instant::now();
         sppm.run_pass()?;
         let image = sppm.image()?;
@@ -574,8 +675,8 @@ fn photon_mapping(
             })
             .collect();
         estimates.push(estimate);
-        cost += model.photon_mapping_cost(camera_paths, gathered, photons) / PILOT_PASSES as f64;
-        hits += gathered / PILOT_PASSES as f64;
+        cost += model.photon_mapping_cost(camera_paths, gathered, photons) / passes as f64;
+        hits += gathered / passes as f64;
     }
     let mut counts = [0.0; WORK_COUNTS as usize];
     (counts[WORK_CAMERA_VERTICES as usize], counts[WORK_MERGE_CANDIDATES as usize]) = (camera_paths, hits);

@@ -466,8 +466,10 @@ pub struct Texture {
     pub width: u32,
     /// Height in texels.
     pub height: u32,
-    /// Linear RGB, row-major, `width * height` texels.
-    pub texels: Vec<Vec3>,
+    /// Linear RGB, row-major, `width * height` texels; shared by the scene's clones (a render
+    /// clones its scene for vcm's pilot and for each renderer it makes, and a scene's images
+    /// can take hundreds of megabytes: Bitterli's staircase 222 MB).
+    pub texels: std::sync::Arc<Vec<Vec3>>,
     /// How texels are interpolated.
     pub filter: TextureFilter,
     /// How coordinates outside [0, 1] are brought back in.

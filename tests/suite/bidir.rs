@@ -341,6 +341,37 @@ fn vcm_pilot_chooses_from_the_scene_alone() {
     );
 }
 
+/// The pilot's merges stand for the render's pass at which the mean of r^(-2) over its passes
+/// is reached (for alpha = 2/3, 0.42 of them), its passes its `iterations` or under a time
+/// limit those that fit; and each choice reads back from the text a checkpoint keeps.
+#[test]
+fn vcm_pilot_stands_for_the_renders_passes() {
+    use sppm_gpu::integrators::shares::{render_passes, representative_pass, Choice, CANDIDATES};
+    for (n, alpha) in [(94.0, 2.0 / 3.0), (640.0, 2.0 / 3.0), (1000.0, 0.5), (50.0, 0.9)] {
+        // The mean over passes 1..=n of i^(1 - alpha) against its value at the pass chosen.
+        let b = 1.0 - alpha as f64;
+        let mean = (1..=n as u32).map(|i| (i as f64).powf(b)).sum::<f64>() / n;
+        let k = representative_pass(n, alpha) as f64;
+        assert!((k.powf(b) / mean - 1.0).abs() < 0.03, "n {n} alpha {alpha}: pass {k}, {} against {mean}", k.powf(b));
+    }
+    assert_eq!(representative_pass(94.0, 2.0 / 3.0), 40);
+    assert_eq!(representative_pass(0.0, 2.0 / 3.0), 1);
+    assert_eq!(representative_pass(100.0, 1.0), 37);
+    let mut scene = common::load_scene("cornell-box.toml");
+    scene.render.iterations = 64;
+    assert_eq!(render_passes(&scene, Some(0.1), 0.0), 64.0);
+    scene.render.time_limit = Some(10.0);
+    scene.render.iterations = u32::MAX;
+    assert_eq!(render_passes(&scene, Some(0.1), 2.0), 80.0);
+    assert_eq!(render_passes(&scene, Some(0.1), 20.0), 0.0);
+    for choice in CANDIDATES {
+        assert_eq!(choice.to_string().parse::<Choice>(), Ok(choice), "{choice}");
+    }
+    for bad in ["", "1", "1/2", "a/b", "0/1@0", "0/1@", "0.5/1@x", "sppm2"] {
+        assert!(bad.parse::<Choice>().is_err(), "{bad}");
+    }
+}
+
 /// vcm as photon mapping (`RenderSettings::photon_mapping`, which its pilot chooses where that
 /// is the best of its configurations: merging at each camera subpath's first diffuse vertex
 /// alone) is SPPM's estimator with the global radius schedule, rendered by SPPM's kernels: the

@@ -210,3 +210,42 @@ fn a_lost_device_leaves_a_checkpoint_to_resume_from() {
     run(sppm_gpu("cornell-box.toml", "sppm", &full, &["--iterations", "6"]));
     assert!(bits(&resumed) == bits(&full), "resumed after the lost device differs");
 }
+
+/// vcm's pilot's choice is kept by the checkpoint, and a resumed render renders it without a
+/// pilot of its own (under a time limit the pilot's choice depends on the passes that fit, and
+/// a resumed run has another limit): resumed after 3 of 6 passes, the image of 6 passes in one
+/// run, bit for bit. A checkpoint whose choice is not one is refused, naming the file.
+#[test]
+fn vcm_resumes_with_its_pilots_choice() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = scratch("vcm-pilot");
+    let checkpoint = dir.join("ck");
+    let ck = checkpoint.to_str().unwrap();
+    let six = ["--iterations", "6"];
+    let output = sppm_gpu("cornell-box.toml", "vcm", &dir.join("lost.exr"), &[&six[..], &["--checkpoint", ck]].concat())
+        .args(["--checkpoint-every", "0"])
+        .env("SPPM_GPU_LOSE_DEVICE_AFTER", "3")
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1), "{}", String::from_utf8_lossy(&output.stderr));
+    let saved = sppm_gpu::checkpoint::read(&checkpoint).unwrap();
+    let choice = saved.pilot.clone().expect("the pilot's choice is kept");
+    let full = dir.join("full.exr");
+    let stderr = String::from_utf8_lossy(&run(sppm_gpu("cornell-box.toml", "vcm", &full, &six)).stderr).into_owned();
+    assert!(stderr.contains("vcm's pilot ("), "{stderr}");
+    let resumed = dir.join("resumed.exr");
+    let output = run(sppm_gpu("cornell-box.toml", "vcm", &resumed, &[&six[..], &["--resume", ck]].concat()));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains(&format!("vcm renders {choice} as its pilot chose when the render began")), "{stderr}");
+    assert!(!stderr.contains("vcm's pilot ("), "a resumed render ran a pilot: {stderr}");
+    assert_eq!(resumed_after(&output.stderr), 3);
+    assert!(bits(&resumed) == bits(&full), "vcm resumed after 3 passes differs from 6 passes in one run");
+    let altered = sppm_gpu::checkpoint::Checkpoint { pilot: Some("1/2".into()), ..saved };
+    sppm_gpu::checkpoint::write(&checkpoint, &altered).unwrap();
+    let output = sppm_gpu("cornell-box.toml", "vcm", &resumed, &[&six[..], &["--resume", ck]].concat()).output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains(ck) && stderr.contains("`1/2` is not a choice of vcm's pilot"), "{stderr}");
+}

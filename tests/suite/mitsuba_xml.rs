@@ -951,7 +951,7 @@ fn textures_scene_reads_bitmaps_checkerboards_and_uvs() {
     // Floor: the checkerboard as 2x2 texels, nearest, repeat, to_uv scaled by 4.
     let floor = texture_of(0);
     let (c0, c1) = (Vec3::new(0.8, 0.78, 0.75), Vec3::new(0.15, 0.2, 0.45));
-    assert_eq!(floor.texels, vec![c0, c1, c1, c0]);
+    assert_eq!(*floor.texels, vec![c0, c1, c1, c0]);
     assert_eq!((floor.filter, floor.wrap), (TextureFilter::Nearest, TextureWrap::Repeat));
     assert_eq!(floor.to_uv, glam::Affine2::from_scale(Vec2::splat(4.0)));
     // Ceiling and back wall share one texture element: one texture.

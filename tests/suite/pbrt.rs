@@ -375,7 +375,7 @@ fn pfm_images_as_pbrt_reads_them() {
     assert_eq!((t.width, t.height), (2, 2));
     // Row 0 is the top; a float image is linear whatever the encoding says for 8-bit ones.
     assert_eq!(
-        t.texels,
+        *t.texels,
         [Vec3::new(1.0, 2.0, 3.0), Vec3::new(4.0, 5.0, 6.0), Vec3::new(0.1, 0.2, 0.3), Vec3::new(0.4, 0.5, 0.6)]
     );
 }

@@ -7,7 +7,7 @@
 use crate::common;
 
 use sppm_gpu::batch::{merge, read_partial, write_partial};
-use sppm_gpu::checkpoint::{self, Fingerprint};
+use sppm_gpu::checkpoint::{self, Checkpoint, Fingerprint};
 use sppm_gpu::image_io::{self, ImageErrorKind, Rgb32Image};
 use sppm_gpu::integrators;
 use sppm_gpu::scene::{Method, Scene};
@@ -220,16 +220,21 @@ fn state() -> Vec<u8> {
     (0..200u32).flat_map(|i| (i * 2_654_435_761).to_le_bytes()).collect()
 }
 
+fn saved(pilot: Option<&str>) -> Checkpoint {
+    Checkpoint { fingerprint: fingerprint(), state: state(), pilot: pilot.map(String::from) }
+}
+
 /// Every byte of a checkpoint flipped, bytes appended, cut short: refused as corrupt, naming
 /// the file; the file as written reads back.
 #[test]
 fn a_checkpoint_altered_after_writing_is_refused() {
     let dir = scratch("checkpoint-checksum");
     let path = dir.join("ck");
-    checkpoint::write(&path, &fingerprint(), &state()).unwrap();
+    for pilot in [None, Some("0/1@1")] {
+        checkpoint::write(&path, &saved(pilot)).unwrap();
+        assert_eq!(checkpoint::read(&path).unwrap(), saved(pilot));
+    }
     let bytes = std::fs::read(&path).unwrap();
-    let (saved, read) = checkpoint::read(&path).unwrap();
-    assert_eq!((saved, read), (fingerprint(), state()));
     let refused = |altered: &[u8]| {
         std::fs::write(&path, altered).unwrap();
         let e = checkpoint::read(&path).expect_err("an altered checkpoint is refused").to_string();
@@ -254,13 +259,30 @@ fn a_checkpoint_altered_after_writing_is_refused() {
     }
 }
 
+/// A checkpoint of format version 2 (before vcm's pilot's choice was kept) reads, with no
+/// choice.
+#[test]
+fn a_checkpoint_of_version_2_reads() {
+    let path = scratch("checkpoint-version-2").join("ck");
+    checkpoint::write(&path, &saved(Some("0/1"))).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    // Version 3 less its last field (the choice: a length of 8 bytes and 3 of text) and the
+    // digest, as version 2, with the digest (64-bit FNV-1a) of the bytes before it.
+    let mut old = bytes[..bytes.len() - 8 - 8 - 3].to_vec();
+    old[checkpoint::MAGIC.len()..checkpoint::MAGIC.len() + 4].copy_from_slice(&2u32.to_le_bytes());
+    let digest = old.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3));
+    old.extend_from_slice(&digest.to_le_bytes());
+    std::fs::write(&path, &old).unwrap();
+    assert_eq!(checkpoint::read(&path).unwrap(), saved(None));
+}
+
 /// A failed write (here the rename, onto a directory) leaves no temporary file behind.
 #[test]
 fn a_failed_checkpoint_write_leaves_no_temporary_file() {
     let dir = scratch("checkpoint-failed-write");
     let target = dir.join("ck");
     std::fs::create_dir_all(target.join("inside")).unwrap();
-    let e = checkpoint::write(&target, &fingerprint(), &state()).expect_err("cannot replace a directory").to_string();
+    let e = checkpoint::write(&target, &saved(None)).expect_err("cannot replace a directory").to_string();
     assert!(e.contains("cannot write the checkpoint"), "{e}");
     let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
     assert_eq!(left, [std::ffi::OsString::from("ck")], "left behind: {left:?}");
@@ -347,18 +369,18 @@ fn resume_refuses_a_corrupt_checkpoint() {
     assert_eq!(code, Some(0), "{stderr}");
     std::fs::remove_file(&out).unwrap();
     let bytes = std::fs::read(&ck).unwrap();
-    let (fingerprint, state) = checkpoint::read(&ck).unwrap();
+    let written = checkpoint::read(&ck).unwrap();
 
     let mut flipped = bytes.clone();
     flipped[bytes.len() / 2] ^= 0x40;
-    let mut passes = state.clone();
-    passes[..4].copy_from_slice(&u32::MAX.to_le_bytes());
+    let mut passes = written.clone();
+    passes.state[..4].copy_from_slice(&u32::MAX.to_le_bytes());
     for (what, expected) in [("flipped", "checksum mismatch"), ("appended", "corrupt"), ("passes", "the saved state is corrupt")]
     {
         match what {
             "flipped" => std::fs::write(&ck, &flipped).unwrap(),
             "appended" => std::fs::write(&ck, [&bytes[..], b"tail"].concat()).unwrap(),
-            _ => checkpoint::write(&ck, &fingerprint, &passes).unwrap(),
+            _ => checkpoint::write(&ck, &passes).unwrap(),
         }
         let (code, stderr) = render(&["--iterations", "3", "--resume", ck_arg]);
         assert_eq!(code, Some(1), "{what}: {stderr}");

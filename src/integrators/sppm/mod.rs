@@ -880,6 +880,10 @@ impl Integrator for Sppm {
         self.pilot.seconds()
     }
 
+    fn pilot_choice(&self) -> Option<super::shares::Choice> {
+        self.pilot.choice()
+    }
+
     fn splits_strategies(&self) -> bool {
         false
     }

@@ -42,7 +42,8 @@ fn read_envmap(t: &Table) -> Result<LightKind> {
     let file = t.require("file")?;
     let path = file.path()?;
     let image = file.read_file("environment map", &path, |p| crate::scene::mesh::read_image(p, false))?;
-    let map = Envmap::new(path, image.width, image.height, image.texels, scale, to_world).map_err(|e| file.error(e))?;
+    let map = Envmap::new(path, image.width, image.height, std::sync::Arc::unwrap_or_clone(image.texels), scale, to_world)
+        .map_err(|e| file.error(e))?;
     Ok(LightKind::Envmap(Arc::new(map)))
 }
 

@@ -135,7 +135,7 @@ fn envmap(p: &Props, to_world: Option<Mat4>, root: &[PathBuf]) -> Result<Envmap>
     let linear = glam::Mat3::from_mat4(to_world.unwrap_or(Mat4::IDENTITY));
     let image =
         crate::scene::mesh::read_image(&path, raw).map_err(|e| at.error(Some("filename"), format!("{}: {e}", path.display())))?;
-    Envmap::new(path, image.width, image.height, image.texels, scale, linear).map_err(|e| {
+    Envmap::new(path, image.width, image.height, std::sync::Arc::unwrap_or_clone(image.texels), scale, linear).map_err(|e| {
         let (node, key) = if e.contains("to_world") {
             (p.get("to_world").unwrap_or(p.node), "to_world")
         } else if e.starts_with("scale") {

@@ -164,7 +164,7 @@ fn checkerboard(p: &Props) -> Result<Texture> {
         path: p.node.file.as_ref().clone(),
         width: 2,
         height: 2,
-        texels: vec![color0, color1, color1, color0],
+        texels: std::sync::Arc::new(vec![color0, color1, color1, color0]),
         filter: TextureFilter::Nearest,
         wrap: TextureWrap::Repeat,
         to_uv,

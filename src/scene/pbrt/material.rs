@@ -113,7 +113,7 @@ impl Reader {
                         Some(SpectrumTexture::Const(c)) => SpectrumTexture::Const(*c * s),
                         Some(SpectrumTexture::Image(t)) => {
                             let mut t = t.clone();
-                            t.texels.iter_mut().for_each(|c| *c *= s);
+                            std::sync::Arc::make_mut(&mut t.texels).iter_mut().for_each(|c| *c *= s);
                             SpectrumTexture::Image(t)
                         }
                         Some(SpectrumTexture::Refused(e)) => return Err(e.clone()),
@@ -140,7 +140,7 @@ impl Reader {
                     path: p.file.as_ref().clone(),
                     width: 2,
                     height: 2,
-                    texels: vec![a, b, b, a],
+                    texels: std::sync::Arc::new(vec![a, b, b, a]),
                     filter: TextureFilter::Nearest,
                     wrap: TextureWrap::Repeat,
                     to_uv,
@@ -456,7 +456,7 @@ fn image_texture(p: &Params) -> Result<Texture> {
     if texture.width == 0 || texture.height == 0 {
         return Err(p.error("filename", format!("{}: the image has no texels", path.display())));
     }
-    for c in &mut texture.texels {
+    for c in std::sync::Arc::make_mut(&mut texture.texels) {
         *c *= scale;
         if invert {
             *c = (Vec3::ONE - *c).max(Vec3::ZERO);
