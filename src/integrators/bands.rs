@@ -22,6 +22,8 @@ pub struct Bands {
     work_summed: bool,
     width: u32,
     height: u32,
+    /// What vcm's pilot said of its choice for this render, for the whole image.
+    pilot: super::PilotReport,
 }
 
 impl Bands {
@@ -69,7 +71,14 @@ impl Bands {
             .collect::<Result<Vec<_>, _>>()?;
         let r = &scene.render;
         let work_summed = Renderer::of(r) == Renderer::Path;
-        Ok(Self { bands, current: 0, work_summed, width: r.width, height })
+        Ok(Self { bands, current: 0, work_summed, width: r.width, height, pilot: Default::default() })
+    }
+
+    /// The same, reporting what vcm's pilot chose for the render (its note, its time, which a
+    /// time limit counts, and its choice, which a checkpoint keeps).
+    pub(super) fn reporting(mut self, pilot: super::PilotReport) -> Self {
+        self.pilot = pilot;
+        self
     }
 
     /// Number of bands.
@@ -104,6 +113,15 @@ impl Integrator for Bands {
     /// The last band's passes: a pass is done when its last band's is.
     fn passes(&self) -> u32 {
         self.bands[self.bands.len() - 1].passes()
+    }
+    fn notes(&self) -> Vec<String> {
+        self.pilot.notes()
+    }
+    fn setup_seconds(&self) -> f64 {
+        self.pilot.seconds()
+    }
+    fn pilot_choice(&self) -> Option<super::shares::Choice> {
+        self.pilot.choice()
     }
     /// Each band's warnings, one line each where bands say the same.
     fn warnings(&mut self) -> Result<Vec<String>, Error> {

@@ -215,7 +215,7 @@ fn create_on(
     let report = pilot.as_ref().map(PilotReport::of).unwrap_or_default();
     Ok(match Renderer::of(&scene.render) {
         // An image whose per-pixel buffers do not fit in one storage buffer goes in bands.
-        _ if rows < height => Box::new(Bands::with_scene_buffers(device, queue, scene, data, buffers, rows)?),
+        _ if rows < height => Box::new(Bands::with_scene_buffers(device, queue, scene, data, buffers, rows)?.reporting(report)),
         Renderer::Sppm => {
             Box::new(Sppm::with_scene_buffers(device, queue, scene, data, buffers, 0..height, Deposits::Auto)?.reporting(report))
         }

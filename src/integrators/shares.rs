@@ -180,7 +180,9 @@ pub const MIN_PILOT_PASSES: u32 = 4;
 /// runs as many passes as fit in it, from [`MIN_PILOT_PASSES`] to [`PILOT_PASSES`], by the time
 /// of a pilot pass with everything traced. On Bitterli's staircase (262k triangles, 180x320)
 /// 40 pilot passes took 6 s of 60, and the render's error goes as the inverse of its passes
-/// (BENCHMARKS.md "VCM"); on the canonical scenes the pilot's 8 passes take about 1 s.
+/// (BENCHMARKS.md "VCM"); on the canonical scenes 8 passes a candidate take 1 to 3 s of 60.
+/// At fewer, the departure that sets photon mapping aside ([`MAX_DEPARTURE`]) is judged from
+/// noisier variances.
 pub const PILOT_SHARE: f64 = 0.05;
 
 /// The pass whose radius the pilot's merges stand for in a render of `passes` passes: the
@@ -344,12 +346,24 @@ impl Candidate {
     }
 
     /// The figure the pilot chooses by: relative variance times cost, photon mapping's over
-    /// [`PHOTON_MAPPING_MARGIN`].
+    /// [`PHOTON_MAPPING_MARGIN`], that of merging alone with more light subpaths over
+    /// [`DENSER_MARGIN`].
     pub fn figure(&self) -> f64 {
-        let margin = if self.choice.photon_mapping { PHOTON_MAPPING_MARGIN } else { 1.0 };
+        let margin = match self.choice {
+            c if c.photon_mapping => PHOTON_MAPPING_MARGIN,
+            c if c.pixels_per_light_path > 0 => DENSER_MARGIN,
+            _ => 1.0,
+        };
         self.rel_variance * self.cost / margin
     }
 }
+
+/// The share of merging alone's figure that merging alone with a light subpath a pixel (four
+/// times its own) must stay below: a near tie goes to the method's own light subpaths. On
+/// Mitsuba's box.xml the pilot rated it at 0.94x merging alone (relative variance 0.61x, cost
+/// 1.55x) where at 60 s it rendered 1.16x the error (1.80e-4 against 1.55e-4); on
+/// cornell-skylight, where it pays, the pilot rates it at 0.75x to 0.80x (BENCHMARKS.md "VCM").
+pub const DENSER_MARGIN: f64 = 0.9;
 
 /// The share of the best other candidate's figure that photon mapping's must stay below. Its
 /// relative variance leaves out its bias (the blur of the radius, all of it, where the others'
@@ -419,7 +433,7 @@ impl fmt::Display for Pilot {
         write!(
             f,
             " (relative variance x cost of connect/merge shares, @ pixels a light subpath where set, none for no light \
-             subpaths, sppm photon mapping's over {PHOTON_MAPPING_MARGIN}:"
+             subpaths, sppm photon mapping's over {PHOTON_MAPPING_MARGIN}, @ more light subpaths' over {DENSER_MARGIN}:"
         )?;
         for c in &self.candidates {
             write!(f, " {} {:.3e}", c.choice, c.figure())?;
@@ -534,7 +548,6 @@ pub fn choose(
     let mut costs = vec![0.0; choices.len()];
     let mut work = vec![[0.0; WORK_COUNTS as usize]; choices.len()];
     let mut before = vec![[0.0f32; 4]; pixels];
-    // The hook's pilot passes: each one's time and counts.
     // The passes of candidates `ks`, in turn; then every candidate run so far, its figures
     // with each pixel's mean over every pilot pass so far, and those means.
     let mut ran: Vec<usize> = Vec::new();
@@ -543,6 +556,7 @@ pub fn choose(
             let k = ks[pass as usize % ks.len()];
             let pass_start = std::time::Instant::now();
             let (sums, work_counts) = tracer.counted_pass(choices[k].shares, counts[k])?;
+            // The measuring hook: each pilot pass's time and counts.
             if log {
                 eprintln!("pilot pass {k} {:.6} {work_counts:?}", pass_start.elapsed().as_secs_f64());
             }

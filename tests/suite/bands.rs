@@ -95,3 +95,25 @@ fn path_tracer_bands_equal_the_whole_image() {
     assert!(banded.image().unwrap().pixels == whole.image().unwrap().pixels, "banded image differs");
     small.check().unwrap();
 }
+
+/// vcm in bands renders its pilot's choice and reports it as a whole image does: its note, its
+/// time (which a time limit counts) and its choice (which a checkpoint keeps).
+#[test]
+fn vcm_bands_report_the_pilot() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let small = GpuContext::with_limits(|l| wgpu::Limits { max_storage_buffer_binding_size: 128 << 10, ..l }).unwrap();
+    let mut scene = common::load_scene("cornell-box.toml");
+    (scene.render.width, scene.render.height, scene.render.iterations) = (128, 128, 16);
+    scene.render.method = sppm_gpu::scene::Method::Vcm;
+    assert!(integrators::max_rows(&small.device, &scene) < 128, "the small device bands");
+    let banded = integrators::create(&small.device, &small.queue, &scene).unwrap();
+    let note = banded.notes().join(" ");
+    assert!(
+        note.contains("vcm's pilot (") && note.contains(&banded.pilot_choice().expect("a choice kept").to_string()),
+        "{note}"
+    );
+    assert!(banded.setup_seconds() > 0.0);
+    small.check().unwrap();
+}
