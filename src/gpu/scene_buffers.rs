@@ -347,6 +347,12 @@ pub fn layout_constant(data: &SceneData) -> (&'static str, f64) {
     ("BVH_LAYOUT", if data.cwbvh.is_some() { 2.0 } else { 1.0 })
 }
 
+/// A primitive of [`leaf_prims`]: three `vec4f`.
+type LeafPrim = [[f32; 4]; 3];
+
+/// Bytes of a primitive of [`leaf_prims`] (48).
+pub const LEAF_PRIM_BYTES: usize = std::mem::size_of::<LeafPrim>();
+
 /// The primitives of [`SceneData::cwbvh`]'s leaves in leaf order, three `vec4f` each, as the
 /// CWBVH traversal reads them after its nodes in `bvh_nodes` (`shaders/shared/cwbvh.wgsl`):
 /// a triangle as `(p0, prim_ref)`, `(e1, shape)`, `(e2, 0)`, a sphere as
@@ -358,7 +364,7 @@ pub fn leaf_prims(data: &SceneData) -> Vec<[f32; 4]> {
     let bits = f32::from_bits;
     cw.prim_refs
         .iter()
-        .flat_map(|&r| {
+        .flat_map(|&r| -> LeafPrim {
             if r & SPHERE_BIT != 0 {
                 let s = &data.spheres[(r & !SPHERE_BIT) as usize];
                 let c = s.center;
@@ -507,7 +513,7 @@ impl SceneBuffers {
     pub fn upload(device: &wgpu::Device, scene: &Scene, data: &SceneData) -> Result<Self, SceneError> {
         let limit = device.limits().max_storage_buffer_binding_size;
         let bvh_nodes = match &data.cwbvh {
-            Some(cw) => std::mem::size_of_val(&cw.nodes[..]) + 48 * cw.prim_refs.len(),
+            Some(cw) => std::mem::size_of_val(&cw.nodes[..]) + LEAF_PRIM_BYTES * cw.prim_refs.len(),
             None => std::mem::size_of_val(&data.packed_bvh.nodes[..]),
         };
         let arrays = [

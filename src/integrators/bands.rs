@@ -114,14 +114,8 @@ impl Integrator for Bands {
     fn passes(&self) -> u32 {
         self.bands[self.bands.len() - 1].passes()
     }
-    fn notes(&self) -> Vec<String> {
-        self.pilot.notes()
-    }
-    fn setup_seconds(&self) -> f64 {
-        self.pilot.seconds()
-    }
-    fn pilot_choice(&self) -> Option<super::shares::Choice> {
-        self.pilot.choice()
+    fn pilot(&self) -> &super::PilotReport {
+        &self.pilot
     }
     /// Each band's warnings, one line each where bands say the same.
     fn warnings(&mut self) -> Result<Vec<String>, Error> {

@@ -545,8 +545,8 @@ impl Integrator for LightTracer {
         self.progress.passes
     }
 
-    fn notes(&self) -> Vec<String> {
-        self.pilot.notes()
+    fn pilot(&self) -> &super::PilotReport {
+        &self.pilot
     }
 
     /// Light vertices the store had no room for: their connections and merges are missing
@@ -565,14 +565,6 @@ impl Integrator for LightTracer {
                 self.store.light_vertices.size() / LIGHT_VERTEX_BYTES
             )],
         })
-    }
-
-    fn setup_seconds(&self) -> f64 {
-        self.pilot.seconds()
-    }
-
-    fn pilot_choice(&self) -> Option<super::shares::Choice> {
-        self.pilot.choice()
     }
 
     /// Light subpaths, or without them (vcm's `light_paths = 0`) camera subpaths.

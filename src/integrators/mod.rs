@@ -138,20 +138,25 @@ pub trait Integrator {
     /// whole render's image (`sppm-gpu merge`). Only before any pass; an error for SPPM with
     /// a radius per point, whose passes depend on every pass before them.
     fn start_at_pass(&mut self, first: u32) -> Result<(), Error>;
+    /// What vcm's pilot ([`shares`]) said of its choice for the render (empty where none chose).
+    fn pilot(&self) -> &PilotReport {
+        static NONE: PilotReport = PilotReport(None);
+        &NONE
+    }
     /// What the integrator chose for the render before its first pass, one sentence each, for
-    /// the user to read (vcm's pilot: [`shares`]).
+    /// the user to read (vcm's pilot).
     fn notes(&self) -> Vec<String> {
-        Vec::new()
+        self.pilot().notes()
     }
     /// Seconds spent before the first pass on work that belongs to the render (vcm's pilot),
     /// which a time limit counts.
     fn setup_seconds(&self) -> f64 {
-        0.0
+        self.pilot().seconds()
     }
     /// vcm's pilot's choice for the render, where one chose: a checkpoint keeps it, and the
     /// strategy images render it.
     fn pilot_choice(&self) -> Option<shares::Choice> {
-        None
+        self.pilot().choice()
     }
     /// SPPM's gather radii over the visible points (read back); `None` for the path tracers.
     fn radius_stats(&self) -> Result<Option<sppm::RadiusStats>, Error> {

@@ -177,16 +177,8 @@ impl Integrator for PathTracer {
         "samples"
     }
 
-    fn notes(&self) -> Vec<String> {
-        self.pilot.notes()
-    }
-
-    fn setup_seconds(&self) -> f64 {
-        self.pilot.seconds()
-    }
-
-    fn pilot_choice(&self) -> Option<super::shares::Choice> {
-        self.pilot.choice()
+    fn pilot(&self) -> &super::PilotReport {
+        &self.pilot
     }
 
     fn image(&mut self) -> Result<Rgb32Image, Error> {

@@ -872,16 +872,8 @@ impl Integrator for Sppm {
         Sppm::radius_stats(self).map(Some)
     }
 
-    fn notes(&self) -> Vec<String> {
-        self.pilot.notes()
-    }
-
-    fn setup_seconds(&self) -> f64 {
-        self.pilot.seconds()
-    }
-
-    fn pilot_choice(&self) -> Option<super::shares::Choice> {
-        self.pilot.choice()
+    fn pilot(&self) -> &super::PilotReport {
+        &self.pilot
     }
 
     fn splits_strategies(&self) -> bool {
