@@ -445,17 +445,13 @@ impl fmt::Display for Pilot {
     }
 }
 
-/// The scene the pilot renders for `scene` (see the module's documentation), its merges as
-/// noisy as the render's at pass `representative`, and each candidate's light subpaths a pilot
-/// pass, in proportion to the render's, for light subpaths that keep `vertices` each on
-/// average ([`light_paths`]).
-fn pilot_scene(
-    scene: &Scene,
-    candidates: &[Choice],
-    limit: u64,
-    vertices: Option<f64>,
-    representative: u32,
-) -> Result<(Scene, Vec<u32>), Error> {
+/// The scene the pilot renders for `scene` (see the module's documentation), each candidate's
+/// light subpaths a pilot pass, in proportion to the render's, for light subpaths that keep
+/// `vertices` each on average ([`light_paths`]), and the factor on the render's radius that
+/// keeps the pilot's merges as noisy as the render's (the variance of a merge goes as
+/// 1 / (n_light r^2)). Its radius is the render's first pass's so scaled; [`pilot_radius`]
+/// gives that of another pass.
+fn pilot_scene(scene: &Scene, candidates: &[Choice], limit: u64, vertices: Option<f64>) -> Result<(Scene, Vec<u32>, f64), Error> {
     let mut pilot = scene.clone();
     // Every strategy weighed and kept (a render for `--strategy-images` keeps one).
     (pilot.render.method, pilot.render.strategies) = (crate::scene::Method::Vcm, crate::layout::STRATEGIES_ALL);
@@ -478,17 +474,23 @@ fn pilot_scene(
     let counts = candidates.iter().map(|c| with(&pilot.render, c)).collect::<Result<Vec<u32>, Error>>()?;
     let n_render = with(&scene.render, &candidates[0])? as f64;
     let n_pilot = counts[0] as f64;
-    let radius = vcm_radius(scene, representative) as f64;
+    let factor = (n_render / n_pilot).sqrt();
     let r = &mut pilot.render;
     // Room for the most any candidate traces.
     r.light_paths = counts.iter().copied().max();
-    (r.radius, r.alpha) = (Some((radius * (n_render / n_pilot).sqrt()) as f32), 1.0);
+    (r.radius, r.alpha) = (pilot_radius(scene, 1, factor), 1.0);
     (r.time_limit, r.iterations) = (None, PILOT_PASSES * candidates.len() as u32);
     // Set, so that the pilot's own shares are its candidates' (`LightTracer::counted_pass`).
     (r.connect_share, r.merge_share) = (Some(1.0), Some(1.0));
     // Numbers of their own, not the render's first passes'.
     r.seed = r.seed.wrapping_add(0x9e37_79b9);
-    Ok((pilot, counts))
+    Ok((pilot, counts, factor))
+}
+
+/// The pilot's radius for merges as noisy as the render's at pass `representative`, with the
+/// radius factor of [`pilot_scene`].
+fn pilot_radius(scene: &Scene, representative: u32, factor: f64) -> Option<f32> {
+    Some((vcm_radius(scene, representative) as f64 * factor) as f32)
 }
 
 /// Runs vcm's pilot for `scene` (its scene data built and uploaded for it) and chooses its
@@ -512,15 +514,14 @@ pub fn choose(
     let choices = candidates(scene);
     // The tracer first, with room for the light subpaths the candidates want: its probe says
     // how many vertices they keep, and so how many a pass of the pilot and of the render hold.
-    let (wanting, _) = pilot_scene(scene, &choices, limit, Some(0.0), 1)?;
+    let (wanting, _, _) = pilot_scene(scene, &choices, limit, Some(0.0))?;
     let (width, height) = (wanting.render.width, wanting.render.height);
     let mut tracer = LightTracer::with_scene_buffers(device, queue, &wanting, data, buffers.clone(), 0..height)?;
-    let vertices = tracer.vertices_per_subpath();
+    let (mut pilot, counts, factor) = pilot_scene(scene, &choices, limit, tracer.vertices_per_subpath())?;
     // Under a time limit, the pilot's passes and the render's from a pilot pass's time with
     // everything traced.
     let (mut pass_seconds, mut passes_each) = (None, PILOT_PASSES);
     if let Some(time_limit) = scene.render.time_limit {
-        let (_, counts) = pilot_scene(scene, &choices, limit, vertices, 1)?;
         let pilot_pass = timed_pass(&mut tracer, choices[0].shares, counts[0])?;
         let fit = (PILOT_SHARE * time_limit / (pilot_pass * choices.len() as f64)).floor();
         passes_each = fit.clamp(MIN_PILOT_PASSES as f64, PILOT_PASSES as f64) as u32;
@@ -528,18 +529,15 @@ pub fn choose(
         let share = (scene.render.width as f64 * scene.render.height as f64) / (width as f64 * height as f64);
         pass_seconds = Some((pilot_pass * share, pilot_seconds));
     }
-    let passes = render_passes(scene, pass_seconds.map(|(pass, _)| pass), pass_seconds.map_or(0.0, |(_, pilot)| pilot));
+    let (render_pass, pilot_seconds) = pass_seconds.unzip();
+    let passes = render_passes(scene, render_pass, pilot_seconds.unwrap_or(0.0));
     let representative = representative_pass(passes, scene.render.alpha);
     // A measuring hook (scripts/measure/vcm-pilot-cost.sh): what the render's passes came from.
     let log = std::env::var_os("SPPM_GPU_PILOT_LOG").is_some();
     if log {
-        eprintln!(
-            "pilot render passes {passes:.1} (a render pass {:?} s, the pilot {:?} s)",
-            pass_seconds.map(|p| p.0),
-            pass_seconds.map(|p| p.1)
-        );
+        eprintln!("pilot render passes {passes:.1} (a render pass {render_pass:?} s, the pilot {pilot_seconds:?} s)");
     }
-    let (pilot, counts) = pilot_scene(scene, &choices, limit, vertices, representative)?;
+    pilot.render.radius = pilot_radius(scene, representative, factor);
     tracer.set_radius(pilot.render.radius);
     let pixels = (width * height) as usize;
     let model = CostModel::of(data);
