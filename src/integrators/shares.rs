@@ -13,12 +13,12 @@
 //! times its light subpaths, and photon mapping (merging at each camera subpath's first
 //! diffuse vertex alone, where the subpath ends: SPPM's estimator, by SPPM's kernels), set
 //! aside where its image departs from the others' beyond their noise (a bias, [`MAX_DEPARTURE`])
-//! and chosen only well below the others ([`PHOTON_MAPPING_MARGIN`]). Each candidate's error is
-//! the
-//! relative variance of its passes' estimates (the mean over pixels and channels of each
-//! pixel's sample variance over `mu^2 + 0.01`, `mu` the pixel's mean over every pilot pass: a
-//! pass's relMSE as `diff` measures it, less the bias); its cost is a weighted count of the
-//! work its kernels did ([`CostModel`]). The pair of least error times cost renders the image.
+//! and chosen only below the others by a margin ([`CostModel::photon_mapping_margin`]). Each
+//! candidate's error is the relative variance of its passes' estimates (the mean over pixels and
+//! channels of each pixel's sample variance over `mu^2 + 0.01`, `mu` the pixel's mean over every
+//! pilot pass: a pass's relMSE as `diff` measures it, less the bias; a rare pass far off the
+//! others left out, [`OUTLIER_DEVIATION`]); its cost is a weighted count of the work its kernels
+//! did ([`CostModel`]). The pair of least error times cost renders the image.
 //!
 //! Without a time limit the choice is a function of the scene, its passes and its seed alone
 //! (counted work, not time), so that on one device a seed's image stays the same to the bit
@@ -256,6 +256,15 @@ pub struct CostModel {
     pub photon_hit: f64,
     /// Photon mapping: a photon (its path, but for its hits' gathering).
     pub photon: f64,
+    /// The share of the best other candidate's figure that photon mapping's must stay below.
+    /// Its relative variance leaves out its bias (the blur of the radius, all of it, where the
+    /// others' merges share theirs with unbiased strategies), which weighs most in scenes of
+    /// many fast passes: on the five scenes traced by code the pilot rated it at 0.51x to 0.79x
+    /// the best other where at 60 s it rendered 0.89x (cornell-spheres) to 1.15x (cornell-glossy,
+    /// Mitsuba's box, cornell-skylight) the error; through a BVH the bunny box 0.52x to 0.58x
+    /// for 0.70x, Bitterli's staircase 0.79x to 0.93x (three seeds) for about 0.9x
+    /// (BENCHMARKS.md "VCM"). A near tie goes to vcm's own strategies.
+    pub photon_mapping_margin: f64,
 }
 
 /// [`CostModel`] of a scene traced by code (at most
@@ -270,6 +279,7 @@ pub const BAKED_COST: CostModel = CostModel {
     visible_point_path: 1.02,
     photon_hit: 1.43,
     photon: 1.35,
+    photon_mapping_margin: 0.65,
 };
 
 /// [`CostModel`] of a scene traced through a BVH.
@@ -283,6 +293,7 @@ pub const TRAVERSED_COST: CostModel = CostModel {
     visible_point_path: 1.37,
     photon_hit: 0.10,
     photon: 1.47,
+    photon_mapping_margin: 0.9,
 };
 
 impl CostModel {
@@ -336,6 +347,9 @@ pub struct Candidate {
     /// candidates' beyond what their noise explains (the squared difference of the two less
     /// their variances, over pixels and channels), in standard errors; 0 for the others.
     pub departure: f64,
+    /// The share of the best other candidate's figure that its own must stay below: 1, or
+    /// [`DENSER_MARGIN`], or photon mapping's [`CostModel::photon_mapping_margin`].
+    pub margin: f64,
 }
 
 impl Candidate {
@@ -345,16 +359,9 @@ impl Candidate {
         self.departure <= MAX_DEPARTURE
     }
 
-    /// The figure the pilot chooses by: relative variance times cost, photon mapping's over
-    /// [`PHOTON_MAPPING_MARGIN`], that of merging alone with more light subpaths over
-    /// [`DENSER_MARGIN`].
+    /// The figure the pilot chooses by: relative variance times cost, over its [`Self::margin`].
     pub fn figure(&self) -> f64 {
-        let margin = match self.choice {
-            c if c.photon_mapping => PHOTON_MAPPING_MARGIN,
-            c if c.pixels_per_light_path > 0 => DENSER_MARGIN,
-            _ => 1.0,
-        };
-        self.rel_variance * self.cost / margin
+        self.rel_variance * self.cost / self.margin
     }
 }
 
@@ -364,14 +371,6 @@ impl Candidate {
 /// 1.55x) where at 60 s it rendered 1.16x the error (1.80e-4 against 1.55e-4); on
 /// cornell-skylight, where it pays, the pilot rates it at 0.75x to 0.80x (BENCHMARKS.md "VCM").
 pub const DENSER_MARGIN: f64 = 0.9;
-
-/// The share of the best other candidate's figure that photon mapping's must stay below. Its
-/// relative variance leaves out its bias (the blur of the radius, all of it, where the others'
-/// merges share theirs with unbiased strategies): on the five scenes traced by code the pilot
-/// rated it at 0.51x to 0.79x the best other, where at 60 s it rendered 0.89x (cornell-spheres)
-/// to 1.15x (cornell-glossy, Mitsuba's box, cornell-skylight) the error; on the bunny box 0.66x
-/// for 0.70x (BENCHMARKS.md "VCM").
-pub const PHOTON_MAPPING_MARGIN: f64 = 0.75;
 
 /// Standard errors by which photon mapping's pilot image may depart from the other candidates'
 /// before the pilot sets it aside. The relative variance of a pass cannot show a bias, and SPPM's
@@ -433,10 +432,13 @@ impl fmt::Display for Pilot {
         write!(
             f,
             " (relative variance x cost of connect/merge shares, @ pixels a light subpath where set, none for no light \
-             subpaths, sppm photon mapping's over {PHOTON_MAPPING_MARGIN}, @ more light subpaths' over {DENSER_MARGIN}:"
+             subpaths, sppm photon mapping, each over its margin where below 1:"
         )?;
         for c in &self.candidates {
             write!(f, " {} {:.3e}", c.choice, c.figure())?;
+            if c.margin < 1.0 {
+                write!(f, " (over {})", c.margin)?;
+            }
             if !c.eligible() {
                 write!(f, " (set aside: its image departs from the others' by {:.0} standard errors)", c.departure)?;
             }
@@ -579,6 +581,7 @@ pub fn choose(
                 cost: costs[k],
                 counts: work[k],
                 departure: 0.0,
+                margin: if choices[k].pixels_per_light_path > 0 { DENSER_MARGIN } else { 1.0 },
             })
             .collect();
         Ok((candidates, mu))
@@ -603,7 +606,7 @@ pub fn choose(
             (candidates, mu) = run(&denser)?;
         }
         if !mapping.is_empty() {
-            let means = Means::of(mu, &estimates, &ran);
+            let means = Means::of(mu.clone(), &estimates, &ran);
             let at = (representative, passes_each);
             let mapping = photon_mapping(device, queue, scene, &pilot, data, buffers, &means, &model, at, log)?;
             candidates.push(mapping);
@@ -612,6 +615,10 @@ pub fn choose(
     if log {
         for c in &candidates {
             eprintln!("pilot candidate {} {:.6e} {:.6e}", c.choice, c.rel_variance, c.cost);
+            if let Some(k) = ran.iter().position(|&k| choices[k] == c.choice) {
+                let d = pass_deviations(&estimates[ran[k]], &mu);
+                eprintln!("pilot deviations {} {:?}", c.choice, d.iter().map(|x| format!("{x:.3e}")).collect::<Vec<_>>());
+            }
         }
     }
     let chosen = best(&candidates);
@@ -690,6 +697,10 @@ fn photon_mapping(
         cost += model.photon_mapping_cost(camera_paths, gathered, photons) / passes as f64;
         hits += gathered / passes as f64;
     }
+    if log {
+        let d = pass_deviations(&estimates, &means.mu);
+        eprintln!("pilot deviations sppm {:?}", d.iter().map(|x| format!("{x:.3e}")).collect::<Vec<_>>());
+    }
     let mut counts = [0.0; WORK_COUNTS as usize];
     (counts[WORK_CAMERA_VERTICES as usize], counts[WORK_MERGE_CANDIDATES as usize]) = (camera_paths, hits);
     Ok(Candidate {
@@ -699,6 +710,7 @@ fn photon_mapping(
         cost,
         counts,
         departure: departure(&estimates, means),
+        margin: model.photon_mapping_margin,
     })
 }
 
@@ -761,25 +773,57 @@ fn departure(passes: &[Vec<[f32; 3]>], means: &Means) -> f64 {
 }
 
 /// The mean over pixels and channels of each pixel's sample variance over `passes` relative
-/// to `mu^2 + 0.01` ([`crate::metrics::REL_MSE_EPSILON`]); infinite where a pass is not finite.
+/// to `mu^2 + 0.01` ([`crate::metrics::REL_MSE_EPSILON`]), over the passes that are not
+/// [`OUTLIER_DEVIATION`] times the median pass's deviation or more; infinite where a pass is
+/// not finite.
 fn rel_variance(passes: &[Vec<[f32; 3]>], mu: &[[f64; 3]]) -> f64 {
-    let n = passes.len() as f64;
-    if n < 2.0 {
+    if passes.len() < 2 {
         return f64::INFINITY;
     }
-    let mut sum = 0.0;
-    for (p, mu) in mu.iter().enumerate() {
-        let (_, variance) = mean_and_variance(passes, p);
-        for c in 0..3 {
-            sum += variance[c] / (mu[c] * mu[c] + crate::metrics::REL_MSE_EPSILON);
-        }
-    }
-    let v = sum / (3 * mu.len()) as f64;
+    let deviations = pass_deviations(passes, mu);
+    let mut sorted = deviations.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = (sorted[(sorted.len() - 1) / 2] + sorted[sorted.len() / 2]) / 2.0;
+    let kept: Vec<Vec<[f32; 3]>> = passes
+        .iter()
+        .zip(&deviations)
+        .filter(|&(_, &d)| d < OUTLIER_DEVIATION * median)
+        .map(|(pass, _)| pass.clone())
+        .collect();
+    let deviations = if kept.len() < passes.len() && kept.len() >= 2 { pass_deviations(&kept, mu) } else { deviations };
+    let v = deviations.iter().sum::<f64>() / (deviations.len() - 1) as f64;
     if v.is_finite() {
         v
     } else {
         f64::INFINITY
     }
+}
+
+/// How many times the median pass's deviation from the pixels' means ([`pass_deviations`]) a
+/// pilot pass's may be before [`rel_variance`] leaves it out. A pass's deviation is a mean over
+/// every pixel, so a candidate's passes spread little (within 1.5x of their median); photon
+/// mapping's on Bitterli's staircase are one in seven 2x to 9x their median (a photon that
+/// lights many pixels at once at the pilot's radius; one such pass also lifts the others'
+/// deviations from their mean). With them its relative variance was 0.41 to 0.84 by seed (six
+/// seeds) and the pilot rated it 0.95x to 1.99x merging alone where it renders about 0.9x its
+/// error; without them 0.79x to 0.93x (three seeds), the other candidates' figures within 3%
+/// and the bunny box's, whose photon mapping has no such passes, within 4% (BENCHMARKS.md "VCM").
+pub const OUTLIER_DEVIATION: f64 = 2.0;
+
+/// Each pass's share of [`rel_variance`]: the mean over pixels and channels of its squared
+/// deviation from the pixel's mean over `passes`, relative to `mu^2 + 0.01`.
+fn pass_deviations(passes: &[Vec<[f32; 3]>], mu: &[[f64; 3]]) -> Vec<f64> {
+    let mut sums = vec![0.0; passes.len()];
+    for (p, mu) in mu.iter().enumerate() {
+        let (mean, _) = mean_and_variance(passes, p);
+        for c in 0..3 {
+            let scale = mu[c] * mu[c] + crate::metrics::REL_MSE_EPSILON;
+            for (sum, pass) in sums.iter_mut().zip(passes) {
+                *sum += (pass[p][c] as f64 - mean[c]).powi(2) / scale;
+            }
+        }
+    }
+    sums.iter().map(|s| s / (3 * mu.len()) as f64).collect()
 }
 
 /// Where vcm's pilot chooses `scene`'s shares ([`super::light::pilot_chooses_shares`]): the
@@ -798,4 +842,51 @@ pub(super) fn resolve(
     let mut scene = scene.clone();
     pilot.chosen.apply(&mut scene.render);
     Ok(Some((scene, pilot)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `passes` passes of `pixels` pixels, each channel `mu` plus noise of relative spread
+    /// about `spread` (a fixed sequence), and the pixels' means `mu`.
+    fn noisy(passes: usize, pixels: usize, spread: f32) -> (Vec<Vec<[f32; 3]>>, Vec<[f64; 3]>) {
+        let mut state = 0x2545_f491u32;
+        let mut uniform = || {
+            state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (state >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let mu = 0.5f32;
+        let passes = (0..passes)
+            .map(|_| (0..pixels).map(|_| [0; 3].map(|_| mu * (1.0 + spread * (2.0 * uniform() - 1.0)))).collect())
+            .collect();
+        (passes, vec![[mu as f64; 3]; pixels])
+    }
+
+    #[test]
+    fn the_passes_deviations_sum_to_the_pixels_sample_variances() {
+        let (passes, mu) = noisy(8, 64, 0.3);
+        let by_pixel = (0..mu.len())
+            .map(|p| mean_and_variance(&passes, p).1.iter().map(|v| v / (0.25 + crate::metrics::REL_MSE_EPSILON)).sum::<f64>())
+            .sum::<f64>()
+            / (3 * mu.len()) as f64;
+        let by_pass = pass_deviations(&passes, &mu).iter().sum::<f64>() / 7.0;
+        assert!((by_pass / by_pixel - 1.0).abs() < 1e-9, "{by_pass} against {by_pixel}");
+        // No pass is an outlier: every one counts.
+        assert!((rel_variance(&passes, &mu) / by_pixel - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_rare_bright_pass_is_left_out_of_the_relative_variance() {
+        let (mut passes, mu) = noisy(8, 256, 0.3);
+        let clean = rel_variance(&passes[1..], &mu);
+        // One pass where a bright photon lit a quarter of the image at 5x its mean.
+        for pixel in passes[0].iter_mut().take(64) {
+            *pixel = pixel.map(|x| 5.0 * x);
+        }
+        let all = pass_deviations(&passes, &mu).iter().sum::<f64>() / 7.0;
+        let kept = rel_variance(&passes, &mu);
+        assert!(all > 10.0 * clean, "the bright pass: {all} against {clean}");
+        assert!((kept / clean - 1.0).abs() < 1e-9, "{kept} against {clean} without the pass");
+    }
 }
