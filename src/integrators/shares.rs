@@ -784,12 +784,8 @@ fn rel_variance(passes: &[Vec<[f32; 3]>], mu: &[[f64; 3]]) -> f64 {
     let mut sorted = deviations.clone();
     sorted.sort_by(f64::total_cmp);
     let median = (sorted[(sorted.len() - 1) / 2] + sorted[sorted.len() / 2]) / 2.0;
-    let kept: Vec<Vec<[f32; 3]>> = passes
-        .iter()
-        .zip(&deviations)
-        .filter(|&(_, &d)| d < OUTLIER_DEVIATION * median)
-        .map(|(pass, _)| pass.clone())
-        .collect();
+    let kept: Vec<Vec<[f32; 3]>> =
+        passes.iter().zip(&deviations).filter(|&(_, &d)| d < OUTLIER_DEVIATION * median).map(|(pass, _)| pass.clone()).collect();
     let deviations = if kept.len() < passes.len() && kept.len() >= 2 { pass_deviations(&kept, mu) } else { deviations };
     let v = deviations.iter().sum::<f64>() / (deviations.len() - 1) as f64;
     if v.is_finite() {
