@@ -797,13 +797,14 @@ fn rel_variance(passes: &[Vec<[f32; 3]>], mu: &[[f64; 3]]) -> f64 {
 
 /// How many times the median pass's deviation from the pixels' means ([`pass_deviations`]) a
 /// pilot pass's may be before [`rel_variance`] leaves it out. A pass's deviation is a mean over
-/// every pixel, so a candidate's passes spread little (within 1.5x of their median); photon
-/// mapping's on Bitterli's staircase are one in seven 2x to 9x their median (a photon that
-/// lights many pixels at once at the pilot's radius; one such pass also lifts the others'
-/// deviations from their mean). With them its relative variance was 0.41 to 0.84 by seed (six
-/// seeds) and the pilot rated it 0.95x to 1.99x merging alone where it renders about 0.9x its
-/// error; without them 0.79x to 0.93x (three seeds), the other candidates' figures within 3%
-/// and the bunny box's, whose photon mapping has no such passes, within 4% (BENCHMARKS.md "VCM").
+/// every pixel, so a candidate's passes spread little (within 1.8x of their median on nine
+/// scenes at three seeds); photon mapping's on Bitterli's staircase are one in seven 2x to 8x
+/// their median (a photon that lights many pixels at once at the pilot's radius; one such pass
+/// also lifts the others' deviations from their mean), and on cornell-spheres one in eight.
+/// With them its relative variance on the staircase was 0.41 to 0.84 by seed (six seeds) and
+/// the pilot rated it 0.96x to 1.99x merging alone where it renders about 0.9x its error;
+/// without them 0.79x to 0.93x (three seeds). No other candidate's figure changed on those
+/// scenes, nor photon mapping's on the others (BENCHMARKS.md "VCM").
 pub const OUTLIER_DEVIATION: f64 = 2.0;
 
 /// Each pass's share of [`rel_variance`]: the mean over pixels and channels of its squared
