@@ -615,6 +615,7 @@ pub fn choose(
     if log {
         for c in &candidates {
             eprintln!("pilot candidate {} {:.6e} {:.6e}", c.choice, c.rel_variance, c.cost);
+            // Each pass's share of its relative variance (`OUTLIER_DEVIATION`).
             if let Some(k) = ran.iter().position(|&k| choices[k] == c.choice) {
                 let d = pass_deviations(&estimates[ran[k]], &mu);
                 eprintln!("pilot deviations {} {:?}", c.choice, d.iter().map(|x| format!("{x:.3e}")).collect::<Vec<_>>());
@@ -781,18 +782,16 @@ fn rel_variance(passes: &[Vec<[f32; 3]>], mu: &[[f64; 3]]) -> f64 {
         return f64::INFINITY;
     }
     let deviations = pass_deviations(passes, mu);
+    if deviations.iter().any(|d| !d.is_finite()) {
+        return f64::INFINITY;
+    }
     let mut sorted = deviations.clone();
     sorted.sort_by(f64::total_cmp);
     let median = (sorted[(sorted.len() - 1) / 2] + sorted[sorted.len() / 2]) / 2.0;
     let kept: Vec<Vec<[f32; 3]>> =
         passes.iter().zip(&deviations).filter(|&(_, &d)| d < OUTLIER_DEVIATION * median).map(|(pass, _)| pass.clone()).collect();
     let deviations = if kept.len() < passes.len() && kept.len() >= 2 { pass_deviations(&kept, mu) } else { deviations };
-    let v = deviations.iter().sum::<f64>() / (deviations.len() - 1) as f64;
-    if v.is_finite() {
-        v
-    } else {
-        f64::INFINITY
-    }
+    deviations.iter().sum::<f64>() / (deviations.len() - 1) as f64
 }
 
 /// How many times the median pass's deviation from the pixels' means ([`pass_deviations`]) a
@@ -871,6 +870,15 @@ mod tests {
         assert!((by_pass / by_pixel - 1.0).abs() < 1e-9, "{by_pass} against {by_pixel}");
         // No pass is an outlier: every one counts.
         assert!((rel_variance(&passes, &mu) / by_pixel - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_pass_not_finite_is_not_left_out() {
+        let (mut passes, mu) = noisy(8, 64, 0.3);
+        passes[3][10][1] = f32::NAN;
+        assert_eq!(rel_variance(&passes, &mu), f64::INFINITY);
+        passes[3][10][1] = f32::INFINITY;
+        assert_eq!(rel_variance(&passes, &mu), f64::INFINITY);
     }
 
     #[test]
