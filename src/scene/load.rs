@@ -468,11 +468,6 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene, budget: &mesh::Primi
              from the origin",
         ));
     }
-    if shape.interior.is_some() {
-        if let Some(why) = medium::check_closed(triangles, &shape, index) {
-            return Err(t.error_at("interior", why));
-        }
-    }
     if let Some(warning) = warning {
         eprintln!("warning: {warning}");
     }

@@ -23,10 +23,12 @@
 //!
 //! # Where a medium is
 //!
-//! - Inside a closed shape: [`Shape::interior`](super::Shape::interior); the shape's surface is the medium's boundary
-//!   (a dielectric for water or glass holding something murky, `null` for a boundary that does
-//!   not bend light). Only a closed surface has an inside: spheres, cubes, and meshes whose
-//!   every edge is shared by exactly two triangles ([`open_edges`]).
+//! - Inside a shape: [`Shape::interior`](super::Shape::interior), the medium on the side against its normals; the
+//!   shape's surface is the medium's boundary (a dielectric for water or glass holding something
+//!   murky, `null` for a boundary that does not bend light). A closed shape holds it; on an open
+//!   one (a quad, a disk, an open mesh) it is the medium a path enters crossing the surface
+//!   against its normals, as Mitsuba 3 and pbrt-v4 read it: Bitterli's volumetric-caustic fills
+//!   a room with fog through its open front's `interface` quad alone.
 //! - Outside a shape: [`Shape::exterior`](super::Shape::exterior), the medium on the side its normals point to (as
 //!   Mitsuba's `exterior`).
 //! - Around the camera: [`Camera::medium`](super::Camera::medium), the medium the camera sits in, such as fog that
@@ -40,9 +42,7 @@
 //! all, and a glass sphere in that fog names the fog as its exterior and no interior (a vacuum
 //! inside), or the fog would fill it too.
 
-use super::{Shape, Triangle};
 use glam::Vec3;
-use std::collections::HashMap;
 
 /// A homogeneous participating medium (see the module's documentation).
 #[derive(Clone, Debug, PartialEq)]
@@ -137,46 +137,4 @@ pub fn check_g(g: f32) -> Option<String> {
         return Some(format!("g {g} is outside (-1, 1): the Henyey-Greenstein mean cosine must satisfy |g| < 1"));
     }
     None
-}
-
-/// How many edges of `triangles` are not shared by exactly two of them: 0 for a closed
-/// (watertight) surface, which alone has an inside for a medium. Vertices are matched by
-/// position, so a mesh that repeats a corner per face (a cube with a normal or texture
-/// coordinate per face) is closed where its positions meet.
-pub fn open_edges(triangles: &[Triangle]) -> usize {
-    let key = |p: Vec3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
-    let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
-    let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
-    for t in triangles {
-        let v = t.p.map(|p| {
-            // -0.0 and 0.0 are the same point.
-            let p = p + Vec3::ZERO;
-            let next = ids.len() as u32;
-            *ids.entry(key(p)).or_insert(next)
-        });
-        for (a, b) in [(v[0], v[1]), (v[1], v[2]), (v[2], v[0])] {
-            if a != b {
-                *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
-            }
-        }
-    }
-    edges.values().filter(|&&n| n != 2).count()
-}
-
-/// Why shape `shape` (index `index`) cannot hold a medium inside, or `None`: a quad, a disk or
-/// a rectangle has no inside, nor has a mesh with open edges ([`open_edges`]). Spheres are
-/// closed.
-pub fn check_closed(scene_triangles: &[Triangle], shape: &Shape, index: u32) -> Option<String> {
-    if shape.kind == super::ShapeKind::Sphere {
-        return None;
-    }
-    let triangles: Vec<Triangle> = scene_triangles.iter().filter(|t| t.shape == index).cloned().collect();
-    let open = open_edges(&triangles);
-    (open > 0).then(|| {
-        let what = match shape.kind {
-            super::ShapeKind::Quad => "a flat shape (quad, rectangle)".to_owned(),
-            _ => format!("an open surface ({open} of its edges are not shared by exactly two triangles)"),
-        };
-        format!("an interior medium needs a closed surface to be inside of; this shape is {what}")
-    })
 }

@@ -537,8 +537,8 @@ pub struct Shape {
     /// z. `None` for every other shape, and for TOML's spheres without a `uv_frame` (theirs is
     /// [`TOML_SPHERE_FRAME`]).
     pub sphere_frame: Option<glam::Mat3>,
-    /// Index into [`Scene::media`] of the medium inside the shape (a closed surface: see
-    /// [`medium`]), `None` for a vacuum or none given.
+    /// Index into [`Scene::media`] of the medium inside the shape, on the side against its
+    /// normals (see [`medium`]), `None` for a vacuum or none given.
     pub interior: Option<u32>,
     /// Index into [`Scene::media`] of the medium outside it, on the side its normals point to.
     pub exterior: Option<u32>,

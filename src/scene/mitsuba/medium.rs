@@ -3,8 +3,8 @@
 //!
 //! - in a shape: nested `<medium type=".." name="interior">` (or `"exterior"`), or
 //!   `<ref name="interior" id=".."/>`; any other name, or none, is refused (Mitsuba 3 would
-//!   pass it over, and the scene would not be the one meant). An interior needs a closed
-//!   surface ([`crate::scene::medium::open_edges`]); any BSDF may bound it, as in Mitsuba 3.
+//!   pass it over, and the scene would not be the one meant). Any shape, open or closed, and
+//!   any BSDF may bound it, as in Mitsuba 3.
 //! - in the sensor: one nested `<medium>` or `<ref>` (any name), the medium the camera sits in.
 //! - at the top level, with an `id`, for the shapes and the sensor that refer to it: read and
 //!   checked even where nothing does, as Mitsuba instantiates it.

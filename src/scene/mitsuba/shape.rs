@@ -268,11 +268,6 @@ impl<'a> SceneReader<'a> {
             interior: interior.map(|(_, m)| m),
             exterior: exterior.map(|(_, m)| m),
         };
-        if let Some((at, _)) = interior {
-            if let Some(why) = crate::scene::medium::check_closed(triangles, &shape, index) {
-                return Err(at.error(Some("interior"), format!("{why} ({})", node.describe())));
-            }
-        }
         self.shapes.push(shape);
         Ok(())
     }
