@@ -795,8 +795,9 @@ fn rel_variance(passes: &[Vec<[f32; 3]>], mu: &[[f64; 3]]) -> f64 {
     deviations.iter().sum::<f64>() / (deviations.len() - 1) as f64
 }
 
-/// How many times the median pass's deviation from the pixels' means ([`pass_deviations`]) a
-/// pilot pass's may be before [`rel_variance`] leaves it out. A pass's deviation is a mean over
+/// How many times the median pass's deviation from the pixels' means (its share of a
+/// candidate's relative variance) a pilot pass's may be before the pilot leaves it out of that
+/// relative variance. A pass's deviation is a mean over
 /// every pixel, so a candidate's passes spread little (within 1.8x of their median on nine
 /// scenes at three seeds); photon mapping's on Bitterli's staircase are one in seven 2x to 8x
 /// their median (a photon that lights many pixels at once at the pilot's radius; one such pass
