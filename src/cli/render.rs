@@ -235,7 +235,7 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     let fingerprint = sppm_gpu::checkpoint::Fingerprint::of(&scene);
     let resumed = match &cli.resume {
         Some(path) => {
-            let cannot = |e: String| Error::Setting(format!("{}: cannot resume: {e}", path.display()));
+            let cannot = |e| cannot_resume(path, e);
             let saved = sppm_gpu::checkpoint::read(path)?;
             saved.fingerprint.check(&fingerprint).map_err(cannot)?;
             let kept = saved.pilot.as_deref().map(str::parse::<Choice>).transpose().map_err(cannot)?;
@@ -275,7 +275,7 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     }
     let pilot = kept.or_else(|| integrator.pilot_choice());
     if let Some((path, state, _)) = &resumed {
-        integrator.restore(state).map_err(|e| Error::Setting(format!("{}: cannot resume: {e}", path.display())))?;
+        integrator.restore(state).map_err(|e| cannot_resume(path, e))?;
         eprintln!("resuming from {} after {} passes", path.display(), integrator.passes());
     }
     // The last checkpoint's state is also kept here: a lost device's render writes its image.
@@ -520,6 +520,11 @@ fn strategy_outputs(output: &Path, method: Method) -> Result<Vec<(u32, std::path
     let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     let ext = output.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default();
     Ok(names.iter().map(|&(bit, name)| (bit, output.with_file_name(format!("{stem}-{name}.{ext}")))).collect())
+}
+
+/// The error of a render that cannot resume from the checkpoint at `path`, for `why`.
+fn cannot_resume(path: &Path, why: impl std::fmt::Display) -> Error {
+    Error::Setting(format!("{}: cannot resume: {why}", path.display()))
 }
 
 /// `passes` passes of `scene` keeping only `strategy`'s weighted contributions: its share of
