@@ -169,7 +169,10 @@ struct Material {
     coat_table: u32,
     // MATERIAL_PLASTIC: 1 for Mitsuba's nonlinear (1 / (1 - albedo Fdr)), 0 for 1 / (1 - Fdr).
     nonlinear: u32,
-    _pad2: vec2u,
+    // MATERIAL_PLASTIC: the optical thickness of the layer under the coating (pbrt-v4's
+    // coateddiffuse; 0 none) and the most times the base scatters the trapped light (0 no limit).
+    coat_thickness: f32,
+    coat_scatterings: u32,
 }
 
 // Per-shape data the kernels look up through a primitive's shape index.

@@ -232,8 +232,13 @@ pub struct GpuMaterial {
     /// A plastic: 1 for Mitsuba's `nonlinear` (the base's trapped light scaled by
     /// 1 / (1 - albedo Fdr)), 0 for 1 / (1 - Fdr).
     pub nonlinear: u32,
-    /// Padding to 128 bytes; always 0.
-    pub _pad2: [u32; 2],
+    /// A plastic: the optical thickness of the layer under its coating, each crossing at cos_t
+    /// inside keeping exp(-thickness / cos_t) (pbrt-v4's `coateddiffuse`); 0 for none.
+    pub coat_thickness: f32,
+    /// A plastic: the most times the base scatters the light trapped under its coating (the
+    /// series 1 / (1 - x) cut to (1 - x^n) / (1 - x), pbrt-v4's walk of `maxdepth` 2n - 1 or
+    /// 2n steps); 0 for no limit.
+    pub coat_scatterings: u32,
 }
 
 /// Per-shape data, looked up through a primitive's `shape` index.

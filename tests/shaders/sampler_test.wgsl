@@ -70,9 +70,10 @@ struct SamplerTestParams {
     fresnel: u32,
     _pad0: u32,
     eta: vec3f,
-    _pad1: u32,
+    // The plastic: Material's coat_thickness and coat_scatterings.
+    coat_thickness: f32,
     k: vec3f,
-    _pad2: u32,
+    coat_scatterings: u32,
     // The plastic: Material's coat_weight, coat_fdr, coat_table (its table appended to the
     // scene's attributes by the test) and nonlinear; albedo is its base's.
     coat_weight: f32,
@@ -141,6 +142,8 @@ fn test_coated(kind: u32) -> Material {
     m.coat_fdr = q.coat_fdr;
     m.coat_table = q.coat_table;
     m.nonlinear = q.nonlinear;
+    m.coat_thickness = q.coat_thickness;
+    m.coat_scatterings = q.coat_scatterings;
     return m;
 }
 

@@ -99,7 +99,8 @@ fn gpu_structs_match_wgsl() {
             coat_fdr,
             coat_table,
             nonlinear,
-            _pad2
+            coat_thickness,
+            coat_scatterings
         ]
     );
     check!(module, GpuShape, "Shape", [emission, emits, velocity, media]);

@@ -846,7 +846,9 @@ fn plastic_scene_reads_plastics_and_thin_dielectrics() {
             ior: 1.49 / air,
             roughness: 0.0,
             distribution: Microfacet::Ggx,
-            nonlinear: false
+            nonlinear: false,
+            thickness: 0.0,
+            scatterings: 0,
         }
     );
     let (nonlinear, _) = kind_at(0.55);
@@ -859,7 +861,9 @@ fn plastic_scene_reads_plastics_and_thin_dielectrics() {
             ior: 1.9 / air,
             roughness: 0.0,
             distribution: Microfacet::Ggx,
-            nonlinear: true
+            nonlinear: true,
+            thickness: 0.0,
+            scatterings: 0,
         }
     );
     let (rough, shape) = kind_at(-0.4);
@@ -872,7 +876,9 @@ fn plastic_scene_reads_plastics_and_thin_dielectrics() {
             ior: 1.49 / air,
             roughness: 0.1,
             distribution: Microfacet::Beckmann,
-            nonlinear: false
+            nonlinear: false,
+            thickness: 0.0,
+            scatterings: 0,
         }
     );
     let m = &s.materials[s.shapes[shape as usize].material as usize];
@@ -896,7 +902,9 @@ fn plastic_scene_reads_plastics_and_thin_dielectrics() {
             ior: 1.49 / air,
             roughness: 0.3,
             distribution: Microfacet::Ggx,
-            nonlinear: true
+            nonlinear: true,
+            thickness: 0.0,
+            scatterings: 0,
         }
     );
     // Defaults: Mitsuba's thindielectric is bk7 in air.

@@ -154,14 +154,27 @@ fn materials_map_to_our_families() {
          Material \"thindielectric\" \"float eta\" 1.33\nShape \"sphere\"\n\
          Material \"interface\"\nShape \"sphere\"\n\
          Material \"conductor\" \"rgb reflectance\" [ 0.9 0.5 0.2 ] \"bool remaproughness\" false \"float roughness\" 0.3\nShape \"sphere\"\n\
-         AttributeBegin\nShape \"sphere\"\nAttributeEnd\n",
+         AttributeBegin\nShape \"sphere\"\nAttributeEnd\n\
+         Material \"coateddiffuse\" \"float thickness\" 0.2 \"integer maxdepth\" 3\nShape \"sphere\"\n\
+         Material \"coateddiffuse\" \"integer maxdepth\" 0\nShape \"sphere\"\n",
     );
     let kind = |i: usize| &s.shape_material(i as u32).kind;
     assert_eq!(kind(0), &MaterialKind::Diffuse { albedo: Vec3::new(0.2, 0.3, 0.4), texture: None });
     let MaterialKind::Conductor { roughness, fresnel: Some(f), .. } = kind(1) else { panic!("{:?}", kind(1)) };
     assert!((roughness - 0.2).abs() < 1e-6 && f.eta.z > f.eta.x, "{roughness} {f:?}");
     assert!(matches!(kind(2), MaterialKind::Dielectric { ior, roughness: 0.0, .. } if (ior - 1.5168).abs() < 1e-4));
-    assert!(matches!(kind(3), MaterialKind::Plastic { ior: 1.5, roughness: 0.0, nonlinear: true, .. }), "{:?}", kind(3));
+    // pbrt-v4's layer: thickness 0.01 and a walk of 10 steps (the base scatters 5 times).
+    let layer = |k: &MaterialKind| match *k {
+        MaterialKind::Plastic { ior: 1.5, nonlinear: true, albedo, thickness, scatterings, .. } => {
+            (albedo, thickness, scatterings)
+        }
+        _ => panic!("{k:?}"),
+    };
+    assert_eq!(layer(kind(3)), (Vec3::new(0.5, 0.1, 0.1), 0.01, 5));
+    assert!(matches!(kind(3), MaterialKind::Plastic { roughness: 0.0, .. }));
+    assert_eq!(layer(kind(8)), (Vec3::splat(0.5), 0.2, 2));
+    // A walk of no steps never reaches the base: black, as pbrt-v4 renders it.
+    assert_eq!(layer(kind(9)), (Vec3::ZERO, 0.01, 0));
     assert!(matches!(kind(4), MaterialKind::ThinDielectric { ior, .. } if (ior - 1.33).abs() < 1e-6));
     assert_eq!(kind(5), &MaterialKind::Null);
     let MaterialKind::Conductor { roughness, fresnel: Some(f), .. } = kind(6) else { panic!() };

@@ -820,6 +820,8 @@ fn materials_lights_and_crop_beyond_v1() {
             roughness: 0.1,
             distribution: Microfacet::Ggx,
             nonlinear: true,
+            thickness: 0.0,
+            scatterings: 0,
         }
     );
     assert_eq!(
@@ -839,6 +841,13 @@ fn materials_lights_and_crop_beyond_v1() {
         &["phong", "beckmann"],
     );
     refused(r#"{ type = "plastic", albedo = [1, 1, 1], ior = 1, roughness = 0.1 }"#, "materials.white.ior", &["rough"]);
+    refused(r#"{ type = "plastic", albedo = 0.5, ior = 1.5, thickness = -0.1 }"#, "materials.white.thickness", &["at least 0"]);
+    refused(r#"{ type = "plastic", albedo = 0.5, ior = 1.5, scatterings = 2.5 }"#, "materials.white.scatterings", &["integer"]);
+    // pbrt-v4's layer under the coating.
+    assert!(matches!(
+        material(r#"{ type = "plastic", albedo = 0.5, ior = 1.5, thickness = 0.01, scatterings = 5 }"#).unwrap(),
+        MaterialKind::Plastic { thickness: 0.01, scatterings: 5, .. }
+    ));
     refused(r#"{ type = "null", one_sided = true }"#, "materials.white.one_sided", &["both sides"]);
     refused(r#"{ type = "null", albedo = [1, 1, 1] }"#, "materials.white.albedo", &["unknown key"]);
 

@@ -8,7 +8,11 @@
 // t the coating's transmittance: 1 - F for a smooth coating, a rough one's tabulated T. Fdr is
 // the coating's diffuse reflectance from inside; `nonlinear` puts the albedo in the trapped
 // light's series, darkening and saturating the base. Both are symmetric in wo and wi, so
-// photons scatter as camera paths do.
+// photons scatter as camera paths do. pbrt-v4's coateddiffuse (src/scene/coating.rs) adds an
+// absorbing layer under the coating, a(c) = exp(-thickness / cos_t) a crossing, and a walk
+// that ends after n scatterings at the base:
+//   f_base = albedo (1 - x^n) / (1 - x) / (pi eta^2) t(cos_o) a(cos_o) t(cos_i) a(cos_i),
+// x = albedo Fdr' (Fdr attenuated by the layer, on the host).
 //
 // A lobe is sampled with Mitsuba's probability, q = (1 - t_o) w / ((1 - t_o) w + t_o (1 - w)),
 // w = specular_sampling_weight, and weighted by its own f |cos| / (lobe probability * lobe
@@ -18,8 +22,9 @@
 //
 // Parameters: `albedo` (diffuse_reflectance, linear RGB in [0, 1]) or a texture in its place;
 // `specular` (specular_reflectance); `ior` of the coating; `roughness` (alpha, 0 smooth) and
-// `distribution`; `nonlinear`; precomputed on the host: `coat_weight` (w), `coat_fdr` (Fdr)
-// and a rough coating's table `coat_table` of T; `one_sided`.
+// `distribution`; `nonlinear`; `coat_thickness` and `coat_scatterings` (0 for Mitsuba's);
+// precomputed on the host: `coat_weight` (w), `coat_fdr` (Fdr, or Fdr') and a rough coating's
+// table `coat_table` of T; `one_sided`.
 
 #import types
 #import sampling
@@ -58,10 +63,26 @@ fn coat_transmittance(m: Material, c: f32) -> f32 {
     return 1.0 - fresnel_dielectric(c, m.ior);
 }
 
-// f_base / (t(cos_o) t(cos_i)): albedo / (1 - [albedo] Fdr) / (pi eta^2).
+// t(c) a(c): what reaches the base through the coating and the layer under it, at cos c
+// outside; a(c) = exp(-thickness / cos_t), cos_t the refracted cosine (pbrt-v4's Tr).
+fn coat_through(m: Material, c: f32) -> f32 {
+    var t = coat_transmittance(m, c);
+    if m.coat_thickness > 0.0 {
+        let cos_t = sqrt(max(1.0 - (1.0 - c * c) / (m.ior * m.ior), 0.0));
+        t *= exp(-m.coat_thickness / max(cos_t, 1e-6));
+    }
+    return t;
+}
+
+// f_base / (t(cos_o) a(cos_o) t(cos_i) a(cos_i)): albedo / (1 - [albedo] Fdr) / (pi eta^2),
+// the series cut at n terms, (1 - x^n), where coat_scatterings sets n.
 fn plastic_base(m: Material, albedo: vec3f) -> vec3f {
     let trapped = select(vec3f(m.coat_fdr), albedo * m.coat_fdr, m.nonlinear != 0u);
-    return albedo / (vec3f(1.0) - trapped) * (INV_PI / (m.ior * m.ior));
+    var base = albedo;
+    if m.coat_scatterings > 0u {
+        base *= vec3f(1.0) - pow(trapped, vec3f(f32(m.coat_scatterings)));
+    }
+    return base / (vec3f(1.0) - trapped) * (INV_PI / (m.ior * m.ior));
 }
 
 // Probability of sampling the coating's lobe, seen from wo with t_o = t(cos_o): Mitsuba's
@@ -87,9 +108,8 @@ fn plastic_lobes(m: Material, albedo: vec3f, wo: vec3f, wi: vec3f, n: vec3f) -> 
     if cos_o <= 0.0 || cos_i <= 0.0 {
         return out;
     }
-    let t_o = coat_transmittance(m, cos_o);
-    let q = coat_probability(m, t_o);
-    out.base = BsdfEval(plastic_base(m, albedo) * (t_o * coat_transmittance(m, cos_i)), (1.0 - q) * cos_i * INV_PI);
+    let q = coat_probability(m, coat_transmittance(m, cos_o));
+    out.base = BsdfEval(plastic_base(m, albedo) * (coat_through(m, cos_o) * coat_through(m, cos_i)), (1.0 - q) * cos_i * INV_PI);
     if rough_coat(m) {
         // Walter et al. 2007, eq. 20, and the visible-normal density over the reflection's
         // Jacobian, G1(wo) D / (4 cos_o), its G1 the exact one (as rough_conductor_eval).
@@ -121,8 +141,8 @@ fn plastic_eval(m: Material, albedo: vec3f, s: Surface, wo: vec3f, wi: vec3f) ->
 // direction, weight specular F(cos_o) / q (plastic.cpp); rough, a visible normal h, weight
 // specular F(wo.h) G1(wi) / q (times visible_g1_ratio for Beckmann, as rough_conductor_sample). Base: a
 // cosine-distributed direction, weight pi f_base / (1 - q); there SPPM's visible point weighs
-// f_base / t(cos_i) over the base's probability, albedo / (1 - [albedo] Fdr) / (pi eta^2)
-// t(cos_o) / (1 - q): a photon arriving at cos_i brings t(cos_i) (plastic_deposit), so that
+// f_base / (t a)(cos_i) over the base's probability, albedo / (1 - [albedo] Fdr) / (pi eta^2)
+// (t a)(cos_o) / (1 - q): a photon arriving at cos_i brings (t a)(cos_i) (plastic_deposit), so that
 // the point gathers f_base times the flux. The density is the mixture's (0 after a smooth
 // coating's mirror).
 fn plastic_sample(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f, radiance: bool) -> BsdfSample {
@@ -132,14 +152,14 @@ fn plastic_sample(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f, ra
     let t_o = coat_transmittance(m, cos_o);
     let q = coat_probability(m, t_o);
     let base = plastic_base(m, albedo);
-    var out = BsdfSample(d, vec3f(0.0), 0.0, u.z >= q, base * (t_o / max(1.0 - q, 1e-30)));
+    var out = BsdfSample(d, vec3f(0.0), 0.0, u.z >= q, base * (coat_through(m, cos_o) / max(1.0 - q, 1e-30)));
     if cos_o <= 0.0 {
         return out;
     }
     if out.diffuse {
         out.wi = sample_cosine_hemisphere(n, u.xy);
         let cos_i = dot(out.wi, n);
-        out.weight = PI * out.vp_weight * coat_transmittance(m, cos_i);
+        out.weight = PI * out.vp_weight * coat_through(m, cos_i);
         out.pdf = (1.0 - q) * max(cos_i, 0.0) * INV_PI;
     } else if rough_coat(m) {
         let alpha = max(m.roughness, MIN_ALPHA);
@@ -172,8 +192,9 @@ fn plastic_sample(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f, ra
     return out;
 }
 
-// What a photon arriving along d at plastic m brings to the visible points around it: t(cos_i)
-// of its flux, the part of f_base that depends on its direction (see plastic_sample).
+// What a photon arriving along d at plastic m brings to the visible points around it:
+// (t a)(cos_i) of its flux, the part of f_base that depends on its direction (see
+// plastic_sample).
 fn plastic_deposit(m: Material, s: Surface, d: vec3f) -> f32 {
-    return coat_transmittance(m, abs(dot(d, s.ns)));
+    return coat_through(m, abs(dot(d, s.ns)));
 }

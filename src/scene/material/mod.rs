@@ -21,7 +21,7 @@ mod thin_dielectric;
 pub use conductor::MATERIAL_CONDUCTOR;
 pub use dielectric::MATERIAL_DIELECTRIC;
 pub use diffuse::MATERIAL_DIFFUSE;
-pub use plastic::MATERIAL_PLASTIC;
+pub use plastic::{MATERIAL_PLASTIC, MAX_SCATTERINGS};
 pub use thin_dielectric::MATERIAL_THIN_DIELECTRIC;
 
 use super::mesh;
@@ -95,6 +95,13 @@ pub enum MaterialKind {
         /// Mitsuba's `nonlinear`: the base's light trapped in the coating darkens and
         /// saturates its colour, 1 / (1 - albedo Fdr), rather than 1 / (1 - Fdr).
         nonlinear: bool,
+        /// Optical thickness of an absorbing layer between coating and base, each crossing
+        /// at cos_t inside keeping exp(-thickness / cos_t): pbrt-v4's `coateddiffuse`
+        /// `thickness`; 0 (Mitsuba's plastics) for none.
+        thickness: f32,
+        /// The most times the base scatters the light trapped under the coating (pbrt-v4's
+        /// walk of `maxdepth` steps scatters it ceil(maxdepth / 2) times); 0 for no limit.
+        scatterings: u32,
     },
     /// Mitsuba 3's `thindielectric`: a slab too thin to see, reflecting with the slab's summed
     /// reflectance R' = R + T^2 R / (1 - R^2) = 2R / (1 + R) and transmitting the rest
@@ -221,9 +228,17 @@ impl MaterialKind {
     /// A plastic's parameters (defaults for any other kind).
     fn plastic(&self) -> plastic::Plastic {
         match *self {
-            MaterialKind::Plastic { albedo, texture, specular, ior, roughness, distribution, nonlinear } => {
-                plastic::Plastic { albedo, texture, specular, ior, roughness, distribution, nonlinear }
-            }
+            MaterialKind::Plastic {
+                albedo,
+                texture,
+                specular,
+                ior,
+                roughness,
+                distribution,
+                nonlinear,
+                thickness,
+                scatterings,
+            } => plastic::Plastic { albedo, texture, specular, ior, roughness, distribution, nonlinear, thickness, scatterings },
             _ => plastic::Plastic {
                 albedo: Vec3::ZERO,
                 texture: None,
@@ -232,6 +247,8 @@ impl MaterialKind {
                 roughness: 0.0,
                 distribution: Microfacet::Ggx,
                 nonlinear: false,
+                thickness: 0.0,
+                scatterings: 0,
             },
         }
     }

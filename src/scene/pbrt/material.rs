@@ -10,9 +10,12 @@
 //! - `dielectric`: `eta` (1.5; a number or a named glass), roughness as a conductor's.
 //!   `thindielectric`: `eta` (1.5).
 //! - `coateddiffuse`: our plastic with the base's light trapped in the coating
-//!   (`nonlinear`): `reflectance` (0.5), `eta` (1.5), roughness as above; `thickness` changes
-//!   nothing without a medium in the coating, and a medium (`albedo`, `g` other than 0) is
-//!   refused; `maxdepth` and `nsamples` (how pbrt estimates the layers) are read.
+//!   (`nonlinear`): `reflectance` (0.5), `eta` (1.5), roughness as above; `thickness` (0.01)
+//!   of the layer under the coating, which absorbs as pbrt-v4's walk does with no medium in
+//!   it (exp(-thickness / cos) a crossing), and `maxdepth` (10), whose walk lets the base
+//!   scatter ceil(maxdepth / 2) times ([`crate::scene::coating`]); a medium in the layer
+//!   (`albedo`, `g` other than 0) is refused; `nsamples` (how pbrt estimates the layers) is
+//!   read.
 //! - `interface`: an invisible surface (our `null`).
 //! - `mix`: `materials` (two named materials), `amount` (0.5, a constant): pbrt-v4 picks
 //!   the first where amount <= 0 and the second where amount >= 1, which is that material;
@@ -35,6 +38,7 @@
 use super::params::{FloatParam, Params, Spectrum};
 use super::spectra::{self, SpectrumUse};
 use super::{Reader, Result};
+use crate::scene::material::MAX_SCATTERINGS;
 use crate::scene::{mesh, ComplexIor, Material, MaterialKind, Microfacet, SceneError, Texture, TextureFilter, TextureWrap};
 use glam::{Affine2, Vec2, Vec3};
 
@@ -308,8 +312,16 @@ impl Reader {
                     let key = if p.has("albedo") { "albedo" } else { "g" };
                     return Err(p.error(key, "a medium inside the coating (albedo, g) is not modelled by sppm-gpu"));
                 }
-                self.float_value(p, "thickness", 0.01)?;
-                p.pass_over(&["maxdepth", "nsamples", "seed"]);
+                let thickness = self.float_value(p, "thickness", 0.01)?;
+                if !(thickness >= 0.0 && thickness.is_finite()) {
+                    return Err(p.error("thickness", format!("{thickness}: the coating's thickness must be at least 0")));
+                }
+                // The walk scatters at the base at steps 0, 2, 4, ...: ceil(maxdepth / 2)
+                // times; none where it takes no step, a black base.
+                let max_depth = p.int_or("maxdepth", 10)?;
+                let scatterings = ((max_depth.max(0) + 1) / 2).min(MAX_SCATTERINGS as i64) as u32;
+                let (albedo, texture) = if scatterings == 0 { (Vec3::ZERO, None) } else { (albedo, texture) };
+                p.pass_over(&["nsamples", "seed"]);
                 MaterialKind::Plastic {
                     albedo,
                     texture,
@@ -318,6 +330,8 @@ impl Reader {
                     roughness,
                     distribution: Microfacet::Ggx,
                     nonlinear: true,
+                    thickness,
+                    scatterings,
                 }
             }
             "interface" | "none" | "" => MaterialKind::Null,
