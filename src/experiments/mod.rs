@@ -367,15 +367,20 @@ pub fn compare_on(gpu: &GpuContext, scene: &Scene, name: &str, opts: &CompareOpt
         last: Option<(Rgb32Image, Snapshot)>,
     }
     let mut runs = Vec::new();
+    let max_passes = opts.max_passes.unwrap_or(u32::MAX);
     for &variant in &opts.methods {
         let mut s = scene.clone();
         variant.apply(&mut s.render);
+        // As a render under --time-limit alone: as many passes as fit, which vcm's pilot
+        // counts on (its merges stand for the render's passes, `shares::render_passes`), not
+        // the file's own.
+        s.render.iterations = max_passes;
         bar.set_message(format!("{}: compiling", variant.name()));
         let timed = Timed::compiled(gpu, &s)?;
         for line in timed.integrator.notes() {
             note(&bar, format!("{}: note: {line}", variant.name()));
         }
-        runs.push(Run { label: variant.name(), timed, max_passes: opts.max_passes.unwrap_or(u32::MAX), next: 0, last: None });
+        runs.push(Run { label: variant.name(), timed, max_passes, next: 0, last: None });
     }
     let mut snapshots = Vec::new();
     while let Some(run) =

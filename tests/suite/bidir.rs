@@ -562,3 +562,41 @@ fn strategy_images_add_up_to_the_image() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `compare` renders each method as a render under `--time-limit` alone does, as many passes
+/// as fit, and vcm's pilot counts those: its merges stand for a pass of the render it will be
+/// (`representative_pass`, 0.42 of its passes), not of the file's `iterations`. compare once
+/// left the file's 64 passes to the pilot, whose merges stood for pass 27 of a render that
+/// ran 1,100 (Mitsuba's plastic.xml at 30 s).
+#[test]
+fn compare_pilots_vcm_for_the_passes_that_fit() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = common::fresh_dir("compare-pilot");
+    let (scene, reference) = (common::scene_path("cornell-box.toml"), dir.join("ref.exr"));
+    let size = ["--width", "32", "--height", "32"];
+    let run = |args: &[&std::ffi::OsStr]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_sppm-gpu")).args(args).output().expect("the binary runs");
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let os = |s: &'static str| std::ffi::OsStr::new(s);
+    let mut render = vec![scene.as_os_str(), os("--iterations"), os("4"), os("-o"), reference.as_os_str()];
+    render.extend(size.map(os));
+    run(&render);
+    // cornell-box.toml says 64 passes; at 32x32 some hundreds fit in 3 s.
+    let mut compare = vec![os("compare"), scene.as_os_str(), os("--reference"), reference.as_os_str()];
+    compare.extend(["--methods", "vcm", "--time-limit", "3", "--out"].map(os));
+    compare.push(dir.as_os_str());
+    compare.extend(size.map(os));
+    let stderr = run(&compare);
+    let pass: u32 = stderr
+        .split("merges as at pass ")
+        .nth(1)
+        .and_then(|rest| rest.split(|c: char| !c.is_ascii_digit()).next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no pilot note: {stderr}"));
+    assert!(pass > 64, "the pilot's merges stand for pass {pass}: {stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

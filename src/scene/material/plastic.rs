@@ -161,9 +161,10 @@ pub(super) fn gpu(p: &Plastic, textures: &[Texture], attributes: &mut Vec<[f32; 
     let (d_mean, s_mean) = (base.element_sum() / 3.0, p.specular.element_sum() / 3.0);
     g.coat_weight = s_mean / (d_mean + s_mean);
     if p.roughness == 0.0 {
-        g.coat_fdr = match p.thickness > 0.0 {
-            true => attenuated_internal_reflectance(p.ior, p.thickness),
-            false => fresnel_diffuse_reflectance(1.0 / p.ior),
+        g.coat_fdr = if p.thickness > 0.0 {
+            attenuated_internal_reflectance(p.ior, p.thickness)
+        } else {
+            fresnel_diffuse_reflectance(1.0 / p.ior)
         };
         return g;
     }
