@@ -352,7 +352,8 @@ pub struct Candidate {
     /// their variances, over pixels and channels), in standard errors; 0 for the others.
     pub departure: f64,
     /// The share of the best other candidate's figure that its own must stay below: 1, or
-    /// [`DENSER_MARGIN`], or photon mapping's [`CostModel::photon_mapping_margin`].
+    /// [`DENSER_MARGIN`], [`NO_LIGHT_SUBPATHS_MARGIN`] (above 1: a near tie goes to it), or
+    /// photon mapping's [`CostModel::photon_mapping_margin`].
     pub margin: f64,
 }
 
@@ -375,6 +376,15 @@ impl Candidate {
 /// 1.55x) where at 60 s it rendered 1.16x the error (1.80e-4 against 1.55e-4); on
 /// cornell-skylight, where it pays, the pilot rates it at 0.75x to 0.80x (BENCHMARKS.md "VCM").
 pub const DENSER_MARGIN: f64 = 0.9;
+
+/// The share of the best other candidate's figure that no light subpaths at all (camera
+/// subpaths with next-event estimation, rendered by pt-nee's kernel) must stay below: above 1,
+/// a near tie goes to it. The pilot runs it on the bidirectional kernel and its cost model
+/// prices light subpaths from fitted counts; on Mitsuba's textures.xml at 30 s it rated light
+/// tracing beside the camera's strategies (0, 0) at 1.00x no light subpaths, whose passes then
+/// rendered 1.19x pt-nee's error (9.49e-5 against 1.13e-4), a pass with light subpaths costing
+/// 1.39x one without where the pilot counted 1.20x (BENCHMARKS.md "VCM").
+pub const NO_LIGHT_SUBPATHS_MARGIN: f64 = 1.1;
 
 /// Standard errors by which photon mapping's pilot image may depart from the other candidates'
 /// before the pilot sets it aside. The relative variance of a pass cannot show a bias, and SPPM's
@@ -436,11 +446,11 @@ impl fmt::Display for Pilot {
         write!(
             f,
             " (relative variance x cost of connect/merge shares, @ pixels a light subpath where set, none for no light \
-             subpaths, sppm photon mapping, each over its margin where below 1:"
+             subpaths, sppm photon mapping, each over its margin where not 1:"
         )?;
         for c in &self.candidates {
             write!(f, " {} {:.3e}", c.choice, c.figure())?;
-            if c.margin < 1.0 {
+            if c.margin != 1.0 {
                 write!(f, " (over {})", c.margin)?;
             }
             if !c.eligible() {
@@ -585,7 +595,11 @@ pub fn choose(
                 cost: costs[k],
                 counts: work[k],
                 departure: 0.0,
-                margin: if choices[k].pixels_per_light_path > 0 { DENSER_MARGIN } else { 1.0 },
+                margin: match choices[k] {
+                    c if !c.light_subpaths => NO_LIGHT_SUBPATHS_MARGIN,
+                    c if c.pixels_per_light_path > 0 => DENSER_MARGIN,
+                    _ => 1.0,
+                },
             })
             .collect();
         Ok((candidates, mu))

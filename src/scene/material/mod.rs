@@ -21,7 +21,8 @@ mod thin_dielectric;
 pub use conductor::MATERIAL_CONDUCTOR;
 pub use dielectric::MATERIAL_DIELECTRIC;
 pub use diffuse::MATERIAL_DIFFUSE;
-pub use plastic::{MATERIAL_PLASTIC, MAX_SCATTERINGS};
+pub use plastic::MATERIAL_PLASTIC;
+pub use plastic::MAX_SCATTERINGS;
 pub use thin_dielectric::MATERIAL_THIN_DIELECTRIC;
 
 use super::mesh;
