@@ -165,7 +165,7 @@ fn converted_pbrt_scenes_load_back() {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("convert-pbrt-tests");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    for name in ["area-power", "cornell-box", "loopsubdiv", "media", "mix"] {
+    for name in ["area-power", "coated", "cornell-box", "loopsubdiv", "media", "mix"] {
         let pbrt = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/pbrt").join(format!("{name}.pbrt"));
         let toml = dir.join(format!("{name}.toml"));
         let out = Command::new(env!("CARGO_BIN_EXE_sppm-gpu")).arg("convert").arg(&pbrt).arg("-o").arg(&toml).output().unwrap();
@@ -189,6 +189,9 @@ fn converted_pbrt_scenes_load_back() {
         assert_eq!(a.camera.medium, b.camera.medium, "{name}");
         let media = |s: &Scene| s.shapes.iter().map(|s| (s.interior, s.exterior)).collect::<Vec<_>>();
         assert_eq!(media(&a), media(&b), "{name}");
+        // Each shape's material as read (pbrt-v4's coateddiffuse layer among them).
+        let kinds = |s: &Scene| (0..s.shapes.len() as u32).map(|i| s.shape_material(i).kind.clone()).collect::<Vec<_>>();
+        assert_eq!(kinds(&a), kinds(&b), "{name}");
     }
 }
 

@@ -836,7 +836,7 @@ const ODD_PBRT_TOKENS: &[&str] = &[
 
 /// The pbrt-v4 scenes mutated: the Cornell box (includes, instances) and the files of
 /// loopsubdiv, area-light power, mix and media.
-const PBRT_SEEDS: &[&str] = &["cornell-box.pbrt", "loopsubdiv.pbrt", "area-power.pbrt", "mix.pbrt", "media.pbrt"];
+const PBRT_SEEDS: &[&str] = &["cornell-box.pbrt", "loopsubdiv.pbrt", "area-power.pbrt", "mix.pbrt", "media.pbrt", "coated.pbrt"];
 
 proptest! {
     #![proptest_config(Config { cases: 1024, ..config() })]
