@@ -25,9 +25,9 @@
 //!
 //!   f_base = rho (1 - x^n) / (1 - x) / (pi eta^2) t(cos_o) a(cos_o) t(cos_i) a(cos_i),
 //!
-//! a(cos) = exp(-thickness / cos_t) ([`layer_transmittance`]) with cos_t the refracted cosine
-//! (a rough coating's refracted directions spread about it; at pbrt's thickness 0.01 the
-//! difference is of second order).
+//! a(cos) = exp(-thickness / cos_t) with cos_t the refracted cosine (`coat_through` in
+//! `shaders/shared/bsdf/plastic.wgsl`; a rough coating's refracted directions spread about it,
+//! and at pbrt's thickness 0.01 the difference is of second order).
 
 use crate::scene::Microfacet;
 
@@ -70,17 +70,6 @@ pub fn attenuated_internal_reflectance(eta: f32, thickness: f32) -> f32 {
         }
     }
     sum as f32
-}
-
-/// a(cos): the share of light crossing, once, a layer of optical `thickness` under a coating of
-/// relative index `eta`, having met the coating at cos to its normal outside: exp(-thickness /
-/// cos_t), cos_t the refracted cosine (pbrt-v4's `Tr`); 1 for `thickness` 0.
-pub fn layer_transmittance(eta: f32, thickness: f32, cos: f32) -> f32 {
-    if thickness <= 0.0 {
-        return 1.0;
-    }
-    let cos_t = (1.0 - (1.0 - cos * cos) / (eta * eta)).max(0.0).sqrt();
-    (-thickness / cos_t.max(1e-6)).exp()
 }
 
 /// A rough coating's precomputed terms (Mitsuba 3's `roughplastic`, `parameters_changed`).
