@@ -31,3 +31,25 @@ for path in sys.argv[1:]:
     bc = min((v,n) for n,v in fc.items() if n!='sppm')[1]; bt = min((v,n) for n,v in ft.items() if n!='sppm')[1]
     ratio_cost = {n: round(t[n]/t[bc] / (cand[n][1]/cand[bc][1]),2) for n in t}
     print(f"{path.split('/')[-1]:14} pm/best by cost {fc['sppm']/oc:.2f} ({bc}), by time {ft['sppm']/ot:.2f} ({bt}); time/cost vs {bc}: {ratio_cost}")
+
+# vcm's own candidates (photon mapping left out): the best by the cost model and by measured
+# time, each figure over its margin (the denser form 0.9, no light subpaths 1.1).
+for path in sys.argv[1:]:
+    names, cand, times = [], {}, {}
+    for line in open(path):
+        m = re.match(r"pilot candidate (\S+) (\S+) (\S+)", line)
+        if m and m[1] != 'sppm':
+            cand[m[1]] = (float(m[2]), float(m[3]))
+            names.append(m[1])
+        m = re.match(r"pilot pass (\d+) ([0-9.]+)", line)
+        if m:
+            times.setdefault(int(m[1]), []).append(float(m[2]))
+    t = {names[i]: statistics.mean(times[k]) for i, k in enumerate(sorted(times)) if i < len(names)}
+    margin = lambda n: 0.9 if '@' in n else (1.1 if n == 'none' else 1.0)
+    fc = {n: cand[n][0] * cand[n][1] / margin(n) for n in cand}
+    ft = {n: cand[n][0] * t[n] / margin(n) for n in cand if n in t}
+    if not ft:
+        continue
+    bc, bt = min(fc, key=fc.get), min(ft, key=ft.get)
+    order = sorted(ft, key=ft.get)
+    print(f"{path.split('/')[-1]:16} best by cost {bc:6} by time {bt:6}; by time: " + " ".join(f"{n} {ft[n] / ft[bt]:.2f}" for n in order))
