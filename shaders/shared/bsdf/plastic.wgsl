@@ -63,15 +63,19 @@ fn coat_transmittance(m: Material, c: f32) -> f32 {
     return 1.0 - fresnel_dielectric(c, m.ior);
 }
 
-// t(c) a(c): what reaches the base through the coating and the layer under it, at cos c
-// outside; a(c) = exp(-thickness / cos_t), cos_t the refracted cosine (pbrt-v4's Tr).
-fn coat_through(m: Material, c: f32) -> f32 {
-    var t = coat_transmittance(m, c);
-    if m.coat_thickness > 0.0 {
-        let cos_t = sqrt(max(1.0 - (1.0 - c * c) / (m.ior * m.ior), 0.0));
-        t *= exp(-m.coat_thickness / max(cos_t, 1e-6));
+// a(c): what crosses the layer under the coating once, having met the coating at cos c
+// outside: exp(-thickness / cos_t), cos_t the refracted cosine (pbrt-v4's Tr); 1 without a layer.
+fn coat_layer(m: Material, c: f32) -> f32 {
+    if m.coat_thickness <= 0.0 {
+        return 1.0;
     }
-    return t;
+    let cos_t = sqrt(max(1.0 - (1.0 - c * c) / (m.ior * m.ior), 0.0));
+    return exp(-m.coat_thickness / max(cos_t, 1e-6));
+}
+
+// t(c) a(c): what reaches the base through the coating and the layer under it, at cos c outside.
+fn coat_through(m: Material, c: f32) -> f32 {
+    return coat_transmittance(m, c) * coat_layer(m, c);
 }
 
 // f_base / (t(cos_o) a(cos_o) t(cos_i) a(cos_i)): albedo / (1 - [albedo] Fdr) / (pi eta^2),
@@ -108,8 +112,9 @@ fn plastic_lobes(m: Material, albedo: vec3f, wo: vec3f, wi: vec3f, n: vec3f) -> 
     if cos_o <= 0.0 || cos_i <= 0.0 {
         return out;
     }
-    let q = coat_probability(m, coat_transmittance(m, cos_o));
-    out.base = BsdfEval(plastic_base(m, albedo) * (coat_through(m, cos_o) * coat_through(m, cos_i)), (1.0 - q) * cos_i * INV_PI);
+    let t_o = coat_transmittance(m, cos_o);
+    let q = coat_probability(m, t_o);
+    out.base = BsdfEval(plastic_base(m, albedo) * (t_o * coat_layer(m, cos_o) * coat_through(m, cos_i)), (1.0 - q) * cos_i * INV_PI);
     if rough_coat(m) {
         // Walter et al. 2007, eq. 20, and the visible-normal density over the reflection's
         // Jacobian, G1(wo) D / (4 cos_o), its G1 the exact one (as rough_conductor_eval).
@@ -152,7 +157,7 @@ fn plastic_sample(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f, ra
     let t_o = coat_transmittance(m, cos_o);
     let q = coat_probability(m, t_o);
     let base = plastic_base(m, albedo);
-    var out = BsdfSample(d, vec3f(0.0), 0.0, u.z >= q, base * (coat_through(m, cos_o) / max(1.0 - q, 1e-30)));
+    var out = BsdfSample(d, vec3f(0.0), 0.0, u.z >= q, base * (t_o * coat_layer(m, cos_o) / max(1.0 - q, 1e-30)));
     if cos_o <= 0.0 {
         return out;
     }
