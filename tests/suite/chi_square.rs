@@ -752,17 +752,11 @@ fn plastic_tests(distribution: u32, first_seed: u32) {
 /// error.
 fn pbrt_coated_diffuse_walk(mu_o: f64, albedo: f64, thickness: f64, scatterings: u32, paths: u32) -> (f64, f64) {
     // Fresnel reflectance of a smooth interface of index 1.5 at cos c, from outside or
-    // inside, and the refracted cosine (0 beyond the critical angle, where F is 1).
+    // inside ([`specular_pair`]), and the refracted cosine (0 beyond the critical angle).
     let fresnel = |c: f64, outside: bool| -> (f64, f64) {
-        let eta = if outside { 1.0 / 1.5 } else { 1.5 };
-        let sin2_t = eta * eta * (1.0 - c * c);
-        if sin2_t >= 1.0 {
-            return (1.0, 0.0);
-        }
-        let ct = (1.0 - sin2_t).sqrt();
-        let rs = (eta * c - ct) / (eta * c + ct);
-        let rp = (c - eta * ct) / (c + eta * ct);
-        (0.5 * (rs * rs + rp * rp), ct)
+        let wo = DVec3::new((1.0 - c * c).sqrt(), 0.0, c);
+        let (_, refracted, f) = specular_pair(wo, DVec3::Z, if outside { 1.5 } else { 1.0 / 1.5 });
+        (f, refracted.map_or(0.0, |t| -t.z))
     };
     let mut rng = common::Rng(7);
     let (f_o, cos_t) = fresnel(mu_o, true);
