@@ -13,7 +13,8 @@
 //! times its light subpaths, and photon mapping (merging at each camera subpath's first
 //! diffuse vertex alone, where the subpath ends: SPPM's estimator, by SPPM's kernels), set
 //! aside where its image departs from the others' beyond their noise (a bias, [`MAX_DEPARTURE`])
-//! and chosen only below the others by a margin ([`CostModel::photon_mapping_margin`]). Each
+//! and weighed with its bias ([`Candidate::bias`]; chosen up to [`PHOTON_MAPPING_MARGIN`] times
+//! the others' figure). Each
 //! candidate's error is the relative variance of its passes' estimates (the mean over pixels and
 //! channels of each pixel's sample variance over `mu^2 + 0.01`, `mu` the pixel's mean over every
 //! pilot pass: a pass's relMSE as `diff` measures it, less the bias; a rare pass far off the
@@ -257,18 +258,6 @@ pub struct CostModel {
     pub photon_hit: f64,
     /// Photon mapping: a photon (its path, but for its hits' gathering).
     pub photon: f64,
-    /// The share of the best other candidate's figure that photon mapping's must stay below.
-    /// Its relative variance leaves out its bias (the blur of the radius, all of it, where the
-    /// others' merges share theirs with unbiased strategies), which weighs most in scenes of
-    /// many fast passes: on the five scenes traced by code the pilot rated it at 0.51x to 0.79x
-    /// the best other where at 60 s it rendered 0.89x (cornell-spheres) to 1.15x (cornell-glossy,
-    /// Mitsuba's box, cornell-skylight) the error, and with a rare far-off pass left out
-    /// ([`OUTLIER_DEVIATION`]) cornell-spheres at 0.50x and cornell-glossy at 0.58x, where photon
-    /// mapping rendered 1.03x and 1.06x merging alone's error: there it is chosen only past 2x.
-    /// Through a BVH the bunny box 0.52x to 0.58x for 0.70x, Bitterli's staircase 0.79x to 0.93x
-    /// (three seeds) for about 0.9x (BENCHMARKS.md "VCM"). A near tie goes to vcm's own
-    /// strategies.
-    pub photon_mapping_margin: f64,
 }
 
 /// [`CostModel`] of a scene traced by code (at most
@@ -283,7 +272,6 @@ pub const BAKED_COST: CostModel = CostModel {
     visible_point_path: 1.02,
     photon_hit: 1.43,
     photon: 1.35,
-    photon_mapping_margin: 0.45,
 };
 
 /// [`CostModel`] of a scene traced through a BVH.
@@ -297,7 +285,6 @@ pub const TRAVERSED_COST: CostModel = CostModel {
     visible_point_path: 1.37,
     photon_hit: 0.10,
     photon: 1.47,
-    photon_mapping_margin: 0.9,
 };
 
 impl CostModel {
@@ -342,8 +329,12 @@ pub struct Candidate {
     pub light_paths: u32,
     /// The relative variance of one of its passes (see the module's documentation).
     pub rel_variance: f64,
-    /// The cost of one of its passes, in camera vertices ([`CostModel`]).
+    /// The cost of one of its passes, in camera vertices ([`CostModel`]); under a time limit,
+    /// photon mapping's by its measured time against the best other candidate's
+    /// ([`Candidate::seconds`]).
     pub cost: f64,
+    /// The measured seconds of one of its pilot passes (their mean, read-backs included).
+    pub seconds: f64,
     /// Its work a pass, by `WORK_*` word (the mean over its passes); for photon mapping its
     /// camera paths in the camera vertices' word, its photon hits in the merge candidates'.
     pub counts: [f64; WORK_COUNTS as usize],
@@ -351,9 +342,14 @@ pub struct Candidate {
     /// candidates' beyond what their noise explains (the squared difference of the two less
     /// their variances, over pixels and channels), in standard errors; 0 for the others.
     pub departure: f64,
+    /// For photon mapping, what its bias adds to its relative variance in the render's error:
+    /// its squared bias ([`paired_bias`]) times the passes it would render (the error after n
+    /// passes is V / n + B^2, so n times it V + n B^2); 0 for the others, whose merges share
+    /// the light with unbiased strategies.
+    pub bias: f64,
     /// The share of the best other candidate's figure that its own must stay below: 1, or
-    /// [`DENSER_MARGIN`], [`NO_LIGHT_SUBPATHS_MARGIN`] (above 1: a near tie goes to it), or
-    /// photon mapping's [`CostModel::photon_mapping_margin`].
+    /// [`DENSER_MARGIN`], [`NO_LIGHT_SUBPATHS_MARGIN`] or [`PHOTON_MAPPING_MARGIN`] (above 1: a
+    /// near tie goes to it).
     pub margin: f64,
 }
 
@@ -364,9 +360,10 @@ impl Candidate {
         self.departure <= MAX_DEPARTURE
     }
 
-    /// The figure the pilot chooses by: relative variance times cost, over its [`Self::margin`].
+    /// The figure the pilot chooses by: relative variance (and photon mapping's [`Self::bias`])
+    /// times cost, over its [`Self::margin`].
     pub fn figure(&self) -> f64 {
-        self.rel_variance * self.cost / self.margin
+        (self.rel_variance + self.bias) * self.cost / self.margin
     }
 }
 
@@ -385,6 +382,21 @@ pub const DENSER_MARGIN: f64 = 0.9;
 /// rendered 1.19x pt-nee's error (9.49e-5 against 1.13e-4), a pass with light subpaths costing
 /// 1.39x one without where the pilot counted 1.20x (BENCHMARKS.md "VCM").
 pub const NO_LIGHT_SUBPATHS_MARGIN: f64 = 1.1;
+
+/// The share of the best other candidate's figure that photon mapping's must stay below: above
+/// 1, photon mapping wins ties and more. Its figure holds its bias ([`Candidate::bias`]) and,
+/// under a time limit, its measured time; what is left is the pilot's reading of noise from a
+/// few passes, which on the scenes where photon mapping renders better than vcm's own
+/// strategies rates it too high: merging alone's variance at 8 pilot passes was 0.65x what
+/// its renders showed on Mitsuba's lens.xml (rare bright paths through the mirror that 8
+/// passes do not meet) and 0.7x on Bitterli's staircase, photon mapping's own 1.3x to 1.7x on
+/// lens.xml and plastic.xml, where on Mitsuba's box.xml both were within 17%. At 1.4 vcm
+/// chooses photon mapping on plastic.xml (rated 0.86x to 0.98x merging alone), lens.xml
+/// (1.12x to 1.20x), the staircase (1.14x to 1.34x), the bunny box and cornell-glossy, and not
+/// where its bias is most of its figure (cornell-spheres 8.5x, cornell-skylight 4.2x, null.xml
+/// 3.6x, metals.xml 2.5x, tinted.xml 2.1x); box.xml's near tie (0.95x to 1.24x) goes to it
+/// and renders 1.08x sppm's error (BENCHMARKS.md "VCM").
+pub const PHOTON_MAPPING_MARGIN: f64 = 1.4;
 
 /// Standard errors by which photon mapping's pilot image may depart from the other candidates'
 /// before the pilot sets it aside. The relative variance of a pass cannot show a bias, and SPPM's
@@ -560,6 +572,7 @@ pub fn choose(
     // Each candidate's passes' estimates, pixel by pixel.
     let mut estimates = vec![Vec::new(); choices.len()];
     let mut costs = vec![0.0; choices.len()];
+    let mut seconds = vec![0.0; choices.len()];
     let mut work = vec![[0.0; WORK_COUNTS as usize]; choices.len()];
     let mut before = vec![[0.0f32; 4]; pixels];
     // The passes of candidates `ks`, in turn; then every candidate run so far, its figures
@@ -570,9 +583,11 @@ pub fn choose(
             let k = ks[pass as usize % ks.len()];
             let pass_start = std::time::Instant::now();
             let (sums, work_counts) = tracer.counted_pass(choices[k].shares, counts[k])?;
+            let pass_seconds = pass_start.elapsed().as_secs_f64();
+            seconds[k] += pass_seconds / passes_each as f64;
             // The measuring hook: each pilot pass's time and counts.
             if log {
-                eprintln!("pilot pass {k} {:.6} {work_counts:?}", pass_start.elapsed().as_secs_f64());
+                eprintln!("pilot pass {k} {pass_seconds:.6} {work_counts:?}");
             }
             let estimate: Vec<[f32; 3]> =
                 sums.iter().zip(&before).map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]]).collect();
@@ -593,8 +608,10 @@ pub fn choose(
                 light_paths: counts[k],
                 rel_variance: rel_variance(&estimates[k], &mu),
                 cost: costs[k],
+                seconds: seconds[k],
                 counts: work[k],
                 departure: 0.0,
+                bias: 0.0,
                 margin: match choices[k] {
                     c if !c.light_subpaths => NO_LIGHT_SUBPATHS_MARGIN,
                     c if c.pixels_per_light_path > 0 => DENSER_MARGIN,
@@ -625,8 +642,10 @@ pub fn choose(
         }
         if !mapping.is_empty() {
             let means = Means::of(mu.clone(), &estimates, &ran);
+            let other = candidates.iter().filter(|c| c.eligible()).min_by(|a, b| a.figure().total_cmp(&b.figure())).cloned();
+            let timed = scene.render.time_limit.zip(other.as_ref()).map(|(limit, other)| Timed { limit, start, other });
             let at = (representative, passes_each);
-            let mapping = photon_mapping(device, queue, scene, &pilot, data, buffers, &means, &model, at, log)?;
+            let mapping = photon_mapping(device, queue, scene, &pilot, data, buffers, &means, &model, at, timed, log)?;
             candidates.push(mapping);
         }
     }
@@ -656,14 +675,45 @@ fn timed_pass(tracer: &mut LightTracer, shares: Shares, paths: u32) -> Result<f6
     Ok(seconds)
 }
 
+/// Under a time limit, what photon mapping's pilot needs of it: the limit, when the pilot
+/// started, and the best of the other candidates, whose measured pass time prices photon
+/// mapping's.
+struct Timed<'a> {
+    limit: f64,
+    start: std::time::Instant,
+    other: &'a Candidate,
+}
+
+/// The factor on photon mapping's pilot radius of its second set of passes, whose difference
+/// from the first measures its bias ([`paired_bias`]).
+pub const BIAS_RADIUS_FACTOR: f32 = 2.0;
+
+/// Photon mapping's pilot passes at [`BIAS_RADIUS_FACTOR`] times the radius, at most: paired
+/// with its first passes, whose random numbers they share, four pin its bias down (its
+/// standard error over pixels 3% to 30% of it on fifteen scenes at eight; BENCHMARKS.md "VCM").
+pub const BIAS_PASSES: u32 = 4;
+
 /// Photon mapping's figures ([`Choice::PHOTON_MAPPING`]): `passes` passes of SPPM's
 /// estimator on the pilot's image `pilot` (its size and seed), with photons in the same
 /// proportion to the render's as its pixels and a fixed radius that keeps the density
-/// estimate as noisy as the render's at pass `representative` (as the other candidates'
+/// estimate as noisy as the render's at its representative pass (as the other candidates'
 /// merges); its relative variance against `means`, each pixel's mean over the other
-/// candidates' passes, and its [`departure`] from them. Under the global schedule the image
-/// after k passes is the mean of their estimates, so pass k's own is k times it less the sum
-/// before.
+/// candidates' passes, and its [`departure`] from them.
+///
+/// Without a time limit photon mapping renders the scene's passes, as the others do, and its
+/// representative pass is theirs, `representative`; its cost is the cost model's. Under a time
+/// limit it renders as many passes as fit, far fewer than vcm's (a pass gathers many photons at
+/// several camera paths a pixel): a first pass, timed and set aside, says how many, and so the
+/// pass its radius stands for; and its cost is the best other candidate's times the ratio of
+/// their measured pass times. On Mitsuba's lens.xml at 30 s photon mapping runs about 200
+/// passes to merging alone's 1,300: the radius of vcm's representative pass made its pilot
+/// variance 1.6x what its render showed, and the cost model priced its pass at 0.22x to 1.9x
+/// its measured time relative to the others', by scene (BENCHMARKS.md "VCM").
+///
+/// Its bias, which the others' merges share with unbiased strategies and its relative variance
+/// cannot show, from the same passes again at [`BIAS_RADIUS_FACTOR`] times the radius with the
+/// same random numbers ([`paired_bias`]), weighed by the passes it would render
+/// ([`Candidate::bias`]).
 #[allow(clippy::too_many_arguments)]
 fn photon_mapping(
     device: &wgpu::Device,
@@ -675,6 +725,7 @@ fn photon_mapping(
     means: &Means,
     model: &CostModel,
     (representative, passes): (u32, u32),
+    timed: Option<Timed>,
     log: bool,
 ) -> Result<Candidate, Error> {
     let mut mapping = pilot.clone();
@@ -683,24 +734,78 @@ fn photon_mapping(
     let share = (r.width as f64 * r.height as f64) / (scene.render.width as f64 * scene.render.height as f64);
     r.photons = ((scene.render.photons as f64 * share).round() as u32).max(1);
     let r1 = scene.render.radius.unwrap_or_else(|| super::sppm::auto_radius(scene));
-    let radius = super::sppm::global_radius_sq(r1, scene.render.alpha, representative).sqrt();
-    (r.radius, r.alpha) = (Some((radius * (scene.render.photons as f64 / r.photons as f64).sqrt()) as f32), 1.0);
+    let photons_factor = (scene.render.photons as f64 / r.photons as f64).sqrt();
+    let radius_at = |pass: u32| (super::sppm::global_radius_sq(r1, scene.render.alpha, pass).sqrt() * photons_factor) as f32;
+    (r.radius, r.alpha) = (Some(radius_at(representative)), 1.0);
     r.iterations = passes;
+    let height = r.height;
+    let sppm_at = |mapping: &Scene| {
+        super::Sppm::with_scene_buffers(device, queue, mapping, data, buffers.clone(), 0..height, super::Deposits::Auto)
+    };
+    let mut render_passes = scene.render.iterations as f64;
+    if let Some(timed) = &timed {
+        let (_, _, pass) = sppm_passes(&mut sppm_at(&mapping)?, 1)?;
+        let left = timed.limit - timed.start.elapsed().as_secs_f64() - (passes + BIAS_PASSES.min(passes)) as f64 * pass;
+        render_passes = (left.max(0.0) / (pass / share)).min(render_passes);
+        let representative = representative_pass(render_passes, scene.render.alpha);
+        mapping.render.radius = Some(radius_at(representative));
+        if log {
+            eprintln!("pilot sppm render passes {render_passes:.1} (a pilot pass {pass:.6} s), as at pass {representative}");
+        }
+    }
+    let (estimates, hits, seconds) = sppm_passes(&mut sppm_at(&mapping)?, passes)?;
+    let mut wide = mapping.clone();
+    wide.render.radius = mapping.render.radius.map(|r| r * BIAS_RADIUS_FACTOR);
+    let (wide_estimates, _, _) = sppm_passes(&mut sppm_at(&wide)?, BIAS_PASSES.min(passes))?;
+    let bias = paired_bias(&estimates, &wide_estimates, &means.mu);
+    let r = &mapping.render;
     let pixels = r.width as usize * r.height as usize;
     let camera_paths = (pixels as u64 * r.spp as u64 * super::sppm::direct_samples(r) as u64) as f64;
-    let photons = r.photons as f64;
-    let height = r.height;
-    let mut sppm = super::Sppm::with_scene_buffers(device, queue, &mapping, data, buffers, 0..height, super::Deposits::Auto)?;
-    let mut sum = vec![[0.0f64; 3]; pixels];
-    let (mut estimates, mut cost, mut hits) = (Vec::new(), 0.0, 0.0);
+    let cost = match timed {
+        Some(Timed { other, .. }) => other.cost * seconds / other.seconds,
+        None => model.photon_mapping_cost(camera_paths, hits, r.photons as f64),
+    };
+    let variance = rel_variance(&estimates, &means.mu);
+    if log {
+        let d = pass_deviations(&estimates, &means.mu);
+        eprintln!("pilot deviations sppm {:?}", d.iter().map(|x| format!("{x:.3e}")).collect::<Vec<_>>());
+        eprintln!(
+            "pilot sppm bias {bias:.4e} over {render_passes:.1} passes, relative variance {variance:.4e} ({:.4e} at {BIAS_RADIUS_FACTOR}x the radius), {seconds:.6} s a pass",
+            rel_variance(&wide_estimates, &means.mu),
+        );
+    }
+    let mut counts = [0.0; WORK_COUNTS as usize];
+    (counts[WORK_CAMERA_VERTICES as usize], counts[WORK_MERGE_CANDIDATES as usize]) = (camera_paths, hits);
+    Ok(Candidate {
+        choice: Choice::PHOTON_MAPPING,
+        light_paths: mapping.render.photons,
+        rel_variance: variance,
+        cost,
+        seconds,
+        counts,
+        departure: departure(&estimates, means),
+        bias: bias.max(0.0) * render_passes,
+        margin: PHOTON_MAPPING_MARGIN,
+    })
+}
+
+/// Each pass's estimate, pixel by pixel.
+type Passes = Vec<Vec<[f32; 3]>>;
+
+/// `passes` passes of `sppm` (the global schedule): each pass's own estimate (the image after
+/// k passes is the mean of theirs, so pass k's is k times it less the sum before), the mean of
+/// the photon hits a pass gathered, and the mean seconds of a pass (read-backs included).
+fn sppm_passes(sppm: &mut super::Sppm, passes: u32) -> Result<(Passes, f64, f64), Error> {
+    let (mut estimates, mut hits, mut seconds) = (Vec::new(), 0.0, 0.0);
+    let mut sum: Vec<[f64; 3]> = Vec::new();
     for pass in 1..=passes {
         let start = std::time::Instant::now();
         sppm.run_pass()?;
         let image = sppm.image()?;
         let gathered = sppm.photon_hits_gathered()?.0 as f64;
-        if log {
-            eprintln!("pilot sppm pass {:.6} [{camera_paths}, {gathered}, {photons}]", start.elapsed().as_secs_f64());
-        }
+        seconds += start.elapsed().as_secs_f64() / passes as f64;
+        hits += gathered / passes as f64;
+        sum.resize(image.pixels.len(), [0.0; 3]);
         let k = pass as f64;
         let estimate = image
             .pixels
@@ -713,24 +818,37 @@ fn photon_mapping(
             })
             .collect();
         estimates.push(estimate);
-        cost += model.photon_mapping_cost(camera_paths, gathered, photons) / passes as f64;
-        hits += gathered / passes as f64;
     }
-    if log {
-        let d = pass_deviations(&estimates, &means.mu);
-        eprintln!("pilot deviations sppm {:?}", d.iter().map(|x| format!("{x:.3e}")).collect::<Vec<_>>());
+    Ok((estimates, hits, seconds))
+}
+
+/// Photon mapping's squared bias, relative as [`rel_variance`]: over pixels and channels, the
+/// squared mean difference of the passes `narrow` and `wide`, the second at
+/// [`BIAS_RADIUS_FACTOR`] times the first's radius with the same random numbers, less its
+/// noise (the variance of the pairs' differences over the passes), relative to `mu^2 + 0.01`.
+/// The pairs see the same photons and camera paths, so their difference is nearly free of the
+/// noise that swamped the difference of photon mapping's image from the other candidates'.
+/// It is b(2r) - b(r): the bias itself where the blur reaches across an edge (a fixed share of
+/// a pixel near it, b nearly as large at r as at 2r, the share of pixels it reaches growing as
+/// r), three times it where the light varies smoothly (b as r^2).
+fn paired_bias(narrow: &[Vec<[f32; 3]>], wide: &[Vec<[f32; 3]>], mu: &[[f64; 3]]) -> f64 {
+    let n = narrow.len().min(wide.len());
+    if n < 2 {
+        return 0.0;
     }
-    let mut counts = [0.0; WORK_COUNTS as usize];
-    (counts[WORK_CAMERA_VERTICES as usize], counts[WORK_MERGE_CANDIDATES as usize]) = (camera_paths, hits);
-    Ok(Candidate {
-        choice: Choice::PHOTON_MAPPING,
-        light_paths: mapping.render.photons,
-        rel_variance: rel_variance(&estimates, &means.mu),
-        cost,
-        counts,
-        departure: departure(&estimates, means),
-        margin: model.photon_mapping_margin,
-    })
+    let differences: Vec<Vec<[f32; 3]>> = narrow[..n]
+        .iter()
+        .zip(&wide[..n])
+        .map(|(a, b)| a.iter().zip(b).map(|(a, b)| [b[0] - a[0], b[1] - a[1], b[2] - a[2]]).collect())
+        .collect();
+    let mut sum = 0.0;
+    for (p, mu) in mu.iter().enumerate() {
+        let (mean, variance) = mean_and_variance(&differences, p);
+        for c in 0..3 {
+            sum += (mean[c].powi(2) - variance[c] / n as f64) / (mu[c] * mu[c] + crate::metrics::REL_MSE_EPSILON);
+        }
+    }
+    sum / (3 * mu.len()) as f64
 }
 
 /// Each pixel's mean over the pilot's passes of the candidates run so far, and the variance of
@@ -889,6 +1007,28 @@ mod tests {
         assert!((by_pass / by_pixel - 1.0).abs() < 1e-9, "{by_pass} against {by_pixel}");
         // No pass is an outlier: every one counts.
         assert!((rel_variance(&passes, &mu) / by_pixel - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn paired_passes_read_the_bias_through_the_noise_they_share() {
+        // Passes at two radii that share their noise (their random numbers) and differ by a
+        // bias of 0.1 mu in a quarter of the pixels: the squared bias, 0.25 * (0.1 * 0.5)^2 /
+        // (0.25 + 0.01), read within 5%, where the noise of one pass is 0.3 mu.
+        let (narrow, mu) = noisy(8, 256, 0.3);
+        let wide: Vec<Vec<[f32; 3]>> = narrow
+            .iter()
+            .map(|pass| pass.iter().enumerate().map(|(p, x)| if p % 4 == 0 { x.map(|v| v + 0.05) } else { *x }).collect())
+            .collect();
+        let expected = 0.25 * 0.05f64.powi(2) / (0.25 + crate::metrics::REL_MSE_EPSILON);
+        let bias = paired_bias(&narrow, &wide, &mu);
+        assert!((bias / expected - 1.0).abs() < 0.05, "{bias} against {expected}");
+        // No bias: the pairs' own noise (independent passes here) is taken out, to within its
+        // error, a small share of one pass's relative variance.
+        let (other, _) = noisy(16, 256, 0.3);
+        let unbiased = paired_bias(&narrow, &other[8..], &mu);
+        assert!(unbiased.abs() < 0.02 * rel_variance(&narrow, &mu), "{unbiased}");
+        // Fewer than two pairs say nothing.
+        assert_eq!(paired_bias(&narrow[..1], &wide[..1], &mu), 0.0);
     }
 
     #[test]
