@@ -244,6 +244,35 @@ mod cache {
         value
     }
 
+    /// What this thread's store holds: a copy, for another thread to start from.
+    pub(super) type Snapshot = (Option<Vec<(Device, u64, Kernel)>>, Option<Vec<(Device, u64, Source)>>);
+
+    pub(super) fn snapshot() -> Snapshot {
+        (KERNELS.with(|k| k.borrow().clone()), SOURCES.with(|s| s.borrow().clone()))
+    }
+
+    /// Runs `f` with `store` as this thread's, and returns what it holds after.
+    pub(super) fn with_store<T>(store: Snapshot, f: impl FnOnce() -> T) -> (T, Snapshot) {
+        let outer = (KERNELS.with(|k| k.replace(store.0)), SOURCES.with(|s| s.replace(store.1)));
+        let value = f();
+        let after = (KERNELS.with(|k| k.replace(outer.0)), SOURCES.with(|s| s.replace(outer.1)));
+        (value, after)
+    }
+
+    /// Adds to this thread's store (where it has one) what `store` holds and it does not.
+    pub(super) fn merge(store: Snapshot) {
+        fn add<T>(into: &mut Option<Vec<(Device, u64, T)>>, from: Option<Vec<(Device, u64, T)>>) {
+            let (Some(into), Some(from)) = (into.as_mut(), from) else { return };
+            for (device, key, value) in from {
+                if !into.iter().any(|(d, k, _)| *k == key && *d == device) {
+                    into.push((device, key, value));
+                }
+            }
+        }
+        KERNELS.with(|k| add(&mut k.borrow_mut(), store.0));
+        SOURCES.with(|s| add(&mut s.borrow_mut(), store.1));
+    }
+
     fn find<T: Clone + 'static>(
         store: &'static LocalKey<Store<T>>,
         device: &wgpu::Device,
@@ -299,6 +328,23 @@ pub fn share_kernels<T>(f: impl FnOnce() -> T) -> T {
     cache::scope(f)
 }
 
+/// Runs `a` on a thread of its own beside `b` on this one (two kernels made at once: drivers
+/// may compile when a pipeline is made), each finding the kernels this thread's
+/// [`share_kernels`] made so far, and those `a` makes joining it when it ends. A thread of its
+/// own would otherwise start with no store: SPPM's camera kernel was made again by every
+/// renderer, 0.6 to 0.9 s each on lavapipe, three times in vcm's pilot where it weighs photon
+/// mapping (BENCHMARKS.md "VCM").
+pub fn join_sharing_kernels<A: Send, B>(a: impl FnOnce() -> A + Send, b: impl FnOnce() -> B) -> (A, B) {
+    let store = cache::snapshot();
+    std::thread::scope(|s| {
+        let handle = s.spawn(move || cache::with_store(store, a));
+        let b = b();
+        let (a, made) = handle.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
+        cache::merge(made);
+        (a, b)
+    })
+}
+
 /// Keeps the kernels made on `device` from now on for the rest of the process (the newest few
 /// hundred), on every thread and outside [`share_kernels`] too: a kernel made again on that
 /// device is found rather than compiled. For a process that renders many scenes on one device,
@@ -348,6 +394,12 @@ pub struct Kernel {
 }
 
 impl Kernel {
+    /// Whether `self` and `other` are one pipeline: a kernel made once and found again
+    /// ([`share_kernels`]).
+    pub fn same_pipeline(&self, other: &Kernel) -> bool {
+        self.pipeline == other.pipeline
+    }
+
     /// Assemble, validate and compile kernel `name` (one of [`KERNELS`]), with its bind group
     /// layout reflected from the globals its entry point uses.
     pub fn new(device: &wgpu::Device, name: &'static str) -> Result<Self, GpuError> {

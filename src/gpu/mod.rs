@@ -11,6 +11,6 @@ pub mod submissions;
 pub use context::{adapters, check_device, required_limits, GpuContext, GpuError, STORAGE_BUFFERS_NEEDED};
 pub use features::Specialization;
 pub use kernel::{
-    assemble, keep_kernels_in_process, shader_source, shader_source_for, share_kernels, validate, DeviceCaps, Kernel, Resource,
-    KERNELS,
+    assemble, join_sharing_kernels, keep_kernels_in_process, shader_source, shader_source_for, share_kernels, validate,
+    DeviceCaps, Kernel, Resource, KERNELS,
 };

@@ -822,16 +822,16 @@ fn sppm_passes(sppm: &mut super::Sppm, passes: u32) -> Result<(Passes, f64, f64)
     Ok((estimates, hits, seconds))
 }
 
-/// Photon mapping's squared bias, relative as [`rel_variance`]: over pixels and channels, the
-/// squared mean difference of the passes `narrow` and `wide`, the second at
-/// [`BIAS_RADIUS_FACTOR`] times the first's radius with the same random numbers, less its
-/// noise (the variance of the pairs' differences over the passes), relative to `mu^2 + 0.01`.
-/// The pairs see the same photons and camera paths, so their difference is nearly free of the
+/// Photon mapping's squared bias, relative as a candidate's relative variance: over pixels and
+/// channels, the squared mean difference of the passes `narrow` and `wide`, the second at
+/// [`BIAS_RADIUS_FACTOR`] times the first's radius with the same random numbers, less its noise
+/// (the variance of the pairs' differences over the passes), relative to `mu^2 + 0.01`, `mu`
+/// each pixel's mean over the pilot's passes. The pairs see the same photons and camera paths, so their difference is nearly free of the
 /// noise that swamped the difference of photon mapping's image from the other candidates'.
 /// It is b(2r) - b(r): the bias itself where the blur reaches across an edge (a fixed share of
 /// a pixel near it, b nearly as large at r as at 2r, the share of pixels it reaches growing as
 /// r), three times it where the light varies smoothly (b as r^2).
-fn paired_bias(narrow: &[Vec<[f32; 3]>], wide: &[Vec<[f32; 3]>], mu: &[[f64; 3]]) -> f64 {
+pub fn paired_bias(narrow: &[Vec<[f32; 3]>], wide: &[Vec<[f32; 3]>], mu: &[[f64; 3]]) -> f64 {
     let n = narrow.len().min(wide.len());
     if n < 2 {
         return 0.0;

@@ -119,6 +119,27 @@ fn every_variant_compiles() {
     gpu.check().unwrap();
 }
 
+/// Kernels made beside each other on two threads (`join_sharing_kernels`, as SPPM makes its
+/// camera and photon kernels) find what this thread's `share_kernels` made, and what the other
+/// thread made is found here after: on a device of its own (whose kernels the process does not
+/// keep), the second thread's kernel is the first's pipeline, and this thread finds the one
+/// the second thread made. Without it SPPM's camera kernel was made again by every renderer.
+#[test]
+fn kernels_made_beside_each_other_share_the_callers_store() {
+    let Some(gpu) = common::own_gpu() else { return };
+    let make = |name| Kernel::specialized(&gpu.device, name, &[], &Features::ALL.constants()).unwrap();
+    sppm_gpu::gpu::share_kernels(|| {
+        let first = make("camera_pass");
+        let ((again, made_there), ()) = sppm_gpu::gpu::join_sharing_kernels(|| (make("camera_pass"), make("photon_pass")), || ());
+        assert!(again.same_pipeline(&first), "the other thread made the caller's kernel again");
+        assert!(make("photon_pass").same_pipeline(&made_there), "the other thread's kernel is not found after");
+        // A share_kernels of the other thread's own starts empty: there it is made again.
+        let (own, ()) = sppm_gpu::gpu::join_sharing_kernels(|| sppm_gpu::gpu::share_kernels(|| make("photon_pass")), || ());
+        assert!(!own.same_pipeline(&made_there));
+    });
+    gpu.check().unwrap();
+}
+
 /// The suite's shared device keeps its kernels for the process (`keep_kernels_in_process`);
 /// a device of another wgpu instance, whose id may equal the shared one's (wgpu counts ids per
 /// instance), is not handed them: the same kernel runs on both and traces the same hits.

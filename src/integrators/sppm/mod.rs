@@ -382,11 +382,10 @@ impl Sppm {
         let spec = super::specialization(scene, data);
         // The two large kernels compile side by side: the driver may do its work when a
         // pipeline is created (lavapipe runs Mesa's NIR passes then), on the calling thread.
-        let (camera_pass, photon_pass) = std::thread::scope(|s| {
-            let camera = s.spawn(|| Stage::new(device, "camera_pass", &buffers, &spec));
-            let photons = Stage::new(device, "photon_pass", &buffers, &spec);
-            (camera.join().unwrap_or_else(|e| std::panic::resume_unwind(e)), photons)
-        });
+        let (camera_pass, photon_pass) = crate::gpu::join_sharing_kernels(
+            || Stage::new(device, "camera_pass", &buffers, &spec),
+            || Stage::new(device, "photon_pass", &buffers, &spec),
+        );
 
         Ok(Self {
             device: device.clone(),
