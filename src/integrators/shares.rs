@@ -395,7 +395,7 @@ pub const NO_LIGHT_SUBPATHS_MARGIN: f64 = 1.1;
 /// (1.12x to 1.20x), the staircase (1.14x to 1.34x), the bunny box and cornell-glossy, and not
 /// where its bias is most of its figure (cornell-spheres 8.5x, cornell-skylight 4.2x, null.xml
 /// 3.6x, metals.xml 2.5x, tinted.xml 2.1x); box.xml's near tie (0.95x to 1.24x) goes to it
-/// and renders 1.08x sppm's error (BENCHMARKS.md "VCM").
+/// and renders 1.05x to 1.08x sppm's error (BENCHMARKS.md "VCM").
 pub const PHOTON_MAPPING_MARGIN: f64 = 1.4;
 
 /// Standard errors by which photon mapping's pilot image may depart from the other candidates'
@@ -688,9 +688,10 @@ struct Timed<'a> {
 /// from the first measures its bias ([`paired_bias`]).
 pub const BIAS_RADIUS_FACTOR: f32 = 2.0;
 
-/// Photon mapping's pilot passes at [`BIAS_RADIUS_FACTOR`] times the radius, at most: paired
-/// with its first passes, whose random numbers they share, four pin its bias down (its
-/// standard error over pixels 3% to 30% of it on fifteen scenes at eight; BENCHMARKS.md "VCM").
+/// Photon mapping's pilot passes at [`BIAS_RADIUS_FACTOR`] times the radius, at most, each
+/// paired with one of its first passes, whose random numbers it shares. At eight pairs the
+/// bias' standard error over pixels was 3% to 30% of it on fifteen scenes; four, for half the
+/// passes, leave it about 1.4x that (BENCHMARKS.md "VCM").
 pub const BIAS_PASSES: u32 = 4;
 
 /// Photon mapping's figures ([`Choice::PHOTON_MAPPING`]): `passes` passes of SPPM's
