@@ -745,7 +745,7 @@ fn photon_mapping(
     };
     let mut render_passes = scene.render.iterations as f64;
     if let Some(timed) = &timed {
-        let (_, _, pass) = sppm_passes(&mut sppm_at(&mapping)?, 1)?;
+        let (_, _, pass) = sppm_passes(&mut sppm_at(&mapping)?, 1, false)?;
         let left = timed.limit - timed.start.elapsed().as_secs_f64() - (passes + BIAS_PASSES.min(passes)) as f64 * pass;
         render_passes = (left.max(0.0) / (pass / share)).min(render_passes);
         let representative = representative_pass(render_passes, scene.render.alpha);
@@ -754,10 +754,10 @@ fn photon_mapping(
             eprintln!("pilot sppm render passes {render_passes:.1} (a pilot pass {pass:.6} s), as at pass {representative}");
         }
     }
-    let (estimates, hits, seconds) = sppm_passes(&mut sppm_at(&mapping)?, passes)?;
+    let (estimates, hits, seconds) = sppm_passes(&mut sppm_at(&mapping)?, passes, log)?;
     let mut wide = mapping.clone();
     wide.render.radius = mapping.render.radius.map(|r| r * BIAS_RADIUS_FACTOR);
-    let (wide_estimates, _, _) = sppm_passes(&mut sppm_at(&wide)?, BIAS_PASSES.min(passes))?;
+    let (wide_estimates, _, _) = sppm_passes(&mut sppm_at(&wide)?, BIAS_PASSES.min(passes), false)?;
     let bias = paired_bias(&estimates, &wide_estimates, &means.mu);
     let r = &mapping.render;
     let pixels = r.width as usize * r.height as usize;
@@ -796,7 +796,7 @@ type Passes = Vec<Vec<[f32; 3]>>;
 /// `passes` passes of `sppm` (the global schedule): each pass's own estimate (the image after
 /// k passes is the mean of theirs, so pass k's is k times it less the sum before), the mean of
 /// the photon hits a pass gathered, and the mean seconds of a pass (read-backs included).
-fn sppm_passes(sppm: &mut super::Sppm, passes: u32) -> Result<(Passes, f64, f64), Error> {
+fn sppm_passes(sppm: &mut super::Sppm, passes: u32, log: bool) -> Result<(Passes, f64, f64), Error> {
     let (mut estimates, mut hits, mut seconds) = (Vec::new(), 0.0, 0.0);
     let mut sum: Vec<[f64; 3]> = Vec::new();
     for pass in 1..=passes {
@@ -804,7 +804,12 @@ fn sppm_passes(sppm: &mut super::Sppm, passes: u32) -> Result<(Passes, f64, f64)
         sppm.run_pass()?;
         let image = sppm.image()?;
         let gathered = sppm.photon_hits_gathered()?.0 as f64;
-        seconds += start.elapsed().as_secs_f64() / passes as f64;
+        let pass_seconds = start.elapsed().as_secs_f64();
+        // The measuring hook (scripts/measure/pilot-time-cost.py): each pass's time and hits.
+        if log {
+            eprintln!("pilot sppm pass {pass_seconds:.6} [{gathered}]");
+        }
+        seconds += pass_seconds / passes as f64;
         hits += gathered / passes as f64;
         sum.resize(image.pixels.len(), [0.0; 3]);
         let k = pass as f64;
@@ -827,8 +832,9 @@ fn sppm_passes(sppm: &mut super::Sppm, passes: u32) -> Result<(Passes, f64, f64)
 /// channels, the squared mean difference of the passes `narrow` and `wide`, the second at
 /// [`BIAS_RADIUS_FACTOR`] times the first's radius with the same random numbers, less its noise
 /// (the variance of the pairs' differences over the passes), relative to `mu^2 + 0.01`, `mu`
-/// each pixel's mean over the pilot's passes. The pairs see the same photons and camera paths, so their difference is nearly free of the
-/// noise that swamped the difference of photon mapping's image from the other candidates'.
+/// each pixel's mean over the pilot's passes. The pairs see the same photons and camera paths,
+/// so their difference is nearly free of the noise that swamped the difference of photon
+/// mapping's image from the other candidates'.
 /// It is b(2r) - b(r): the bias itself where the blur reaches across an edge (a fixed share of
 /// a pixel near it, b nearly as large at r as at 2r, the share of pixels it reaches growing as
 /// r), three times it where the light varies smoothly (b as r^2).
