@@ -264,7 +264,7 @@ mod cache {
         fn add<T>(into: &mut Option<Vec<(Device, u64, T)>>, from: Option<Vec<(Device, u64, T)>>) {
             let (Some(into), Some(from)) = (into.as_mut(), from) else { return };
             for (device, key, value) in from {
-                if !into.iter().any(|(d, k, _)| *k == key && *d == device) {
+                if !into.iter().any(|(d, k, _)| *k == key && same(d, &device.0, device.1)) {
                     into.push((device, key, value));
                 }
             }

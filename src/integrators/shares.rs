@@ -621,14 +621,7 @@ pub fn choose(
             .collect();
         Ok((candidates, mu))
     };
-    let best = |candidates: &[Candidate]| {
-        candidates
-            .iter()
-            .filter(|c| c.eligible())
-            .min_by(|a, b| a.figure().total_cmp(&b.figure()))
-            .map(|c| c.choice)
-            .unwrap_or(CANDIDATES[0])
-    };
+    let best = |candidates: &[Candidate]| best_of(candidates).map_or(CANDIDATES[0], |c| c.choice);
     // Those at the method's own light subpaths first; merging alone with more light subpaths,
     // and photon mapping, only where merging alone is the best of them, or for the measuring
     // hook.
@@ -642,8 +635,7 @@ pub fn choose(
         }
         if !mapping.is_empty() {
             let means = Means::of(mu.clone(), &estimates, &ran);
-            let other = candidates.iter().filter(|c| c.eligible()).min_by(|a, b| a.figure().total_cmp(&b.figure())).cloned();
-            let timed = scene.render.time_limit.zip(other.as_ref()).map(|(limit, other)| Timed { limit, start, other });
+            let timed = scene.render.time_limit.zip(best_of(&candidates)).map(|(limit, other)| Timed { limit, start, other });
             let at = (representative, passes_each);
             let mapping = photon_mapping(device, queue, scene, &pilot, data, buffers, &means, &model, at, timed, log)?;
             candidates.push(mapping);
@@ -662,6 +654,11 @@ pub fn choose(
     let chosen = best(&candidates);
     let seconds = start.elapsed().as_secs_f64();
     Ok(Pilot { chosen, candidates, width, height, passes: passes_each, representative, seconds })
+}
+
+/// The eligible candidate of least figure, the pilot's choice among `candidates`.
+fn best_of(candidates: &[Candidate]) -> Option<&Candidate> {
+    candidates.iter().filter(|c| c.eligible()).min_by(|a, b| a.figure().total_cmp(&b.figure()))
 }
 
 /// Seconds of a pass of `tracer` at `shares` with `paths` light subpaths: the second of two

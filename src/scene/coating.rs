@@ -25,7 +25,7 @@
 //!
 //!   f_base = rho (1 - x^n) / (1 - x) / (pi eta^2) t(cos_o) a(cos_o) t(cos_i) a(cos_i),
 //!
-//! a(cos) = exp(-thickness / cos_t) with cos_t the refracted cosine (`coat_through` in
+//! a(cos) = exp(-thickness / cos_t) with cos_t the refracted cosine (`coat_layer` in
 //! `shaders/shared/bsdf/plastic.wgsl`; a rough coating's refracted directions spread about it,
 //! and at pbrt's thickness 0.01 the difference is of second order).
 
