@@ -335,6 +335,9 @@ pub struct Candidate {
     pub cost: f64,
     /// The measured seconds of one of its pilot passes (their mean, read-backs included).
     pub seconds: f64,
+    /// Its pilot passes: the pilot's passes a candidate, or for photon mapping half of them
+    /// where its relative variance alone had lost by [`EARLY_LOSS`].
+    pub passes: u32,
     /// Its work a pass, by `WORK_*` word (the mean over its passes); for photon mapping its
     /// camera paths in the camera vertices' word, its photon hits in the merge candidates'.
     pub counts: [f64; WORK_COUNTS as usize],
@@ -609,6 +612,7 @@ pub fn choose(
                 rel_variance: rel_variance(&estimates[k], &mu),
                 cost: costs[k],
                 seconds: seconds[k],
+                passes: passes_each,
                 counts: work[k],
                 departure: 0.0,
                 bias: 0.0,
@@ -635,9 +639,10 @@ pub fn choose(
         }
         if !mapping.is_empty() {
             let means = Means::of(mu.clone(), &estimates, &ran);
-            let timed = scene.render.time_limit.zip(best_of(&candidates)).map(|(limit, other)| Timed { limit, start, other });
+            let timed = scene.render.time_limit.map(|limit| Timed { limit, start });
             let at = (representative, passes_each);
-            let mapping = photon_mapping(device, queue, scene, &pilot, data, buffers, &means, &model, at, timed, log)?;
+            let rival = best_of(&candidates);
+            let mapping = photon_mapping(device, queue, scene, &pilot, data, buffers, &means, &model, at, rival, timed, log)?;
             candidates.push(mapping);
         }
     }
@@ -672,13 +677,11 @@ fn timed_pass(tracer: &mut LightTracer, shares: Shares, paths: u32) -> Result<f6
     Ok(seconds)
 }
 
-/// Under a time limit, what photon mapping's pilot needs of it: the limit, when the pilot
-/// started, and the best of the other candidates, whose measured pass time prices photon
-/// mapping's.
-struct Timed<'a> {
+/// Under a time limit, what photon mapping's pilot needs of it: the limit and when the pilot
+/// started.
+struct Timed {
     limit: f64,
     start: std::time::Instant,
-    other: &'a Candidate,
 }
 
 /// The factor on photon mapping's pilot radius of its second set of passes, whose difference
@@ -690,6 +693,12 @@ pub const BIAS_RADIUS_FACTOR: f32 = 2.0;
 /// bias' standard error over pixels was 3% to 30% of it on fifteen scenes; four, for half the
 /// passes, leave it about 1.4x that (BENCHMARKS.md "VCM").
 pub const BIAS_PASSES: u32 = 4;
+
+/// The factor by which photon mapping's figure without its bias, after half its pilot passes,
+/// may exceed the best other candidate's before the rest are not run: a pass's share of a
+/// candidate's relative variance stays within 2x of their median but for a rare pass, which
+/// raises the figure (BENCHMARKS.md "VCM").
+pub const EARLY_LOSS: f64 = 2.0;
 
 /// Photon mapping's figures ([`Choice::PHOTON_MAPPING`]): `passes` passes of SPPM's
 /// estimator on the pilot's image `pilot` (its size and seed), with photons in the same
@@ -712,6 +721,12 @@ pub const BIAS_PASSES: u32 = 4;
 /// cannot show, from the same passes again at [`BIAS_RADIUS_FACTOR`] times the radius with the
 /// same random numbers ([`paired_bias`]), weighed by the passes it would render
 /// ([`Candidate::bias`]).
+///
+/// Its bias only adds to its figure, so where its relative variance alone has lost to `rival`,
+/// the best other candidate, the pilot spends no more on it: no passes at the wider radius, and
+/// after half its passes none more where it has lost by [`EARLY_LOSS`]. On Mitsuba's legacy.xml
+/// at 30 s, where photon mapping's figure is 3.4x merging alone's, that took the pilot from
+/// 3.33 to 2.66 s (BENCHMARKS.md "VCM").
 #[allow(clippy::too_many_arguments)]
 fn photon_mapping(
     device: &wgpu::Device,
@@ -723,6 +738,7 @@ fn photon_mapping(
     means: &Means,
     model: &CostModel,
     (representative, passes): (u32, u32),
+    rival: Option<&Candidate>,
     timed: Option<Timed>,
     log: bool,
 ) -> Result<Candidate, Error> {
@@ -742,7 +758,9 @@ fn photon_mapping(
     };
     let mut render_passes = scene.render.iterations as f64;
     if let Some(timed) = &timed {
-        let (_, _, pass) = sppm_passes(&mut sppm_at(&mapping)?, 1, false)?;
+        let mut first = SppmPasses::new(sppm_at(&mapping)?);
+        first.run(1, false)?;
+        let (_, pass) = first.means();
         let left = timed.limit - timed.start.elapsed().as_secs_f64() - (passes + BIAS_PASSES.min(passes)) as f64 * pass;
         render_passes = (left.max(0.0) / (pass / share)).min(render_passes);
         let representative = representative_pass(render_passes, scene.render.alpha);
@@ -751,25 +769,52 @@ fn photon_mapping(
             eprintln!("pilot sppm render passes {render_passes:.1} (a pilot pass {pass:.6} s), as at pass {representative}");
         }
     }
-    let (estimates, hits, seconds) = sppm_passes(&mut sppm_at(&mapping)?, passes, log)?;
-    let mut wide = mapping.clone();
-    wide.render.radius = mapping.render.radius.map(|r| r * BIAS_RADIUS_FACTOR);
-    let (wide_estimates, _, _) = sppm_passes(&mut sppm_at(&wide)?, BIAS_PASSES.min(passes), false)?;
-    let bias = paired_bias(&estimates, &wide_estimates, &means.mu);
     let r = &mapping.render;
     let pixels = r.width as usize * r.height as usize;
     let camera_paths = (pixels as u64 * r.spp as u64 * super::sppm::direct_samples(r) as u64) as f64;
-    let cost = match timed {
-        Some(Timed { other, .. }) => other.cost * seconds / other.seconds,
-        None => model.photon_mapping_cost(camera_paths, hits, r.photons as f64),
+    // Its relative variance and cost after the passes run so far.
+    let figures = |run: &SppmPasses| {
+        let (hits, seconds) = run.means();
+        let cost = match (&timed, rival) {
+            (Some(_), Some(other)) => other.cost * seconds / other.seconds,
+            _ => model.photon_mapping_cost(camera_paths, hits, r.photons as f64),
+        };
+        (rel_variance(&run.estimates, &means.mu), cost)
     };
-    let variance = rel_variance(&estimates, &means.mu);
+    // Whether photon mapping has lost to the best other candidate by `factor` on its relative
+    // variance alone: its bias only adds to its figure.
+    let lost = |(variance, cost): (f64, f64), factor: f64| {
+        rival.is_some_and(|other| variance * cost / PHOTON_MAPPING_MARGIN > factor * other.figure())
+    };
+    let mut run = SppmPasses::new(sppm_at(&mapping)?);
+    let half = passes.div_ceil(2).max(2).min(passes);
+    run.run(half, log)?;
+    let at_half = figures(&run);
+    let early = lost(at_half, EARLY_LOSS);
+    if !early {
+        run.run(passes - half, log)?;
+    }
+    let (variance, cost) = if early { at_half } else { figures(&run) };
+    // Its bias, where it could still win.
+    let (bias, wide) = if lost((variance, cost), 1.0) {
+        (0.0, None)
+    } else {
+        let mut wide = mapping.clone();
+        wide.render.radius = mapping.render.radius.map(|r| r * BIAS_RADIUS_FACTOR);
+        let mut wide = SppmPasses::new(sppm_at(&wide)?);
+        wide.run(BIAS_PASSES.min(passes), false)?;
+        (paired_bias(&run.estimates, &wide.estimates, &means.mu), Some(wide))
+    };
+    let (hits, seconds) = run.means();
     if log {
-        let d = pass_deviations(&estimates, &means.mu);
+        let d = pass_deviations(&run.estimates, &means.mu);
         eprintln!("pilot deviations sppm {:?}", d.iter().map(|x| format!("{x:.3e}")).collect::<Vec<_>>());
+        let wide = wide.map_or("not run: its variance alone loses".into(), |wide| {
+            format!("{:.4e} at {BIAS_RADIUS_FACTOR}x the radius", rel_variance(&wide.estimates, &means.mu))
+        });
         eprintln!(
-            "pilot sppm bias {bias:.4e} over {render_passes:.1} passes, relative variance {variance:.4e} ({:.4e} at {BIAS_RADIUS_FACTOR}x the radius), {seconds:.6} s a pass",
-            rel_variance(&wide_estimates, &means.mu),
+            "pilot sppm bias {bias:.4e} over {render_passes:.1} passes, relative variance {variance:.4e} ({wide}), {seconds:.6} s a pass, {} passes",
+            run.estimates.len(),
         );
     }
     let mut counts = [0.0; WORK_COUNTS as usize];
@@ -780,8 +825,9 @@ fn photon_mapping(
         rel_variance: variance,
         cost,
         seconds,
+        passes: run.estimates.len() as u32,
         counts,
-        departure: departure(&estimates, means),
+        departure: departure(&run.estimates, means),
         bias: bias.max(0.0) * render_passes,
         margin: PHOTON_MAPPING_MARGIN,
     })
@@ -790,39 +836,57 @@ fn photon_mapping(
 /// Each pass's estimate, pixel by pixel.
 type Passes = Vec<Vec<[f32; 3]>>;
 
-/// `passes` passes of `sppm` (the global schedule): each pass's own estimate (the image after
-/// k passes is the mean of theirs, so pass k's is k times it less the sum before), the mean of
-/// the photon hits a pass gathered, and the mean seconds of a pass (read-backs included).
-fn sppm_passes(sppm: &mut super::Sppm, passes: u32, log: bool) -> Result<(Passes, f64, f64), Error> {
-    let (mut estimates, mut hits, mut seconds) = (Vec::new(), 0.0, 0.0);
-    let mut sum: Vec<[f64; 3]> = Vec::new();
-    for pass in 1..=passes {
-        let start = std::time::Instant::now();
-        sppm.run_pass()?;
-        let image = sppm.image()?;
-        let gathered = sppm.photon_hits_gathered()?.0 as f64;
-        let pass_seconds = start.elapsed().as_secs_f64();
-        // The measuring hook (scripts/measure/pilot-time-cost.py): each pass's time and hits.
-        if log {
-            eprintln!("pilot sppm pass {pass_seconds:.6} [{gathered}]");
-        }
-        seconds += pass_seconds / passes as f64;
-        hits += gathered / passes as f64;
-        sum.resize(image.pixels.len(), [0.0; 3]);
-        let k = pass as f64;
-        let estimate = image
-            .pixels
-            .iter()
-            .zip(sum.iter_mut())
-            .map(|(mean, sum)| {
-                let e = [0, 1, 2].map(|c| k * mean[c] as f64 - sum[c]);
-                (0..3).for_each(|c| sum[c] += e[c]);
-                e.map(|x| x as f32)
-            })
-            .collect();
-        estimates.push(estimate);
+/// Passes of an SPPM renderer (the global schedule), run a few at a time: each pass's own
+/// estimate (the image after k passes is the mean of theirs, so pass k's is k times it less
+/// the sum before), the photon hits a pass gathered and its seconds (read-backs included).
+struct SppmPasses {
+    sppm: super::Sppm,
+    estimates: Passes,
+    sum: Vec<[f64; 3]>,
+    hits: f64,
+    seconds: f64,
+}
+
+impl SppmPasses {
+    fn new(sppm: super::Sppm) -> Self {
+        Self { sppm, estimates: Vec::new(), sum: Vec::new(), hits: 0.0, seconds: 0.0 }
     }
-    Ok((estimates, hits, seconds))
+
+    /// Runs `passes` passes more.
+    fn run(&mut self, passes: u32, log: bool) -> Result<(), Error> {
+        for _ in 0..passes {
+            let start = std::time::Instant::now();
+            self.sppm.run_pass()?;
+            let image = self.sppm.image()?;
+            let gathered = self.sppm.photon_hits_gathered()?.0 as f64;
+            let pass_seconds = start.elapsed().as_secs_f64();
+            // The measuring hook (scripts/measure/pilot-time-cost.py): each pass's time and hits.
+            if log {
+                eprintln!("pilot sppm pass {pass_seconds:.6} [{gathered}]");
+            }
+            (self.seconds, self.hits) = (self.seconds + pass_seconds, self.hits + gathered);
+            self.sum.resize(image.pixels.len(), [0.0; 3]);
+            let k = (self.estimates.len() + 1) as f64;
+            let estimate = image
+                .pixels
+                .iter()
+                .zip(self.sum.iter_mut())
+                .map(|(mean, sum)| {
+                    let e = [0, 1, 2].map(|c| k * mean[c] as f64 - sum[c]);
+                    (0..3).for_each(|c| sum[c] += e[c]);
+                    e.map(|x| x as f32)
+                })
+                .collect();
+            self.estimates.push(estimate);
+        }
+        Ok(())
+    }
+
+    /// The mean photon hits a pass gathered, and the mean seconds of a pass.
+    fn means(&self) -> (f64, f64) {
+        let n = self.estimates.len().max(1) as f64;
+        (self.hits / n, self.seconds / n)
+    }
 }
 
 /// Photon mapping's squared bias, relative as a candidate's relative variance: over pixels and

@@ -604,3 +604,24 @@ fn compare_pilots_vcm_for_the_passes_that_fit() {
     assert!(pass > 64, "the pilot's merges stand for pass {pass}: {stderr}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// vcm's pilot spends on photon mapping only while it can win: at a radius that gathers few
+/// photons its noise alone loses to the other candidates' by far (connections do not merge), so
+/// after half its passes it runs no more, and its bias (passes at twice the radius, which only
+/// add to its figure) is not measured.
+#[test]
+fn vcm_pilot_stops_weighing_photon_mapping_once_it_has_lost() {
+    use sppm_gpu::integrators::shares::{choose_for, CANDIDATES, EARLY_LOSS, PHOTON_MAPPING_MARGIN, PILOT_PASSES};
+    let Some(gpu) = common::gpu() else { return };
+    let mut scene = common::load_scene("cornell-spheres.toml");
+    let r = &mut scene.render;
+    (r.method, r.width, r.height, r.radius) = (Method::Vcm, 32, 32, Some(0.002));
+    let pilot = choose_for(&gpu.device, &gpu.queue, &scene).unwrap();
+    let mapped = pilot.candidates.iter().find(|c| c.choice == CANDIDATES[6]).expect("photon mapping weighed");
+    let rival = pilot.candidates.iter().filter(|c| c.choice != CANDIDATES[6]).map(|c| c.figure()).fold(f64::INFINITY, f64::min);
+    let alone = mapped.rel_variance * mapped.cost / PHOTON_MAPPING_MARGIN;
+    assert!(alone > EARLY_LOSS * rival, "{pilot}");
+    assert_eq!(mapped.passes, PILOT_PASSES / 2, "{pilot}");
+    assert_eq!(mapped.bias, 0.0, "{pilot}");
+    assert!(!pilot.chosen.photon_mapping, "{pilot}");
+}
