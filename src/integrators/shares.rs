@@ -10,11 +10,10 @@
 //! merging (1, 0), light tracing alone beside the camera's strategies (0, 0), and no light
 //! subpaths at all (camera subpaths with next-event estimation, as pt-nee but weighed by the
 //! power heuristic); then, where merging alone is the best of those, merging alone with four
-//! times its light subpaths, and photon mapping (merging at each camera subpath's first
-//! diffuse vertex alone, where the subpath ends: SPPM's estimator, by SPPM's kernels), set
-//! aside where its image departs from the others' beyond their noise (a bias, [`MAX_DEPARTURE`])
-//! and weighed with its bias ([`Candidate::bias`]; chosen up to [`PHOTON_MAPPING_MARGIN`] times
-//! the others' figure). Each
+//! times its light subpaths, and where the best traces light subpaths, photon mapping (merging
+//! at each camera subpath's first diffuse vertex alone, where the subpath ends: SPPM's
+//! estimator, by SPPM's kernels), weighed with its bias ([`Candidate::bias`]; chosen up to
+//! [`PHOTON_MAPPING_MARGIN`] times the others' figure). Each
 //! candidate's error is the relative variance of its passes' estimates (the mean over pixels and
 //! channels of each pixel's sample variance over `mu^2 + 0.01`, `mu` the pixel's mean over every
 //! pilot pass: a pass's relMSE as `diff` measures it, less the bias; a rare pass far off the
@@ -183,8 +182,7 @@ pub const MIN_PILOT_PASSES: u32 = 4;
 /// to 3 s of 60, within the share; on Bitterli's staircase (262k triangles, 180x320) the 4 to
 /// 6 passes a candidate that 5% allowed rated photon mapping at 0.92x to 1.12x merging alone by
 /// seed, where 8 rated it 0.79x to 0.93x (and it renders about 0.9x): 8% of a minute gives it 8
-/// (BENCHMARKS.md "VCM"). At fewer, the departure that sets photon mapping aside
-/// ([`MAX_DEPARTURE`]) is judged from noisier variances too.
+/// (BENCHMARKS.md "VCM").
 pub const PILOT_SHARE: f64 = 0.08;
 
 /// The pass whose radius the pilot's merges stand for in a render of `passes` passes: the
@@ -341,10 +339,6 @@ pub struct Candidate {
     /// Its work a pass, by `WORK_*` word (the mean over its passes); for photon mapping its
     /// camera paths in the camera vertices' word, its photon hits in the merge candidates'.
     pub counts: [f64; WORK_COUNTS as usize],
-    /// For photon mapping, how far the mean of its passes lies from that of the other
-    /// candidates' beyond what their noise explains (the squared difference of the two less
-    /// their variances, over pixels and channels), in standard errors; 0 for the others.
-    pub departure: f64,
     /// For photon mapping, what its bias adds to its relative variance in the render's error:
     /// its squared bias ([`paired_bias`]) times the passes it would render (the error after n
     /// passes is V / n + B^2, so n times it V + n B^2); 0 for the others, whose merges share
@@ -357,12 +351,6 @@ pub struct Candidate {
 }
 
 impl Candidate {
-    /// Whether the pilot may choose it: not photon mapping whose image departs from the other
-    /// candidates' by more than [`MAX_DEPARTURE`] standard errors.
-    pub fn eligible(&self) -> bool {
-        self.departure <= MAX_DEPARTURE
-    }
-
     /// The figure the pilot chooses by: relative variance (and photon mapping's [`Self::bias`])
     /// times cost, over its [`Self::margin`].
     pub fn figure(&self) -> f64 {
@@ -400,19 +388,6 @@ pub const NO_LIGHT_SUBPATHS_MARGIN: f64 = 1.1;
 /// 3.6x, metals.xml 2.5x, tinted.xml 2.1x); box.xml's near tie (0.95x to 1.24x) goes to it
 /// and renders 1.05x to 1.08x sppm's error (BENCHMARKS.md "VCM").
 pub const PHOTON_MAPPING_MARGIN: f64 = 1.4;
-
-/// Standard errors by which photon mapping's pilot image may depart from the other candidates'
-/// before the pilot sets it aside. The relative variance of a pass cannot show a bias, and SPPM's
-/// gather has one the others' merges do not: a visible point near a block's edge takes the
-/// photons of the block's other face (`same_side` in `shaders/shared/grid.wgsl`), so on
-/// cornell-skylight, whose pane lights the tall block's top, the row below that edge reads 2.5
-/// times the reference, and photon mapping, which the pilot rates at half merging alone's noise
-/// times cost, renders 1.1x `sppm`'s error at 60 s where merging alone renders 0.9x. Its
-/// departure there is 14 to 15 standard errors (two seeds); on cornell-glossy, cornell-spheres,
-/// Mitsuba's box and the bunny box, where photon mapping renders within 1.05x of merging alone
-/// or better, from -9 to 4 (the noise the statistic subtracts is estimated from eight passes,
-/// so its errors spread wider than one standard error). BENCHMARKS.md "VCM".
-pub const MAX_DEPARTURE: f64 = 8.0;
 
 /// What vcm's pilot measured and chose.
 #[derive(Clone, Debug)]
@@ -467,9 +442,6 @@ impl fmt::Display for Pilot {
             write!(f, " {} {:.3e}", c.choice, c.figure())?;
             if c.margin != 1.0 {
                 write!(f, " (over {})", c.margin)?;
-            }
-            if !c.eligible() {
-                write!(f, " (set aside: its image departs from the others' by {:.0} standard errors)", c.departure)?;
             }
         }
         write!(f, ")")
@@ -614,7 +586,6 @@ pub fn choose(
                 seconds: seconds[k],
                 passes: passes_each,
                 counts: work[k],
-                departure: 0.0,
                 bias: 0.0,
                 margin: match choices[k] {
                     c if !c.light_subpaths => NO_LIGHT_SUBPATHS_MARGIN,
@@ -626,25 +597,23 @@ pub fn choose(
         Ok((candidates, mu))
     };
     let best = |candidates: &[Candidate]| best_of(candidates).map_or(CANDIDATES[0], |c| c.choice);
-    // Those at the method's own light subpaths first; merging alone with more light subpaths,
-    // and photon mapping, only where merging alone is the best of them, or for the measuring
-    // hook.
+    // Those at the method's own light subpaths first; merging alone with more light subpaths
+    // only where merging alone is the best of them, photon mapping where the best traces light
+    // subpaths (or both for the measuring hook).
     let (first, more): (Vec<usize>, Vec<usize>) =
         (0..choices.len()).partition(|&k| choices[k].pixels_per_light_path == 0 && !choices[k].photon_mapping);
     let (mut candidates, mut mu) = run(&first)?;
-    if !more.is_empty() && (best(&candidates) == CANDIDATES[1] || std::env::var_os("SPPM_GPU_PILOT_ALL").is_some()) {
-        let (mapping, denser): (Vec<usize>, Vec<usize>) = more.iter().partition(|&&k| choices[k].photon_mapping);
-        if !denser.is_empty() {
-            (candidates, mu) = run(&denser)?;
-        }
-        if !mapping.is_empty() {
-            let means = Means::of(mu.clone(), &estimates, &ran);
-            let timed = scene.render.time_limit.map(|limit| Timed { limit, start });
-            let at = (representative, passes_each);
-            let rival = best_of(&candidates);
-            let mapping = photon_mapping(device, queue, scene, &pilot, data, buffers, &means, &model, at, rival, timed, log)?;
-            candidates.push(mapping);
-        }
+    let every = std::env::var_os("SPPM_GPU_PILOT_ALL").is_some();
+    let (mapping, denser): (Vec<usize>, Vec<usize>) = more.iter().partition(|&&k| choices[k].photon_mapping);
+    if !denser.is_empty() && (best(&candidates) == CANDIDATES[1] || every) {
+        (candidates, mu) = run(&denser)?;
+    }
+    if !mapping.is_empty() && (best(&candidates).light_subpaths || every) {
+        let timed = scene.render.time_limit.map(|limit| Timed { limit, start });
+        let at = (representative, passes_each);
+        let rival = best_of(&candidates);
+        let mapping = photon_mapping(device, queue, scene, &pilot, data, buffers, &mu, &model, at, rival, timed, log)?;
+        candidates.push(mapping);
     }
     if log {
         for c in &candidates {
@@ -661,9 +630,9 @@ pub fn choose(
     Ok(Pilot { chosen, candidates, width, height, passes: passes_each, representative, seconds })
 }
 
-/// The eligible candidate of least figure, the pilot's choice among `candidates`.
+/// The candidate of least figure, the pilot's choice among `candidates`.
 fn best_of(candidates: &[Candidate]) -> Option<&Candidate> {
-    candidates.iter().filter(|c| c.eligible()).min_by(|a, b| a.figure().total_cmp(&b.figure()))
+    candidates.iter().min_by(|a, b| a.figure().total_cmp(&b.figure()))
 }
 
 /// Seconds of a pass of `tracer` at `shares` with `paths` light subpaths: the second of two
@@ -704,8 +673,8 @@ pub const EARLY_LOSS: f64 = 2.0;
 /// estimator on the pilot's image `pilot` (its size and seed), with photons in the same
 /// proportion to the render's as its pixels and a fixed radius that keeps the density
 /// estimate as noisy as the render's at its representative pass (as the other candidates'
-/// merges); its relative variance against `means`, each pixel's mean over the other
-/// candidates' passes, and its [`departure`] from them.
+/// merges); its relative variance against `mu`, each pixel's mean over the other
+/// candidates' passes.
 ///
 /// Without a time limit photon mapping renders the scene's passes, as the others do, and its
 /// representative pass is theirs, `representative`; its cost is the cost model's. Under a time
@@ -735,7 +704,7 @@ fn photon_mapping(
     pilot: &Scene,
     data: &SceneData,
     buffers: Arc<SceneBuffers>,
-    means: &Means,
+    mu: &[[f64; 3]],
     model: &CostModel,
     (representative, passes): (u32, u32),
     rival: Option<&Candidate>,
@@ -779,7 +748,7 @@ fn photon_mapping(
             (Some(_), Some(other)) => other.cost * seconds / other.seconds,
             _ => model.photon_mapping_cost(camera_paths, hits, r.photons as f64),
         };
-        (rel_variance(&run.estimates, &means.mu), cost)
+        (rel_variance(&run.estimates, mu), cost)
     };
     // Whether photon mapping has lost to the best other candidate by `factor` on its relative
     // variance alone: its bias only adds to its figure.
@@ -803,14 +772,14 @@ fn photon_mapping(
         wide.render.radius = mapping.render.radius.map(|r| r * BIAS_RADIUS_FACTOR);
         let mut wide = SppmPasses::new(sppm_at(&wide)?);
         wide.run(BIAS_PASSES.min(passes), false)?;
-        (paired_bias(&run.estimates, &wide.estimates, &means.mu), Some(wide))
+        (paired_bias(&run.estimates, &wide.estimates, mu), Some(wide))
     };
     let (hits, seconds) = run.means();
     if log {
-        let d = pass_deviations(&run.estimates, &means.mu);
+        let d = pass_deviations(&run.estimates, mu);
         eprintln!("pilot deviations sppm {:?}", d.iter().map(|x| format!("{x:.3e}")).collect::<Vec<_>>());
         let wide = wide.map_or("not run: its variance alone loses".into(), |wide| {
-            format!("{:.4e} at {BIAS_RADIUS_FACTOR}x the radius", rel_variance(&wide.estimates, &means.mu))
+            format!("{:.4e} at {BIAS_RADIUS_FACTOR}x the radius", rel_variance(&wide.estimates, mu))
         });
         eprintln!(
             "pilot sppm bias {bias:.4e} over {render_passes:.1} passes, relative variance {variance:.4e} ({wide}), {seconds:.6} s a pass, {} passes",
@@ -827,7 +796,6 @@ fn photon_mapping(
         seconds,
         passes: run.estimates.len() as u32,
         counts,
-        departure: departure(&run.estimates, means),
         bias: bias.max(0.0) * render_passes,
         margin: PHOTON_MAPPING_MARGIN,
     })
@@ -919,62 +887,12 @@ pub fn paired_bias(narrow: &[Vec<[f32; 3]>], wide: &[Vec<[f32; 3]>], mu: &[[f64;
     sum / (3 * mu.len()) as f64
 }
 
-/// Each pixel's mean over the pilot's passes of the candidates run so far, and the variance of
-/// that mean.
-struct Means {
-    mu: Vec<[f64; 3]>,
-    variance: Vec<[f64; 3]>,
-}
-
-impl Means {
-    /// The means `mu` over the passes of candidates `ran`, whose passes' estimates are
-    /// `estimates[k]`, with their variance: over the candidates, n_k var_k / N^2.
-    fn of(mu: Vec<[f64; 3]>, estimates: &[Vec<Vec<[f32; 3]>>], ran: &[usize]) -> Self {
-        let all = ran.iter().map(|&k| estimates[k].len()).sum::<usize>().max(1) as f64;
-        let mut variance = vec![[0.0; 3]; mu.len()];
-        for &k in ran {
-            let n = estimates[k].len() as f64;
-            for (p, v) in variance.iter_mut().enumerate() {
-                let (_, var) = mean_and_variance(&estimates[k], p);
-                (0..3).for_each(|c| v[c] += n * var[c] / (all * all));
-            }
-        }
-        Self { mu, variance }
-    }
-}
-
 /// The mean and sample variance of pixel `p` over `passes`.
 fn mean_and_variance(passes: &[Vec<[f32; 3]>], p: usize) -> ([f64; 3], [f64; 3]) {
     let n = passes.len() as f64;
     let mean = [0, 1, 2].map(|c| passes.iter().map(|x| x[p][c] as f64).sum::<f64>() / n);
     let variance = [0, 1, 2].map(|c| passes.iter().map(|x| (x[p][c] as f64 - mean[c]).powi(2)).sum::<f64>() / (n - 1.0));
     (mean, variance)
-}
-
-/// How far the mean of `passes` lies from `means` beyond their noise, in standard errors: over
-/// pixels and channels, the squared difference of the two means less the variance of each
-/// (their sum is the squared difference expected where the two estimate one image), relative
-/// to `mu^2 + 0.01` as [`rel_variance`]; their mean, over its standard error. A squared bias of
-/// one estimate against the other, and 0 in expectation where neither has one.
-fn departure(passes: &[Vec<[f32; 3]>], means: &Means) -> f64 {
-    let n = passes.len() as f64;
-    let (mut sum, mut sum_sq) = (0.0, 0.0);
-    for (p, (mu, mu_variance)) in means.mu.iter().zip(&means.variance).enumerate() {
-        let (mean, variance) = mean_and_variance(passes, p);
-        for c in 0..3 {
-            let excess = (mean[c] - mu[c]).powi(2) - variance[c] / n - mu_variance[c];
-            let z = excess / (mu[c] * mu[c] + crate::metrics::REL_MSE_EPSILON);
-            (sum, sum_sq) = (sum + z, sum_sq + z * z);
-        }
-    }
-    let k = (3 * means.mu.len()) as f64;
-    let mean = sum / k;
-    let standard_error = ((sum_sq / k - mean * mean) / k).sqrt();
-    if mean.is_finite() && standard_error > 0.0 {
-        mean / standard_error
-    } else {
-        0.0
-    }
 }
 
 /// The mean over pixels and channels of each pixel's sample variance over `passes` relative

@@ -401,21 +401,19 @@ fn vcm_as_photon_mapping_is_sppm_with_the_global_schedule() {
     let camera_paths = 64.0 * 64.0 * sppm_gpu::integrators::sppm::direct_samples(&scene.render) as f64;
     assert_eq!(mapped.counts[sppm_gpu::layout::WORK_CAMERA_VERTICES as usize], camera_paths);
     assert!(mapped.rel_variance.is_finite() && mapped.rel_variance > 0.0 && mapped.cost > 0.0, "{pilot}");
-    assert!(mapped.eligible(), "{pilot}");
 
     // On the room lit through a pane, SPPM's gather takes the light of the tall block's lit top
     // into its front's top rows (a bias the others' merges do not have): the pilot rates photon
-    // mapping at half merging alone's noise times cost, but sets it aside.
+    // mapping's noise times cost at about half merging alone's, but its bias, from its passes at
+    // two radii (`Candidate::bias`), outweighs its variance over the render's passes (at 60 s,
+    // 0.86 of its figure), and it is not chosen.
     let mut skylight = common::load_scene("cornell-skylight.toml");
     (skylight.render.method, skylight.render.width, skylight.render.height) = (Method::Vcm, 64, 64);
     let pilot = choose_for(&gpu.device, &gpu.queue, &skylight).unwrap();
     let mapped = pilot.candidates.iter().find(|c| c.choice == CANDIDATES[6]).expect("photon mapping weighed");
-    assert!(mapped.departure > sppm_gpu::integrators::shares::MAX_DEPARTURE && !mapped.eligible(), "{pilot}");
-    assert!(!pilot.chosen.photon_mapping, "{pilot}");
-    // That bias also shows between its passes at two radii (`Candidate::bias`): over the
-    // render's passes it outweighs its variance (at 60 s, 0.86 of its figure).
     eprintln!("skylight: photon mapping's bias {:.3e}, relative variance {:.3e}", mapped.bias, mapped.rel_variance);
     assert!(mapped.bias > mapped.rel_variance, "{pilot}");
+    assert!(!pilot.chosen.photon_mapping, "{pilot}");
 }
 
 /// vcm's pilot weighs its candidates at the light subpaths a pass the render traces: at depth
