@@ -16,27 +16,22 @@ use std::process::Command;
 /// A mesh shape naming `m.obj`: `file` is on line 16 after [`with_shape`].
 const MESH: &str = "type = \"mesh\"\nmaterial = \"white\"\nfile = \"m.obj\"\n";
 
-/// A fresh directory under the system's temporary directory, unique to this process and
-/// `name`.
-fn temp_dir(name: &str) -> PathBuf {
-    crate::common::fresh_dir(&format!("bad-input-{name}"))
-}
-
-/// Writes `scene.toml` holding `text` and the `files` beside it into a fresh directory.
-fn write_scene(name: &str, text: &str, files: &[(&str, &[u8])]) -> PathBuf {
-    let dir = temp_dir(name);
+/// Writes `scene.toml` holding `text` and the `files` beside it into a fresh directory: the
+/// directory (removed when dropped) and the scene's path.
+fn write_scene(name: &str, text: &str, files: &[(&str, &[u8])]) -> (common::Scratch, PathBuf) {
+    let dir = common::scratch(&format!("bad-input-{name}"));
     for (file, bytes) in files {
         std::fs::write(dir.join(file), bytes).unwrap();
     }
     let path = dir.join("scene.toml");
     std::fs::write(&path, text).unwrap();
-    path
+    (dir, path)
 }
 
 /// Loads `text` (with `files` beside it) from disk; it must fail.
 #[track_caller]
 fn load_error(name: &str, text: &str, files: &[(&str, &[u8])]) -> (PathBuf, SceneError) {
-    let path = write_scene(name, text, files);
+    let (_dir, path) = write_scene(name, text, files);
     match scene::load(&path) {
         Ok(_) => panic!("{name}: loaded without error:\n{text}"),
         Err(e) => (path, e),
@@ -325,7 +320,7 @@ fn scene_file_not_utf8_names_the_line() {
     let mut bytes = BASE.as_bytes().to_vec();
     let at = BASE.find("fov").unwrap();
     bytes.splice(at..at, [0xff, 0xfe]);
-    let dir = temp_dir("not-utf8");
+    let dir = common::scratch("bad-input-not-utf8");
     let path = dir.join("scene.toml");
     std::fs::write(&path, bytes).unwrap();
     let error = scene::load(&path).expect_err("not UTF-8");
@@ -382,7 +377,7 @@ fn obj_face_indices_out_of_range_are_errors_at_their_obj_line() {
     }
     // Forward references are allowed, as the OBJ reader allows them.
     let obj = "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n";
-    let path = write_scene("obj-forward", &with_shape(MESH), &[("m.obj", obj.as_bytes())]);
+    let (_dir, path) = write_scene("obj-forward", &with_shape(MESH), &[("m.obj", obj.as_bytes())]);
     assert_eq!(scene::load(&path).unwrap().triangles.len(), 1);
 }
 
@@ -467,7 +462,7 @@ fn environment_errors_name_line_and_key() {
 #[test]
 fn huge_light_directions_still_normalize() {
     let light = "type = \"directional\"\ndirection = [3e38, -3e38, 0]\nirradiance = [1, 1, 1]\n";
-    let path = write_scene("big-direction", &with_light(light), &[]);
+    let (_dir, path) = write_scene("big-direction", &with_light(light), &[]);
     let scene = scene::load(&path).unwrap();
     let LightKind::Directional { direction, .. } = scene.lights[0].kind else { panic!("not directional") };
     let expected = glam::Vec3::new(1.0, -1.0, 0.0).normalize();
@@ -492,7 +487,7 @@ fn scene_without_light_is_an_error_of_scene_data() {
         ),
     ];
     for (name, text, line, key) in unlit {
-        let path = write_scene(name, &text, &[]);
+        let (_dir, path) = write_scene(name, &text, &[]);
         let scene = scene::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
         let error = match SceneData::new(&scene) {
             Ok(_) => panic!("{name}: SceneData::new accepted a scene with no light"),
@@ -511,7 +506,7 @@ fn scene_without_light_is_an_error_of_scene_data() {
         assert_eq!(error.file, path, "{name}");
     }
     // The same scene with a light is accepted.
-    let path = write_scene("lit", &with_shape(&format!("{QUAD}emission = [1, 1, 1]\n")), &[]);
+    let (_dir, path) = write_scene("lit", &with_shape(&format!("{QUAD}emission = [1, 1, 1]\n")), &[]);
     SceneData::new(&scene::load(&path).unwrap()).expect("a lit scene");
 }
 
@@ -552,7 +547,7 @@ fn run_binary(scene: &Path) -> (Option<i32>, String) {
 
 #[test]
 fn binary_exits_1_on_a_bad_scene_value() {
-    let scene = write_scene("bin-value", &edit("fov = 40", "fov = -5"), &[]);
+    let (_dir, scene) = write_scene("bin-value", &edit("fov = 40", "fov = -5"), &[]);
     let (code, stderr) = run_binary(&scene);
     assert_eq!(code, Some(1), "{stderr}");
     let expected =
@@ -564,7 +559,7 @@ fn binary_exits_1_on_a_bad_scene_value() {
 #[test]
 fn binary_exits_1_on_a_corrupt_mesh_and_malformed_toml() {
     let obj: &[u8] = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 nan\nf 1 2 3\n";
-    let scene = write_scene("bin-mesh", &with_shape(MESH), &[("m.obj", obj)]);
+    let (_dir, scene) = write_scene("bin-mesh", &with_shape(MESH), &[("m.obj", obj)]);
     let (code, stderr) = run_binary(&scene);
     assert_eq!(code, Some(1), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
@@ -572,7 +567,7 @@ fn binary_exits_1_on_a_corrupt_mesh_and_malformed_toml() {
     assert!(stderr.starts_with(&place), "{stderr}");
     assert!(stderr.contains("m.obj: line 4: `nan` is not a finite number"), "{stderr}");
 
-    let scene = write_scene("bin-toml", &edit("height = 8", "height = = 8"), &[]);
+    let (_dir, scene) = write_scene("bin-toml", &edit("height = 8", "height = = 8"), &[]);
     let (code, stderr) = run_binary(&scene);
     assert_eq!(code, Some(1), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
@@ -585,7 +580,7 @@ fn binary_warns_once_about_degenerate_mesh_triangles() {
     // GPU work, so the test needs no device.
     let obj: &[u8] = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 2 4 1\n";
     let text = format!("{}[[shapes]]\n{}", with_shape(MESH), QUAD.replace("\"quad\"", "\"cone\""));
-    let scene = write_scene("bin-warning", &text, &[("m.obj", obj)]);
+    let (_dir, scene) = write_scene("bin-warning", &text, &[("m.obj", obj)]);
     let (code, stderr) = run_binary(&scene);
     assert_eq!(code, Some(1), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
@@ -607,8 +602,8 @@ fn binary_survives_a_closed_stdout() {
     if common::gpu().is_none() {
         return;
     }
-    let out = std::env::temp_dir().join("sppm-gpu-closed-stdout.png");
-    let _ = std::fs::remove_file(&out);
+    let dir = common::scratch("bad-input-closed-stdout");
+    let out = dir.join("closed-stdout.png");
     let mut child = binary(
         &common::scene_path("cornell-box.toml"),
         &out,
@@ -638,14 +633,15 @@ fn binary_checks_the_output_before_rendering() {
         let output = binary(&scene, output, &[]).output().expect("the binary runs");
         (output.status.code(), String::from_utf8_lossy(&output.stderr).into_owned(), start.elapsed())
     };
-    let missing = std::env::temp_dir().join("sppm-gpu-no-such-dir").join("out.png");
+    let scratch = common::scratch("bad-input-output-checks");
+    let missing = scratch.join("sppm-gpu-no-such-dir").join("out.png");
     let (code, stderr, took) = run(&missing);
     assert_eq!(code, Some(1), "{stderr}");
     assert!(stderr.contains("does not exist") && stderr.contains("sppm-gpu-no-such-dir"), "{stderr}");
     assert!(took.as_secs_f64() < 5.0, "refused at once, not after rendering: {took:?}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 
-    let dir = std::env::temp_dir().join("sppm-gpu-output-is-a-dir.png");
+    let dir = scratch.join("sppm-gpu-output-is-a-dir.png");
     std::fs::create_dir_all(&dir).unwrap();
     let (code, stderr, _) = run(&dir);
     assert_eq!(code, Some(1), "{stderr}");
@@ -684,9 +680,9 @@ fn binary_writes_the_passes_done_when_interrupted() {
     if common::gpu().is_none() {
         return;
     }
+    let dir = common::scratch("bad-input-signal");
     for (signal, code) in [("INT", 130), ("TERM", 143)] {
-        let out = std::env::temp_dir().join(format!("sppm-gpu-signal-{signal}.exr"));
-        let _ = std::fs::remove_file(&out);
+        let out = dir.join(format!("signal-{signal}.exr"));
         let args = ["--iterations", "1000000", "--width", "32", "--height", "24", "--photons", "2000"];
         let (status, stderr) = signal_when_held(&common::scene_path("cornell-box.toml"), &out, &args, "after 2 passes", signal);
         assert_eq!(status, Some(code), "SIG{signal}: {stderr}");
@@ -705,13 +701,14 @@ fn binary_writes_the_passes_done_when_interrupted() {
 #[test]
 fn binary_honours_a_signal_before_the_first_pass() {
     let scene = common::scene_path("cornell-box.toml");
+    let dir = common::scratch("bad-input-early-signal");
     let mut stages = vec!["loading the scene"];
     if common::gpu().is_some() {
         stages.extend(["starting the GPU", "compiling the kernels"]);
     }
     for stage in stages {
         for (signal, code) in [("INT", 130), ("TERM", 143)] {
-            let out = std::env::temp_dir().join(format!("sppm-gpu-early-signal-{}-{signal}.exr", std::process::id()));
+            let out = dir.join(format!("early-signal-{signal}.exr"));
             let args = ["--iterations", "4", "--width", "16", "--height", "16", "--photons", "1000"];
             let (status, stderr) = signal_when_held(&scene, &out, &args, stage, signal);
             assert_eq!(status, Some(code), "{stage}, SIG{signal}: {stderr}");
@@ -730,8 +727,8 @@ fn binary_refuses_a_render_beyond_the_memory_limit() {
     if common::gpu().is_none() {
         return;
     }
-    let out = std::env::temp_dir().join("sppm-gpu-memory-limit.png");
-    let _ = std::fs::remove_file(&out);
+    let dir = common::scratch("bad-input-memory-limit");
+    let out = dir.join("memory-limit.png");
     let run = |size: &str, limit: &str| {
         let start = std::time::Instant::now();
         let args = ["--width", size, "--height", size, "--iterations", "1", "--photons", "1000", "--memory-limit", limit];

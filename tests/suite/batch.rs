@@ -20,10 +20,6 @@ use std::process::Command;
 const RELATIVE: f32 = 1e-5;
 const ABSOLUTE: f32 = 1e-6;
 
-fn temp_dir(name: &str) -> PathBuf {
-    crate::common::fresh_dir(&format!("gpu-batch-{name}"))
-}
-
 fn global(name: &str, size: u32, photons: u32) -> Scene {
     let mut scene = common::load_scene(name);
     scene.render.width = size;
@@ -132,10 +128,9 @@ fn global_radius_follows_the_schedule() {
 #[test]
 fn batches_merge_to_the_whole_render() {
     let Some(gpu) = common::gpu() else { return };
-    let dir = temp_dir("merge");
+    let dir = common::scratch("gpu-batch-merge");
     // Every integrator of one scene, method and sampler makes the same kernels: made once.
     sppm_gpu::gpu::share_kernels(|| merges(&gpu, &dir));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// [`batches_merge_to_the_whole_render`]'s renders and checks, in `dir`.
@@ -218,7 +213,7 @@ fn command_line_batches_and_merge() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = temp_dir("cli");
+    let dir = common::scratch("gpu-batch-cli");
     let scene = common::scene_path("cornell-box.toml");
     let settings = ["--width", "40", "--height", "30", "--photons", "20000", "--radius-schedule", "global"];
     let part = |range: &str| dir.join(format!("part-{range}.exr"));
@@ -282,5 +277,4 @@ fn command_line_batches_and_merge() {
     let (code, text) = run(binary().arg(&scene).args(["--adapter", "99", "-o"]).arg(dir.join("none.png")));
     assert_eq!(code, Some(1), "{text}");
     assert!(text.contains("no adapter 99"), "{text}");
-    std::fs::remove_dir_all(&dir).unwrap();
 }

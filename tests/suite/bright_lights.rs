@@ -58,11 +58,6 @@ impl Kind {
     }
 }
 
-/// A fresh directory for one case's files.
-fn temp_dir(name: &str) -> PathBuf {
-    crate::common::fresh_dir(&format!("bright-lights-{name}"))
-}
-
 /// An environment map of 16x8 texels in (0, 1], the brightest exactly 1, times `v`.
 fn envmap_image(v: f32) -> Rgb32Image {
     let mut img = Rgb32Image::new(16, 8);
@@ -141,21 +136,22 @@ fn last_header(text: &str) -> usize {
 }
 
 /// Writes `text` as `scene.toml` in a fresh directory, with the envmap image (texels times
-/// `texels`) beside it, and loads it.
-fn write_and_load(name: &str, text: &str, texels: f32) -> (PathBuf, Scene) {
-    let dir = temp_dir(name);
+/// `texels`) beside it, and loads it: the directory (removed when dropped), the scene's path
+/// and the scene.
+fn write_and_load(name: &str, text: &str, texels: f32) -> (common::Scratch, PathBuf, Scene) {
+    let dir = common::scratch(&format!("bright-lights-{name}"));
     write_exr(&dir.join("env.exr"), &envmap_image(texels)).unwrap();
     let path = dir.join("scene.toml");
     std::fs::write(&path, text).unwrap();
     let scene = scene::load(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
-    (path, scene)
+    (dir, path, scene)
 }
 
 /// The scene of `kind` at value `v`, loaded.
 fn light_scene(name: &str, kind: Kind, v: f32, method: &str) -> (PathBuf, Scene, String) {
     let text = small_scene(kind, v, method);
     let texels = if kind == Kind::EnvmapTexels { v } else { 1.0 };
-    let (path, scene) = write_and_load(name, &text, texels);
+    let (_, path, scene) = write_and_load(name, &text, texels);
     (path, scene, text)
 }
 
@@ -270,14 +266,14 @@ fn envmap_texels_over_the_bound_are_refused_and_at_them_render_scaled() {
 fn envmap_radiance_is_brightest_texel_times_scale() {
     let text = |scale: f32| format!("{}scale = {scale:e}\n", small_scene(Kind::EnvmapTexels, 0.0, "sppm"));
     let line = Some(last_header(&text(1.0)));
-    let (_, fine) = write_and_load("env-fine", &text(1.0), 1e10);
+    let (_, _, fine) = write_and_load("env-fine", &text(1.0), 1e10);
     SceneData::new(&fine).expect("1e10 is under the bound");
-    let (path, scaled) = write_and_load("env-scaled", &text(1e9), 1e10);
+    let (_, path, scaled) = write_and_load("env-scaled", &text(1e9), 1e10);
     let words = ["radiance reaches 1e19", "brightest texel 1e10 times scale 1e9"];
     assert_refusal(&refusal(&scaled), &path, line, "lights[0].scale", "1e18", &words);
-    let (path, bright) = write_and_load("env-bright", &text(1.0), 1e20);
+    let (_, path, bright) = write_and_load("env-bright", &text(1.0), 1e20);
     assert_refusal(&refusal(&bright), &path, line, "lights[0].file", "1e18", &["brightest texel 1e20 times scale 1)"]);
-    let (_, dimmed) = write_and_load("env-dimmed", &text(1e-3), 1e20);
+    let (_, _, dimmed) = write_and_load("env-dimmed", &text(1e-3), 1e20);
     SceneData::new(&dimmed).expect("1e20 times 1e-3 is under the bound");
 }
 
@@ -286,7 +282,7 @@ fn envmap_radiance_is_brightest_texel_times_scale() {
 #[test]
 fn an_emission_that_overflows_is_not_called_no_light() {
     let text = small_scene(Kind::Area, 3e38, "sppm");
-    let (path, scene) = write_and_load("overflow", &text, 1.0);
+    let (_, path, scene) = write_and_load("overflow", &text, 1.0);
     let e = refusal(&scene);
     assert_refusal(&e, &path, Some(last_header(&text)), "shapes[3].emission", "1e18", &["emission 3e38"]);
     assert!(!e.message.contains("no light"), "{e}");
@@ -297,7 +293,7 @@ fn an_emission_that_overflows_is_not_called_no_light() {
 #[test]
 fn command_line_refuses_a_blinding_environment() {
     let text = small_scene(Kind::Constant, 1e37, "sppm");
-    let (path, _) = write_and_load("cli", &text, 1.0);
+    let (_dir, path, _) = write_and_load("cli", &text, 1.0);
     let out = path.with_file_name("out.exr");
     let output = std::process::Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
         .arg(&path)
@@ -385,20 +381,20 @@ fn power_over_the_bound_is_refused_and_under_it_renders_scaled() {
     for (kind, key, how) in cases {
         let name = format!("large-{kind:?}");
         // The scene's power per unit of the light's value (the point light's 4 pi aside).
-        let (_, unit) = write_and_load(&format!("{name}-unit"), &large_scene(kind, 1.0, "sppm"), 1.0);
+        let (_, _, unit) = write_and_load(&format!("{name}-unit"), &large_scene(kind, 1.0, "sppm"), 1.0);
         let per_unit = SceneData::new(&unit).unwrap().power_total as f64 - 4.0 * std::f64::consts::PI;
         let (over, under) = ((MAX_LIGHT_POWER / per_unit * 1.001) as f32, (MAX_LIGHT_POWER / per_unit * 0.999) as f32);
         assert!((over as f64) < MAX_EMISSION, "{name}: {over:e} would be refused for its radiance alone");
         let text = large_scene(kind, over, "sppm");
-        let (path, scene) = write_and_load(&format!("{name}-over"), &text, 1.0);
+        let (_, path, scene) = write_and_load(&format!("{name}-over"), &text, 1.0);
         let e = refusal(&scene);
         assert_refusal(&e, &path, Some(last_header(&text)), key, "1e28", &["the lights' power is 1.001e28", how]);
         if gpu.is_none() {
             continue;
         }
         for method in ["sppm", "pt-nee"] {
-            let (_, unit) = write_and_load(&format!("{name}-{method}-unit"), &large_scene(kind, 1.0, method), 1.0);
-            let (_, bright) = write_and_load(&format!("{name}-{method}-under"), &large_scene(kind, under, method), 1.0);
+            let (_, _, unit) = write_and_load(&format!("{name}-{method}-unit"), &large_scene(kind, 1.0, method), 1.0);
+            let (_, _, bright) = write_and_load(&format!("{name}-{method}-under"), &large_scene(kind, under, method), 1.0);
             SceneData::new(&bright).expect("under the bound");
             // The dim point light is not scaled: only the image of the scaled light is compared,
             // with the point light dark in both.
@@ -427,7 +423,7 @@ fn mitsuba_emitters_over_the_bound_are_refused_at_their_elements() {
         );
         common::scene_text::mitsuba_with("3.0.0", area, &emitter)
     };
-    let dir = temp_dir("mitsuba");
+    let dir = common::scratch("bright-lights-mitsuba");
     for (file, text, line, key) in
         [("area.xml", scene(&over, "1"), 7, "radiance"), ("point.xml", scene("1", &over), 10, "intensity")]
     {

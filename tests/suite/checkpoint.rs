@@ -5,17 +5,10 @@
 use crate::common;
 
 use sppm_gpu::scene::Named;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 const SIZE: [&str; 8] = ["--width", "40", "--height", "32", "--photons", "4000", "--seed", "9"];
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("checkpoint-tests").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn sppm_gpu(scene: &str, method: &str, out: &Path, args: &[&str]) -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"));
@@ -54,7 +47,7 @@ fn stopped_and_resumed_equals_uninterrupted() {
         return;
     }
     for (method, sampler) in [("sppm", "independent"), ("pt-nee", "independent"), ("sppm", "sobol"), ("pt-nee", "sobol")] {
-        let dir = scratch(&format!("resume-{method}-{sampler}"));
+        let dir = common::scratch(&format!("checkpoint-resume-{method}-{sampler}"));
         let (full, part, resumed, checkpoint) =
             (dir.join("full.exr"), dir.join("part.exr"), dir.join("resumed.exr"), dir.join("ck"));
         let ck = checkpoint.to_str().unwrap();
@@ -77,7 +70,7 @@ fn adaptive_radius_resumes_bit_for_bit() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = scratch("resume-adaptive");
+    let dir = common::scratch("checkpoint-resume-adaptive");
     let (full, part, resumed, plain, checkpoint) =
         (dir.join("full.exr"), dir.join("part.exr"), dir.join("resumed.exr"), dir.join("plain.exr"), dir.join("ck"));
     let ck = checkpoint.to_str().unwrap();
@@ -105,7 +98,7 @@ fn sigkill_then_resume_is_bit_identical() {
         return;
     }
     for method in ["sppm", "pt-nee"] {
-        let dir = scratch(&format!("sigkill-{method}"));
+        let dir = common::scratch(&format!("checkpoint-sigkill-{method}"));
         let checkpoint = dir.join("ck");
         let ck = checkpoint.to_str().unwrap();
         let mut child = sppm_gpu(
@@ -145,7 +138,7 @@ fn a_checkpoint_of_another_scene_or_settings_is_refused() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = scratch("refused");
+    let dir = common::scratch("checkpoint-refused");
     let checkpoint = dir.join("ck");
     let ck = checkpoint.to_str().unwrap();
     run(sppm_gpu("cornell-box.toml", "sppm", &dir.join("a.exr"), &["--iterations", "1", "--checkpoint", ck]));
@@ -176,7 +169,7 @@ fn a_lost_device_leaves_a_checkpoint_to_resume_from() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = scratch("lost-device");
+    let dir = common::scratch("checkpoint-lost-device");
     let checkpoint = dir.join("ck");
     let ck = checkpoint.to_str().unwrap();
     let output = sppm_gpu(
@@ -220,7 +213,7 @@ fn vcm_resumes_with_its_pilots_choice() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = scratch("vcm-pilot");
+    let dir = common::scratch("checkpoint-vcm-pilot");
     let checkpoint = dir.join("ck");
     let ck = checkpoint.to_str().unwrap();
     let six = ["--iterations", "6"];

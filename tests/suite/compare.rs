@@ -1,20 +1,13 @@
 //! The experiments' tooling without a GPU: snapshot schedule, CSV and chart writers on
 //! synthetic data, montages, and `sppm-gpu diff --error-image`.
 
+use crate::common;
+
 use sppm_gpu::experiments::plot::{self, Chart, Series, Tile};
 use sppm_gpu::experiments::{self, Snapshot, SweepParam};
 use sppm_gpu::image_io::{self, Rgb32Image};
 use sppm_gpu::scene::{DirectLight, Method, Named};
-use std::path::PathBuf;
 use std::process::Command;
-
-/// A fresh, empty folder for one test's files.
-fn scratch(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("compare-tests").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// The PNG at `path` as 8-bit RGB: (width, height, bytes).
 fn read_rgb8(path: &std::path::Path) -> (u32, u32, Vec<u8>) {
@@ -86,7 +79,7 @@ fn synthetic_snapshots() -> Vec<Snapshot> {
 
 #[test]
 fn compare_csv_has_one_row_per_snapshot() {
-    let dir = scratch("csv");
+    let dir = common::scratch("compare-csv");
     let path = dir.join("compare.csv");
     experiments::write_compare_csv(&path, &synthetic_snapshots()).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
@@ -106,7 +99,7 @@ fn compare_csv_has_one_row_per_snapshot() {
 
 #[test]
 fn time_chart_is_drawn_with_one_colour_per_method() {
-    let dir = scratch("chart");
+    let dir = common::scratch("compare-chart");
     let path = dir.join("relmse-vs-time.png");
     experiments::write_time_chart(&path, "synthetic: relMSE against time", "relMSE", "a note", &synthetic_snapshots()).unwrap();
     let (w, h, rgb) = read_rgb8(&path);
@@ -139,7 +132,7 @@ fn tick_labels_are_short() {
 
 #[test]
 fn png_bytes_survive_the_srgb_round_trip() {
-    let dir = scratch("png");
+    let dir = common::scratch("compare-png");
     let path = dir.join("bytes.png");
     let rgb: Vec<u8> = (0..=255u8).flat_map(|v| [v, 255 - v, v / 2]).collect();
     plot::write_rgb8_png(&path, &rgb, 16, 16).unwrap();
@@ -148,7 +141,7 @@ fn png_bytes_survive_the_srgb_round_trip() {
 
 #[test]
 fn montage_lays_out_tiles_with_captions_and_legend() {
-    let dir = scratch("montage");
+    let dir = common::scratch("compare-montage");
     let path = dir.join("montage.png");
     let grey = Rgb32Image::from_fn(32, 24, |_, _| [0.2; 3]);
     let rows = vec![
@@ -165,7 +158,7 @@ fn montage_lays_out_tiles_with_captions_and_legend() {
 
 #[test]
 fn diff_writes_a_false_colour_error_image() {
-    let dir = scratch("diff");
+    let dir = common::scratch("compare-diff");
     let reference = Rgb32Image::from_fn(16, 8, |_, _| [0.5; 3]);
     // Left half exact, right half off by a factor of 3.
     let image = Rgb32Image::from_fn(16, 8, |x, _| if x < 8 { [0.5; 3] } else { [1.5; 3] });

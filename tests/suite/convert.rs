@@ -3,6 +3,8 @@
 //! lights, spheres and every triangle and its uvs bit for bit, shading normals and directions
 //! to within the last bits of their normalization.
 
+use crate::common;
+
 use glam::Vec3;
 use sppm_gpu::scene::{self, LightKind, MaterialKind, Scene};
 use std::path::{Path, PathBuf};
@@ -24,9 +26,7 @@ fn convert_from(folder: &str, name: &str, out_dir: &Path) -> (Scene, Scene) {
 
 #[test]
 fn converted_scenes_load_back_to_the_same_scene() {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("convert-tests");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch("convert");
     // Every test scene but legacy-walls.xml, a fragment without a camera.
     let names = std::fs::read_dir(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba")).unwrap();
     let mut names: Vec<String> = names
@@ -132,9 +132,7 @@ fn converted_scenes_load_back_to_the_same_scene() {
 /// each shape's interior and exterior load back the same from the TOML.
 #[test]
 fn media_load_back_the_same() {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("convert-media-tests");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch("convert-media");
     for name in ["fog-cornell.xml", "murky-water.xml", "volumetric-caustic.xml"] {
         let (a, b) = convert_from("scenes/media", name, &dir);
         let medium = |s: &Scene, i: Option<u32>| {
@@ -162,9 +160,7 @@ fn media_load_back_the_same() {
 /// the fog inside: our TOML reader once refused such an `interior` that `convert` wrote.)
 #[test]
 fn converted_pbrt_scenes_load_back() {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("convert-pbrt-tests");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch("convert-pbrt");
     for name in ["area-power", "coated", "cornell-box", "loopsubdiv", "media", "mix"] {
         let pbrt = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/pbrt").join(format!("{name}.pbrt"));
         let toml = dir.join(format!("{name}.toml"));
@@ -198,9 +194,7 @@ fn converted_pbrt_scenes_load_back() {
 #[test]
 fn converted_scenes_render_the_same_pixels() {
     let Some(gpu) = crate::common::gpu() else { return };
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("convert-render-tests");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch("convert-render");
     let render = |mut scene: Scene| {
         (scene.render.width, scene.render.height, scene.render.seed) = (16, 16, 7);
         let mut integrator = sppm_gpu::integrators::create(&gpu.device, &gpu.queue, &scene).unwrap_or_else(|e| panic!("{e}"));
@@ -226,9 +220,7 @@ fn converted_scenes_render_the_same_pixels() {
 /// `0.7300000190734863`.
 #[test]
 fn floats_are_written_shortest() {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("convert-float-tests");
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch("convert-float");
     for name in ["box.xml", "plastic.xml", "spot.xml"] {
         convert(name, &dir);
         let text = std::fs::read_to_string(dir.join(name.replace(".xml", ".toml"))).unwrap();
@@ -250,7 +242,7 @@ fn floats_are_written_shortest() {
 /// shares of camera vertices that connect and merge (written only where not the default).
 #[test]
 fn toml_render_settings_load_back_the_same() {
-    let dir = crate::common::fresh_dir("convert-settings");
+    let dir = common::scratch("convert-settings");
     std::fs::create_dir_all(dir.join("out")).unwrap();
     let text = std::fs::read_to_string(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-box.toml")).unwrap();
     let text = text.replacen("method = \"sppm\"\n", "method = \"vcm\"\nconnect_share = 0.3\nmerge_share = 0.0\n", 1);

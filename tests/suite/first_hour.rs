@@ -4,13 +4,8 @@
 //! be left out, and no option is accepted and then ignored.
 
 use crate::common;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
-
-/// A fresh directory for one test.
-fn temp_dir(name: &str) -> PathBuf {
-    crate::common::fresh_dir(&format!("first-hour-{name}"))
-}
 
 /// Runs the binary with `args` in `dir`: exit code, stdout and stderr.
 fn run_in(dir: &Path, args: &[&str]) -> (Option<i32>, String, String) {
@@ -45,7 +40,7 @@ fn the_first_line_names_the_method_and_why() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = temp_dir("method");
+    let dir = common::scratch("first-hour-method");
     let small = ["--width", "8", "--height", "8", "-o", "out.exr"];
     let cases: [(&str, &[&str], &str); 3] = [
         ("cornell-box.toml", &["--iterations", "1"], "with sppm (the scene's `method`"),
@@ -75,7 +70,7 @@ fn spp_sets_a_path_tracers_samples_a_pixel() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = temp_dir("spp");
+    let dir = common::scratch("first-hour-spp");
     let path = scene("cornell-box.toml");
     let base = [path.as_str(), "--width", "8", "--height", "8", "-o", "out.exr", "--method", "pt-nee"];
     let (code, stdout, stderr) = run_in(&dir, &[&base[..], &["--spp", "4"]].concat());
@@ -94,7 +89,7 @@ fn a_time_limit_alone_renders_until_the_limit() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = temp_dir("time");
+    let dir = common::scratch("first-hour-time");
     let path = scene("cornell-box.toml");
     let args = [path.as_str(), "--width", "8", "--height", "8", "--photons", "1000", "-o", "out.exr", "--time-limit", "1.5"];
     let (code, stdout, stderr) = run_in(&dir, &[&args[..], &["--stats"]].concat());
@@ -114,7 +109,7 @@ fn the_output_defaults_to_a_free_name() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = temp_dir("default-output");
+    let dir = common::scratch("first-hour-default-output");
     let path = scene("cornell-box.toml");
     let args = [path.as_str(), "--width", "8", "--height", "8", "--iterations", "1", "--photons", "1000"];
     for expected in ["cornell-box.exr", "cornell-box-1.exr"] {
@@ -129,7 +124,7 @@ fn the_output_defaults_to_a_free_name() {
 /// are `--methods`), `compare --direct` (they set it), `sweep --time-limit`, `bench --method`.
 #[test]
 fn options_a_command_does_not_read_are_refused() {
-    let dir = temp_dir("unused");
+    let dir = common::scratch("first-hour-unused");
     let path = scene("cornell-box.toml");
     let reference = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/references/cornell-box.exr");
     let reference = reference.display().to_string();

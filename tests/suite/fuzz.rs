@@ -8,6 +8,7 @@
 //! that CI runs the same cases every time; `PROPTEST_CASES=N` and `PROPTEST_RNG_SEED=S` fuzz
 //! longer or elsewhere.
 
+use crate::common;
 use crate::common::serialized_writer;
 use proptest::prelude::*;
 use proptest::sample::Index;
@@ -330,9 +331,7 @@ fn obj_line() -> impl Strategy<Value = String> {
 
 /// Writes `obj` as `dir/name.obj` beside a scene that uses it as a mesh (with `extra` keys
 /// in the shape); the scene's path.
-fn mesh_scene(name: &str, obj: &[u8], extra: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sppm-fuzz-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+fn mesh_scene(dir: &Path, name: &str, obj: &[u8], extra: &str) -> PathBuf {
     std::fs::write(dir.join(format!("{name}.obj")), obj).unwrap();
     let text = format!(
         "[render]\nwidth = 8\nheight = 8\niterations = 1\n\n[camera]\nposition = [0, 0, 5]\n\
@@ -358,17 +357,16 @@ fn valid_mesh() -> impl Strategy<Value = Mesh> {
     })
 }
 
-proptest! {
-    #![proptest_config(config())]
-
-    /// Random OBJ text: a scene or an error at the mesh's `file` key (or the shape), never
-    /// a panic.
-    #[test]
-    fn random_obj_files_never_panic(
+/// Random OBJ text: a scene or an error at the mesh's `file` key (or the shape), never
+/// a panic.
+#[test]
+fn random_obj_files_never_panic() {
+    let dir = common::scratch("fuzz-random-obj");
+    proptest!(config(), |(
         lines in prop::collection::vec(obj_line(), 0..16),
         smooth in any::<bool>(),
         bytes in prop::option::weighted(0.1, prop::collection::vec(any::<u8>(), 0..16)),
-    ) {
+    )| {
         // Three vertices with texture coordinates and normals, then the random lines.
         let start = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n\
                      vn 0 0 1\nvn 0 0 1\nvn 0 0 1\n";
@@ -376,7 +374,7 @@ proptest! {
         if let Some(bytes) = bytes {
             obj.extend(bytes);
         }
-        let path = mesh_scene("random", &obj, &format!("smooth = {smooth}\n"));
+        let path = mesh_scene(&dir, "random", &obj, &format!("smooth = {smooth}\n"));
         match scene::load(&path) {
             Ok(scene) => check_scene(&scene)?,
             Err(error) => {
@@ -391,16 +389,19 @@ proptest! {
                 prop_assert_eq!(error.line, Some(line), "{}", error);
             }
         }
-    }
+    });
+}
 
-    /// Well-formed OBJ files (faces of distinct vertices, absolute or relative indices, with
-    /// or without texture coordinates and normals) load, one triangle for each face corner
-    /// past the second.
-    #[test]
-    fn valid_obj_files_load(
+/// Well-formed OBJ files (faces of distinct vertices, absolute or relative indices, with
+/// or without texture coordinates and normals) load, one triangle for each face corner
+/// past the second.
+#[test]
+fn valid_obj_files_load() {
+    let dir = common::scratch("fuzz-valid-obj");
+    proptest!(config(), |(
         (vertices, faces) in valid_mesh(),
         attributes in 0..4u8,
-    ) {
+    )| {
         let (with_vt, with_vn) = (attributes & 1 != 0, attributes & 2 != 0);
         let mut obj = String::new();
         for v in &vertices {
@@ -432,13 +433,13 @@ proptest! {
             obj += &format!("f {}\n", vertices.join(" "));
             corners += face.len() - 2;
         }
-        let path = mesh_scene("valid", obj.as_bytes(), "smooth = true\n");
+        let path = mesh_scene(&dir, "valid", obj.as_bytes(), "smooth = true\n");
         let scene = scene::load(&path).map_err(|e| TestCaseError::fail(format!("{e}\n{obj}")))?;
         check_scene(&scene)?;
         // Random vertices are in general position: no triangle is degenerate.
         prop_assert_eq!(scene.triangles.len(), corners, "{}", obj);
         prop_assert_eq!(scene.triangles.iter().all(|t| t.uv.is_some()), with_vt);
-    }
+    });
 }
 
 // --- PLY and Mitsuba .serialized files ---
@@ -446,9 +447,7 @@ proptest! {
 /// Writes `bytes` as mesh file `dir/file` beside a scene `dir/file.toml` that uses it (with
 /// `extra` keys in the shape; the scene is rewritten only when its text changes, writing
 /// files being slow); the scene's path. Its `file` key is on line 16, the shape on 13.
-fn mesh_file_scene(file: &str, bytes: &[u8], extra: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sppm-fuzz-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+fn mesh_file_scene(dir: &Path, file: &str, bytes: &[u8], extra: &str) -> PathBuf {
     std::fs::write(dir.join(file), bytes).unwrap();
     let text = format!(
         "[render]\nwidth = 8\nheight = 8\niterations = 1\n\n[camera]\nposition = [0, 0, 5]\n\
@@ -703,47 +702,47 @@ fn serialized_file_strategy() -> impl Strategy<Value = Vec<u8>> {
     prop_oneof![8 => edited, 2 => random, 1 => prop::collection::vec(any::<u8>(), 0..64)]
 }
 
-proptest! {
-    #![proptest_config(config())]
-
-    /// PLY files, edited valid ones and random ones: a scene or an error at the mesh's
-    /// `file` key, never a panic.
-    #[test]
-    fn random_ply_files_never_panic(bytes in ply_file(), smooth in any::<bool>()) {
-        let path = mesh_file_scene("random.ply", &bytes, &format!("smooth = {smooth}\n"));
+/// PLY files, edited valid ones and random ones: a scene or an error at the mesh's
+/// `file` key, never a panic.
+#[test]
+fn random_ply_files_never_panic() {
+    let dir = common::scratch("fuzz-random-ply");
+    proptest!(config(), |(bytes in ply_file(), smooth in any::<bool>())| {
+        let path = mesh_file_scene(&dir, "random.ply", &bytes, &format!("smooth = {smooth}\n"));
         check_mesh_file_scene(&path)?;
-    }
+    });
+}
 
-    /// Mitsuba `.serialized` files, edited valid ones and random ones, read at shape 0, 1
-    /// or 2: a scene or an error at the mesh's `file` key, never a panic.
-    #[test]
-    fn random_serialized_files_never_panic(
+/// Mitsuba `.serialized` files, edited valid ones and random ones, read at shape 0, 1
+/// or 2: a scene or an error at the mesh's `file` key, never a panic.
+#[test]
+fn random_serialized_files_never_panic() {
+    let dir = common::scratch("fuzz-random-serialized");
+    proptest!(config(), |(
         bytes in serialized_file_strategy(),
         shape_index in 0..3u32,
         smooth in any::<bool>(),
-    ) {
-        let path = mesh_file_scene("random.serialized", &bytes, &format!("smooth = {smooth}\nshape_index = {shape_index}\n"));
+    )| {
+        let path = mesh_file_scene(&dir, "random.serialized", &bytes, &format!("smooth = {smooth}\nshape_index = {shape_index}\n"));
         check_mesh_file_scene(&path)?;
-    }
+    });
 }
 
 // --- Mitsuba scene XML ---
 
-/// A folder holding the Mitsuba test scenes' meshes, textures and included fragment, where
-/// mutated copies of the scenes are written (one file per case, under a name of its own).
-fn mitsuba_dir() -> PathBuf {
+/// A fresh folder holding the Mitsuba test scenes' meshes, textures and included fragment,
+/// where mutated copies of the scenes are written (one file per case, under a name of its own).
+fn mitsuba_dir() -> common::Scratch {
     let source = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/mitsuba"));
-    let dir = std::env::temp_dir().join(format!("sppm-gpu-fuzz-mitsuba-{}", std::process::id()));
-    if !dir.join("legacy-walls.xml").exists() {
-        for folder in ["meshes", "textures"] {
-            std::fs::create_dir_all(dir.join(folder)).unwrap();
-            for entry in std::fs::read_dir(source.join(folder)).unwrap() {
-                let path = entry.unwrap().path();
-                std::fs::copy(&path, dir.join(folder).join(path.file_name().unwrap())).unwrap();
-            }
+    let dir = common::scratch("fuzz-mitsuba");
+    for folder in ["meshes", "textures"] {
+        std::fs::create_dir_all(dir.join(folder)).unwrap();
+        for entry in std::fs::read_dir(source.join(folder)).unwrap() {
+            let path = entry.unwrap().path();
+            std::fs::copy(&path, dir.join(folder).join(path.file_name().unwrap())).unwrap();
         }
-        std::fs::copy(source.join("legacy-walls.xml"), dir.join("legacy-walls.xml")).unwrap();
     }
+    std::fs::copy(source.join("legacy-walls.xml"), dir.join("legacy-walls.xml")).unwrap();
     dir
 }
 
@@ -764,20 +763,19 @@ fn mitsuba_scenes() -> Vec<String> {
 const ODD_ATTRIBUTES: &[&str] =
     &["", "nan", "1e39", "-1", "0", "$undefined", "$", "#zz0000", "1, 2", "1 2 3 4", "true", "x", "ggx", "none", "\u{1F600}"];
 
-proptest! {
-    #![proptest_config(config())]
-
-    /// Mutated Mitsuba XML scenes (lines, numbers and attribute values): a scene or an error
-    /// that names a file of the scene and a line inside it, never a panic.
-    #[test]
-    fn mutated_mitsuba_scenes_never_panic(
+/// Mutated Mitsuba XML scenes (lines, numbers and attribute values): a scene or an error
+/// that names a file of the scene and a line inside it, never a panic.
+#[test]
+fn mutated_mitsuba_scenes_never_panic() {
+    let dir = mitsuba_dir();
+    proptest!(config(), |(
         which in any::<Index>(),
         mutations in prop::collection::vec(mutation(), 0..3),
         attribute in any::<Index>(),
         value in any::<Index>(),
         edit_attribute in any::<bool>(),
         case in any::<u64>(),
-    ) {
+    )| {
         let scenes = mitsuba_scenes();
         let mut text = mutations.iter().fold(which.get(&scenes).clone(), |text, m| apply(&text, m));
         if edit_attribute {
@@ -790,7 +788,6 @@ proptest! {
                 }
             }
         }
-        let dir = mitsuba_dir();
         let path = dir.join(format!("case-{case:016x}.xml"));
         std::fs::write(&path, &text).unwrap();
         let result = scene::load(&path);
@@ -806,7 +803,7 @@ proptest! {
                 }
             }
         }
-    }
+    });
 }
 
 /// Tokens that a token of a pbrt-v4 scene is replaced with.

@@ -5,21 +5,15 @@
 //! never a stack overflow, an abort or a process killed for memory. Also the two transform
 //! messages of the issue: a projective `<matrix>` and a scale that overflows.
 
+use crate::common;
+
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngSeed};
+use proptest::test_runner::{Config, RngSeed, TestCaseError};
 use sppm_gpu::scene::{self, Scene, SceneError};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
-
-/// A fresh folder for one test's files.
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sppm-hostile-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// Writes `files` (name, text) into `dir`.
 fn write(dir: &Path, files: &[(String, String)]) {
@@ -65,7 +59,7 @@ fn info(scene: &Path) -> (Option<i32>, String) {
 /// than aborting on a stack overflow (134).
 #[test]
 fn xml_nested_ten_thousand_deep_is_refused() {
-    let dir = temp_dir("deep");
+    let dir = common::scratch("hostile-deep");
     let n = 10_000;
     let body = "<shape type=\"rectangle\">\n".repeat(n) + &"</shape>\n".repeat(n);
     write(&dir, &[("main.xml".into(), scene_with("3.0.0", &body))]);
@@ -98,7 +92,7 @@ fn xml_nested_ten_thousand_deep_is_refused() {
 /// instance, naming the group. It used to recurse until the stack overflowed.
 #[test]
 fn shapegroup_instancing_itself_is_refused() {
-    let dir = temp_dir("self-instance");
+    let dir = common::scratch("hostile-self-instance");
     let body = r#"<shape type="shapegroup" id="g">
     <shape type="instance"><ref id="g"/></shape>
 </shape>
@@ -125,7 +119,7 @@ fn shapegroup_instancing_itself_is_refused() {
 /// first instance inside a group.
 #[test]
 fn nested_shapegroups_of_two_to_the_39_spheres_are_refused() {
-    let dir = temp_dir("nested-groups");
+    let dir = common::scratch("hostile-nested-groups");
     let mut body = String::from("<shape type=\"shapegroup\" id=\"g0\"><shape type=\"sphere\"/></shape>\n");
     for i in 1..=39 {
         let copy = format!("<shape type=\"instance\"><ref id=\"g{}\"/></shape>", i - 1);
@@ -145,7 +139,7 @@ fn nested_shapegroups_of_two_to_the_39_spheres_are_refused() {
 /// supported"), where we used to copy the light into each instance.
 #[test]
 fn emitters_inside_shapegroups_are_refused() {
-    let dir = temp_dir("group-emitter");
+    let dir = common::scratch("hostile-group-emitter");
     let body = r#"<shape type="shapegroup" id="g">
     <shape type="sphere">
         <emitter type="area"><rgb name="radiance" value="1"/></emitter>
@@ -162,7 +156,7 @@ fn emitters_inside_shapegroups_are_refused() {
 /// budget stops them after 16,384 reads, in a second or so.
 #[test]
 fn doubling_includes_forty_deep_are_refused_quickly() {
-    let dir = temp_dir("include-bomb");
+    let dir = common::scratch("hostile-include-bomb");
     let mut files = vec![("main.xml".to_string(), scene_with("3.0.0", "<include filename=\"f1.xml\"/>"))];
     for i in 1..40 {
         let next = format!("<include filename=\"f{}.xml\"/>\n", i + 1);
@@ -182,7 +176,7 @@ fn doubling_includes_forty_deep_are_refused_quickly() {
 /// made, and refused at that instance.
 #[test]
 fn instances_beyond_memory_are_refused_before_they_are_copied() {
-    let dir = temp_dir("instance-bomb");
+    let dir = common::scratch("hostile-instance-bomb");
     let disks = "<shape type=\"disk\"/>\n".repeat(1024);
     let instances = "<shape type=\"instance\"><ref id=\"g\"/></shape>\n".repeat(16_384);
     let body = format!("<shape type=\"shapegroup\" id=\"g\">\n{disks}</shape>\n{instances}");
@@ -203,7 +197,7 @@ fn instances_beyond_memory_are_refused_before_they_are_copied() {
 /// (minutes for this file).
 #[test]
 fn a_large_flat_file_reads_in_linear_time() {
-    let dir = temp_dir("flat");
+    let dir = common::scratch("hostile-flat");
     let spheres = "<shape type=\"sphere\"><float name=\"radius\" value=\"0.01\"/></shape>\n".repeat(100_000);
     write(&dir, &[("main.xml".into(), scene_with("3.0.0", &spheres))]);
     let start = Instant::now();
@@ -218,7 +212,7 @@ fn a_large_flat_file_reads_in_linear_time() {
 #[cfg(unix)]
 #[test]
 fn links_to_dev_zero_are_refused() {
-    let dir = temp_dir("dev-zero");
+    let dir = common::scratch("hostile-dev-zero");
     for name in ["zero.xml", "zero.obj", "zero.png"] {
         std::os::unix::fs::symlink("/dev/zero", dir.join(name)).unwrap();
     }
@@ -252,7 +246,7 @@ fn links_to_dev_zero_are_refused() {
 /// a warning at the matrix; Mitsuba 0.6 divides by w, which is refused in a 0.x scene.
 #[test]
 fn projective_matrices_warn_in_mitsuba_3_and_are_refused_in_0_x() {
-    let dir = temp_dir("projective");
+    let dir = common::scratch("hostile-projective");
     let body = r#"<shape type="rectangle">
     <transform name="to_world">
         <matrix value="2 0 0 1  0 2 0 0  0 0 2 0  1 1 1 2"/>
@@ -279,7 +273,7 @@ fn projective_matrices_warn_in_mitsuba_3_and_are_refused_in_0_x() {
 /// A scale of 1e-30 does scale a disk to nothing.
 #[test]
 fn huge_scales_overflow_rather_than_vanish() {
-    let dir = temp_dir("scale");
+    let dir = common::scratch("hostile-scale");
     let shape = |kind: &str, scale: &str| {
         format!("<shape type=\"{kind}\">\n<transform name=\"to_world\"><scale value=\"{scale}\"/></transform>\n</shape>")
     };
@@ -415,22 +409,33 @@ proptest! {
     /// copies of 36 primitives, so each case is small by construction; 96 cases.
     #[test]
     fn nested_includes_and_instances_load_exactly_or_are_refused(nest in nest()) {
-        let dir = temp_dir(&format!("nest-{}", CASE.fetch_add(1, Ordering::Relaxed)));
-        let (triangles, spheres) = write_nest(&dir, &nest);
-        let (file, phrase) = HOSTILE[nest.hostile];
-        match scene::load(&dir.join("main.xml")) {
-            Ok(s) => {
-                prop_assert_eq!(nest.hostile, 0);
-                prop_assert_eq!((s.triangles.len(), s.spheres.len()), (triangles, spheres));
-            }
-            Err(e) => {
-                prop_assert!(nest.hostile != 0, "{}", e);
-                prop_assert!(e.message.contains(phrase), "{}", e);
-                prop_assert!(e.line.is_some(), "{}", e);
-                let name = e.file.file_name().unwrap().to_string_lossy().into_owned();
-                prop_assert!(name.starts_with(file) && e.file.starts_with(&dir), "{}", e);
-            }
+        let dir = common::scratch(&format!("hostile-nest-{}", CASE.fetch_add(1, Ordering::Relaxed)));
+        let checked = check_nest(&dir, &nest);
+        if checked.is_err() {
+            // A failing case's files stay, as a panicking test's do.
+            dir.keep();
         }
-        let _ = std::fs::remove_dir_all(&dir);
+        checked?;
     }
+}
+
+/// [`nested_includes_and_instances_load_exactly_or_are_refused`]'s case `nest`, written into
+/// `dir` and loaded.
+fn check_nest(dir: &Path, nest: &Nest) -> Result<(), TestCaseError> {
+    let (triangles, spheres) = write_nest(dir, nest);
+    let (file, phrase) = HOSTILE[nest.hostile];
+    match scene::load(&dir.join("main.xml")) {
+        Ok(s) => {
+            prop_assert_eq!(nest.hostile, 0);
+            prop_assert_eq!((s.triangles.len(), s.spheres.len()), (triangles, spheres));
+        }
+        Err(e) => {
+            prop_assert!(nest.hostile != 0, "{}", e);
+            prop_assert!(e.message.contains(phrase), "{}", e);
+            prop_assert!(e.line.is_some(), "{}", e);
+            let name = e.file.file_name().unwrap().to_string_lossy().into_owned();
+            prop_assert!(name.starts_with(file) && e.file.starts_with(dir), "{}", e);
+        }
+    }
+    Ok(())
 }

@@ -1,5 +1,6 @@
 //! Tests for `image_io` (PNG/EXR reading and writing) and `metrics`.
 
+use crate::common;
 use crate::common::Rng;
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -18,14 +19,6 @@ fn repo_references() -> PathBuf {
 /// this machine has it.
 fn shared_references() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/references")
-}
-
-/// A fresh, empty directory for one test's files.
-fn scratch_dir(test: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("image_metrics-{test}"));
-    let _ = fs::remove_dir_all(&dir);
-    fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// Names of the entries in `dir`, sorted.
@@ -70,7 +63,7 @@ fn rgb32_image_helpers() {
 
 #[test]
 fn exr_round_trip_is_exact() {
-    let dir = scratch_dir("exr_round_trip");
+    let dir = common::scratch("image-metrics-exr_round_trip");
     let mut img = gradient(37, 23);
     img.set(0, 0, [f32::INFINITY, -1e-30, 6.5e4 * 3.0]);
     img.set(36, 22, [f32::MIN_POSITIVE, f32::MAX, -7.25]);
@@ -82,7 +75,7 @@ fn exr_round_trip_is_exact() {
 
 #[test]
 fn png_round_trip_within_one_code_value() {
-    let dir = scratch_dir("png_round_trip");
+    let dir = common::scratch("image-metrics-png_round_trip");
     let img = gradient(41, 19);
     let path = dir.join("round.png");
     write_png(&path, &img).unwrap();
@@ -99,7 +92,7 @@ fn png_round_trip_within_one_code_value() {
 
 #[test]
 fn png_maps_nan_to_black_and_infinity_to_white() {
-    let dir = scratch_dir("png_non_finite");
+    let dir = common::scratch("image-metrics-png_non_finite");
     let img = from_rows(2, &[[f32::NAN; 3], [f32::INFINITY; 3]]);
     let path = dir.join("nf.png");
     write_png(&path, &img).unwrap();
@@ -109,7 +102,7 @@ fn png_maps_nan_to_black_and_infinity_to_white() {
 
 #[test]
 fn write_image_dispatches_on_case_insensitive_extension() {
-    let dir = scratch_dir("dispatch");
+    let dir = common::scratch("image-metrics-dispatch");
     let img = gradient(8, 4);
     for name in ["a.EXR", "b.Exr", "c.PNG", "d.png"] {
         let path = dir.join(name);
@@ -126,7 +119,7 @@ fn write_image_dispatches_on_case_insensitive_extension() {
 
 #[test]
 fn unknown_extension_errors() {
-    let dir = scratch_dir("unknown_ext");
+    let dir = common::scratch("image-metrics-unknown_ext");
     let img = gradient(2, 2);
     for name in ["out.jpg", "out", "out.png.bak"] {
         let path = dir.join(name);
@@ -142,7 +135,7 @@ fn unknown_extension_errors() {
 #[test]
 fn exr_reads_f16_channels_by_name_and_ignores_alpha() {
     use exr::prelude::{f16, write_rgba_file};
-    let dir = scratch_dir("exr_f16");
+    let dir = common::scratch("image-metrics-exr_f16");
     let path = dir.join("half.exr");
     // Distinct per-channel values: a reader that confused channel order would
     // read them back in the wrong slots.
@@ -159,7 +152,7 @@ fn exr_reads_f16_channels_by_name_and_ignores_alpha() {
 
 #[test]
 fn corrupt_exr_errors_without_panic() {
-    let dir = scratch_dir("corrupt_exr");
+    let dir = common::scratch("image-metrics-corrupt_exr");
     let good = dir.join("good.exr");
     write_exr(&good, &gradient(16, 16)).unwrap();
     let bytes = fs::read(&good).unwrap();
@@ -193,7 +186,7 @@ fn corrupt_exr_errors_without_panic() {
 #[test]
 fn truncated_reference_never_panics() {
     let bytes = fs::read(repo_references().join("furnace.exr")).unwrap();
-    let dir = scratch_dir("truncated_reference");
+    let dir = common::scratch("image-metrics-truncated_reference");
     let path = dir.join("t.exr");
     for len in (0..bytes.len()).step_by(997) {
         fs::write(&path, &bytes[..len]).unwrap();
@@ -203,7 +196,7 @@ fn truncated_reference_never_panics() {
 
 #[test]
 fn corrupt_png_errors_without_panic() {
-    let dir = scratch_dir("corrupt_png");
+    let dir = common::scratch("image-metrics-corrupt_png");
     let path = dir.join("bad.png");
     fs::write(&path, b"\x89PNG\r\n\x1a\nnot really").unwrap();
     let err = read_image(&path).unwrap_err();
@@ -212,7 +205,7 @@ fn corrupt_png_errors_without_panic() {
 
 #[test]
 fn mismatched_pixel_buffer_is_an_error() {
-    let dir = scratch_dir("bad_buffer");
+    let dir = common::scratch("image-metrics-bad_buffer");
     let img = Rgb32Image { width: 3, height: 3, pixels: vec![[0.0; 3]; 8] };
     for name in ["a.png", "a.exr"] {
         let err = write_image(&dir.join(name), &img).unwrap_err();
@@ -222,7 +215,7 @@ fn mismatched_pixel_buffer_is_an_error() {
 
 #[test]
 fn atomic_write_leaves_no_temp_file() {
-    let dir = scratch_dir("atomic");
+    let dir = common::scratch("image-metrics-atomic");
     let first = gradient(8, 8);
     let second = Rgb32Image::from_fn(4, 2, |_, _| [1.0, 2.0, 3.0]);
     for name in ["img.exr", "img.png"] {

@@ -3,6 +3,7 @@
 //! medium refused with its file, line and key, scenes without media loading as before, and the
 //! render refusing a scene with media until the kernels land.
 
+use crate::common;
 use crate::common::scene_text::BASE;
 use glam::Vec3;
 use sppm_gpu::scene::{self, Medium, Phase, Scene, SceneError, ShapeKind};
@@ -10,14 +11,6 @@ use std::path::{Path, PathBuf};
 
 fn repo(path: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(path)
-}
-
-/// A fresh folder for one test's files.
-fn temp_dir(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sppm-gpu-media-{}-{test}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// The 1-based line of the first line of `text` containing `needle`.
@@ -154,7 +147,7 @@ fn tetrahedron(open: bool) -> String {
 /// its room through one open quad).
 #[test]
 fn toml_interior_of_a_mesh_open_or_closed() {
-    let dir = temp_dir("mesh");
+    let dir = common::scratch("media-mesh");
     std::fs::write(dir.join("closed.obj"), tetrahedron(false)).unwrap();
     std::fs::write(dir.join("open.obj"), tetrahedron(true)).unwrap();
     let mesh = |file: &str| {
@@ -260,7 +253,7 @@ fn xml(version: &str, sensor_extra: &str, body: &str) -> String {
 
 /// Loads `text` as `s.xml` in a folder of its own, with its warnings.
 fn load_xml(test: &str, text: &str) -> (Result<Scene, SceneError>, Vec<SceneError>) {
-    let dir = temp_dir(test);
+    let dir = common::scratch(&format!("media-{test}"));
     std::fs::write(dir.join("s.xml"), text).unwrap();
     scene::mitsuba::load_with_warnings(&dir.join("s.xml"), &[])
 }

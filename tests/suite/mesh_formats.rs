@@ -7,6 +7,7 @@
 //! Also: the canonical and gallery scenes (OBJ meshes, flat and smooth) load to the very
 //! triangles they did before PLY and `.serialized` support (hashes of every bit).
 
+use crate::common;
 use crate::common::serialized_writer;
 use serialized_writer::serialized_file;
 use sppm_gpu::scene::{self, Scene, SceneError};
@@ -293,11 +294,6 @@ fn serialized(meshes: &[(&TestMesh, SerialStyle)], version: u16) -> Vec<u8> {
 
 // --- Scenes ---
 
-/// A fresh directory under the system's temporary directory.
-fn temp_dir(name: &str) -> PathBuf {
-    crate::common::fresh_dir(&format!("mesh-formats-{name}"))
-}
-
 /// The line of the mesh shape's `file` key in [`mesh_scene`].
 const FILE_LINE: usize = 17;
 
@@ -347,7 +343,7 @@ fn assert_mesh_error(dir: &Path, file: &str, bytes: &[u8], extra: &str, words: &
 /// without normals and texture coordinates, under a transform.
 #[test]
 fn every_format_gives_the_same_triangles() {
-    let dir = temp_dir("same");
+    let dir = common::scratch("mesh-formats-same");
     let transform = "scale = [1, 2, 3]\nrotate = [10, 30, 0]\ntranslate = [1, 0, -1]\n";
     for (name, full) in [("tetrahedron", tetrahedron()), ("quad", quad())] {
         for mesh in [full.clone(), full.without_attributes()] {
@@ -376,7 +372,7 @@ fn every_format_gives_the_same_triangles() {
 /// length); the extension's case does not matter.
 #[test]
 fn normals_and_texture_coordinates_are_kept() {
-    let dir = temp_dir("attributes");
+    let dir = common::scratch("mesh-formats-attributes");
     let mesh = tetrahedron();
     let normals = mesh.normals.clone().unwrap();
     let uvs = mesh.uvs.clone().unwrap();
@@ -399,7 +395,7 @@ fn normals_and_texture_coordinates_are_kept() {
 /// one past the last is an error that says how many there are.
 #[test]
 fn shape_index_picks_the_shape() {
-    let dir = temp_dir("shape-index");
+    let dir = common::scratch("mesh-formats-shape-index");
     let (first, second) = (tetrahedron(), quad());
     let first_triangles = load_ok(&dir, "first.obj", &obj(&first), "smooth = true").triangles;
     let second_triangles = load_ok(&dir, "second.obj", &obj(&second), "smooth = true").triangles;
@@ -419,7 +415,7 @@ fn shape_index_picks_the_shape() {
 /// `.serialized` files, and must be a non-negative integer.
 #[test]
 fn file_types_and_shape_index_key() {
-    let dir = temp_dir("types");
+    let dir = common::scratch("mesh-formats-types");
     let mesh = tetrahedron();
     assert_mesh_error(&dir, "mesh.stl", b"solid", "", &["unknown mesh file type", ".obj, .ply or .serialized"]);
     assert_mesh_error(&dir, "mesh", &obj(&mesh), "", &["unknown mesh file type"]);
@@ -441,7 +437,7 @@ fn file_types_and_shape_index_key() {
 /// PLY files that are wrong in each way the reader checks.
 #[test]
 fn broken_ply_files_are_errors() {
-    let dir = temp_dir("ply-errors");
+    let dir = common::scratch("mesh-formats-ply-errors");
     let mesh = tetrahedron();
     let ascii = String::from_utf8(ply(&mesh, ASCII)).unwrap();
     let edit = |from: &str, to: &str| {
@@ -511,7 +507,7 @@ fn broken_ply_files_are_errors() {
 /// `.serialized` files that are wrong in each way the reader checks.
 #[test]
 fn broken_serialized_files_are_errors() {
-    let dir = temp_dir("serialized-errors");
+    let dir = common::scratch("mesh-formats-serialized-errors");
     let mesh = tetrahedron();
     let good = serialized(&[(&mesh, SINGLE)], 4);
     let body = serialized_body(&mesh, SINGLE, 4);
@@ -604,7 +600,7 @@ fn broken_serialized_files_are_errors() {
 /// files, which are slow to write.
 #[test]
 fn truncated_and_garbled_files_never_panic() {
-    let dir = temp_dir("garbled");
+    let dir = common::scratch("mesh-formats-garbled");
     let (tetra, quad) = (tetrahedron(), quad());
     let files = [
         ("a.ply", ply(&tetra, ASCII)),
@@ -652,7 +648,7 @@ fn mitsuba_data_files() {
         eprintln!("skipped: SPPM_MITSUBA_DATA does not name a copy of mitsuba-data");
         return;
     };
-    let dir = temp_dir("mitsuba-data");
+    let dir = common::scratch("mesh-formats-mitsuba-data");
     let load = |relative: &str, extra: &str| {
         let bytes = std::fs::read(root.join(relative)).unwrap_or_else(|e| panic!("{relative}: {e}"));
         let file = Path::new(relative).file_name().unwrap().to_str().unwrap();

@@ -10,7 +10,7 @@ use glam::{Vec2, Vec3};
 use sppm_gpu::integrators;
 use sppm_gpu::metrics::{compare, count_negative, count_non_finite};
 use sppm_gpu::scene::{self, ComplexIor, LightKind, MaterialKind, Method, Microfacet, PixelFilter, Scene, SceneError, ShapeKind};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn scene_path(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes/mitsuba").join(name)
@@ -20,16 +20,13 @@ fn load(name: &str) -> Scene {
     scene::load(&scene_path(name)).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// A folder of its own for one test's files.
-fn temp_dir(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sppm-gpu-mitsuba-{}-{test}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 /// Writes `files` (name, text) into a fresh folder and loads the first as a scene.
 fn load_files(test: &str, files: &[(&str, &str)], defines: &[(&str, &str)]) -> Result<Scene, SceneError> {
-    let dir = temp_dir(test);
+    load_files_in(&common::scratch(&format!("mitsuba-{test}")), files, defines)
+}
+
+/// Writes `files` (name, text) into `dir` and loads the first as a scene.
+fn load_files_in(dir: &Path, files: &[(&str, &str)], defines: &[(&str, &str)]) -> Result<Scene, SceneError> {
     for (name, text) in files {
         std::fs::write(dir.join(name), text).unwrap();
     }
@@ -201,7 +198,7 @@ fn structure_as_public_scenes_write_it() {
     </shape>
 </scene>
 "#;
-    let dir = temp_dir("public-structure");
+    let dir = common::scratch("mitsuba-public-structure");
     std::fs::create_dir_all(dir.join("common")).unwrap();
     std::fs::write(dir.join("common/tri.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     std::fs::write(dir.join("s.xml"), legacy).unwrap();
@@ -359,7 +356,7 @@ fn transforms_compose_in_mitsubas_order() {
 /// printed by Mitsuba 3.9.1 (`ScalarTransform4f().rotate([0, 1, 1], 15)`).
 #[test]
 fn rotation_axes_are_not_normalized() {
-    let dir = temp_dir("rotate-axis");
+    let dir = common::scratch("mitsuba-rotate-axis");
     std::fs::write(dir.join("tri.obj"), "v 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n").unwrap();
     let text = scene_with(
         r#"<shape type="obj"><string name="filename" value="tri.obj"/>
@@ -377,7 +374,20 @@ fn rotation_axes_are_not_normalized() {
 
 /// Loads `files` and expects an error at `file`'s line `line` whose text has `needle`.
 fn expect_error(test: &str, files: &[(&str, &str)], defines: &[(&str, &str)], file: &str, line: Option<usize>, needle: &str) {
-    let e = match load_files(test, files, defines) {
+    expect_error_in(&common::scratch(&format!("mitsuba-{test}")), test, files, defines, file, line, needle);
+}
+
+/// [`expect_error`] with `files` written into `dir`, beside the files already there.
+fn expect_error_in(
+    dir: &Path,
+    test: &str,
+    files: &[(&str, &str)],
+    defines: &[(&str, &str)],
+    file: &str,
+    line: Option<usize>,
+    needle: &str,
+) {
+    let e = match load_files_in(dir, files, defines) {
         Ok(_) => panic!("{test}: loaded"),
         Err(e) => e,
     };
@@ -577,7 +587,7 @@ fn bad_input_names_file_line_and_element() {
     let dark = base.replace(r#"<emitter type="area"><rgb name="radiance" value="1"/></emitter>"#, "");
     expect_error("dark", &[("s.xml", &dark)], &[], "s.xml", None, "no light");
     // -D on a TOML scene.
-    let dir = temp_dir("toml-define");
+    let dir = common::scratch("mitsuba-toml-define");
     std::fs::write(dir.join("s.toml"), common::scene_text::BASE).unwrap();
     let e = scene::load_with(&dir.join("s.toml"), &[("a".into(), "1".into())]).unwrap_err();
     assert!(e.to_string().contains("-D sets parameters of Mitsuba XML scenes"), "{e}");
@@ -684,36 +694,55 @@ fn sky_matches_mitsuba() {
 #[test]
 fn envmap_bad_input_names_file_line_and_parameter() {
     let line_of = |text: &str, needle: &str| text.lines().position(|l| l.contains(needle)).unwrap() + 1;
+    // A fresh folder for `test` with the map `name` in it.
     let write = |test: &str, name: &str, green: f32| {
+        let dir = common::scratch(&format!("mitsuba-{test}"));
         let img = sppm_gpu::image_io::Rgb32Image { width: 4, height: 2, pixels: vec![[1.0, green, 0.5]; 8] };
-        sppm_gpu::image_io::write_exr(&temp_dir(test).join(name), &img).unwrap();
+        sppm_gpu::image_io::write_exr(&dir.join(name), &img).unwrap();
+        dir
     };
     let env = |inner: &str| scene_with(&format!("    <emitter type=\"envmap\">\n        {inner}\n    </emitter>"));
     let text = env(r#"<string name="filename" value="missing.exr"/>"#);
     expect_error("envmap missing", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "missing.exr")), "missing.exr");
-    write("envmap-nan", "nan.exr", f32::NAN);
+    let dir = write("envmap-nan", "nan.exr", f32::NAN);
     let text = env(r#"<string name="filename" value="nan.exr"/>"#);
-    expect_error("envmap-nan", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "nan.exr")), "not a finite number");
+    expect_error_in(
+        &dir,
+        "envmap-nan",
+        &[("s.xml", &text)],
+        &[],
+        "s.xml",
+        Some(line_of(&text, "nan.exr")),
+        "not a finite number",
+    );
     for (test, extra, needle, message) in [
         ("envmap-scale", r#"<float name="scale" value="-1"/>"#, "scale", "at least 0"),
         ("envmap-to-world", r#"<transform name="to_world"><scale value="2"/></transform>"#, "scale value", "must be a rotation"),
         ("envmap-param", r#"<float name="uoffset" value="0.5"/>"#, "uoffset", "no parameter `uoffset`"),
     ] {
-        write(test, "sky.exr", 1.0);
+        let dir = write(test, "sky.exr", 1.0);
         let text = env(&format!(r#"<string name="filename" value="sky.exr"/>{extra}"#));
-        expect_error(test, &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, needle)), message);
+        expect_error_in(&dir, test, &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, needle)), message);
     }
-    write("envmap-two", "sky.exr", 1.0);
+    let dir = write("envmap-two", "sky.exr", 1.0);
     let text = scene_with(
         "    <emitter type=\"constant\"/>\n    <emitter type=\"envmap\" id=\"sky2\"><string name=\"filename\" value=\"sky.exr\"/></emitter>",
     );
-    expect_error("envmap-two", &[("s.xml", &text)], &[], "s.xml", Some(line_of(&text, "sky2")), "at most one environment");
+    expect_error_in(
+        &dir,
+        "envmap-two",
+        &[("s.xml", &text)],
+        &[],
+        "s.xml",
+        Some(line_of(&text, "sky2")),
+        "at most one environment",
+    );
     // Mitsuba 0.6's camelCase toWorld reads as to_world; a good map loads.
-    write("envmap-ok", "sky.exr", 1.0);
+    let dir = write("envmap-ok", "sky.exr", 1.0);
     let text =
         env(r#"<string name="filename" value="sky.exr"/><transform name="toWorld"><rotate y="1" angle="90"/></transform>"#)
             .replace("version=\"3.0.0\"", "version=\"0.6.0\"");
-    let s = load_files("envmap-ok", &[("s.xml", &text)], &[]).unwrap_or_else(|e| panic!("{e}"));
+    let s = load_files_in(&dir, &[("s.xml", &text)], &[]).unwrap_or_else(|e| panic!("{e}"));
     assert!(matches!(&s.lights[0].kind, LightKind::Envmap(m) if m.width == 4 && (m.to_world.x_axis.z + 1.0).abs() < 1e-6));
 }
 
@@ -1236,7 +1265,7 @@ fn era_path(name: &str) -> PathBuf {
 
 /// Writes `files` into a fresh folder and loads the first, with its warnings.
 fn load_warned(test: &str, files: &[(&str, &str)]) -> (Result<Scene, SceneError>, Vec<SceneError>) {
-    let dir = temp_dir(test);
+    let dir = common::scratch(&format!("mitsuba-{test}"));
     for (name, text) in files {
         std::fs::write(dir.join(name), text).unwrap();
     }
@@ -1551,7 +1580,7 @@ fn mitsuba_0_6_plugins_map_warn_or_refuse_each_parameter() {
     let png = std::fs::read(tex_dir.join("grid.png")).unwrap();
     let load_texture = |test: &str, params: &str| {
         let text = legacy_scene_with(&bitmap(params));
-        let dir = temp_dir(test);
+        let dir = common::scratch(&format!("mitsuba-{test}"));
         std::fs::write(dir.join("grid.png"), &png).unwrap();
         std::fs::write(dir.join("s.xml"), &text).unwrap();
         let (s, warnings) = scene::mitsuba::load_with_warnings(&dir.join("s.xml"), &[]);
@@ -1603,7 +1632,7 @@ fn mitsuba_0_6_plugins_map_warn_or_refuse_each_parameter() {
     assert_eq!(s.unwrap().textures[0].to_uv.transform_point2(Vec2::ONE), Vec2::splat(4.0));
 
     // An environment map's gamma, cache and intensityScale.
-    let dir = temp_dir("legacy-envmap");
+    let dir = common::scratch("mitsuba-legacy-envmap");
     let img = sppm_gpu::image_io::Rgb32Image { width: 4, height: 2, pixels: vec![[1.0, 0.5, 0.25]; 8] };
     sppm_gpu::image_io::write_exr(&dir.join("env.exr"), &img).unwrap();
     let env = |params: &str| {
@@ -1788,7 +1817,7 @@ fn legacy_spectra_are_read_as_mitsuba_0_6_read_them() {
 /// (whether or not a `$name` uses it) or that an included file substitutes is not.
 #[test]
 fn a_define_the_scene_never_reads_is_a_warning() {
-    let dir = temp_dir("unused-define");
+    let dir = common::scratch("mitsuba-unused-define");
     let main = scene_with(
         "    <default name=\"unused_default\" value=\"1\"/>\n    <include filename=\"part.xml\"/>\n    <shape type=\"sphere\"><float name=\"radius\" value=\"$r\"/></shape>",
     );
@@ -1818,7 +1847,7 @@ fn a_define_the_scene_never_reads_is_a_warning() {
 /// (not `40.0000`), a radius of 0.015 as written.
 #[test]
 fn info_prints_numbers_shortest() {
-    let dir = temp_dir("info-numbers");
+    let dir = common::scratch("mitsuba-info-numbers");
     let text = scene_with(r#"    <integrator type="sppm"><float name="initial_radius" value="0.015"/></integrator>"#);
     std::fs::write(dir.join("s.xml"), text).unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_sppm-gpu")).arg("info").arg(dir.join("s.xml")).output().unwrap();

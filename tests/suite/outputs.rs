@@ -3,13 +3,15 @@
 //! output checked before any work. Each case runs without a GPU: it is refused before one is
 //! asked for.
 
-use std::path::{Path, PathBuf};
+use crate::common;
+
+use std::path::Path;
 use std::process::Command;
 
-/// A fresh directory holding a copy of `scenes/textured.toml` and its texture.
-fn scene_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sppm-outputs-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+/// A fresh directory holding a copy of `scenes/textured.toml` and its texture (removed when
+/// dropped).
+fn scene_dir(name: &str) -> common::Scratch {
+    let dir = common::scratch(&format!("outputs-{name}"));
     std::fs::create_dir_all(dir.join("textures")).unwrap();
     let scenes = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
     std::fs::copy(scenes.join("textured.toml"), dir.join("scene.toml")).unwrap();

@@ -1,10 +1,11 @@
 //! Scene loading: the canonical scenes, the geometry each shape turns into, and one error
 //! (with its exact line and key) for each way a scene can be wrong.
 
+use crate::common;
 use crate::common::scene_text::{edit, with_light, with_shape, BASE, QUAD};
 use glam::{Vec2, Vec3};
 use sppm_gpu::scene::{self, LightKind, MaterialKind, Method, Microfacet, Scene, SceneError, ShapeKind};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 const SCENES: [&str; 7] =
     ["cornell-box", "cornell-glossy", "cornell-spheres", "depth-of-field", "furnace", "point-light", "textured"];
@@ -45,11 +46,6 @@ fn assert_message(error: &SceneError, words: &[&str]) {
     for word in words {
         assert!(error.message.contains(word), "{word:?} is not in the message of: {error}");
     }
-}
-
-/// A fresh directory under the system's temporary directory.
-fn temp_dir(name: &str) -> PathBuf {
-    crate::common::fresh_dir(&format!("scene-load-{name}"))
 }
 
 /// Loads `text` as `dir/scene.toml`, so that its file names resolve against `dir`.
@@ -326,7 +322,7 @@ const FOLD: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 2\nvt 0 0\nvt 1 0\nvt 0 1\n
 
 #[test]
 fn mesh_smooth_normals_are_area_weighted_averages() {
-    let dir = temp_dir("smooth");
+    let dir = common::scratch("scene-load-smooth");
     let scene = load_mesh(&dir, FOLD, "smooth = true\nscale = 2\ntranslate = [1, 0, 0]").unwrap();
     assert_eq!(scene.triangles.len(), 2);
     let [a, b] = [&scene.triangles[0], &scene.triangles[1]];
@@ -345,7 +341,7 @@ fn mesh_smooth_normals_are_area_weighted_averages() {
 
 #[test]
 fn mesh_file_normals_use_the_inverse_transpose() {
-    let dir = temp_dir("file-normals");
+    let dir = common::scratch("scene-load-file-normals");
     let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 1 0 1\nf 1//1 2//1 3//1\n";
     let scene = load_mesh(&dir, obj, "smooth = true\nscale = [1, 1, 2]").unwrap();
     for n in scene.triangles[0].n.unwrap() {
@@ -356,7 +352,7 @@ fn mesh_file_normals_use_the_inverse_transpose() {
 
 #[test]
 fn mirrored_mesh_keeps_its_front_side() {
-    let dir = temp_dir("mirrored");
+    let dir = common::scratch("scene-load-mirrored");
     let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
     let scene = load_mesh(&dir, obj, "scale = [-1, 1, 1]").unwrap();
     // Mirrored in x, the triangle still faces +z (the front side is kept, not turned around).
@@ -365,7 +361,7 @@ fn mirrored_mesh_keeps_its_front_side() {
 
 #[test]
 fn degenerate_mesh_triangles_are_skipped() {
-    let dir = temp_dir("degenerate");
+    let dir = common::scratch("scene-load-degenerate");
     let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n";
     let scene = load_mesh(&dir, obj, "").unwrap();
     assert_eq!(scene.triangles.len(), 1);
@@ -659,7 +655,7 @@ fn assert_file_error(dir: &Path, text: &str, line: usize, key: &str, file: &str)
 
 #[test]
 fn missing_and_corrupt_files_are_errors() {
-    let dir = temp_dir("files");
+    let dir = common::scratch("scene-load-files");
     let mesh = |file: &str| with_shape(&format!("type = \"mesh\"\nmaterial = \"white\"\nfile = \"{file}\"\n"));
     assert_file_error(&dir, &mesh("missing.obj"), 16, "shapes[0].file", "missing.obj");
     std::fs::write(dir.join("corrupt.obj"), "v 0 0 zero\nf 1 2 3\n").unwrap();
@@ -683,7 +679,7 @@ fn missing_and_corrupt_files_are_errors() {
 
 #[test]
 fn textures_decode_srgb_top_row_first_once_per_path() {
-    let dir = temp_dir("texture");
+    let dir = common::scratch("scene-load-texture");
     // Two rows: black and white on top, mid grey and a colour below.
     let pixels = [0u8, 0, 0, 255, 255, 255, 128, 128, 128, 255, 128, 0];
     image::save_buffer(dir.join("t.png"), &pixels, 2, 2, image::ExtendedColorType::Rgb8).unwrap();
@@ -715,7 +711,7 @@ fn textures_decode_srgb_top_row_first_once_per_path() {
 
 #[test]
 fn odd_obj_files_do_not_panic() {
-    let dir = temp_dir("odd-obj");
+    let dir = common::scratch("scene-load-odd-obj");
     for obj in [
         "f 0 0 0\n",
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -5 1 2\n",

@@ -343,8 +343,7 @@ fn canonical_scenes_with_the_other_sampler() {
 /// `sampler` in `[render]`, its default, a bad value, and Mitsuba's sampler kinds.
 #[test]
 fn the_sampler_is_read_from_toml_and_mitsuba_xml() {
-    let dir = std::env::temp_dir().join(format!("sppm-gpu-sobol-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch("sobol-sampler");
     let toml = std::fs::read_to_string(common::scene_path("cornell-box.toml")).unwrap();
     assert!(toml.contains("[render]\n") && !toml.contains("sampler"));
     assert_eq!(common::load_scene("cornell-box.toml").render.sampler, Sampler::DEFAULT);
@@ -375,5 +374,4 @@ fn the_sampler_is_read_from_toml_and_mitsuba_xml() {
         std::fs::remove_file(&path).unwrap();
         assert_eq!(scene.unwrap_or_else(|e| panic!("{kind}: {e}")).render.sampler, expected, "{kind}");
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }

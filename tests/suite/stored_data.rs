@@ -11,16 +11,9 @@ use sppm_gpu::checkpoint::{self, Checkpoint, Fingerprint};
 use sppm_gpu::image_io::{self, ImageErrorKind, Rgb32Image};
 use sppm_gpu::integrators;
 use sppm_gpu::scene::{Method, Scene};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("stored-data-tests").join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn binary() -> Command {
     let mut command = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"));
@@ -65,7 +58,7 @@ fn refused_quickly(path: &Path) -> image_io::ImageError {
 
 #[test]
 fn an_exr_claiming_60000_squared_is_refused_before_allocating() {
-    let dir = scratch("huge-exr");
+    let dir = common::scratch("stored-data-huge-exr");
     let huge = dir.join("huge.exr");
     exr_claiming(&huge, [0, 0, 59_999, 59_999]);
     assert!(std::fs::metadata(&huge).unwrap().len() < 1000);
@@ -98,7 +91,7 @@ fn an_exr_claiming_60000_squared_is_refused_before_allocating() {
 #[test]
 fn an_uncompressed_exr_shorter_than_its_header_is_refused() {
     use exr::prelude::*;
-    let dir = scratch("short-exr");
+    let dir = common::scratch("stored-data-short-exr");
     let path = dir.join("short.exr");
     let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| (x as f32, y as f32, 0.5f32));
     let layer = Layer::new((8, 8), LayerAttributes::default(), Encoding::UNCOMPRESSED, channels);
@@ -127,7 +120,7 @@ fn crc32(bytes: &[u8]) -> u32 {
 
 #[test]
 fn a_png_claiming_60000_squared_is_refused_naming_its_size() {
-    let dir = scratch("huge-png");
+    let dir = common::scratch("stored-data-huge-png");
     let path = dir.join("huge.png");
     image_io::write_png(&path, &Rgb32Image::new(4, 4)).unwrap();
     let mut bytes = std::fs::read(&path).unwrap();
@@ -154,7 +147,7 @@ fn mean() -> Rgb32Image {
 
 #[test]
 fn merge_refuses_a_part_with_nan_infinite_or_negative_pixels() {
-    let dir = scratch("bad-pixels");
+    let dir = common::scratch("stored-data-bad-pixels");
     let good = dir.join("good.exr");
     write_partial(&good, &mean(), 0, 2, &fingerprint()).unwrap();
     for (name, value) in [("nan", f32::NAN), ("inf", f32::INFINITY), ("negative", -0.25)] {
@@ -183,7 +176,7 @@ fn merge_refuses_a_part_with_nan_infinite_or_negative_pixels() {
 /// refused; the untouched one reads.
 #[test]
 fn a_partial_altered_after_writing_is_refused() {
-    let dir = scratch("partial-checksum");
+    let dir = common::scratch("stored-data-partial-checksum");
     let path = dir.join("part.exr");
     write_partial(&path, &mean(), 0, 3, &fingerprint()).unwrap();
     let bytes = std::fs::read(&path).unwrap();
@@ -228,7 +221,7 @@ fn saved(pilot: Option<&str>) -> Checkpoint {
 /// the file; the file as written reads back.
 #[test]
 fn a_checkpoint_altered_after_writing_is_refused() {
-    let dir = scratch("checkpoint-checksum");
+    let dir = common::scratch("stored-data-checkpoint-checksum");
     let path = dir.join("ck");
     for pilot in [None, Some("0/1@1")] {
         checkpoint::write(&path, &saved(pilot)).unwrap();
@@ -263,7 +256,8 @@ fn a_checkpoint_altered_after_writing_is_refused() {
 /// choice.
 #[test]
 fn a_checkpoint_of_version_2_reads() {
-    let path = scratch("checkpoint-version-2").join("ck");
+    let dir = common::scratch("stored-data-checkpoint-version-2");
+    let path = dir.join("ck");
     checkpoint::write(&path, &saved(Some("0/1"))).unwrap();
     let bytes = std::fs::read(&path).unwrap();
     // Version 3 less its last field (the choice: a length of 8 bytes and 3 of text) and the
@@ -279,7 +273,7 @@ fn a_checkpoint_of_version_2_reads() {
 /// A failed write (here the rename, onto a directory) leaves no temporary file behind.
 #[test]
 fn a_failed_checkpoint_write_leaves_no_temporary_file() {
-    let dir = scratch("checkpoint-failed-write");
+    let dir = common::scratch("stored-data-checkpoint-failed-write");
     let target = dir.join("ck");
     std::fs::create_dir_all(target.join("inside")).unwrap();
     let e = checkpoint::write(&target, &saved(None)).expect_err("cannot replace a directory").to_string();
@@ -353,7 +347,7 @@ fn resume_refuses_a_corrupt_checkpoint() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = scratch("resume-corrupt");
+    let dir = common::scratch("stored-data-resume-corrupt");
     let (ck, out) = (dir.join("ck"), dir.join("out.exr"));
     let render = |extra: &[&str]| {
         let mut command = binary();

@@ -146,9 +146,7 @@ fn tutorial_commands_run_and_write_their_images() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("sppm-tutorial-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch("tutorial");
     for args in tutorial().1 {
         let run = as_run(&args);
         let output = Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
@@ -173,7 +171,6 @@ fn tutorial_commands_run_and_write_their_images() {
         let size = std::fs::metadata(&image).map(|m| m.len()).unwrap_or(0);
         assert!(size > 0, "{command}: no image at {}:\n{stderr}", image.display());
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Every ```toml example of the scene format's reference loads: alone when it is a whole

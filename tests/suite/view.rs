@@ -44,29 +44,6 @@ fn binary() -> Command {
     command
 }
 
-/// A fresh directory under the system's temporary directory, removed when dropped (kept, and
-/// named, when the test fails).
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("sppm-view-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        Self(dir)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        if std::thread::panicking() {
-            eprintln!("kept {} for inspection", self.0.display());
-        } else {
-            let _ = std::fs::remove_dir_all(&self.0);
-        }
-    }
-}
-
 /// Sends SIGTERM to `child`, then SIGKILL if it has not exited within `grace`; reaps it.
 fn stop(child: &mut Child, grace: Duration) {
     if child.try_wait().ok().flatten().is_some() {
@@ -412,10 +389,10 @@ fn view_in_xvfb() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = TempDir::new("xvfb");
-    let scene = dir.0.join(SCENE);
+    let dir = common::scratch("view-xvfb");
+    let scene = dir.join(SCENE);
     std::fs::copy(common::scene_path(SCENE), &scene).unwrap();
-    let xvfb = Xvfb::start(&dir.0.join("xvfb.log"));
+    let xvfb = Xvfb::start(&dir.join("xvfb.log"));
     let start = Instant::now();
     let seconds = |from: Instant| from.elapsed().as_secs_f64();
 
@@ -432,7 +409,7 @@ fn view_in_xvfb() {
     let step = Instant::now();
     let saved = view.save(1);
     eprintln!("view: saved {:.1} s after `s`", seconds(step));
-    let (first, first_scene) = check_save(&saved, &dir.0, 1, Method::PtNee);
+    let (first, first_scene) = check_save(&saved, &dir, 1, Method::PtNee);
 
     // (b) Orbit 5 degrees: the view starts over, pauses after two passes again, and saves the
     // moved image as the second save.
@@ -451,7 +428,7 @@ fn view_in_xvfb() {
     });
     eprintln!("view: {title:?} {:.1} s after `Left` (change seen: {changed})", seconds(step));
     let saved = view.save(2);
-    let (second, second_scene) = check_save(&saved, &dir.0, 2, Method::PtNee);
+    let (second, second_scene) = check_save(&saved, &dir, 2, Method::PtNee);
     let (a, b) = (&first_scene.camera, &second_scene.camera);
     assert_eq!(a.look_at, b.look_at, "the orbit keeps the look-at point");
     let (from, to) = (a.position - a.look_at, b.position - b.look_at);

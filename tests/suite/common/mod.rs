@@ -12,7 +12,7 @@ use sppm_gpu::image_io::Rgb32Image;
 use sppm_gpu::integrators::{Integrator, Sppm};
 use sppm_gpu::metrics::{count_negative, count_non_finite};
 use sppm_gpu::scene::Scene;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// The device of the GPU tests: one for the whole test process, its kernels kept for it
 /// (`keep_kernels_in_process`), so that a kernel an earlier test made is not compiled again
@@ -45,8 +45,69 @@ pub fn own_gpu() -> Option<GpuContext> {
     }
 }
 
+/// A test's scratch folder, `sppm-NAME-PID` under the system's temporary folder, made by
+/// [`scratch`]: read it as the [`Path`] it derefs to (or [`Scratch::path`]). Dropping it
+/// removes the folder and everything in it, except while the thread is panicking
+/// (`std::thread::panicking()`): a failing test's files stay there for inspection, and
+/// nothing is printed. Keep it alive while anything still reads or writes the folder
+/// (`let dir = common::scratch("x");` at the top of the test): the test scratch folders were
+/// never removed, and thousands of them piled up in /tmp.
+pub struct Scratch(PathBuf);
+
+/// A fresh, empty scratch folder `sppm-NAME-PID` under the system's temporary folder (one an
+/// earlier run of the same process id left is removed first), removed again when the
+/// returned [`Scratch`] is dropped.
+pub fn scratch(name: &str) -> Scratch {
+    let dir = std::env::temp_dir().join(format!("sppm-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    Scratch(dir)
+}
+
+impl Scratch {
+    /// The folder.
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+
+    /// The folder, left in place: for a failure that returns rather than panics (a
+    /// proptest case's `prop_assert!`), whose files stay as a panicking test's do.
+    pub fn keep(self) -> PathBuf {
+        let mut this = std::mem::ManuallyDrop::new(self);
+        std::mem::take(&mut this.0)
+    }
+}
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<Path> for Scratch {
+    fn as_ref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl AsRef<std::ffi::OsStr> for Scratch {
+    fn as_ref(&self) -> &std::ffi::OsStr {
+        self.0.as_os_str()
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+}
+
 /// An empty scratch folder `sppm-NAME-PID` under the system's temporary folder (emptied if
-/// an earlier run left it).
+/// an earlier run left it). Nothing removes it: prefer [`scratch`], whose guard does.
 pub fn fresh_dir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("sppm-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
