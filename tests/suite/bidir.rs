@@ -449,7 +449,7 @@ fn vcm_merges_only_at_diffuse_surfaces() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = common::fresh_dir("merge-diffuse");
+    let dir = common::scratch("merge-diffuse");
     let text = std::fs::read_to_string(common::scene_path("cornell-glossy.toml")).unwrap();
     // The walls glossy; the light's black material stays diffuse (it reflects nothing), so
     // that both scenes have the same features and share their kernels.
@@ -520,7 +520,7 @@ fn strategy_images_add_up_to_the_image() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = common::fresh_dir("strategies");
+    let dir = common::scratch("strategies");
     let out = dir.join("v.exr");
     let run = |method: &str, shares: &[&str]| {
         std::process::Command::new(env!("CARGO_BIN_EXE_sppm-gpu"))
@@ -575,7 +575,7 @@ fn compare_pilots_vcm_for_the_passes_that_fit() {
     if common::gpu().is_none() {
         return;
     }
-    let dir = common::fresh_dir("compare-pilot");
+    let dir = common::scratch("compare-pilot");
     let (scene, reference) = (common::scene_path("cornell-box.toml"), dir.join("ref.exr"));
     let size = ["--width", "32", "--height", "32"];
     let run = |args: &[&std::ffi::OsStr]| {

@@ -106,15 +106,6 @@ impl Drop for Scratch {
     }
 }
 
-/// An empty scratch folder `sppm-NAME-PID` under the system's temporary folder (emptied if
-/// an earlier run left it). Nothing removes it: prefer [`scratch`], whose guard does.
-pub fn fresh_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("sppm-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 pub fn scene_path(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name)
 }
