@@ -694,8 +694,8 @@ pub const EARLY_LOSS: f64 = 2.0;
 /// Its bias only adds to its figure, so where its relative variance alone has lost to `rival`,
 /// the best other candidate, the pilot spends no more on it: no passes at the wider radius, and
 /// after half its passes none more where it has lost by [`EARLY_LOSS`]. On Mitsuba's legacy.xml
-/// at 30 s, where photon mapping's figure is 3.4x merging alone's, that took the pilot from
-/// 3.33 to 2.66 s (BENCHMARKS.md "VCM").
+/// at 30 s, where photon mapping's figure is 1.4x to 3.4x merging alone's, the pilot took 1.84
+/// to 3.16 s where it took 3.18 to 3.39 (BENCHMARKS.md "VCM").
 #[allow(clippy::too_many_arguments)]
 fn photon_mapping(
     device: &wgpu::Device,
