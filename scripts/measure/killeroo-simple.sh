@@ -14,6 +14,7 @@
 # layer under the coating, so both renders leave pbrt-v4's out (`thickness`, `scatterings`
 # removed: they are checked against pbrt's walk by chi_square::coated_diffuse_matches_pbrt_walk);
 # a third render keeps it. MITSUBA_PYTHON (default python3) has `mitsuba` and `OpenEXR`.
+# With STAGE_ONLY=1 it writes OUT_DIR/killeroo-simple.pbrt and its geometry and stops.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out=${1:?usage: killeroo-simple.sh OUT_DIR [SECONDS] [MIRRORS] [MITSUBA_PYTHON] [SPP]}
@@ -79,6 +80,8 @@ AttributeBegin
     Include "geometry/killeroo.pbrt"
 AttributeEnd
 PBRT
+# STAGE_ONLY=1: the scene files alone (scripts/measure/pbrt-v4-references.sh renders them).
+[ -z "${STAGE_ONLY:-}" ] || exit 0
 cd "$out"
 rm -rf k.toml k.meshes
 "$bin" convert killeroo-simple.pbrt -o k.toml 2>/dev/null

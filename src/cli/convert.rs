@@ -241,9 +241,6 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
     let mut files = Vec::new();
     for (i, shape) in scene.shapes.iter().enumerate() {
         let mut t = Table::new();
-        if shape.velocity.is_some() {
-            return Err(format!("shape {i} moves: velocity is written by hand, not converted"));
-        }
         if let Some(sphere) = scene.spheres.iter().find(|s| s.shape as usize == i) {
             t.insert("type".into(), Value::String("sphere".into()));
             t.insert("center".into(), vec3(sphere.center));
@@ -267,6 +264,9 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
         if let Some(e) = shape.emission {
             sppm_gpu::scene::emitter::emission_toml_keys(&mut t, e);
             t.get_mut("emission").into_iter().for_each(shortest_floats);
+        }
+        if let Some(v) = shape.velocity {
+            t.insert("velocity".into(), vec3(v));
         }
         if let Some(m) = shape.interior {
             t.insert("interior".into(), medium_name(m));

@@ -161,7 +161,7 @@ fn media_load_back_the_same() {
 #[test]
 fn converted_pbrt_scenes_load_back() {
     let dir = common::scratch("convert-pbrt");
-    for name in ["area-power", "coated", "cornell-box", "loopsubdiv", "media", "mix"] {
+    for name in ["area-power", "coated", "cornell-box", "loopsubdiv", "media", "mix", "motion"] {
         let pbrt = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/pbrt").join(format!("{name}.pbrt"));
         let toml = dir.join(format!("{name}.toml"));
         let out = Command::new(env!("CARGO_BIN_EXE_sppm-gpu")).arg("convert").arg(&pbrt).arg("-o").arg(&toml).output().unwrap();
@@ -185,6 +185,8 @@ fn converted_pbrt_scenes_load_back() {
         assert_eq!(a.camera.medium, b.camera.medium, "{name}");
         let media = |s: &Scene| s.shapes.iter().map(|s| (s.interior, s.exterior)).collect::<Vec<_>>();
         assert_eq!(media(&a), media(&b), "{name}");
+        let velocities = |s: &Scene| s.shapes.iter().map(|s| s.velocity).collect::<Vec<_>>();
+        assert_eq!(velocities(&a), velocities(&b), "{name}");
         // Each shape's material as read (pbrt-v4's coateddiffuse layer among them).
         let kinds = |s: &Scene| (0..s.shapes.len() as u32).map(|i| s.shape_material(i).kind.clone()).collect::<Vec<_>>();
         assert_eq!(kinds(&a), kinds(&b), "{name}");

@@ -409,3 +409,62 @@ fn meshes_without_area_are_warned_and_refused_as_lights() {
     assert!(e.message.contains("nothing to emit from"), "{e}");
     assert_eq!(e.line, Some(7), "{e}");
 }
+
+/// `ActiveTransform` and `TransformTimes`: a shape whose transforms at the start and end times
+/// differ by a translation moves over the camera's shutter (our `velocity`), from where the
+/// shutter opens; motion that rotates or scales, a moving camera, light or instance, and a
+/// shutter open outside the transform times are refused, naming the directive.
+#[test]
+fn motion_from_active_transforms() {
+    let s = load(
+        "AttributeBegin\n Translate 1 0 0\n ActiveTransform StartTime\n Translate 0 2 0\n ActiveTransform All\n\
+         Shape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n\
+         AttributeBegin\n ActiveTransform EndTime\nAttributeEnd\nShape \"sphere\"\n",
+    );
+    assert!(close(s.spheres[0].center, Vec3::new(1.0, 2.0, 0.0)), "{:?}", s.spheres[0]);
+    assert!(close(s.shapes[0].velocity.unwrap(), Vec3::new(0.0, -2.0, 0.0)), "{:?}", s.shapes[0].velocity);
+    // AttributeEnd restored both transforms and which of them directives set.
+    assert_eq!(s.shapes[1].velocity, None);
+
+    // The times (0, 2), the shutter (0.5, 1.5): the shape from a quarter of the way, at half the
+    // displacement over the shutter; a mesh moves whole.
+    let timed = |shutter: &str, shape: &str| {
+        format!(
+            "TransformTimes 0 2\nScale -1 1 1\nCamera \"perspective\" {shutter}\nWorldBegin\nLightSource \"point\"\n\
+             ActiveTransform EndTime\nTranslate 4 0 0\nActiveTransform All\n{shape}"
+        )
+    };
+    let text = timed("\"float shutteropen\" 0.5 \"float shutterclose\" 1.5", "Shape \"sphere\"\n");
+    let (s, _) = scene::pbrt::load_str(&text, &dir().join("inline.pbrt"));
+    let s = s.unwrap();
+    assert!(close(s.spheres[0].center, Vec3::new(1.0, 0.0, 0.0)), "{:?}", s.spheres[0]);
+    assert!(close(s.shapes[0].velocity.unwrap(), Vec3::new(2.0, 0.0, 0.0)), "{:?}", s.shapes[0].velocity);
+    let triangle = "Shape \"trianglemesh\" \"point3 P\" [ 0 0 1  1 0 1  0 1 1 ]\n";
+    let (s, _) = scene::pbrt::load_str(&timed("", triangle), &dir().join("inline.pbrt"));
+    let s = s.unwrap();
+    assert!(close(s.triangles[0].p[0], Vec3::Z) && close(s.shapes[0].velocity.unwrap(), Vec3::new(2.0, 0.0, 0.0)));
+
+    let e = error(&timed("\"float shutterclose\" 3", "Shape \"sphere\"\n"));
+    assert!(e.message.contains("shutter") && e.key.as_deref() == Some("Shape \"sphere\""), "{e}");
+    let world = "Camera \"perspective\"\nWorldBegin\nLightSource \"point\"\n";
+    let e = error(&format!("{world}ActiveTransform StartTime\nRotate 30 0 0 1\nShape \"sphere\"\n"));
+    assert!(e.message.contains("rotates or scales") && e.line == Some(6), "{e}");
+    let e = error("ActiveTransform EndTime\nTranslate 1 0 0\nCamera \"perspective\"\nWorldBegin\n");
+    assert!(e.message.contains("moving camera") && e.line == Some(3), "{e}");
+    let e = error(&format!("{world}ActiveTransform EndTime\nTranslate 1 0 0\nLightSource \"point\"\n"));
+    assert!(e.message.contains("light that moves") && e.line == Some(6), "{e}");
+    let e = error(&format!(
+        "{world}ObjectBegin \"o\"\nShape \"sphere\"\nObjectEnd\nActiveTransform EndTime\nTranslate 1 0 0\nObjectInstance \"o\"\n"
+    ));
+    assert!(e.message.contains("object instance that moves"), "{e}");
+    // tests/scenes/pbrt/motion.pbrt: times (0, 2), the shutter (0, 1): half of each motion,
+    // in our world, which mirrors pbrt's x for its camera (no `Scale -1 1 1` there).
+    let s = scene::load(&dir().join("motion.pbrt")).unwrap_or_else(|e| panic!("{e}"));
+    let v: Vec<Option<Vec3>> = s.shapes.iter().map(|s| s.velocity).collect();
+    assert!(
+        v[0].is_none() && close(v[1].unwrap(), Vec3::new(-0.5, 0.0, 0.0)) && close(v[2].unwrap(), Vec3::new(0.0, 0.25, 0.0)),
+        "{v:?}"
+    );
+    let e = error(&format!("{world}ActiveTransform Sometimes\n"));
+    assert!(e.message.contains("Sometimes") && e.line == Some(4), "{e}");
+}

@@ -3,8 +3,8 @@
 //!
 //! - `Camera "perspective"`: `fov` (90 degrees) spans the image's shorter axis, as in pbrt;
 //!   `lensradius` (0) and `focaldistance` (1e6) make a thin lens; `screenwindow` and
-//!   `frameaspectratio` other than the film's are refused; `shutteropen`/`shutterclose` are
-//!   read (nothing moves). Other cameras are refused.
+//!   `frameaspectratio` other than the film's are refused; `shutteropen`/`shutterclose` (0, 1)
+//!   set how far a moving shape moves while it is open (shape.rs). Other cameras are refused.
 //! - `Film "rgb"` (and `gbuffer`, `spectral`, read as rgb): `xresolution` (1280),
 //!   `yresolution` (720), `cropwindow` (the image is the window); `filename` is not applied
 //!   (warned: `--output` names the image); `iso` (100), `whitebalance` (0) and `sensor`

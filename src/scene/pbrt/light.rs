@@ -73,6 +73,9 @@ impl Reader {
 
     /// `LightSource "kind"`.
     pub(super) fn light(&mut self, kind: &str, p: &Params) -> Result<()> {
+        if self.moving() {
+            return Err(p.directive_error("a light that moves (ActiveTransform) is not modelled by sppm-gpu"));
+        }
         let m = self.mirror * self.state.ctm;
         let scale = self.light_scale(p)?;
         let power = p.float("power")?;

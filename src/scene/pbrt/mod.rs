@@ -87,7 +87,12 @@ struct AreaLight {
 /// The attributes `AttributeBegin` saves.
 #[derive(Clone, Debug)]
 struct State {
+    /// The CTM at the start time of `TransformTimes` ...
     ctm: Mat4,
+    /// ... and at its end time: they differ where `ActiveTransform` set one alone (motion).
+    ctm_end: Mat4,
+    /// Which of the two the transform directives set (`ActiveTransform`): start, end.
+    active: [bool; 2],
     reverse: bool,
     /// Index into the materials; `None` for pbrt-v4's default (a diffuse of 0.5).
     material: Option<u32>,
@@ -133,7 +138,10 @@ struct Reader {
     warnings: Vec<SceneError>,
     state: State,
     stack: Vec<(State, Block, Rc<PathBuf>, usize)>,
-    named_coords: HashMap<String, Mat4>,
+    /// `CoordinateSystem`'s CTMs, at the start and end times.
+    named_coords: HashMap<String, [Mat4; 2]>,
+    /// `TransformTimes` (0, 1).
+    transform_times: (f32, f32),
     world: bool,
     /// The mirror of the world our camera needs (identity when none, and before `WorldBegin`).
     mirror: Mat4,
@@ -170,9 +178,18 @@ impl Reader {
             path: path.to_path_buf(),
             dir: Rc::new(path.parent().unwrap_or(Path::new("")).to_path_buf()),
             warnings: Vec::new(),
-            state: State { ctm: Mat4::IDENTITY, reverse: false, material: None, area: None, media: Default::default() },
+            state: State {
+                ctm: Mat4::IDENTITY,
+                ctm_end: Mat4::IDENTITY,
+                active: [true; 2],
+                reverse: false,
+                material: None,
+                area: None,
+                media: Default::default(),
+            },
             stack: Vec::new(),
             named_coords: HashMap::new(),
+            transform_times: (0.0, 1.0),
             world: false,
             mirror: Mat4::IDENTITY,
             options: Options::default(),
@@ -231,7 +248,7 @@ impl Reader {
             let err = |m: String| SceneError::new(file, Some(line), Some(&name), m);
             let mut args = Args { tokens, i: &mut i, file, line, name: &name };
             match name.as_str() {
-                "Identity" => self.state.ctm = Mat4::IDENTITY,
+                "Identity" => self.set_ctm(Mat4::IDENTITY),
                 "Translate" => {
                     let v = args.numbers(3)?;
                     self.concat(Mat4::from_translation(Vec3::new(v[0], v[1], v[2])));
@@ -259,19 +276,19 @@ impl Reader {
                     // The 16 numbers are the matrix's columns, as pbrt-v4 transposes them.
                     let m = Mat4::from_cols_array(&v);
                     if name == "Transform" {
-                        self.state.ctm = m;
+                        self.set_ctm(m);
                     } else {
                         self.concat(m);
                     }
                 }
                 "CoordinateSystem" => {
                     let n = args.string()?;
-                    self.named_coords.insert(n, self.state.ctm);
+                    self.named_coords.insert(n, [self.state.ctm, self.state.ctm_end]);
                 }
                 "CoordSysTransform" => {
                     let n = args.string()?;
                     match self.named_coords.get(&n) {
-                        Some(m) => self.state.ctm = *m,
+                        Some(&[start, end]) => (self.state.ctm, self.state.ctm_end) = (start, end),
                         None => self.warnings.push(err(format!("couldn't find named coordinate system \"{n}\""))),
                     }
                 }
@@ -286,7 +303,8 @@ impl Reader {
                     match self.stack.pop() {
                         Some((state, block, _, _)) if block == want => {
                             if block == Block::Transform {
-                                self.state.ctm = state.ctm;
+                                (self.state.ctm, self.state.ctm_end, self.state.active) =
+                                    (state.ctm, state.ctm_end, state.active);
                             } else {
                                 self.state = state;
                             }
@@ -327,10 +345,16 @@ impl Reader {
                     let Some(shapes) = self.objects.get(&n).cloned() else {
                         return Err(err(format!("{n}: named object not defined")));
                     };
+                    if self.moving() {
+                        return Err(err("an object instance that moves (ActiveTransform) is not modelled by sppm-gpu".into()));
+                    }
                     let instance = self.state.ctm;
                     for s in &shapes {
+                        let ctm = instance * s.ctm;
                         let state = State {
-                            ctm: instance * s.ctm,
+                            ctm,
+                            ctm_end: ctm,
+                            active: [true; 2],
                             reverse: s.reverse,
                             material: s.material,
                             area: None,
@@ -344,8 +368,8 @@ impl Reader {
                         return Err(err("WorldBegin given twice".into()));
                     }
                     self.world = true;
-                    self.state.ctm = Mat4::IDENTITY;
-                    self.named_coords.insert("world".into(), Mat4::IDENTITY);
+                    (self.state.ctm, self.state.ctm_end, self.state.active) = (Mat4::IDENTITY, Mat4::IDENTITY, [true; 2]);
+                    self.named_coords.insert("world".into(), [Mat4::IDENTITY; 2]);
                     self.mirror = self.camera_mirror()?;
                 }
                 "WorldEnd" => self.warnings.push(err("WorldEnd is pbrt-v3's: pbrt-v4 has none (passed over)".into())),
@@ -365,11 +389,14 @@ impl Reader {
                     match name.as_str() {
                         "Camera" => {
                             // The camera's transform is the CTM's inverse, and names "camera".
+                            if self.moving() {
+                                return Err(err("a moving camera (ActiveTransform) is not modelled by sppm-gpu".into()));
+                            }
                             let world_from_camera = self.state.ctm.inverse();
                             if !world_from_camera.is_finite() {
                                 return Err(err("the camera's transform cannot be inverted".into()));
                             }
-                            self.named_coords.insert("camera".into(), world_from_camera);
+                            self.named_coords.insert("camera".into(), [world_from_camera; 2]);
                             let outside = &self.state.media.1;
                             if !outside.is_empty() {
                                 self.camera_medium = Some((outside.clone(), err(String::new())));
@@ -438,6 +465,12 @@ impl Reader {
                                 if self.state.area.is_some() {
                                     return Err(err("area lights not supported with object instancing".into()));
                                 }
+                                if self.state.ctm != self.state.ctm_end {
+                                    return Err(err(
+                                        "a shape that moves (ActiveTransform) inside an object is not modelled by sppm-gpu"
+                                            .into(),
+                                    ));
+                                }
                                 let s = &self.state;
                                 shapes.push(ShapeRecord {
                                     kind: first,
@@ -475,18 +508,56 @@ impl Reader {
                         "Attribute (default parameters of shapes, lights, materials) is not modelled by sppm-gpu".into()
                     ))
                 }
-                "MakeNamedMaterials" | "ActiveTransform" | "TransformTimes" => {
-                    return Err(err(format!("{name} (motion or animated transforms) is not modelled by sppm-gpu")))
+                "ActiveTransform" => {
+                    self.state.active = match args.bare_word()?.as_str() {
+                        "StartTime" => [true, false],
+                        "EndTime" => [false, true],
+                        "All" => [true, true],
+                        other => return Err(err(format!("unknown argument \"{other}\" to ActiveTransform"))),
+                    };
                 }
+                "TransformTimes" => {
+                    let v = args.numbers(2)?;
+                    if self.world {
+                        return Err(err("TransformTimes is allowed only before WorldBegin".into()));
+                    }
+                    if !(v[0].is_finite() && v[1].is_finite() && v[1] > v[0]) {
+                        return Err(err(format!("the end time {} is not after the start time {}", v[1], v[0])));
+                    }
+                    self.transform_times = (v[0], v[1]);
+                }
+                "MakeNamedMaterials" => return Err(err(format!("{name} is not modelled by sppm-gpu"))),
                 other => return Err(err(format!("unknown directive \"{other}\""))),
             }
         }
         Ok(())
     }
 
-    /// `ctm = ctm * m`, as pbrt applies a transform directive.
+    /// `ctm = ctm * m`, as pbrt applies a transform directive, to the active CTMs.
     fn concat(&mut self, m: Mat4) {
-        self.state.ctm *= m;
+        let s = &mut self.state;
+        if s.active[0] {
+            s.ctm *= m;
+        }
+        if s.active[1] {
+            s.ctm_end *= m;
+        }
+    }
+
+    /// `ctm = m` for the active CTMs.
+    fn set_ctm(&mut self, m: Mat4) {
+        let s = &mut self.state;
+        if s.active[0] {
+            s.ctm = m;
+        }
+        if s.active[1] {
+            s.ctm_end = m;
+        }
+    }
+
+    /// Whether the CTMs at the start and end times differ.
+    fn moving(&self) -> bool {
+        self.state.ctm != self.state.ctm_end
     }
 
     /// Refuses a world directive before `WorldBegin`.
@@ -605,6 +676,20 @@ impl Args<'_, '_> {
             }
             other => Err(self.error(format!(
                 "expected a quoted string, found {}",
+                other.map_or("the end of the file".to_owned(), Token::describe)
+            ))),
+        }
+    }
+
+    /// One word outside quotes (`ActiveTransform StartTime`).
+    fn bare_word(&mut self) -> Result<String> {
+        match self.tokens.get(*self.i) {
+            Some(Token { tok: Tok::Word(w), .. }) => {
+                *self.i += 1;
+                Ok(w.clone())
+            }
+            other => Err(self.error(format!(
+                "expected StartTime, EndTime or All, found {}",
                 other.map_or("the end of the file".to_owned(), Token::describe)
             ))),
         }

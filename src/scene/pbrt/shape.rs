@@ -19,6 +19,9 @@
 //! - `alpha` other than 1 is refused. Every other shape (`cylinder`, `curve`, ...) is
 //!   refused.
 //!
+//! A shape whose CTMs at `TransformTimes`' start and end differ by a translation moves (our
+//! `velocity`, [`Reader::motion`]); one that rotates or scales between them is refused.
+//!
 //! Texture coordinates are pbrt's: a mesh's `uv`, else (0, 0), (1, 0), (1, 1) on each
 //! triangle; a sphere's (phi / 2 pi, 1 - theta / pi); a disk's (phi / 2 pi, (rmax - r) /
 //! (rmax - rinner)).
@@ -35,7 +38,8 @@ const DISK_SEGMENTS: u32 = 256;
 impl Reader {
     /// `Shape "kind"` under `state`.
     pub(super) fn shape(&mut self, kind: &str, p: &Params, state: &State) -> Result<()> {
-        let m = self.mirror * state.ctm;
+        let (ctm, velocity) = self.motion(p, state)?;
+        let m = self.mirror * ctm;
         let linear = Mat3::from_mat4(m);
         let transform = Transform::from_affine(linear, m.w_axis.truncate());
         if p.float_or("alpha", 1.0)? != 1.0 || p.list.iter().any(|x| x.name == "alpha" && x.ty == "texture") {
@@ -127,12 +131,13 @@ impl Reader {
             self.triangles[first..].iter_mut().filter(|t| t.uv.is_none()).for_each(|t| t.uv = Some(uv));
         }
         let spheres = if shape_kind == ShapeKind::Sphere { &self.spheres[self.spheres.len() - 1..] } else { &[] };
-        mesh::check_extent(&self.triangles[first..], spheres, Vec3::ZERO).map_err(|e| p.directive_error(e))?;
+        mesh::check_extent(&self.triangles[first..], spheres, velocity.unwrap_or(Vec3::ZERO))
+            .map_err(|e| p.directive_error(e))?;
         self.shapes.push(Shape {
             kind: shape_kind,
             material,
             emission,
-            velocity: None,
+            velocity,
             line: p.line,
             velocity_line: None,
             sphere_frame,
@@ -151,6 +156,44 @@ impl Reader {
             self.shape_media.push((index, names, p.directive_error(String::new())));
         }
         Ok(())
+    }
+
+    /// The CTM of a shape under `state` at the shutter's opening, and its velocity (our
+    /// world's displacement over the shutter) where the CTMs at `TransformTimes`' start and end
+    /// differ. pbrt-v4 interpolates between them over those times (its AnimatedTransform, held
+    /// at either end outside them) and the camera samples times over its shutter
+    /// (`shutteropen`, `shutterclose`: 0, 1); a shape that only translates moves at one
+    /// velocity while the shutter lies within the times, which our motion blur renders (the
+    /// shape at its position + velocity t, t in [0, 1) over the shutter). A CTM that also
+    /// rotates or scales, or a shutter open outside the times, is refused.
+    fn motion(&self, p: &Params, state: &State) -> Result<(glam::Mat4, Option<Vec3>)> {
+        if state.ctm == state.ctm_end {
+            return Ok((state.ctm, None));
+        }
+        let (start, end) = (state.ctm, state.ctm_end);
+        let linear = |m: glam::Mat4| Mat3::from_mat4(m).to_cols_array();
+        let scale = linear(start).iter().chain(&linear(end)).fold(0.0f32, |a, x| a.max(x.abs())).max(1e-30);
+        if linear(start).iter().zip(&linear(end)).any(|(a, b)| (a - b).abs() > 1e-5 * scale) {
+            return Err(p.directive_error(
+                "the shape's transform rotates or scales between TransformTimes' start and end (ActiveTransform): \
+                 motion that does not only translate is not modelled by sppm-gpu",
+            ));
+        }
+        let camera = self.options.camera.as_ref().map(|(_, params, _)| params);
+        let shutter = |key: &str, default: f32| camera.map_or(Ok(Some(default)), |c| c.float(key)).map(|x| x.unwrap_or(default));
+        let (open, close) = (shutter("shutteropen", 0.0)?, shutter("shutterclose", 1.0)?);
+        let (t0, t1) = self.transform_times;
+        if open < t0 || close > t1 || close <= open {
+            return Err(p.directive_error(format!(
+                "the camera's shutter [{open}, {close}] is not within TransformTimes [{t0}, {t1}]: a shape held still for \
+                 part of the shutter is not modelled by sppm-gpu"
+            )));
+        }
+        let displacement = (end.w_axis - start.w_axis).truncate();
+        let mut at_open = start;
+        at_open.w_axis += (displacement * (open - t0) / (t1 - t0)).extend(0.0);
+        let velocity = self.mirror.transform_vector3(displacement * (close - open) / (t1 - t0));
+        Ok((at_open, Some(velocity)))
     }
 
     /// The area pbrt-v4's `power` divides by: its `Shape::Area()` of one shape, where a mesh
