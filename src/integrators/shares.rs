@@ -663,10 +663,10 @@ pub const BIAS_RADIUS_FACTOR: f32 = 2.0;
 /// passes, leave it about 1.4x that (BENCHMARKS.md "VCM").
 pub const BIAS_PASSES: u32 = 4;
 
-/// The factor by which photon mapping's figure without its bias, after half its pilot passes,
-/// may exceed the best other candidate's before the rest are not run: a pass's share of a
-/// candidate's relative variance stays within 2x of their median but for a rare pass, which
-/// raises the figure (BENCHMARKS.md "VCM").
+/// The factor by which photon mapping's figure after half its pilot passes (without its bias,
+/// or with it from as many pairs) may exceed the best other candidate's before the rest are not
+/// run: a pass's share of a candidate's relative variance stays within 2x of their median but
+/// for a rare pass, which raises the figure (BENCHMARKS.md "VCM").
 pub const EARLY_LOSS: f64 = 2.0;
 
 /// Photon mapping's figures ([`Choice::PHOTON_MAPPING`]): `passes` passes of SPPM's
@@ -691,9 +691,11 @@ pub const EARLY_LOSS: f64 = 2.0;
 /// same random numbers ([`paired_bias`]), weighed by the passes it would render
 /// ([`Candidate::bias`]).
 ///
-/// Its bias only adds to its figure, so where its relative variance alone has lost to `rival`,
-/// the best other candidate, the pilot spends no more on it: no passes at the wider radius, and
-/// after half its passes none more where it has lost by [`EARLY_LOSS`]. On Mitsuba's legacy.xml
+/// Its bias only adds to its figure, so the pilot spends on it only while it can win against
+/// `rival`, the best other candidate: after half its passes it stops where its relative variance
+/// alone has lost by [`EARLY_LOSS`], else it runs the passes at the wider radius then, paired
+/// with those, and stops where with its bias it has lost by [`EARLY_LOSS`]; after all its
+/// passes, the pairs that are left run only where its relative variance alone has not lost. On Mitsuba's legacy.xml
 /// at 30 s, where photon mapping's figure is 1.4x to 3.4x merging alone's, the pilot took 1.84
 /// to 3.16 s where it took 3.18 to 3.39 (BENCHMARKS.md "VCM").
 #[allow(clippy::too_many_arguments)]
@@ -750,30 +752,44 @@ fn photon_mapping(
         };
         (rel_variance(&run.estimates, mu), cost)
     };
-    // Whether photon mapping has lost to the best other candidate by `factor` on its relative
-    // variance alone: its bias only adds to its figure.
-    let lost = |(variance, cost): (f64, f64), factor: f64| {
+    // Whether photon mapping's figure, from `variance` (its relative variance, and its bias
+    // where measured) and `cost`, has lost to the best other candidate by `factor`.
+    let lost = |variance: f64, cost: f64, factor: f64| {
         rival.is_some_and(|other| variance * cost / PHOTON_MAPPING_MARGIN > factor * other.figure())
     };
+    let mut wide_scene = mapping.clone();
+    wide_scene.render.radius = mapping.render.radius.map(|r| r * BIAS_RADIUS_FACTOR);
+    let bias_of = |run: &SppmPasses, wide: &SppmPasses| paired_bias(&run.estimates, &wide.estimates, mu).max(0.0);
     let mut run = SppmPasses::new(sppm_at(&mapping)?);
     let half = passes.div_ceil(2).max(2).min(passes);
     run.run(half, log)?;
-    let at_half = figures(&run);
-    let early = lost(at_half, EARLY_LOSS);
-    if !early {
-        run.run(passes - half, log)?;
+    let (mut variance, mut cost) = figures(&run);
+    // After half its passes: it stops where its variance alone has lost by EARLY_LOSS; else
+    // its passes at the wider radius pair with those it ran, and it stops where with its bias
+    // it has lost by EARLY_LOSS.
+    let mut wide: Option<SppmPasses> = None;
+    let mut stop = lost(variance, cost, EARLY_LOSS);
+    if !stop {
+        let mut pairs = SppmPasses::new(sppm_at(&wide_scene)?);
+        pairs.run(BIAS_PASSES.min(half), false)?;
+        stop = lost(variance + bias_of(&run, &pairs) * render_passes, cost, EARLY_LOSS);
+        wide = Some(pairs);
     }
-    let (variance, cost) = if early { at_half } else { figures(&run) };
-    // Its bias, where it could still win.
-    let (bias, wide) = if lost((variance, cost), 1.0) {
-        (0.0, None)
-    } else {
-        let mut wide = mapping.clone();
-        wide.render.radius = mapping.render.radius.map(|r| r * BIAS_RADIUS_FACTOR);
-        let mut wide = SppmPasses::new(sppm_at(&wide)?);
-        wide.run(BIAS_PASSES.min(passes), false)?;
-        (paired_bias(&run.estimates, &wide.estimates, mu), Some(wide))
-    };
+    if !stop {
+        run.run(passes - half, log)?;
+        (variance, cost) = figures(&run);
+        // Its bias, where it could still win.
+        if !lost(variance, cost, 1.0) {
+            let mut pairs = match wide.take() {
+                Some(pairs) => pairs,
+                None => SppmPasses::new(sppm_at(&wide_scene)?),
+            };
+            let more = BIAS_PASSES.min(passes).saturating_sub(pairs.estimates.len() as u32);
+            pairs.run(more, false)?;
+            wide = Some(pairs);
+        }
+    }
+    let bias = wide.as_ref().map_or(0.0, |pairs| bias_of(&run, pairs));
     let (hits, seconds) = run.means();
     if log {
         let d = pass_deviations(&run.estimates, mu);
@@ -796,7 +812,7 @@ fn photon_mapping(
         seconds,
         passes: run.estimates.len() as u32,
         counts,
-        bias: bias.max(0.0) * render_passes,
+        bias: bias * render_passes,
         margin: PHOTON_MAPPING_MARGIN,
     })
 }

@@ -401,6 +401,12 @@ fn vcm_as_photon_mapping_is_sppm_with_the_global_schedule() {
     let camera_paths = 64.0 * 64.0 * sppm_gpu::integrators::sppm::direct_samples(&scene.render) as f64;
     assert_eq!(mapped.counts[sppm_gpu::layout::WORK_CAMERA_VERTICES as usize], camera_paths);
     assert!(mapped.rel_variance.is_finite() && mapped.rel_variance > 0.0 && mapped.cost > 0.0, "{pilot}");
+    // Its bias makes it lose there by far (5x at 64x64): after half its
+    // passes and as many paired ones at twice the radius, the pilot runs no more of it.
+    use sppm_gpu::integrators::shares::{EARLY_LOSS, PILOT_PASSES};
+    let rival = pilot.candidates.iter().filter(|c| c.choice != CANDIDATES[6]).map(|c| c.figure()).fold(f64::INFINITY, f64::min);
+    assert!(mapped.bias > 0.0 && mapped.figure() > EARLY_LOSS * rival, "{pilot}");
+    assert_eq!(mapped.passes, PILOT_PASSES / 2, "{pilot}");
 
     // On the room lit through a pane, SPPM's gather takes the light of the tall block's lit top
     // into its front's top rows (a bias the others' merges do not have): the pilot rates photon
