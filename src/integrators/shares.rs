@@ -334,7 +334,7 @@ pub struct Candidate {
     /// The measured seconds of one of its pilot passes (their mean, read-backs included).
     pub seconds: f64,
     /// Its pilot passes: the pilot's passes a candidate, or for photon mapping half of them
-    /// where its relative variance alone had lost by [`EARLY_LOSS`].
+    /// where its figure after them had lost by [`EARLY_LOSS`].
     pub passes: u32,
     /// Its work a pass, by `WORK_*` word (the mean over its passes); for photon mapping its
     /// camera paths in the camera vertices' word, its photon hits in the merge candidates'.
