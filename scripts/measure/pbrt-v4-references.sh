@@ -128,7 +128,7 @@ if gray:
     # A conductor's named spectra: copper's RGB means (pbrt-v4's metal-Cu-eta and -k).
     text = re.sub(r'"spectrum\s+eta"\s*\[?\s*"[^"]*"\s*\]?', '"rgb eta" [ 0.6 0.6 0.6 ]', text)
     text = re.sub(r'"spectrum\s+k"\s*\[?\s*"[^"]*"\s*\]?', '"rgb k" [ 2.9 2.9 2.9 ]', text)
-    assert '"spectrum' not in text and 'blackbody' not in text, 'a spectrum left in ' + src
+    assert not re.search(r'"(spectrum|blackbody)\s+\w+"', text), 'a spectrum left in ' + src
 open(dst, 'w').write(text)
 PY
     ref=$out/$tag-pbrt.exr
