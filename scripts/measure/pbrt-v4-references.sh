@@ -56,19 +56,12 @@ stage() {
         local dir=$out/killeroos
         SPPM_GPU=$bin STAGE_ONLY=1 bash scripts/measure/killeroo-simple.sh "$dir" 1 "$mirrors" >&2
         # killeroo-moving.pbrt as the collection has it (comments left out): killeroo-simple's
-        # camera, light and floor (its size and samples, which this script sets anyway), and
-        # each killeroo's start transform translated (ActiveTransform).
-        sed -n '/^AttributeBegin$/,$p' "$dir/killeroo-simple.pbrt" | sed '/^    Scale 0.5 0.5 0.5$/,$d' >"$dir/lights.part"
+        # camera, light, floor and first killeroo's transform and material (its size and
+        # samples, which this script sets anyway), then each killeroo's start transform
+        # translated (ActiveTransform).
         {
-            sed -n '1,/^WorldBegin$/p' "$dir/killeroo-simple.pbrt" | sed 's/killeroo-simple.exr/killeroo-moving.exr/'
-            cat "$dir/lights.part"
+            sed '/^    Translate 100 200 -140$/q' "$dir/killeroo-simple.pbrt" | sed 's/killeroo-simple.exr/killeroo-moving.exr/'
             cat <<'PBRT'
-    Scale 0.5 0.5 0.5
-    Rotate -60 0 0 1
-    Material "coateddiffuse"
-        "float roughness" [ 0.025 ]
-        "rgb reflectance" [ 0.4 0.2 0.2 ]
-    Translate 100 200 -140
     ActiveTransform StartTime
     Translate 35 35 35
     AttributeBegin

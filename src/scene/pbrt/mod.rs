@@ -461,11 +461,12 @@ impl Reader {
                         "LightSource" => self.light(&first, &params)?,
                         "AreaLightSource" => self.area_light(&first, &params)?,
                         "Shape" => {
+                            let moving = self.moving();
                             if let Some((_, shapes)) = &mut self.object {
                                 if self.state.area.is_some() {
                                     return Err(err("area lights not supported with object instancing".into()));
                                 }
-                                if self.state.ctm != self.state.ctm_end {
+                                if moving {
                                     return Err(err(
                                         "a shape that moves (ActiveTransform) inside an object is not modelled by sppm-gpu"
                                             .into(),
@@ -669,30 +670,22 @@ impl Args<'_, '_> {
 
     /// One quoted string.
     fn string(&mut self) -> Result<String> {
-        match self.tokens.get(*self.i) {
-            Some(Token { tok: Tok::Str(s), .. }) => {
-                *self.i += 1;
-                Ok(s.clone())
-            }
-            other => Err(self.error(format!(
-                "expected a quoted string, found {}",
-                other.map_or("the end of the file".to_owned(), Token::describe)
-            ))),
-        }
+        self.text("a quoted string", |tok| if let Tok::Str(s) = tok { Some(s) } else { None })
     }
 
     /// One word outside quotes (`ActiveTransform StartTime`).
     fn bare_word(&mut self) -> Result<String> {
-        match self.tokens.get(*self.i) {
-            Some(Token { tok: Tok::Word(w), .. }) => {
-                *self.i += 1;
-                Ok(w.clone())
-            }
-            other => Err(self.error(format!(
-                "expected StartTime, EndTime or All, found {}",
-                other.map_or("the end of the file".to_owned(), Token::describe)
-            ))),
+        self.text("StartTime, EndTime or All", |tok| if let Tok::Word(w) = tok { Some(w) } else { None })
+    }
+
+    /// The next token's text where `pick` takes it, else an error that `expected` it.
+    fn text(&mut self, expected: &str, pick: fn(&Tok) -> Option<&String>) -> Result<String> {
+        let next = self.tokens.get(*self.i);
+        if let Some(text) = next.and_then(|t| pick(&t.tok)) {
+            *self.i += 1;
+            return Ok(text.clone());
         }
+        Err(self.error(format!("expected {expected}, found {}", next.map_or("the end of the file".to_owned(), Token::describe))))
     }
 
     /// `n` finite numbers, in brackets or not.
