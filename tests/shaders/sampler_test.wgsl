@@ -171,7 +171,7 @@ fn test_density(w: vec3f) -> f32 {
             return rough_conductor_eval(test_glossy(), q.wo, w, q.ns).pdf;
         }
         case SAMPLER_ROUGH_DIELECTRIC: {
-            return rough_dielectric_eval(q.ior, q.alpha, test_beckmann(), q.wo, w, q.ng, q.ns, q.radiance != 0u).pdf;
+            return rough_dielectric_eval(q.ior, q.alpha, test_beckmann(), q.wo, w, q.ns, q.radiance != 0u).pdf;
         }
         case SAMPLER_PLASTIC: {
             return plastic_eval(test_coated(MATERIAL_PLASTIC), vec3f(q.albedo), test_surface(), q.wo, w).pdf;
@@ -245,12 +245,12 @@ fn draw_sample(i: u32) {
             b = BsdfEval(vec3f(p / max(abs(dot(s.wi, q.ns)), 1e-30)), test_density(s.wi));
         }
         case SAMPLER_SMOOTH_DIELECTRIC: {
-            s = smooth_dielectric_sample(-q.wo, q.ng, q.ns, q.ior, u.x, q.radiance != 0u);
+            s = smooth_dielectric_sample(-q.wo, q.ns, q.ior, u.x, q.radiance != 0u);
         }
         default: {
             let radiance = q.radiance != 0u;
-            s = rough_dielectric_sample(-q.wo, q.ng, q.ns, q.ior, q.alpha, test_beckmann(), u, radiance);
-            b = rough_dielectric_eval(q.ior, q.alpha, test_beckmann(), q.wo, s.wi, q.ng, q.ns, radiance);
+            s = rough_dielectric_sample(-q.wo, q.ns, q.ior, q.alpha, test_beckmann(), u, radiance);
+            b = rough_dielectric_eval(q.ior, q.alpha, test_beckmann(), q.wo, s.wi, q.ns, radiance);
         }
     }
     test_out[2u * i] = vec4f(s.wi, s.weight.x);

@@ -5,8 +5,11 @@
 //   Rough: microfacets (shared/bsdf/microfacet.wgsl), Walter et al. 2007, eq. 20 and 21,
 //   a visible normal sampled (Heitz 2018), then reflection or refraction through it.
 // Radiance crossing the interface is scaled by 1 / eta^2; photons carry flux and are not
-// (pbrt-v4 sec. 9.5.2): `radiance` tells which a path is. The side is told by ng, the law
-// follows ns.
+// (pbrt-v4 sec. 9.5.2): `radiance` tells which a path is. The side and the law both follow
+// ns, as in pbrt-v4 (DielectricBxDF works in the shading frame, sec. 9.5) and Mitsuba 3: where
+// ns and ng disagree about a direction's side (a ray grazing a smooth-shaded mesh, common
+// inside thick glass) the path goes on, leaving on whichever side of ng its new direction
+// points to.
 // Parameters: `ior` of the inside relative to the outside; `roughness` (alpha, 0 smooth) and
 // `distribution`; `specular` and `transmittance` (Mitsuba's specular_reflectance and
 // specular_transmittance, 1 when physical) scale each lobe, which is still chosen with the
@@ -25,14 +28,12 @@ const MATERIAL_DIELECTRIC: u32 = 2u;
 override USES_SMOOTH_DIELECTRIC: bool = true;
 override USES_ROUGH_DIELECTRIC: bool = true;
 
-// The smooth lobes: sample a smooth dielectric from direction of travel d at geometric normal ng and shading
-// normal ns. Reflection or refraction is chosen with the Fresnel probability, so the weight
-// is 1, times 1 / eta^2 for refracted radiance (pbrt-v4 sec. 9.5.2); photons carry flux and
-// are not scaled. The side comes from ng, the law from ns, as in the rough case: Mitsuba 3's
-// dielectric works in the shading frame, so a smooth-shaded mesh refracts smoothly, not by
-// its facets. A direction at or below ns's horizon ends the path.
-fn smooth_dielectric_sample(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, u: f32, radiance: bool) -> BsdfSample {
-    let entering = dot(d, ng) < 0.0;
+// The smooth lobes: sample a smooth dielectric from direction of travel d at shading normal
+// ns. Reflection or refraction is chosen with the Fresnel probability, so the weight is 1,
+// times 1 / eta^2 for refracted radiance (pbrt-v4 sec. 9.5.2); photons carry flux and are
+// not scaled. A smooth-shaded mesh refracts smoothly, not by its facets.
+fn smooth_dielectric_sample(d: vec3f, ns: vec3f, ior: f32, u: f32, radiance: bool) -> BsdfSample {
+    let entering = dot(d, ns) < 0.0;
     let n = select(-ns, ns, entering);
     let eta = select(1.0 / ior, ior, entering);
     let cos_i = -dot(d, n);
@@ -54,9 +55,9 @@ fn smooth_dielectric_sample(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, u: f32, ra
 // h is drawn, then reflection or refraction through h with the Fresnel probability, so the
 // weight is G1(wi) (times visible_g1_ratio for Beckmann), times 1 / eta^2 for refracted
 // radiance as in the smooth case.
-fn rough_dielectric_sample(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, alpha_in: f32, beckmann: bool, u: vec3f, radiance: bool) -> BsdfSample {
+fn rough_dielectric_sample(d: vec3f, ns: vec3f, ior: f32, alpha_in: f32, beckmann: bool, u: vec3f, radiance: bool) -> BsdfSample {
     let alpha = max(alpha_in, MIN_ALPHA);
-    let entering = dot(d, ng) < 0.0;
+    let entering = dot(d, ns) < 0.0;
     let n = select(-ns, ns, entering);
     let eta = select(1.0 / ior, ior, entering);
     let frame = basis(n);
@@ -97,21 +98,21 @@ fn rough_dielectric_sample(d: vec3f, ng: vec3f, ns: vec3f, ior: f32, alpha_in: f
 fn dielectric_sample(m: Material, albedo: vec3f, d: vec3f, s: Surface, u: vec3f, radiance: bool) -> BsdfSample {
     var next = bsdf_absorbed(d);
     if USES_ROUGH_DIELECTRIC && m.roughness > 0.0 {
-        next = rough_dielectric_sample(d, s.ng, s.ns, m.ior, m.roughness, is_beckmann(m), u, radiance);
+        next = rough_dielectric_sample(d, s.ns, m.ior, m.roughness, is_beckmann(m), u, radiance);
     }
     if USES_SMOOTH_DIELECTRIC && m.roughness == 0.0 {
-        next = smooth_dielectric_sample(d, s.ng, s.ns, m.ior, u.z, radiance);
+        next = smooth_dielectric_sample(d, s.ns, m.ior, u.z, radiance);
     }
     // Each lobe's factor (1 and 1 unless a scene asks otherwise), sampled as before.
-    next.weight *= select(m.transmittance, m.specular, dot(next.wi, s.ng) * dot(d, s.ng) < 0.0);
+    next.weight *= select(m.transmittance, m.specular, dot(next.wi, s.ns) * dot(d, s.ns) < 0.0);
     return next;
 }
 
 // Rough dielectric m's f (radiance) and dielectric_sample's density, with each lobe's factor
 // as dielectric_sample applies it.
 fn dielectric_eval(m: Material, albedo: vec3f, s: Surface, wo: vec3f, wi: vec3f) -> BsdfEval {
-    var b = rough_dielectric_eval(m.ior, m.roughness, is_beckmann(m), wo, wi, s.ng, s.ns, true);
-    b.f *= select(m.transmittance, m.specular, dot(wi, s.ng) * dot(wo, s.ng) > 0.0);
+    var b = rough_dielectric_eval(m.ior, m.roughness, is_beckmann(m), wo, wi, s.ns, true);
+    b.f *= select(m.transmittance, m.specular, dot(wi, s.ns) * dot(wo, s.ns) > 0.0);
     return b;
 }
 
@@ -120,15 +121,15 @@ fn dielectric_eval(m: Material, albedo: vec3f, s: Surface, wo: vec3f, wi: vec3f)
 // side's), else 1: what pbrt-v4's path tracer multiplies into etaScale, so that Russian
 // roulette judges the throughput without the factor a path leaving the glass undoes.
 fn refraction_eta2(m: Material, s: Surface, d: vec3f, wi: vec3f) -> f32 {
-    if m.kind != MATERIAL_DIELECTRIC || dot(wi, s.ng) * dot(d, s.ng) <= 0.0 {
+    if m.kind != MATERIAL_DIELECTRIC || dot(wi, s.ns) * dot(d, s.ns) <= 0.0 {
         return 1.0;
     }
-    let eta = select(1.0 / m.ior, m.ior, dot(d, s.ng) < 0.0);
+    let eta = select(1.0 / m.ior, m.ior, dot(d, s.ns) < 0.0);
     return eta * eta;
 }
 
 // The rough dielectric's f and rough_dielectric_sample's density, for wo and wi pointing away
-// from the surface. As in the sampler, ng tells which side wo is on, the microfacets are about
+// from the surface. As in the sampler, ns tells which side wo is on, the microfacets are about
 // ns turned to that side, and eta is the index of the side wo is not on over the one it is.
 // Reflection (wi.n > 0), h = normalize(wo + wi) (Walter et al. 2007, eq. 13):
 //   f = F D G1(wo) G1(wi) / (4 cos_o cos_i)  (eq. 20),
@@ -140,9 +141,9 @@ fn refraction_eta2(m: Material, s: Surface, d: vec3f, wi: vec3f) -> f32 {
 //   pdf = (1 - F) D_wo(h) eta^2 |wi.h| / (wo.h + eta wi.h)^2  (the Jacobian of eq. 17).
 // f is that of radiance, wo towards the camera; photons carry flux and see eta^2 f (pbrt-v4
 // sec. 9.5.2), the two 1 / eta^2 apart as in the sampler's weights.
-fn rough_dielectric_eval(ior: f32, alpha_in: f32, beckmann: bool, wo: vec3f, wi: vec3f, ng: vec3f, ns: vec3f, radiance: bool) -> BsdfEval {
+fn rough_dielectric_eval(ior: f32, alpha_in: f32, beckmann: bool, wo: vec3f, wi: vec3f, ns: vec3f, radiance: bool) -> BsdfEval {
     let alpha = max(alpha_in, MIN_ALPHA);
-    let entering = dot(wo, ng) > 0.0;
+    let entering = dot(wo, ns) > 0.0;
     let n = select(-ns, ns, entering);
     let eta = select(1.0 / ior, ior, entering);
     let cos_o = dot(wo, n);
