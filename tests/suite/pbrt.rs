@@ -138,6 +138,16 @@ fn camera_fov_spans_the_shorter_axis_and_the_world_is_mirrored() {
     // pbrt's camera x runs along the image; without the mirror in the file the world is
     // mirrored so that our camera sees pbrt's image.
     assert!(close(wide.spheres[1].center, Vec3::new(1.0, 0.0, 5.0)));
+    // A crop window's pixels as pbrt-v4 counts them (single precision: 0.55 of 800 is 440),
+    // each pair in either order: (180, 440) to (461, 640).
+    for window in ["0.28 0.72 0.55 0.80", "0.72 0.28 0.80 0.55"] {
+        let film = format!("\"integer xresolution\" 640 \"integer yresolution\" 800 \"float cropwindow\" [ {window} ]");
+        let s = scene::pbrt::load_str(&text(&film, ""), &path).0.unwrap();
+        assert_eq!((s.render.width, s.render.height), (281, 200), "{window}");
+        let crop = s.camera.crop.expect("a crop window");
+        assert!(close(crop.min.extend(0.0), Vec3::new(180.0 / 640.0, 440.0 / 800.0, 0.0)), "{window}: {crop:?}");
+        assert!(close(crop.max.extend(0.0), Vec3::new(461.0 / 640.0, 640.0 / 800.0, 0.0)), "{window}: {crop:?}");
+    }
     let plain = scene::pbrt::load_str(&text("", ""), &path).0.unwrap();
     assert!(close(plain.spheres[1].center, Vec3::new(-1.0, 0.0, 5.0)), "{:?}", plain.spheres[1]);
     assert_eq!((plain.render.width, plain.render.height), (1280, 720));

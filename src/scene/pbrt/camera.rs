@@ -65,8 +65,11 @@ pub(super) fn settings(r: &mut Reader) -> Result<(Camera, RenderSettings)> {
         let [x0, x1, y0, y1] = w[..] else {
             return Err(film.error("cropwindow", "cropwindow is four numbers: x0 x1 y0 y1"));
         };
-        let px = |f: f64, n: u32| (f.clamp(0.0, 1.0) * n as f64).ceil() as u32;
-        let (a, b, c, d) = (px(x0, xres), px(x1, xres), px(y0, yres), px(y1, yres));
+        // pbrt-v4's pixel bounds (FilmBaseParameters): each pair in either order, clamped to
+        // [0, 1], times the resolution and rounded up, in single precision (0.55 of 800 is
+        // 440 there, 441 in double precision).
+        let px = |f: f64, n: u32| ((f as f32).clamp(0.0, 1.0) * n as f32).ceil() as u32;
+        let (a, b, c, d) = (px(x0.min(x1), xres), px(x0.max(x1), xres), px(y0.min(y1), yres), px(y0.max(y1), yres));
         if b <= a || d <= c {
             return Err(film.error("cropwindow", "the crop window holds no pixel"));
         }
