@@ -37,7 +37,12 @@ out=$(cd "$out" && pwd)
 
 # name | width | height | blocks' side for diff | our options beyond the file's. gonsolo/bitterli's scenes, then
 # mmp/pbrt-v4-scenes' killeroo-simple and killeroo-moving (their geometry pbrt-v3's, which
-# MIRRORS holds as mmp+pbrt-v3: scripts/measure/killeroo-simple.sh stages it).
+# MIRRORS holds as mmp+pbrt-v3: scripts/measure/killeroo-simple.sh stages it) and killeroo-gold
+# (its geometry/killeroo3.pbrt from $KILLEROO3, a copy of the collection's file: the collection
+# is too big to fetch, and its text comes page by page through the search tool's read_file;
+# textures/lines.png from MIRRORS' kennyalive+yar-test-scenes, whose copy of pbrt's is a
+# stand-in; its spds/Au.eta.spd and Au.k.spd, which no mirror holds, stand in as pbrt-v4's
+# named metal-Au-eta and metal-Au-k, and with GRAY=1 as every conductor's grey).
 table=$(cat <<'T'
 cornell-box|128|128|8|
 veach-mis|256|144|8|
@@ -47,12 +52,13 @@ water-caustic|128|128|8|--photons 50000
 volumetric-caustic|128|128|8|
 killeroo-simple|175|175|7|
 killeroo-moving|175|175|7|
+killeroo-gold|160|120|8|
 T
 )
 # stage NAME: stages the scene and prints its file's path.
 stage() {
     case $1 in
-    killeroo-*)
+    killeroo-simple | killeroo-moving)
         local dir=$out/killeroos
         SPPM_GPU=$bin STAGE_ONLY=1 bash scripts/measure/killeroo-simple.sh "$dir" 1 "$mirrors" >&2
         # killeroo-moving.pbrt as the collection has it (comments left out): killeroo-simple's
@@ -80,6 +86,80 @@ stage() {
 AttributeEnd
 PBRT
         } >"$dir/killeroo-moving.pbrt"
+        echo "$dir/$1.pbrt"
+        ;;
+    killeroo-gold)
+        local dir=$out/killeroos k3=${KILLEROO3:-/tmp/kg/geometry/killeroo3.pbrt}
+        [ -f "$k3" ] || { echo "killeroo-gold: no geometry/killeroo3.pbrt at \$KILLEROO3 ($k3)" >&2; return 1; }
+        mkdir -p "$dir/geometry" "$dir/textures"
+        cp "$k3" "$dir/geometry/killeroo3.pbrt"
+        stage_one "$mirrors" "$out" yar kennyalive+yar-test-scenes "see the repository" textures/lines.png >&2
+        cp "$out/yar/textures/lines.png" "$dir/textures/lines.png"
+        # killeroo-gold.pbrt as the collection has it (comments left out), the gold's spectra
+        # named (above).
+        cat >"$dir/killeroo-gold.pbrt" <<'PBRT'
+LookAt 200 250 70
+    0 33 -50
+    0 0 1
+Camera "perspective"
+    "float fov" [ 38 ]
+Film "rgb"
+    "string filename" [ "killeroo-gold.exr" ]
+    "integer yresolution" [ 1026 ]
+    "integer xresolution" [ 1368 ]
+Sampler "halton"
+    "integer pixelsamples" [ 512 ]
+WorldBegin
+AttributeBegin
+    Material "diffuse"
+        "rgb reflectance" [ 0 0 0 ]
+    AreaLightSource "diffuse"
+        "rgb L" [ 50 50 50 ]
+    Translate 0 0 800
+    ReverseOrientation
+    Shape "disk"
+        "float radius" [ 150 ]
+AttributeEnd
+AttributeBegin
+    CoordSysTransform "camera"
+    LightSource "distant"
+        "rgb L" [ 0.2 0.2 0.2 ]
+AttributeEnd
+AttributeBegin
+    Material "diffuse"
+        "rgb reflectance" [ 0.5 0.5 0.5 ]
+    Translate 0 0 -140
+    Texture "grid" "spectrum" "imagemap"
+        "string filename" [ "textures/lines.png" ]
+    Texture "sgrid" "spectrum" "scale"
+        "float scale" [ 0.5 ]
+        "texture tex" [ "grid" ]
+    Material "diffuse"
+        "texture reflectance" [ "sgrid" ]
+    Shape "trianglemesh"
+        "point2 uv" [ 0 0 5 0 5 5 0 5 
+            ]
+        "integer indices" [ 0 1 2 2 3 0 ]
+        "point3 P" [ -400 -400 0 400 -400 0 400 400 0 -400 400 0 ]
+    Shape "trianglemesh"
+        "point2 uv" [ 0 0 5 0 5 5 0 5 
+            ]
+        "integer indices" [ 0 1 2 2 3 0 ]
+        "point3 P" [ -400 -400 0 400 -400 0 400 -400 1000 -400 -400 1000 ]
+    Shape "trianglemesh"
+        "point2 uv" [ 0 0 5 0 5 5 0 5 
+            ]
+        "integer indices" [ 0 1 2 2 3 0 ]
+        "point3 P" [ -400 -400 0 -400 400 0 -400 400 1000 -400 -400 1000 ]
+AttributeEnd
+AttributeBegin
+    Material "conductor"
+        "spectrum k" [ "metal-Au-k" ]
+        "spectrum eta" [ "metal-Au-eta" ]
+        "float roughness" [ 0.002 ]
+    Include "geometry/killeroo3.pbrt"
+AttributeEnd
+PBRT
         echo "$dir/$1.pbrt"
         ;;
     *)
