@@ -7,9 +7,8 @@
 // Radiance crossing the interface is scaled by 1 / eta^2; photons carry flux and are not
 // (pbrt-v4 sec. 9.5.2): `radiance` tells which a path is. The side and the law both follow
 // ns, as in pbrt-v4 (DielectricBxDF works in the shading frame, sec. 9.5) and Mitsuba 3: where
-// ns and ng disagree about a direction's side (a ray grazing a smooth-shaded mesh, common
-// inside thick glass) the path goes on, leaving on whichever side of ng its new direction
-// points to.
+// ns and ng disagree about a direction's side (a ray grazing a smooth-shaded mesh) the path
+// goes on, leaving on whichever side of ng its new direction points to.
 // Parameters: `ior` of the inside relative to the outside; `roughness` (alpha, 0 smooth) and
 // `distribution`; `specular` and `transmittance` (Mitsuba's specular_reflectance and
 // specular_transmittance, 1 when physical) scale each lobe, which is still chosen with the
