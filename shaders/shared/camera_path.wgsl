@@ -169,12 +169,12 @@ fn trace_camera_path(ray: Ray, flags: u32, nee: bool, rng: ptr<function, Rng>) -
         if bidir {
             cm = mis_hit(cm, hit.t, dot(d, s.ns), true);
         }
-        // Emission is one-sided: only the front of the geometric normal emits. Without NEE it
-        // counts whole (pdf_prev stays 0).
+        // Emission leaves the front of the geometric normal, or both sides (EMITS_BOTH).
+        // Without NEE it counts whole (pdf_prev stays 0).
         let shape = shapes[s.shape];
-        if shape.emits != 0u && dot(d, s.ng) < 0.0 {
+        if shape.emits != 0u && (dot(d, s.ng) < 0.0 || shape.emits == EMITS_BOTH) {
             if bidir {
-                path.l += beta * shape.emission * (bidir_emission_weight(cm, s.shape, -dot(d, s.ng), depth == 0u, last_merged) * kept(STRATEGY_EMISSION));
+                path.l += beta * shape.emission * (bidir_emission_weight(cm, s.shape, abs(dot(d, s.ng)), depth == 0u, last_merged) * kept(STRATEGY_EMISSION));
             } else {
                 path.l += beta * shape.emission * emission_weight(pdf_prev, mis_o, hit, s, d);
             }

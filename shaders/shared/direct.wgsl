@@ -69,7 +69,7 @@ fn emission_weight(pdf_prev: f32, o: vec3f, hit: Hit, s: Surface, d: vec3f) -> f
     // With media, o is the last vertex that was not a null surface: the light is as far as
     // that, whatever null boundaries the path crossed.
     let t = select(hit.t, length(s.p - o), USES_MEDIA);
-    return power_heuristic(pdf_prev, light_pdf(o, hit.prim_ref, s.shape, t, -dot(d, s.ng)));
+    return power_heuristic(pdf_prev, light_pdf(o, hit.prim_ref, s.shape, t, abs(dot(d, s.ng))));
 }
 
 // Radiance of the environment that a ray escaping the scene along d brings, weighted as

@@ -175,9 +175,14 @@ struct Material {
     coat_scatterings: u32,
 }
 
+// Shape.emits: the emission leaves the front side (of ng; a sphere's outside), or both.
+const EMITS_FRONT: u32 = 1u;
+const EMITS_BOTH: u32 = 2u;
+
 // Per-shape data the kernels look up through a primitive's shape index.
 struct Shape {
     emission: vec3f,
+    // 0, EMITS_FRONT or EMITS_BOTH.
     emits: u32,
     // The shape sits at its position + velocity * time.
     velocity: vec3f,

@@ -264,6 +264,9 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
         if let Some(e) = shape.emission {
             sppm_gpu::scene::emitter::emission_toml_keys(&mut t, e);
             t.get_mut("emission").into_iter().for_each(shortest_floats);
+            if shape.emission_two_sided {
+                t.insert("emission_two_sided".into(), Value::Boolean(true));
+            }
         }
         if let Some(v) = shape.velocity {
             t.insert("velocity".into(), vec3(v));

@@ -237,7 +237,11 @@ impl SceneData {
             .iter()
             .map(|s| GpuShape {
                 emission: s.emission.unwrap_or(Vec3::ZERO).into(),
-                emits: s.emission.is_some_and(|e| e.max_element() > 0.0) as u32,
+                emits: match (s.emission.is_some_and(|e| e.max_element() > 0.0), s.emission_two_sided) {
+                    (false, _) => 0,
+                    (true, false) => EMITS_FRONT,
+                    (true, true) => EMITS_BOTH,
+                },
                 velocity: s.velocity.unwrap_or(Vec3::ZERO).into(),
                 media: match (s.interior, s.exterior) {
                     (None, None) => NOT_A_BOUNDARY,

@@ -78,6 +78,7 @@ struct ShapeEntry {
     geometry: Geometry,
     material: String,
     emission: Option<Vec3>,
+    emission_two_sided: bool,
     velocity: Option<Vec3>,
 }
 
@@ -285,7 +286,13 @@ impl SceneBuilder {
     }
 
     fn shape(mut self, geometry: Geometry, material: impl Into<String>) -> Self {
-        self.shapes.push(ShapeEntry { geometry, material: material.into(), emission: None, velocity: None });
+        self.shapes.push(ShapeEntry {
+            geometry,
+            material: material.into(),
+            emission: None,
+            emission_two_sided: false,
+            velocity: None,
+        });
         self
     }
 
@@ -363,6 +370,14 @@ impl SceneBuilder {
     pub fn emission(mut self, radiance: impl Into<Vec3>) -> Self {
         if let Some(shape) = self.last_shape("emission", None) {
             shape.emission = Some(radiance.into());
+        }
+        self
+    }
+
+    /// The last shape's emission leaves both of its sides (TOML's `emission_two_sided`).
+    pub fn emission_two_sided(mut self) -> Self {
+        if let Some(shape) = self.last_shape("emission_two_sided", None) {
+            shape.emission_two_sided = true;
         }
         self
     }
@@ -641,6 +656,7 @@ impl Check<'_> {
                 .emission
                 .map(|e| super::emitter::check_emission(e).map_err(|e| self.error(&format!("{key}.{}", e.key), e.message)))
                 .transpose()?,
+            emission_two_sided: entry.emission_two_sided,
             velocity: entry.velocity.map(|v| self.vec3(&format!("{key}.velocity"), v, Bound::Any)).transpose()?,
             line: 0,
             velocity_line: None,

@@ -372,7 +372,7 @@ const SHAPE_TYPES: &[(&str, ShapeType, &[&str])] = &[
 const DISK_SEGMENTS: u32 = 256;
 
 /// Keys every shape allows.
-const SHAPE_KEYS: &[&str] = &["type", "material", "emission", "velocity", "interior", "exterior"];
+const SHAPE_KEYS: &[&str] = &["type", "material", "emission", "emission_two_sided", "velocity", "interior", "exterior"];
 
 /// A sphere's `uv_frame` = [x, y, z]: the axes its texture coordinates are taken in (see
 /// [`Shape::sphere_frame`]; by default [`super::TOML_SPHERE_FRAME`]), orthonormal to within
@@ -407,6 +407,7 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene, budget: &mesh::Primi
         kind,
         material: t.req("material", |v| material::index(&scene.materials, v.string()?).map_err(|e| v.error(e)))?,
         emission: emitter::read_toml_emission(&t)?,
+        emission_two_sided: t.or("emission_two_sided", false, Value::bool)?,
         velocity: t.opt("velocity", Value::vec3)?,
         line: entry.line,
         velocity_line: t.get("velocity").map(|v| v.line),
@@ -414,6 +415,9 @@ fn read_shape(entry: &Value, index: u32, scene: &mut Scene, budget: &mesh::Primi
         interior: t.opt("interior", |v| v.medium(&scene.media))?,
         exterior: t.opt("exterior", |v| v.medium(&scene.media))?,
     };
+    if shape.emission_two_sided && shape.emission.is_none() {
+        return Err(t.error_at("emission_two_sided", "a shape without an emission has no side to emit from: give `emission`"));
+    }
     let first_triangle = scene.triangles.len();
     let first_sphere = scene.spheres.len();
     // A warning for skipped degenerate triangles, printed once the shape is accepted.

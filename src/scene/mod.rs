@@ -524,6 +524,9 @@ pub struct Shape {
     /// Radiance leaving the front side (quads, meshes: side of the winding's normal;
     /// spheres: outside). `None` when the shape does not emit.
     pub emission: Option<Vec3>,
+    /// Whether `emission` leaves both sides (pbrt-v4's `"bool twosided" true` area lights;
+    /// TOML's `emission_two_sided`), with twice the power.
+    pub emission_two_sided: bool,
     /// Displacement over the shutter: at shutter time t in [0, 1) the shape sits at its
     /// position + velocity * t. `None` when it does not move.
     pub velocity: Option<Vec3>,

@@ -91,8 +91,8 @@ struct SamplerTestParams {
 @group(0) @binding(22) var<storage, read_write> test_out: array<vec4f>;
 
 // Density and red emission of the emitter that the ray from p along w meets first, if it
-// meets its front: light_pdf at the hit, as the integrators weigh emission they hit; the
-// environment's where the ray escapes.
+// meets its front (either side of one emitting from both): light_pdf at the hit, as the
+// integrators weigh emission they hit; the environment's where the ray escapes.
 fn traced_light(p: vec3f, w: vec3f) -> vec2f {
     let hit = trace_closest(p, w, 3.4e38);
     if hit.prim_ref == 0xffffffffu {
@@ -103,8 +103,10 @@ fn traced_light(p: vec3f, w: vec3f) -> vec2f {
         return vec2f(0.0);
     }
     let s = surface_at(hit, p, w);
-    let cos_l = -dot(w, s.ng);
-    if shapes[s.shape].emits == 0u || cos_l <= 0.0 {
+    // As the camera path takes emission: from the front, or from both sides (EMITS_BOTH).
+    let cos_l = abs(dot(w, s.ng));
+    let emits = shapes[s.shape].emits;
+    if emits == 0u || (dot(w, s.ng) >= 0.0 && emits != EMITS_BOTH) {
         return vec2f(0.0);
     }
     return vec2f(light_pdf(p, hit.prim_ref, s.shape, hit.t, cos_l), shapes[s.shape].emission.x);

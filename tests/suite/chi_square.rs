@@ -1000,6 +1000,8 @@ struct LightSetup {
     quad_dir: DVec3,
     quad_tilt: f64,
     quad_size: f64,
+    /// The quad turned away from p (its winding reversed), its emission leaving both sides.
+    quad_two_sided_from_behind: bool,
 }
 
 /// sample_light against light_pdf at the emitter a traced ray meets. The bins' pole points at
@@ -1014,15 +1016,14 @@ fn light_test(bench: &Bench, s: &LightSetup, seed: u32, failures: &mut Vec<Strin
     let (e1, e2) = tangents(normal);
     let (a, b) = (s.quad_size * e1, 0.6 * s.quad_size * e2);
     let corner = s.p + 1.5 * dir - 0.5 * a - 0.5 * b;
-    let scene = SceneBuilder::new(8, 8)
+    let (a, b) = if s.quad_two_sided_from_behind { (b, a) } else { (a, b) };
+    let quad = SceneBuilder::new(8, 8)
         .camera([0.0, 0.0, 5.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0)
         .diffuse("light", [0.0; 3])
         .quad(corner.as_vec3(), a.as_vec3(), b.as_vec3(), "light")
-        .emission([12.0, 8.0, 4.0])
-        .sphere(center, s.radius, "light")
-        .emission([0.6, 1.2, 0.9])
-        .build()
-        .unwrap_or_else(|e| panic!("{e}"));
+        .emission([12.0, 8.0, 4.0]);
+    let quad = if s.quad_two_sided_from_behind { quad.emission_two_sided() } else { quad };
+    let scene = quad.sphere(center, s.radius, "light").emission([0.6, 1.2, 0.9]).build().unwrap_or_else(|e| panic!("{e}"));
     let gpu_scene = bench.upload(&scene);
     // The share of usable samples: all of them, since the quad faces p and the sphere is
     // sampled in the cone it subtends from p.
@@ -1052,8 +1053,13 @@ fn light_sampling() {
         quad_dir: DVec3::new(-0.5, 1.0, 0.2),
         quad_tilt: 0.0,
         quad_size: 1.2,
+        quad_two_sided_from_behind: false,
     };
     light_test(&bench, &far, 300, &mut failures);
+    // The same, the quad turned away with its emission leaving both sides: seen from behind,
+    // sampled as from the front (its power and so its share of the choice doubled).
+    let behind = LightSetup { name: "lights: sphere far, two-sided quad from behind", quad_two_sided_from_behind: true, ..far };
+    light_test(&bench, &behind, 303, &mut failures);
     // Near the sphere (44 degrees in radius), the quad behind p, turned 70 degrees away.
     let near = LightSetup {
         name: "lights: sphere near, quad at 70 deg",
@@ -1064,6 +1070,7 @@ fn light_sampling() {
         quad_dir: DVec3::new(0.7, 1.0, -0.2),
         quad_tilt: 70.0,
         quad_size: 1.2,
+        quad_two_sided_from_behind: false,
     };
     light_test(&bench, &near, 301, &mut failures);
     // A sphere 0.4 degrees in radius, where the cone's 1 - cos(theta_max) comes from its
@@ -1077,6 +1084,7 @@ fn light_sampling() {
         quad_dir: DVec3::new(1.0, -0.3, 0.4),
         quad_tilt: 20.0,
         quad_size: 0.8,
+        quad_two_sided_from_behind: false,
     };
     light_test(&bench, &tiny, 302, &mut failures);
     assert!(failures.is_empty(), "{}", failures.join("\n"));

@@ -146,6 +146,8 @@ fn wgsl_constants_match_rust() {
     assert_eq!(constant("TEXTURE_PALETTE"), TEXTURE_PALETTE);
     assert_eq!(constant("PALETTE_ENTRIES"), PALETTE_ENTRIES);
     assert_eq!(constant("SPHERE_BIT"), sppm_gpu::accel::SPHERE_BIT);
+    assert_eq!(constant("EMITS_FRONT"), sppm_gpu::layout::EMITS_FRONT);
+    assert_eq!(constant("EMITS_BOTH"), sppm_gpu::layout::EMITS_BOTH);
     assert_eq!(constant("MICROFACET_GGX"), MICROFACET_GGX);
     assert_eq!(constant("MICROFACET_BECKMANN"), MICROFACET_BECKMANN);
     assert_eq!(constant("ACCUM_STRIDE"), ACCUM_STRIDE);

@@ -383,3 +383,43 @@ fn the_one_sided_feature_follows_the_materials() {
         assert!(!Features::of(&SceneData::new(&scene).unwrap()).one_sided, "{name}");
     }
 }
+
+/// The receiver of [`quad_under_a_light`] facing up, lit by its light and by a second, smaller
+/// one-sided light beside it (so that each light's share of the power, by which the lights are
+/// chosen, counts); the first light faces down, or up with its emission leaving both sides.
+fn receiver_under_two_lights(two_sided_facing_up: bool) -> Scene {
+    let b = settings(SceneBuilder::new(SIZE, SIZE))
+        .camera([0.0, 0.0, 0.8], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 60.0)
+        .diffuse("receiver", [0.7, 0.7, 0.7])
+        .diffuse("black", [0.0, 0.0, 0.0])
+        .quad([-2.0, -2.0, 0.0], 4.0 * Vec3::X, 4.0 * Vec3::Y, "receiver");
+    let b = if two_sided_facing_up {
+        b.quad([-1.0, -1.0, 1.2], 2.0 * Vec3::X, 2.0 * Vec3::Y, "black").emission([4.0, 4.0, 4.0]).emission_two_sided()
+    } else {
+        b.quad([-1.0, -1.0, 1.2], 2.0 * Vec3::Y, 2.0 * Vec3::X, "black").emission([4.0, 4.0, 4.0])
+    };
+    b.quad([1.2, 0.5, 1.0], 0.5 * Vec3::Y, 0.5 * Vec3::X, "black")
+        .emission([8.0, 8.0, 8.0])
+        .build()
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A light whose emission leaves both sides (pbrt-v4's `twosided`), turned away from the
+/// receiver, lights it as the same light facing it: by every method, in the mean over the
+/// image (the camera sees neither light). Its power, and so its share of the lights' choice,
+/// doubles; where its density or its photons' weight missed the second side by a factor of 2
+/// the image would be off by a fifth or more.
+#[test]
+fn two_sided_light_turned_away_lights_as_facing() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let (facing, turned) = (receiver_under_two_lights(false), receiver_under_two_lights(true));
+    for (method, passes) in
+        [(Method::Sppm, 16), (Method::PtNee, 64), (Method::Pt, 256), (Method::Lt, 256), (Method::Bpt, 16), (Method::Vcm, 16)]
+    {
+        let (a, b) = (mean(&render(&facing, method, passes)), mean(&render(&turned, method, passes)));
+        eprintln!("{method:?}: facing {a:.5}, turned away and two-sided {b:.5}, ratio {:.4}", b / a);
+        assert!(a > 0.0 && (b / a - 1.0).abs() < 0.02, "{method:?}: {b} against {a}");
+    }
+}

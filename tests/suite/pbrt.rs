@@ -289,8 +289,8 @@ fn errors_name_file_line_and_directive_or_parameter() {
     assert!(e.message.contains("]") && e.line == Some(4), "{e}");
     let e = error(&format!("{world}AttributeEnd\n"));
     assert!(e.message.contains("unmatched"), "{e}");
-    let e = error(&format!("{world}AreaLightSource \"diffuse\" \"bool twosided\" true\n"));
-    assert_eq!(e.key.as_deref(), Some("twosided"));
+    let e = error(&format!("{world}AreaLightSource \"diffuse\" \"string filename\" \"a.png\"\n"));
+    assert_eq!(e.key.as_deref(), Some("filename"));
     let e = error("WorldBegin\nLightSource \"point\"\nShape \"sphere\"\nAttributeBegin\n");
     assert!(e.message.contains("not ended") && e.line == Some(4), "{e}");
     // In an included file, that file and its line.
@@ -339,6 +339,9 @@ fn area_light_power() {
     assert!(close(e[0], Vec3::splat(0.5 * 10.0 / (2.0 * PI))), "{}", e[0]);
     assert!(close(e[1], Vec3::splat(2.0 * 20.0 / (PI * PI))), "{}", e[1]);
     assert!(close(e[2], Vec3::splat(3.0 / (0.75 * PI * PI))), "{}", e[2]);
+    assert!(close(e[3], Vec3::splat(0.5 * 10.0 / (2.0 * 2.0 * PI))), "{}", e[3]);
+    let two_sided: Vec<bool> = s.shapes.iter().map(|s| s.emission_two_sided).collect();
+    assert_eq!(two_sided, [false, false, false, true]);
     // Triangles of different areas would each emit the power: refused, naming the parameter.
     let e = error(
         "Camera \"perspective\"\nWorldBegin\nAreaLightSource \"diffuse\" \"float power\" 1\n\

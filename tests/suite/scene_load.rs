@@ -612,6 +612,10 @@ fn shape_values_out_of_range_are_errors() {
     let sphere = "type = \"sphere\"\ncenter = [0, 0, 0]\nmaterial = \"white\"\n";
     assert_error(&with_shape(&format!("{sphere}radius = 0\n")), 17, "shapes[0].radius", &["greater than 0"]);
     assert_error(&with_shape(&format!("{QUAD}emission = [1, -1, 1]\n")), 19, "shapes[0].emission", &["at least 0"]);
+    // Both sides of nothing: emission_two_sided needs an emission.
+    assert_error(&with_shape(&format!("{QUAD}emission_two_sided = true\n")), 19, "shapes[0].emission_two_sided", &["emission"]);
+    let two_sided = load_ok(&with_shape(&format!("{QUAD}emission = [1, 1, 1]\nemission_two_sided = true\n")));
+    assert!(two_sided.shapes[0].emission_two_sided);
     assert_error(&with_shape(&QUAD.replace("v = [0, 1, 0]", "v = [2, 0, 0]")), 17, "shapes[0].v", &["no area"]);
     let cube = "type = \"cube\"\nmaterial = \"white\"\n";
     assert_error(&with_shape(&format!("{cube}scale = 0\n")), 16, "shapes[0].scale", &["nonzero"]);

@@ -1,7 +1,9 @@
 // Area emitters (EMITTER_AREA; Mitsuba 3's `area`, pbrt-v4's DiffuseAreaLight): the triangles
 // and spheres of a shape with an emission, radiance Le leaving each point's front side alike
-// in every direction; power average(Le) area pi, one emitter a primitive.
-// Photons leave a point uniform on the primitive by area, in a cosine-distributed direction.
+// in every direction (both sides where the shape's `emits` is EMITS_BOTH: pbrt-v4's
+// `twosided`); power average(Le) area pi (twice it from both sides), one emitter a primitive.
+// Photons leave a point uniform on the primitive by area, in a cosine-distributed direction
+// (from both sides: about a side chosen with probability 1/2).
 // Next-event estimation takes a sphere seen from outside uniformly in the cone it subtends,
 // and other points uniformly by area, the density over the Jacobian cos_l / d^2 to solid
 // angle.
@@ -51,7 +53,12 @@ fn area_point(e: Emitter, u: vec2f) -> LightPoint {
 // find_emitter + area_point: pmf / area = average(Le) * pi / power_total, the same for every
 // primitive of the shape, since emitters are chosen by power = average(Le) area pi.
 fn area_density(shape: u32) -> f32 {
-    return average(shapes[shape].emission) * PI / frame.power_total;
+    return average(shapes[shape].emission) * PI * f32(sides(shape)) / frame.power_total;
+}
+
+// The sides an emitting shape's light leaves: 1 or 2.
+fn sides(shape: u32) -> u32 {
+    return select(1u, 2u, shapes[shape].emits == EMITS_BOTH);
 }
 
 // 1 - cos(theta_max) of the cone of directions in which a sphere of radius r at distance d
@@ -116,6 +123,10 @@ fn area_sample(e: Emitter, p: vec3f, u: vec3f) -> LightSample {
     let to = l.p - p;
     let dist = length(to);
     let wi = to / dist;
+    // From both sides: the side p sees.
+    if sides(l.shape) == 2u && dot(wi, l.n) > 0.0 {
+        l.n = -l.n;
+    }
     let cos_l = -dot(wi, l.n);
     if cos_l <= 0.0 || dist <= 0.0 {
         return LightSample(wi, dist, vec3f(0.0), 0.0, l.p, cos_l);
@@ -128,9 +139,17 @@ fn area_sample(e: Emitter, p: vec3f, u: vec3f) -> LightSample {
 // A photon leaving area emitter e: Le cos / ((1 / area) (cos / pi)), times `scale`, into its
 // shape's exterior medium where it has one, else the camera's.
 fn area_emit(e: Emitter, u_pos: vec2f, u_dir: vec2f, scale: f32) -> EmittedPhoton {
-    let l = area_point(e, u_pos);
-    let d = sample_cosine_hemisphere(l.n, u_dir);
-    let beta = shapes[l.shape].emission * (PI * e.area * scale);
+    var l = area_point(e, u_pos);
+    // From both sides: a side with probability 1/2 (the first number's halves, each
+    // stretched back to [0, 1)), and twice the weight.
+    var u = u_dir;
+    let two = f32(sides(l.shape));
+    if two == 2.0 {
+        l.n = select(l.n, -l.n, u.x >= 0.5);
+        u.x = fract(2.0 * u.x);
+    }
+    let d = sample_cosine_hemisphere(l.n, u);
+    let beta = shapes[l.shape].emission * (PI * e.area * scale * two);
     var medium = CAMERA_MEDIUM;
     if USES_MEDIA && shapes[l.shape].media != 0xffffffffu {
         medium = shapes[l.shape].media >> 16u;
@@ -139,10 +158,12 @@ fn area_emit(e: Emitter, u_pos: vec2f, u_dir: vec2f, scale: f32) -> EmittedPhoto
 }
 
 // The MIS densities of area emitter light at a point of shape `shape` leaving (or hit) at
-// cosine cos_l to its normal (EmissionPdfs): the point by area, pmf / area (area_density; a
-// sphere's too, whose next-event estimation samples its cone: the weights stay a partition
-// of one, Veach 1997 sec. 9.2.2), and a cosine-distributed direction, cos_l / pi.
+// cosine cos_l to the normal of the side it leaves (EmissionPdfs): the point by area, pmf /
+// area (area_density; a sphere's too, whose next-event estimation samples its cone: the
+// weights stay a partition of one, Veach 1997 sec. 9.2.2), and a cosine-distributed
+// direction, cos_l / pi, half that from both sides (a side with probability 1/2).
 fn area_emission_pdfs(shape: u32, cos_l: f32) -> EmissionPdfs {
     let direct_pdf_a = area_density(shape);
-    return EmissionPdfs(direct_pdf_a, direct_pdf_a * max(cos_l, 0.0) * INV_PI, cos_l, false, true);
+    let pdf_w = max(cos_l, 0.0) * INV_PI / f32(sides(shape));
+    return EmissionPdfs(direct_pdf_a, direct_pdf_a * pdf_w, cos_l, false, true);
 }

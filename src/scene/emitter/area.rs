@@ -1,9 +1,11 @@
 //! Area lights (a shape's `emission` in TOML; Mitsuba 3's `area` emitter inside a shape;
 //! pbrt-v4's DiffuseAreaLight): radiance Le leaving the front of each of the shape's triangles
 //! and spheres alike in every direction (a quad's, a mesh's: the side its winding faces; a
-//! sphere's: outside). Each primitive is an emitter of power average(Le) area pi.
+//! sphere's: outside), or both sides (`emission_two_sided`; pbrt-v4's `twosided`). Each
+//! primitive is an emitter of power average(Le) area pi, twice that from both sides.
 //!
-//! Parameters: `emission` (Mitsuba's `radiance`, required), linear RGB >= 0.
+//! Parameters: `emission` (Mitsuba's `radiance`, required), linear RGB >= 0;
+//! `emission_two_sided` (false).
 //! Kernel: `shaders/shared/emitter/area.wgsl`.
 
 use super::{average, MitsubaEmitter, Packing, Result, Source};
@@ -43,7 +45,11 @@ pub(super) fn check(emission: Vec3) -> std::result::Result<Vec3, Invalid> {
 /// On the GPU: every triangle, then every sphere, of a shape that emits, each of positive
 /// power.
 pub(super) fn pack(scene: &Scene, p: &mut Packing) {
-    let emission = |shape: u32| scene.shapes[shape as usize].emission.unwrap_or(Vec3::ZERO);
+    // Le, times 2 where it leaves both sides (the power's factor).
+    let emission = |shape: u32| {
+        let s = &scene.shapes[shape as usize];
+        s.emission.unwrap_or(Vec3::ZERO) * if s.emission_two_sided { 2.0 } else { 1.0 }
+    };
     let pi = std::f32::consts::PI;
     for (i, t) in scene.triangles.iter().enumerate() {
         let area = 0.5 * (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length();

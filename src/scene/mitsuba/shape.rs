@@ -261,6 +261,7 @@ impl<'a> SceneReader<'a> {
             kind: shape_kind,
             material,
             emission,
+            emission_two_sided: false,
             velocity: None,
             line: node.line,
             velocity_line: None,

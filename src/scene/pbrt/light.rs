@@ -4,10 +4,9 @@
 //!
 //! - `AreaLightSource "diffuse"`: `L` (white), `scale`, for the shapes that follow, on the
 //!   side their normals face; `power` as pbrt-v4 reads it, per pbrt shape (shape.rs):
-//!   L scale power / (pi area), each triangle of a mesh a shape of its own. `twosided` true
-//!   (our emitters emit from their front only, and a second copy of the surface facing the
-//!   other way would not be the same surface) and `filename` (an image on the surface) are
-//!   refused.
+//!   L scale power / (pi area), each triangle of a mesh a shape of its own; `twosided` (false:
+//!   the radiance leaves both sides, and `power` is shared between them as pbrt-v4 shares it).
+//!   `filename` (an image on the surface) is refused.
 //! - `point`: `I`, `from` (0 0 0), `power` (when given, `scale` times power / 4 pi).
 //! - `spot`: `I`, `from` (0 0 0), `to` (0 0 1), `coneangle` (30), `conedelta` (5), `power`
 //!   (over the cone's solid angle as pbrt-v4 counts it). pbrt's falloff is a smoothstep in
@@ -54,10 +53,7 @@ impl Reader {
             return Err(p.directive_error(format!("\"{kind}\": unknown area light (pbrt-v4 has \"diffuse\")")));
         }
         let radiance = self.emission(p, "L")? * self.light_scale(p)?;
-        let twosided = p.bool_or("twosided", false)?;
-        if twosided {
-            return Err(p.error("twosided", "a two-sided area light is not modelled by sppm-gpu: light leaves one side"));
-        }
+        let two_sided = p.bool_or("twosided", false)?;
         if p.has("filename") {
             return Err(p.error("filename", "an area light's image (filename) is not modelled by sppm-gpu"));
         }
@@ -67,7 +63,7 @@ impl Reader {
             return Err(p.error("power", "power is not a finite number"));
         }
         p.finish()?;
-        self.state.area = Some(AreaLight { radiance, power });
+        self.state.area = Some(AreaLight { radiance, power, two_sided });
         Ok(())
     }
 

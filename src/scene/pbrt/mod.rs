@@ -82,6 +82,8 @@ struct AreaLight {
     /// `power`, where given and positive: the radiance of each pbrt shape is scaled by power
     /// / (pi area) (shape.rs).
     power: Option<f32>,
+    /// `twosided`: the radiance leaves both sides of each shape.
+    two_sided: bool,
 }
 
 /// The attributes `AttributeBegin` saves.

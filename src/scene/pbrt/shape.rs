@@ -116,8 +116,10 @@ impl Reader {
             other => return Err(p.directive_error(format!("\"{other}\": unknown shape"))),
         };
         if let (Some(l), Some(power)) = (emission, state.area.as_ref().and_then(|a| a.power)) {
-            // pbrt-v4's DiffuseAreaLight: scale *= power / (pi area) (one-sided).
-            emission = Some(l * power / (std::f32::consts::PI * self.pbrt_shape_area(kind, p, first)?));
+            // pbrt-v4's DiffuseAreaLight: scale *= power / (pi area), and by half again where
+            // it is two-sided.
+            let sides = if state.area.as_ref().is_some_and(|a| a.two_sided) { 2.0 } else { 1.0 };
+            emission = Some(l * power / (sides * std::f32::consts::PI * self.pbrt_shape_area(kind, p, first)?));
         }
         p.finish()?;
         if shape_kind != ShapeKind::Sphere && self.triangles.len() == first {
@@ -137,6 +139,7 @@ impl Reader {
             kind: shape_kind,
             material,
             emission,
+            emission_two_sided: emission.is_some() && state.area.as_ref().is_some_and(|a| a.two_sided),
             velocity,
             line: p.line,
             velocity_line: None,
