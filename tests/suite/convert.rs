@@ -161,7 +161,7 @@ fn media_load_back_the_same() {
 #[test]
 fn converted_pbrt_scenes_load_back() {
     let dir = common::scratch("convert-pbrt");
-    for name in ["area-power", "coated", "cornell-box", "loopsubdiv", "media", "mix", "motion"] {
+    for name in ["area-power", "coated", "cornell-box", "loopsubdiv", "media", "mix", "motion", "two-sided-light"] {
         let pbrt = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/pbrt").join(format!("{name}.pbrt"));
         let toml = dir.join(format!("{name}.toml"));
         let out = Command::new(env!("CARGO_BIN_EXE_sppm-gpu")).arg("convert").arg(&pbrt).arg("-o").arg(&toml).output().unwrap();
