@@ -453,12 +453,11 @@ pub const HAS_NORMALS: u32 = 1 << 31;
 pub const HAS_UVS: u32 = 1 << 30;
 /// The bits of [`GpuTriangle::attributes`] that hold the index of its first entry.
 pub const ATTRIBUTE_INDEX_MASK: u32 = HAS_UVS - 1;
-/// The bit of a primitive reference (a BVH leaf's, an area [`Emitter`]'s) that marks a sphere:
 /// [`GpuShape::emits`] of a shape whose emission leaves its front side.
 pub const EMITS_FRONT: u32 = 1;
 /// [`GpuShape::emits`] of a shape whose emission leaves both sides.
 pub const EMITS_BOTH: u32 = 2;
-
+/// The bit of a primitive reference (a BVH leaf's, an area [`Emitter`]'s) that marks a sphere:
 /// `i | SPHERE_BIT` is sphere `i`, a reference without it a triangle.
 pub const SPHERE_BIT: u32 = 0x8000_0000;
 /// [`GpuMaterial::texture`] of a material without a texture.

@@ -50,8 +50,8 @@ fn area_point(e: Emitter, u: vec2f) -> LightPoint {
 }
 
 // Density per unit area of choosing a point on an emitting shape's surface by
-// find_emitter + area_point: pmf / area = average(Le) * pi / power_total, the same for every
-// primitive of the shape, since emitters are chosen by power = average(Le) area pi.
+// find_emitter + area_point: pmf / area = average(Le) * pi * sides / power_total, the same for
+// every primitive of the shape, since emitters are chosen by power = average(Le) area pi sides.
 fn area_density(shape: u32) -> f32 {
     return average(shapes[shape].emission) * PI * f32(sides(shape)) / frame.power_total;
 }
@@ -136,8 +136,9 @@ fn area_sample(e: Emitter, p: vec3f, u: vec3f) -> LightSample {
     return LightSample(wi, dist, shapes[l.shape].emission / pdf, pdf, p_light, cos_l);
 }
 
-// A photon leaving area emitter e: Le cos / ((1 / area) (cos / pi)), times `scale`, into its
-// shape's exterior medium where it has one, else the camera's.
+// A photon leaving area emitter e: Le cos / ((1 / area) (cos / pi)), times 2 from both sides
+// (a side with probability 1/2), times `scale`, into its shape's exterior medium where it has
+// one, else the camera's.
 fn area_emit(e: Emitter, u_pos: vec2f, u_dir: vec2f, scale: f32) -> EmittedPhoton {
     var l = area_point(e, u_pos);
     // From both sides: a side with probability 1/2 (the first number's halves, each
