@@ -538,7 +538,10 @@ fn kind(kind: Kind) -> Vec<(SceneBuilder, Vec<Light>, Vec<Probe>)> {
         Kind::Triangle => {
             let file = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/scenes/direct/triangle.obj");
             let b = receiver(RECEIVER_HALF).mesh(file, [1.0; 3], [0.0; 3], [0.0; 3], "black").emission([RADIANCE; 3]);
-            let vertices = probe_scene(&b, [0.0; 2]).triangles.last().unwrap().p.iter().map(|p| p.as_dvec3()).collect();
+            // Built for its triangles (any camera).
+            let built =
+                b.clone().camera([0.0, 0.0, 1.0], [0.0; 3], [0.0, 1.0, 0.0], 40.0).build().unwrap_or_else(|e| panic!("{e}"));
+            let vertices = built.triangles.last().unwrap().p.iter().map(|p| p.as_dvec3()).collect();
             let probes = vec![
                 probe("in front", -0.2, 0.0, AREA_SAMPLES),
                 probe("0.005 to 0.045 from its plane", 0.175, 0.0, HARD_SAMPLES),
@@ -656,17 +659,10 @@ fn spot_zone(light: &Light, at: [f64; 2]) -> &'static str {
     }
 }
 
-/// `b` seen by a camera straight above `at`, framing the PROBE_SIDE square.
-fn probe_scene(b: &SceneBuilder, at: [f64; 2]) -> Scene {
-    let fov = (2.0 * (0.5 * PROBE_SIDE / CAMERA_HEIGHT).atan()).to_degrees() as f32;
-    let (x, y) = (at[0] as f32, at[1] as f32);
-    b.clone().camera([x, y, CAMERA_HEIGHT as f32], [x, y, 0.0], [0.0, 1.0, 0.0], fov).build().unwrap_or_else(|e| panic!("{e}"))
-}
-
 /// `b` seen by one camera straight above all of `probes`, at their pixel size (PROBE_SIDE /
 /// PROBE_PIXELS), framing the smallest rectangle that holds their squares, with pixel edges on
 /// theirs; and each probe's PROBE_PIXELS^2 pixels as a region. The pixels between the squares
-/// are rendered and not measured.
+/// are rendered and not measured; a single probe's square is the whole image.
 fn probes_scene(b: &SceneBuilder, lights: &[Light], probes: &[Probe]) -> (Scene, Vec<Region>) {
     let pixel = PROBE_SIDE / PROBE_PIXELS as f64;
     let lo = [0, 1].map(|i| probes.iter().map(|p| p.at[i]).fold(f64::INFINITY, f64::min));
@@ -718,15 +714,17 @@ fn check_kind(k: Kind, method: impl Into<Estimator>) {
     // buffers: their kernels are compiled once for the whole kind.
     sppm_gpu::gpu::share_kernels(|| {
         for (b, lights, probes) in kind(k) {
-            if method == Estimator::SppmPhotons {
-                // Photons from the light are the cost, and the same photons serve every probe:
-                // one render a light, its camera framing all its probes, at the passes of the
-                // probe that asks most and PHOTONS a pass (the narrow spots' probes in the beam
-                // and falloff had a third or half of them, in renders of their own). Measured
-                // 2026-12-01 on the spot lights: 52.8 CPU-s -> 28.2, the relative standard
-                // errors 0.06 to 0.16% (were 0.11 to 0.16%), against MAX_SE (0.3%).
-                let (scene, regions) = probes_scene(&b, &lights, &probes);
-                let samples = probes.iter().map(|p| p.samples).max().unwrap();
+            // A render a probe; but where photons from the light are the cost, the same photons
+            // serve every probe: one render a light, its camera framing all its probes, at the
+            // passes of the probe that asks most and PHOTONS a pass (the narrow spots' probes in
+            // the beam and falloff had a third or half of them, in renders of their own).
+            // Measured 2026-12-01 on the spot lights: 52.8 CPU-s -> 28.2, the relative standard
+            // errors 0.06 to 0.16% (were 0.11 to 0.16%), against MAX_SE (0.3%).
+            let groups: Vec<Vec<Probe>> =
+                if method == Estimator::SppmPhotons { vec![probes] } else { probes.into_iter().map(|p| vec![p]).collect() };
+            for group in groups {
+                let (scene, regions) = probes_scene(&b, &lights, &group);
+                let samples = group.iter().map(|p| p.samples).max().unwrap();
                 outcomes.extend(measure(
                     &gpu,
                     &format!("{k:?}"),
@@ -735,22 +733,6 @@ fn check_kind(k: Kind, method: impl Into<Estimator>) {
                     &regions,
                     method,
                     samples,
-                    PHOTONS,
-                    (TOLERANCE, MAX_SE),
-                ));
-                continue;
-            }
-            for p in probes {
-                let scene = probe_scene(&b, p.at);
-                let all = Region { name: p.name.into(), pixels: (0..(PROBE_PIXELS * PROBE_PIXELS) as usize).collect() };
-                outcomes.extend(measure(
-                    &gpu,
-                    &format!("{k:?}"),
-                    &scene,
-                    &lights,
-                    &[all],
-                    method,
-                    p.samples,
                     PHOTONS,
                     (TOLERANCE, MAX_SE),
                 ));

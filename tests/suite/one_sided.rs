@@ -90,17 +90,22 @@ fn settings(builder: SceneBuilder) -> SceneBuilder {
 /// camera and the light when `facing_up`, and the other way when not; nothing lies below it,
 /// so no ray reaches its lower side.
 fn quad_under_a_light(facing_up: bool) -> Scene {
+    receiver_under_the_camera(facing_up)
+        // Its front faces -z: Y x X.
+        .quad([-1.0, -1.0, 1.2], 2.0 * Vec3::Y, 2.0 * Vec3::X, "black")
+        .emission([4.0, 4.0, 4.0])
+        .build()
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// [`quad_under_a_light`] without its light.
+fn receiver_under_the_camera(facing_up: bool) -> SceneBuilder {
     let (u, v) = if facing_up { (Vec3::X, Vec3::Y) } else { (Vec3::Y, Vec3::X) };
     settings(SceneBuilder::new(SIZE, SIZE))
         .camera([0.0, 0.0, 0.8], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 60.0)
         .diffuse("receiver", [0.7, 0.7, 0.7])
         .diffuse("black", [0.0, 0.0, 0.0])
         .quad([-2.0, -2.0, 0.0], 4.0 * u, 4.0 * v, "receiver")
-        // Its front faces -z: Y x X.
-        .quad([-1.0, -1.0, 1.2], 2.0 * Vec3::Y, 2.0 * Vec3::X, "black")
-        .emission([4.0, 4.0, 4.0])
-        .build()
-        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Seen from behind, a one-sided diffuse surface is black in every method (no visible point,
@@ -388,11 +393,7 @@ fn the_one_sided_feature_follows_the_materials() {
 /// one-sided light beside it (so that each light's share of the power, by which the lights are
 /// chosen, counts); the first light faces down, or up with its emission leaving both sides.
 fn receiver_under_two_lights(two_sided_facing_up: bool) -> Scene {
-    let b = settings(SceneBuilder::new(SIZE, SIZE))
-        .camera([0.0, 0.0, 0.8], [0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 60.0)
-        .diffuse("receiver", [0.7, 0.7, 0.7])
-        .diffuse("black", [0.0, 0.0, 0.0])
-        .quad([-2.0, -2.0, 0.0], 4.0 * Vec3::X, 4.0 * Vec3::Y, "receiver");
+    let b = receiver_under_the_camera(true);
     let b = if two_sided_facing_up {
         b.quad([-1.0, -1.0, 1.2], 2.0 * Vec3::X, 2.0 * Vec3::Y, "black").emission([4.0, 4.0, 4.0]).emission_two_sided()
     } else {

@@ -115,10 +115,11 @@ impl Reader {
             }
             other => return Err(p.directive_error(format!("\"{other}\": unknown shape"))),
         };
+        let two_sided = emission.is_some() && state.area.as_ref().is_some_and(|a| a.two_sided);
         if let (Some(l), Some(power)) = (emission, state.area.as_ref().and_then(|a| a.power)) {
             // pbrt-v4's DiffuseAreaLight: scale *= power / (pi area), and by half again where
             // it is two-sided.
-            let sides = if state.area.as_ref().is_some_and(|a| a.two_sided) { 2.0 } else { 1.0 };
+            let sides = if two_sided { 2.0 } else { 1.0 };
             emission = Some(l * power / (sides * std::f32::consts::PI * self.pbrt_shape_area(kind, p, first)?));
         }
         p.finish()?;
@@ -139,7 +140,7 @@ impl Reader {
             kind: shape_kind,
             material,
             emission,
-            emission_two_sided: emission.is_some() && state.area.as_ref().is_some_and(|a| a.two_sided),
+            emission_two_sided: two_sided,
             velocity,
             line: p.line,
             velocity_line: None,
