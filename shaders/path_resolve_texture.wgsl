@@ -1,11 +1,13 @@
-// The path tracers' estimate of every pixel, the mean of its samples (as PathTracer's image()
-// computes it on the host), into a caller's 2D storage texture, alpha 1. The host builds one
+// The path tracers' estimate of every pixel, the mean of its samples (their weighted mean
+// under a splatting filter; black where none has weight yet), as PathTracer's image()
+// computes it on the host, into a caller's 2D storage texture, alpha 1. The host builds one
 // pipeline per texel format by replacing `rgba32float` below (rgba16float too).
 
 #import types
 
 @group(0) @binding(0) var<uniform> frame: Frame;
-// Per pixel: the sum of the samples (rgb) and their count (w).
+// Per pixel: the sum of the samples (rgb) and their count (w), or their weighted sum and
+// their weights' sum.
 @group(0) @binding(16) var<storage, read> radiance: array<vec4f>;
 @group(0) @binding(19) var out_image: texture_storage_2d<rgba32float, write>;
 
@@ -17,5 +19,5 @@ fn path_resolve_texture(@builtin(global_invocation_id) gid: vec3u, @builtin(num_
     }
     let s = radiance[pixel];
     let xy = vec2u(pixel % frame.width, pixel / frame.width);
-    textureStore(out_image, xy, vec4f(s.xyz / max(s.w, 1.0), 1.0));
+    textureStore(out_image, xy, vec4f(select(vec3f(0.0), s.xyz / s.w, s.w > 0.0), 1.0));
 }

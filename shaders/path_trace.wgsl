@@ -13,6 +13,9 @@
 
 // Per pixel: the sum of the passes' samples (rgb) and the sample count (w).
 @group(0) @binding(16) var<storage, read_write> radiance: array<vec4f>;
+// Under a wide filter, this pass's sample of each pixel of splat_rows(): its radiance's bits
+// (xyz) and its position in the pixel (w, two 16-bit fractions), for filter_splat.
+@group(0) @binding(37) var<storage, read_write> camera_samples: array<vec4u>;
 
 const STREAM_PATH: u32 = 2u;
 
@@ -23,18 +26,29 @@ override PATH_NEE: bool = false;
 
 @compute @workgroup_size(64)
 fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    // This dispatch's part of the pass: pixels [work_first, work_end).
-    let pixel = frame.work_first + gid.x + gid.y * groups.x * 64u;
-    if pixel >= min(frame.work_end, frame.width * frame.height) {
+    // This dispatch's part of the pass: pixels [work_first, work_end) of this renderer's rows,
+    // or of splat_rows() where a wide filter's samples are splatted.
+    let item = frame.work_first + gid.x + gid.y * groups.x * 64u;
+    let rows = select(vec2u(frame.row_offset, frame.row_offset + frame.height), splat_rows(), frame.filter_reach > 0u);
+    if item >= min(frame.work_end, frame.width * (rows.y - rows.x)) {
         return;
     }
     // Keyed by the pixel's index in the whole image (this may be a band of it).
-    var rng = rng_new(frame.seed, frame.pass_index, STREAM_PATH, pixel + frame.row_offset * frame.width);
+    let px = item % frame.width;
+    let row = rows.x + item / frame.width;
+    let index = px + row * frame.width;
+    var rng = rng_new(frame.seed, frame.pass_index, STREAM_PATH, index);
     // With the Sobol sampler: the pixel's sample pass_index, one per pass.
-    rng_sobol(&rng, frame.pass_index, sobol_seed(frame.seed, STREAM_PATH, pixel + frame.row_offset * frame.width));
-    let ray = camera_ray(pixel % frame.width, pixel / frame.width, &rng);
-    let l = trace_camera_path(ray, CAMERA_PATH_PT, PATH_NEE, &rng).l;
+    rng_sobol(&rng, frame.pass_index, sobol_seed(frame.seed, STREAM_PATH, index));
+    let jitter = rng_next2(&rng);
+    let ray = camera_ray_at(px, row, jitter, &rng);
+    var l = trace_camera_path(ray, CAMERA_PATH_PT, PATH_NEE, &rng).l;
     // A NaN or infinite sample counts as black rather than poisoning the pixel.
     let ok = all(l == l) && all(abs(l) < vec3f(3.0e38));
-    radiance[pixel] += vec4f(select(vec3f(0.0), l, ok), 1.0);
+    l = select(vec3f(0.0), l, ok);
+    if frame.filter_reach > 0u {
+        camera_samples[item] = vec4u(bitcast<vec3u>(l), pack2x16unorm(jitter));
+    } else {
+        radiance[item] += vec4f(l, 1.0);
+    }
 }

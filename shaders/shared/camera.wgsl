@@ -72,17 +72,55 @@ fn sample_filter(u: vec2f) -> vec2f {
     return u - 0.5;
 }
 
+// The integral of Mitsuba's gaussian over [0, 4] standard deviations, exp(-t^2 / 2) - exp(-8)
+// integrated: sqrt(pi / 2) erf(4 / sqrt 2) - 4 exp(-8) (src/integrators/filter.rs tabulates
+// the same mass).
+const GAUSSIAN_HALF_MASS: f32 = 1.2518929;
+
+// The pixel filter's normalized density at offset x (pixels) from a pixel's centre, per axis:
+// the density sample_filter draws camera samples from, and the weight of a splatted sample.
+fn filter_density(x: f32) -> f32 {
+    if USES_TENT_FILTER && frame.pixel_filter == FILTER_TENT {
+        let r = frame.filter_width;
+        return max(0.0, 1.0 - abs(x) / r) / r;
+    }
+    if USES_GAUSSIAN_FILTER && frame.pixel_filter == FILTER_GAUSSIAN {
+        let sigma = frame.filter_width;
+        return gaussian_filter(x / sigma) / (2.0 * GAUSSIAN_HALF_MASS * sigma);
+    }
+    return select(0.0, 1.0, abs(x) <= 0.5);
+}
+
+// How far from a pixel's centre the filter reaches, in pixels.
+fn filter_radius() -> f32 {
+    if USES_TENT_FILTER && frame.pixel_filter == FILTER_TENT {
+        return frame.filter_width;
+    }
+    if USES_GAUSSIAN_FILTER && frame.pixel_filter == FILTER_GAUSSIAN {
+        return 4.0 * frame.filter_width;
+    }
+    return 0.5;
+}
+
 // The ray through pixel (px, py) of this renderer's rows: row py + frame.row_offset of the
 // image. Draws four numbers from rng, lens or not, filter or not, so that what follows sees
 // the same stream either way.
 fn camera_ray(px: u32, py: u32, rng: ptr<function, Rng>) -> Ray {
     let jitter = rng_next2(rng);
-    // Raster position: the box's, the pixel's corner plus jitter, the same bits as before
-    // filters; another filter's, the pixel's centre plus its offset. Samples of a wide filter
-    // may fall outside the image: they are rays through the image plane beyond its edge.
-    let corner = vec2f(f32(px), f32(py + frame.row_offset));
+    return camera_ray_at(px, py + frame.row_offset, jitter, rng);
+}
+
+// The ray through pixel (px, row) of the whole image, `jitter` its position in the pixel from
+// the box's corner, drawing the lens's two numbers from rng. Raster position: the box's, the
+// pixel's corner plus jitter, also where samples are splatted through a wide filter
+// (frame.filter_reach > 0); under filter importance sampling, the pixel's centre plus an
+// offset drawn from the filter. Samples of a wide filter may fall outside the image: they are
+// rays through the image plane beyond its edge.
+fn camera_ray_at(px: u32, row: u32, jitter: vec2f, rng: ptr<function, Rng>) -> Ray {
+    let corner = vec2f(f32(px), f32(row));
     var raster = corner + jitter;
-    if (USES_TENT_FILTER && frame.pixel_filter == FILTER_TENT) || (USES_GAUSSIAN_FILTER && frame.pixel_filter == FILTER_GAUSSIAN) {
+    let wide = (USES_TENT_FILTER && frame.pixel_filter == FILTER_TENT) || (USES_GAUSSIAN_FILTER && frame.pixel_filter == FILTER_GAUSSIAN);
+    if wide && frame.filter_reach == 0u {
         raster = corner + 0.5 + sample_filter(jitter);
     }
     // The image plane at distance 1: cam_right and cam_up span half its width and height.
@@ -98,4 +136,12 @@ fn camera_ray(px: u32, py: u32, rng: ptr<function, Rng>) -> Ray {
         return Ray(o, normalize(focus - o));
     }
     return Ray(frame.cam_position, normalize(dir_pinhole));
+}
+
+// The rows of camera samples a pass traces where samples are splatted through a wide filter
+// (frame.filter_reach > 0), [first, end) of the whole image: this renderer's rows and the
+// filter's reach beyond them, within the image.
+fn splat_rows() -> vec2u {
+    let first = frame.row_offset - min(frame.filter_reach, frame.row_offset);
+    return vec2u(first, min(frame.row_offset + frame.height + frame.filter_reach, frame.image_height));
 }

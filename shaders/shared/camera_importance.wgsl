@@ -83,36 +83,6 @@ fn camera_view(p: vec3f, lens: vec3f) -> CameraView {
     return CameraView(raster, -v / dist, dist, dist / (t * t * t * pixel_area()), lens);
 }
 
-// The integral of Mitsuba's gaussian over [0, 4] standard deviations, exp(-t^2 / 2) - exp(-8)
-// integrated: sqrt(pi / 2) erf(4 / sqrt 2) - 4 exp(-8) (src/integrators/filter.rs tabulates
-// the same mass).
-const GAUSSIAN_HALF_MASS: f32 = 1.2518929;
-
-// The pixel filter's normalized density at offset x (pixels) from a pixel's centre, per axis:
-// the density sample_filter draws camera samples from.
-fn filter_density(x: f32) -> f32 {
-    if USES_TENT_FILTER && frame.pixel_filter == FILTER_TENT {
-        let r = frame.filter_width;
-        return max(0.0, 1.0 - abs(x) / r) / r;
-    }
-    if USES_GAUSSIAN_FILTER && frame.pixel_filter == FILTER_GAUSSIAN {
-        let sigma = frame.filter_width;
-        return gaussian_filter(x / sigma) / (2.0 * GAUSSIAN_HALF_MASS * sigma);
-    }
-    return select(0.0, 1.0, abs(x) <= 0.5);
-}
-
-// How far from a pixel's centre the filter reaches, in pixels.
-fn filter_radius() -> f32 {
-    if USES_TENT_FILTER && frame.pixel_filter == FILTER_TENT {
-        return frame.filter_width;
-    }
-    if USES_GAUSSIAN_FILTER && frame.pixel_filter == FILTER_GAUSSIAN {
-        return 4.0 * frame.filter_width;
-    }
-    return 0.5;
-}
-
 // Add radiance c, arriving at raster position `raster`, to every pixel of this renderer's rows
 // whose filter reaches it, weighted by the filter (splat.wgsl). The box filter's pixel is the
 // one camera_ray's jitter covers, [px, px + 1) x [py, py + 1).

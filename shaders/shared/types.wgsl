@@ -72,7 +72,9 @@ struct Frame {
     // vcm's pilot (src/integrators/light.rs): 1 when the kernels add their counts of work to
     // work_counts (shared/bidir.wgsl), 0 otherwise.
     count_work: u32,
-    _pad4: u32,
+    // The path tracers under a wide pixel filter: how many pixels either way a camera sample
+    // reaches (filter_splat.wgsl); 0 where its offset is drawn from the filter instead.
+    filter_reach: u32,
     _pad5: u32,
     // FILTER_GAUSSIAN: the CDF of the filter's density on [0, 4] standard deviations at the
     // ends of FILTER_TABLE_SIZE equal intervals, C_1..C_256 (C_0 = 0, C_256 = 1), four a vec4f.

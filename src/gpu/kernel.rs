@@ -25,6 +25,7 @@ pub const KERNELS: &[&str] = &[
     "resolve",
     "resolve_texture",
     "path_trace",
+    "filter_splat",
     "path_resolve_texture",
     "light_trace",
     "bidir_camera",

@@ -1,8 +1,15 @@
-//! Pixel filters by filter importance sampling (pbrt-v4 sec. 8.8.3): each camera sample's
-//! offset from its pixel's centre is drawn from the filter's density, separably in x and y
-//! (`sample_filter` in `shaders/shared/camera.wgsl`), and weighs 1, so a pixel converges to
-//! `∫ f L / ∫ f`, what Mitsuba's weighted splatting converges to. The filters are Mitsuba 3's:
-//! box (radius 1/2), tent and its windowed gaussian.
+//! Pixel filters, Mitsuba 3's: box (radius 1/2), tent and its windowed gaussian. A pixel
+//! converges to `∫ f L / ∫ f` about its centre, by one of two estimators:
+//!
+//! - filter importance sampling (pbrt-v4 sec. 8.8.3), SPPM's and light subpaths' methods: each
+//!   camera sample's offset from its pixel's centre is drawn from the filter's density,
+//!   separably in x and y (`sample_filter` in `shaders/shared/camera.wgsl`), and weighs 1;
+//! - weighted splatting, Mitsuba's (pbrt-v3 sec. 7.8), the path tracers' under a filter wider
+//!   than the box: each sample lies uniformly in its pixel and counts in every pixel the filter
+//!   reaches from it, weighted by the filter, and a pixel is the ratio of its weighted sum to
+//!   its weights' (`shaders/filter_splat.wgsl`). Under Mitsuba's default gaussian (standard
+//!   deviation 1/2) a pixel so averages the samples of about pi pixels (`(∫ f)^2 / ∫ f^2`),
+//!   and its variance at equal samples is about a third of importance sampling's.
 //!
 //! Here: the [`Frame`] fields of a [`PixelFilter`] and the kernel constants that leave out the
 //! code of filters a scene does not use.
@@ -65,6 +72,33 @@ pub fn set_pixel_filter(frame: &mut Frame, filter: PixelFilter) -> Result<(), Er
         PixelFilter::Gaussian { stddev } => (FILTER_GAUSSIAN, positive("stddev", stddev)?, gaussian_filter_cdf()),
     };
     Ok(())
+}
+
+/// The most pixels either way a splatted sample may reach: a wider filter (a gaussian of
+/// standard deviation over 2 pixels) is sampled by importance instead, as each pixel's gather
+/// reads `(2 reach + 1)^2` samples a pass.
+pub const MAX_SPLAT_REACH: u32 = 8;
+
+/// How many pixels either way a sample splatted through `filter` reaches ([`Frame::filter_reach`]):
+/// a sample lies within half a pixel of its pixel's centre in x and y, so it reaches the pixels
+/// whose centres lie closer than the filter's radius plus 1/2, `ceil(radius + 1/2) - 1` of them
+/// either way. 0, importance sampling, for the box and for filters no wider than it (a
+/// pixel's own sample could weigh nothing) or wider than [`MAX_SPLAT_REACH`].
+pub fn splat_reach(filter: PixelFilter) -> u32 {
+    let radius = match filter {
+        PixelFilter::Box => return 0,
+        PixelFilter::Tent { radius } => radius as f64,
+        PixelFilter::Gaussian { stddev } => GAUSSIAN_CUTOFF * stddev as f64,
+    };
+    if radius.is_nan() || radius <= 0.5 {
+        return 0;
+    }
+    let reach = (radius + 0.5).ceil() as u32 - 1;
+    if reach > MAX_SPLAT_REACH {
+        0
+    } else {
+        reach
+    }
 }
 
 /// The kernels' `USES_*_FILTER` constants for `filter`: only its own code is compiled in, and

@@ -614,7 +614,7 @@ impl Integrator for LightTracer {
     /// Refuses a state that no render could have left (see the path tracer's).
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
         let (width, rows) = (self.frame.width, self.frame.row_offset);
-        let passes = self.sums.restore(state, self.progress.first_pass, self.paths() as u64, width, rows)?;
+        let passes = self.sums.restore(state, self.progress.first_pass, self.paths() as u64, width, rows, None)?;
         self.progress.restored(passes);
         Ok(())
     }

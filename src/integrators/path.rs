@@ -1,6 +1,8 @@
 //! Path tracing on the same scene, camera, lights and BSDF code as SPPM, for comparison:
 //! naive (`method = "pt"`) or with next-event estimation and MIS (`"pt-nee"`). Each pass adds
-//! one sample per pixel (`path_trace`); the image is the running mean.
+//! one sample per pixel (`path_trace`); the image is the running mean, or under a filter wider
+//! than the box the ratio of each pixel's filter-weighted sum of its neighbours' samples to
+//! their weights' (`filter_splat`; [`super::filter`]).
 
 use super::pixel_sums::{PixelSums, Progress, PIXEL_BYTES};
 use super::{Integrator, Part, PartSize, Work};
@@ -24,6 +26,13 @@ pub struct PathTracer {
     pixel_count: u32,
     path_trace: Kernel,
     group: wgpu::BindGroup,
+    /// Under a wide filter ([`Frame::filter_reach`] > 0): the kernel that splats each pass's
+    /// samples into the sums, and its bind group.
+    filter_splat: Option<(Kernel, wgpu::BindGroup)>,
+    /// Camera samples a pass: the renderer's pixels, and the filter's reach in rows beyond them.
+    samples: u32,
+    /// A pass's camera samples for `filter_splat` (16 bytes where none are splatted).
+    camera_samples: wgpu::Buffer,
     /// Passes done, the batch's first, the next part of the pass under way.
     progress: Progress,
     frame_buffer: wgpu::Buffer,
@@ -45,17 +54,22 @@ impl PathTracer {
         Self::with_scene_buffers(device, queue, scene, &data, scene_buffers, 0..scene.render.height)
     }
 
-    /// Rows of `scene`'s image whose sums fit in one of this device's storage buffers.
+    /// Rows of `scene`'s image whose sums, and whose camera samples with the rows a splatting
+    /// filter reaches beyond them, fit in one of this device's storage buffers.
     pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
         let pixels = device.limits().max_storage_buffer_binding_size / 16;
-        (pixels / (scene.render.width as u64).max(1)).min(u32::MAX as u64) as u32
+        let rows = (pixels / (scene.render.width as u64).max(1)).min(u32::MAX as u64) as u32;
+        rows.saturating_sub(2 * super::splat_reach(scene.render.filter))
     }
 
     /// Bytes of the renderer's own buffers for a band of `rows` rows of `scene`'s image, as
     /// [`Integrator::gpu_memory`] reports them: the sums per pixel and their read-back copy,
-    /// and the frame.
+    /// a pass's camera samples under a wide filter (the rows it reaches beyond the band
+    /// counted as if inside the image), and the frame.
     pub fn renderer_bytes(scene: &Scene, rows: u32) -> u64 {
-        scene.render.width as u64 * rows as u64 * 2 * PIXEL_BYTES + std::mem::size_of::<Frame>() as u64
+        let reach = super::splat_reach(scene.render.filter);
+        let sample_rows = if reach > 0 { rows as u64 + 2 * reach as u64 } else { 0 };
+        scene.render.width as u64 * (rows as u64 * 2 + sample_rows) * PIXEL_BYTES + std::mem::size_of::<Frame>() as u64
     }
 
     /// The path tracer for rows `rows` of the image only, on scene buffers already uploaded
@@ -70,7 +84,8 @@ impl PathTracer {
         rows: Range<u32>,
     ) -> Result<Self, Error> {
         let r = &scene.render;
-        let frame = super::band_frame(scene, data, &rows)?;
+        let mut frame = super::band_frame(scene, data, &rows)?;
+        frame.filter_reach = super::splat_reach(r.filter);
         let band_height = frame.height;
         let pixel_count = r.width.checked_mul(band_height).ok_or_else(|| Error::Setting("image too large".into()))?;
         let bytes = pixel_count as u64 * PIXEL_BYTES;
@@ -92,6 +107,16 @@ impl PathTracer {
         let mut spec = super::specialization(scene, data);
         spec.constants.push(("PATH_NEE", if nee { 1.0 } else { 0.0 }));
         let path_trace = spec.kernel(device, "path_trace")?;
+        // The rows a pass traces: the band's, and under a wide filter those it reaches beyond.
+        let reach = frame.filter_reach;
+        let sample_rows = rows.start.saturating_sub(reach)..(rows.end + reach).min(r.height);
+        let samples = if reach > 0 { r.width * sample_rows.len() as u32 } else { pixel_count };
+        let camera_samples = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("camera_samples"),
+            size: if reach > 0 { samples as u64 * PIXEL_BYTES } else { PIXEL_BYTES },
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
             contents: bytemuck::bytes_of(&frame),
@@ -101,7 +126,15 @@ impl PathTracer {
         let mut resources = scene_buffers.resources();
         resources.push(Resource { name: "frame", buffer: &frame_buffer });
         resources.push(Resource { name: "radiance", buffer: &sums.radiance });
+        resources.push(Resource { name: "camera_samples", buffer: &camera_samples });
         let group = path_trace.bind_group(device, &resources)?;
+        let filter_splat = if reach > 0 {
+            let kernel = spec.kernel(device, "filter_splat")?;
+            let group = kernel.bind_group(device, &resources)?;
+            Some((kernel, group))
+        } else {
+            None
+        };
         drop(resources);
         Ok(Self {
             device: device.clone(),
@@ -110,6 +143,9 @@ impl PathTracer {
             pixel_count,
             path_trace,
             group,
+            filter_splat,
+            samples,
+            camera_samples,
             progress: Progress::default(),
             frame_buffer,
             sums,
@@ -117,6 +153,18 @@ impl PathTracer {
             pilot: Default::default(),
             _scene: scene_buffers,
         })
+    }
+
+    /// More than a pass's splats can weigh in one pixel: every sample within the filter's
+    /// reach at the filter's peak density per axis (the tent's 1 / radius; the gaussian's
+    /// 1 / (2 m stddev), m = 1.2519 its mass on [0, 4] standard deviations, here m = 1.25).
+    fn weight_bound(&self) -> f32 {
+        let side = 2 * self.frame.filter_reach + 1;
+        let peak = match self.frame.pixel_filter {
+            crate::layout::FILTER_TENT => 1.0 / self.frame.filter_width,
+            _ => 1.0 / (2.5 * self.frame.filter_width),
+        };
+        (side * side) as f32 * peak * peak
     }
 
     /// The path tracer reporting what vcm's pilot said of its choice of no light subpaths and
@@ -134,16 +182,21 @@ impl Integrator for PathTracer {
         self.submissions.submit(&self.device, &self.queue, encoder.finish())
     }
 
-    /// The pass's next pixels, at most `size.points` of them.
+    /// The pass's next pixels, at most `size.points` of them; after the last, under a wide
+    /// filter, the pass's samples splatted into the sums.
     fn record_pass_part(&mut self, encoder: &mut wgpu::CommandEncoder, size: PartSize) -> Part {
-        let (first, end, pass_done) = self.progress.next_part(&mut self.frame, size.points, self.pixel_count);
+        let (first, end, pass_done) = self.progress.next_part(&mut self.frame, size.points, self.samples);
         super::record_upload(&self.device, &self.queue, encoder, &self.frame_buffer, bytemuck::bytes_of(&self.frame));
         self.path_trace.dispatch(encoder, &self.group, end - first);
+        if let (true, Some((kernel, group))) = (pass_done, &self.filter_splat) {
+            kernel.dispatch(encoder, group, self.pixel_count);
+        }
         Part { work: Work::CameraPaths, items: end - first, pass_done }
     }
 
     /// The mean of each pixel's samples, as [`Integrator::image`] computes it. Between the
-    /// parts of a pass, pixels hold one sample more than others.
+    /// parts of a pass, pixels hold one sample more than others (under a wide filter, the
+    /// passes splatted so far).
     fn record_resolve_to_texture(&mut self, encoder: &mut wgpu::CommandEncoder, texture: &wgpu::Texture) -> Result<(), Error> {
         self.sums.record_resolve_to_texture(encoder, texture, &self.frame, &self.frame_buffer)
     }
@@ -185,7 +238,8 @@ impl Integrator for PathTracer {
         self.sums.image(self.frame.width, self.frame.height)
     }
     fn gpu_memory(&self) -> super::GpuMemory {
-        let own = [("frame", &self.frame_buffer)].into_iter().chain(self.sums.buffers());
+        let samples = self.filter_splat.as_ref().map(|_| ("camera_samples", &self.camera_samples));
+        let own = [("frame", &self.frame_buffer)].into_iter().chain(samples).chain(self.sums.buffers());
         super::GpuMemory {
             scene: super::sizes(self._scene.resources().iter().map(|r| (r.name, r.buffer))),
             renderer: super::sizes(own),
@@ -198,10 +252,12 @@ impl Integrator for PathTracer {
         self.sums.image_of_state(state, self.frame.width, self.frame.height)
     }
     /// Refuses a state that no render could have left: work other than a sample a pixel a pass,
-    /// sample counts other than its passes', or sums not finite or negative.
+    /// sample counts other than its passes' (or weights out of their range under a wide
+    /// filter), or sums not finite or negative.
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
         let (width, rows) = (self.frame.width, self.frame.row_offset);
-        let passes = self.sums.restore(state, self.progress.first_pass, self.pixel_count as u64, width, rows)?;
+        let weights = self.filter_splat.is_some().then(|| self.weight_bound());
+        let passes = self.sums.restore(state, self.progress.first_pass, self.pixel_count as u64, width, rows, weights)?;
         self.progress.restored(passes);
         Ok(())
     }

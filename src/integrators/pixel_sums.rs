@@ -1,6 +1,8 @@
 //! The per-pixel sums of the integrators whose passes each add one estimate of every pixel
 //! (the path tracers and the light tracer): `radiance`, the sum of the estimates (rgb) and
-//! their count (w), its read-back, its state for checkpoints and batches, and its resolve.
+//! their count (w), or under a splatting filter the filter-weighted sum of the samples and
+//! their weights' sum ([`super::filter`]), its read-back, its state for checkpoints and
+//! batches, and its resolve.
 
 use super::{decode_state, encode_state, resolve_kernel, shutter_time};
 use crate::error::Error;
@@ -53,12 +55,13 @@ impl PixelSums {
         self.pixel_count as u64 * PIXEL_BYTES
     }
 
-    /// The mean of each pixel's estimates, `width` x `height`.
+    /// The mean of each pixel's estimates (their weighted mean under a splatting filter),
+    /// `width` x `height`; black where none has weight yet.
     fn mean(sums: &[[f32; 4]], width: u32, height: u32) -> Rgb32Image {
         let mut img = Rgb32Image::new(width, height);
         for (dst, s) in img.pixels.iter_mut().zip(sums) {
-            let n = s[3].max(1.0);
-            *dst = [s[0] / n, s[1] / n, s[2] / n];
+            let n = s[3];
+            *dst = if n > 0.0 { [s[0] / n, s[1] / n, s[2] / n] } else { [0.0; 3] };
         }
         img
     }
@@ -112,8 +115,10 @@ impl PixelSums {
 
     /// Load a state whose passes from `first_pass` each did `work_per_pass`, after checking
     /// that a render could have left it: work other than that a pass, estimate counts other
-    /// than its passes', or sums not finite or negative are refused. `width` and `row_offset`
-    /// name pixels in the message. Returns the state's pass count.
+    /// than its passes' (under a splatting filter, `weights` a pass's most weight in a pixel:
+    /// weights not above 0 and below that per pass), or sums not finite or negative are
+    /// refused. `width` and `row_offset` name pixels in the message. Returns the state's pass
+    /// count.
     pub(super) fn restore(
         &self,
         state: &[u8],
@@ -121,6 +126,7 @@ impl PixelSums {
         work_per_pass: u64,
         width: u32,
         row_offset: u32,
+        weights: Option<f32>,
     ) -> Result<u32, Error> {
         let (passes, work, sums) = decode_state(state, self.bytes())?;
         let corrupt = |what: String| Err(Error::Setting(format!("the saved state is corrupt: {what}")));
@@ -134,10 +140,18 @@ impl PixelSums {
         let count = k.min(1 << 24) as f32;
         for (i, s) in sums.chunks_exact(PIXEL_BYTES as usize).enumerate() {
             let s: [f32; 4] = bytemuck::pod_read_unaligned(s);
-            if s[3] != count || s[..3].iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+            let weight_ok = match weights {
+                None => s[3] == count,
+                Some(most) => (k == 0 && s[3] == 0.0) || (s[3] > 0.0 && s[3] <= most * k as f32),
+            };
+            if !weight_ok || s[..3].iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
                 let (x, y) = (i % width as usize, row_offset as usize + i / width as usize);
+                let expected = match weights {
+                    None => format!("{count} samples"),
+                    Some(most) => format!("samples of weight above 0 and at most {}", most * k as f32),
+                };
                 return corrupt(format!(
-                    "pixel ({x}, {y}) holds the sum {:?} of {} samples, where {k} passes give {count} samples of finite, \
+                    "pixel ({x}, {y}) holds the sum {:?} of {} samples, where {k} passes give {expected} of finite, \
                      non-negative radiance",
                     &s[..3],
                     s[3]

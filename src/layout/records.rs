@@ -112,8 +112,11 @@ pub struct Frame {
     /// vcm's pilot: 1 when the kernels add their counts of work to `work_counts`
     /// ([`WORK_COUNTS`] words), 0 otherwise.
     pub count_work: u32,
-    /// Padding; always 0.
-    pub _pad4: u32,
+    /// The path tracers under a wide pixel filter: how many pixels either way a camera sample
+    /// reaches, its weight added to theirs (`shaders/filter_splat.wgsl`); 0 where each sample is
+    /// its pixel's alone, its offset drawn from the filter (see
+    /// [`splat_reach`](crate::integrators::splat_reach)).
+    pub filter_reach: u32,
     /// Padding; always 0.
     pub _pad5: u32,
     /// [`FILTER_GAUSSIAN`]: the CDF of the filter's density on [0, 4] standard deviations at

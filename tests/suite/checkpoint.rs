@@ -1,6 +1,6 @@
 //! Checkpoints and resume through the command line: a render stopped (even by SIGKILL) and
 //! resumed gives the image an uninterrupted render gives, bit for bit, for SPPM and pt-nee,
-//! with either sampler; a checkpoint of another scene or other settings is refused.
+//! with either sampler and under a splatting filter; a checkpoint of another scene or other settings is refused.
 
 use crate::common;
 
@@ -46,16 +46,22 @@ fn stopped_and_resumed_equals_uninterrupted() {
     if common::gpu().is_none() {
         return;
     }
-    for (method, sampler) in [("sppm", "independent"), ("pt-nee", "independent"), ("sppm", "sobol"), ("pt-nee", "sobol")] {
-        let dir = common::scratch(&format!("checkpoint-resume-{method}-{sampler}"));
+    // mitsuba/lights.xml: a gaussian filter, whose samples pt-nee splats (sums of weights).
+    for (scene, method, sampler) in [
+        ("cornell-box.toml", "sppm", "independent"),
+        ("cornell-box.toml", "pt-nee", "independent"),
+        ("cornell-box.toml", "sppm", "sobol"),
+        ("cornell-box.toml", "pt-nee", "sobol"),
+        ("mitsuba/lights.xml", "pt-nee", "sobol"),
+    ] {
+        let dir = common::scratch(&format!("checkpoint-resume-{method}-{sampler}-{}", scene.len()));
         let (full, part, resumed, checkpoint) =
             (dir.join("full.exr"), dir.join("part.exr"), dir.join("resumed.exr"), dir.join("ck"));
         let ck = checkpoint.to_str().unwrap();
         let s = ["--sampler", sampler];
-        run(sppm_gpu("cornell-box.toml", method, &full, &[&["--iterations", "6"][..], &s].concat()));
-        run(sppm_gpu("cornell-box.toml", method, &part, &[&["--iterations", "3", "--checkpoint", ck][..], &s].concat()));
-        let output =
-            run(sppm_gpu("cornell-box.toml", method, &resumed, &[&["--iterations", "6", "--resume", ck][..], &s].concat()));
+        run(sppm_gpu(scene, method, &full, &[&["--iterations", "6"][..], &s].concat()));
+        run(sppm_gpu(scene, method, &part, &[&["--iterations", "3", "--checkpoint", ck][..], &s].concat()));
+        let output = run(sppm_gpu(scene, method, &resumed, &[&["--iterations", "6", "--resume", ck][..], &s].concat()));
         assert_eq!(resumed_after(&output.stderr), 3);
         assert_ne!(bits(&part), bits(&full), "{method} {sampler}: 3 passes differ from 6");
         assert!(bits(&resumed) == bits(&full), "{method} {sampler}: resumed after 3 passes differs from 6 passes in one run");

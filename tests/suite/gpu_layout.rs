@@ -66,7 +66,7 @@ fn gpu_structs_match_wgsl() {
             connect_share,
             merge_share,
             count_work,
-            _pad4,
+            filter_reach,
             _pad5,
             filter_cdf,
         ]

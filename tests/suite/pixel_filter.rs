@@ -502,3 +502,85 @@ fn gaussian_bands_equal_the_whole_image() {
     assert_eq!(whole.pixels, banded.pixels);
     gpu.check().unwrap();
 }
+
+/// The filter's density up to its normalization, from the oracle's definitions.
+fn filter_shape(filter: PixelFilter, x: f64) -> f64 {
+    let r = support(filter);
+    match filter {
+        _ if x.abs() > r => 0.0,
+        PixelFilter::Box => 1.0,
+        PixelFilter::Tent { .. } => 1.0 - x.abs() / r,
+        PixelFilter::Gaussian { stddev } => (-0.5 * (x / stddev as f64).powi(2)).exp() - (-8.0f64).exp(),
+    }
+}
+
+/// How many pixels' samples a splatted pixel averages: `((∫f)^2 / ∫f^2)^2` for the separable
+/// filter f (pi for the gaussian of standard deviation 1/2, 9/4 for the tent of radius 1), by
+/// the midpoint rule.
+fn splat_gain(filter: PixelFilter) -> f64 {
+    let (r, n) = (support(filter), 100_000);
+    let dx = 2.0 * r / n as f64;
+    let xs = (0..n).map(|i| -r + (i as f64 + 0.5) * dx);
+    let (f, f2) = xs.fold((0.0, 0.0), |(a, b), x| (a + filter_shape(filter, x) * dx, b + filter_shape(filter, x).powi(2) * dx));
+    (f * f / f2).powi(2)
+}
+
+/// A white wall filling the view, lit by a square light behind the camera: naive path
+/// tracing's samples, one bounce each, are 0 or the light's radiance reflected, independent
+/// noise about a flat image (the independent sampler: Sobol points stratify a pixel's own
+/// samples, which on this two-dimensional integrand the splat's weights partly undo).
+fn noisy_wall(filter: PixelFilter, seed: u32, size: u32) -> Scene {
+    let mut scene = SceneBuilder::new(size, size)
+        .method(Method::Pt)
+        .camera([0.0; 3], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0], 40.0)
+        .diffuse("white", [0.8; 3])
+        .quad(Vec3::new(-10.0, -10.0, -1.0), Vec3::new(20.0, 0.0, 0.0), Vec3::new(0.0, 20.0, 0.0), "white")
+        // Facing the wall (-z), behind the camera.
+        .quad(Vec3::new(-1.0, -1.0, 0.5), Vec3::new(0.0, 2.0, 0.0), Vec3::new(2.0, 0.0, 0.0), "white")
+        .emission([1.0; 3])
+        .max_depth(1)
+        .photons(1000)
+        .seed(seed)
+        .build()
+        .unwrap_or_else(|e| panic!("{e}"));
+    (scene.render.filter, scene.render.sampler) = (filter, sppm_gpu::sampler::Sampler::Independent);
+    scene
+}
+
+/// Weighted splatting, the path tracers' estimator under a filter wider than the box: a pixel
+/// averages the samples of every pixel its filter reaches, so on a flat, noisy image its
+/// variance is one sample's over ((∫f)^2 / ∫f^2)^2 samples a pass, pi of them under Mitsuba's
+/// default gaussian and 9/4 under the tent of radius 1, where the box (and filter importance
+/// sampling, which fails this) averages one. The variance of each image is read from the
+/// difference of two seeds' renders, away from the edges.
+#[test]
+fn splatting_averages_the_pixels_a_filter_reaches() {
+    let Some(gpu) = common::gpu() else { return };
+    let (size, passes, border) = (96u32, 64, 3);
+    let variance = |filter: PixelFilter| {
+        let a = render(&gpu, &noisy_wall(filter, 1, size), passes);
+        let b = render(&gpu, &noisy_wall(filter, 2, size), passes);
+        let (mut sum, mut n) = (0.0, 0.0);
+        for y in border..size - border {
+            for x in border..size - border {
+                let i = (y * size + x) as usize;
+                sum += (a.pixels[i][0] as f64 - b.pixels[i][0] as f64).powi(2) / 2.0;
+                n += 1.0;
+            }
+        }
+        (sum / n, a.mean()[0])
+    };
+    let (box_variance, box_mean) = variance(PixelFilter::Box);
+    for filter in [GAUSSIAN, TENT] {
+        let (v, mean) = variance(filter);
+        let (gain, expected) = (box_variance / v, splat_gain(filter));
+        eprintln!("{filter:?}: variance {v:.4e} (box {box_variance:.4e}): {gain:.3} pixels' samples, expected {expected:.3}");
+        assert!(
+            (gain / expected - 1.0).abs() < 0.12,
+            "{filter:?}: a pixel averages {gain:.3} pixels' samples, not {expected:.3}"
+        );
+        // The same light: the flat image's mean is the box's.
+        assert!((mean / box_mean - 1.0).abs() < 0.01, "{filter:?}: mean {mean} against the box's {box_mean}");
+    }
+    gpu.check().unwrap();
+}

@@ -10,7 +10,7 @@ use sppm_gpu::batch::{merge, read_partial, write_partial};
 use sppm_gpu::checkpoint::{self, Checkpoint, Fingerprint};
 use sppm_gpu::image_io::{self, ImageErrorKind, Rgb32Image};
 use sppm_gpu::integrators;
-use sppm_gpu::scene::{Method, Scene};
+use sppm_gpu::scene::{Method, PixelFilter, Scene};
 use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -301,13 +301,15 @@ fn with_word(state: &[u8], word: usize, value: f32) -> Vec<u8> {
 }
 
 /// States no render could have left are refused by `restore`: a pass count of u32::MAX, passes
-/// that disagree with the work or the sample counts, sums not finite or negative. A true
-/// state restores.
+/// that disagree with the work or the sample counts (under a splatting filter, weights of 0 or
+/// beyond any pass's), sums not finite or negative. A true state restores.
 #[test]
 fn restore_refuses_states_no_render_could_leave() {
     let Some(gpu) = common::gpu() else { return };
-    for method in [Method::Sppm, Method::PtNee] {
-        let scene = tiny(method);
+    let gaussian = PixelFilter::Gaussian { stddev: 0.5 };
+    for (method, filter) in [(Method::Sppm, PixelFilter::Box), (Method::PtNee, PixelFilter::Box), (Method::PtNee, gaussian)] {
+        let mut scene = tiny(method);
+        scene.render.filter = filter;
         let mut first = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
         first.run_pass().unwrap();
         first.run_pass().unwrap();
@@ -331,8 +333,11 @@ fn restore_refuses_states_no_render_could_leave() {
             let e = refused(&with_word(&state, word, value), "a sum not finite or negative");
             assert!(e.contains("pixel (0, 0)"), "{method:?}: {e}");
         }
-        if method == Method::PtNee {
+        if method == Method::PtNee && filter == PixelFilter::Box {
             refused(&with_word(&state, 3, 5.0), "a pixel of 5 samples after 2 passes");
+        } else if method == Method::PtNee {
+            refused(&with_word(&state, 3, 0.0), "a pixel of no weight after 2 passes");
+            refused(&with_word(&state, 3, 1e3), "a pixel of more weight than 2 passes splat");
         }
         fresh.restore(&state).unwrap_or_else(|e| panic!("{method:?}: {e}"));
         assert_eq!(fresh.passes(), 2);
