@@ -7,7 +7,9 @@
 // tracing are weighted by the balance heuristic so that together they make one estimate.
 // Adds the camera subpath's light to `radiance` without counting a sample: splat_accumulate
 // then adds the pass's splats and counts it; without light subpaths (vcm's light_paths = 0)
-// there are no splats, and the sample is counted here.
+// there are no splats, and the sample is counted here. Under a wide pixel filter
+// (frame.filter_reach > 0) the pass's samples of splat_rows() go to `camera_samples` instead,
+// for filter_splat, and the splats to sums of their own.
 
 #import types
 #import rng
@@ -17,24 +19,38 @@
 
 // Per pixel: the sum of the passes' estimates (rgb) and their count (w).
 @group(0) @binding(16) var<storage, read_write> radiance: array<vec4f>;
+// Under a wide filter, this pass's sample of each pixel of splat_rows(): its radiance's bits
+// (xyz) and its position in the pixel (w, two 16-bit fractions), for filter_splat.
+@group(0) @binding(37) var<storage, read_write> camera_samples: array<vec4u>;
 
 const STREAM_BIDIR_CAMERA: u32 = 4u;
 
 @compute @workgroup_size(64)
 fn bidir_camera(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
-    let pixel = gid.x + gid.y * groups.x * 64u;
-    if pixel >= frame.width * frame.height {
+    // A pixel of this renderer's rows, or of splat_rows() where a wide filter's samples are
+    // splatted.
+    let item = gid.x + gid.y * groups.x * 64u;
+    let rows = select(vec2u(frame.row_offset, frame.row_offset + frame.height), splat_rows(), frame.filter_reach > 0u);
+    if item >= frame.width * (rows.y - rows.x) {
         return;
     }
     // Keyed by the pixel's index in the whole image (this may be a band of it).
-    let index = pixel + frame.row_offset * frame.width;
+    let px = item % frame.width;
+    let row = rows.x + item / frame.width;
+    let index = px + row * frame.width;
     var rng = rng_new(frame.seed, frame.pass_index, STREAM_BIDIR_CAMERA, index);
     rng_sobol(&rng, frame.pass_index, sobol_seed(frame.seed, STREAM_BIDIR_CAMERA, index));
     bidir_light_path = index % max(frame.photon_count, 1u);
     bidir_block = index / 64u;
-    let ray = camera_ray(pixel % frame.width, pixel / frame.width, &rng);
-    let l = trace_camera_path(ray, CAMERA_PATH_BIDIR | CAMERA_PATH_ROULETTE, true, &rng).l;
+    let jitter = rng_next2(&rng);
+    let ray = camera_ray_at(px, row, jitter, &rng);
+    var l = trace_camera_path(ray, CAMERA_PATH_BIDIR | CAMERA_PATH_ROULETTE, true, &rng).l;
     let ok = all(l == l) && all(abs(l) < vec3f(3.0e38));
-    radiance[pixel] += vec4f(select(vec3f(0.0), l, ok), select(0.0, 1.0, frame.photon_count == 0u));
+    l = select(vec3f(0.0), l, ok);
+    if frame.filter_reach > 0u {
+        camera_samples[item] = vec4u(bitcast<vec3u>(l), pack2x16unorm(jitter));
+    } else {
+        radiance[item] += vec4f(l, select(0.0, 1.0, frame.photon_count == 0u));
+    }
     bidir_count_work();
 }

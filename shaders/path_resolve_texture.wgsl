@@ -9,6 +9,9 @@
 // Per pixel: the sum of the samples (rgb) and their count (w), or their weighted sum and
 // their weights' sum.
 @group(0) @binding(16) var<storage, read> radiance: array<vec4f>;
+// bpt and vcm under a splatting filter (frame.filter_reach > 0 with light subpaths): the
+// light subpaths' splats summed apart (rgb) and the passes (w), added to the camera's mean.
+@group(0) @binding(38) var<storage, read> light_sums: array<vec4f>;
 @group(0) @binding(19) var out_image: texture_storage_2d<rgba32float, write>;
 
 @compute @workgroup_size(64)
@@ -19,5 +22,10 @@ fn path_resolve_texture(@builtin(global_invocation_id) gid: vec3u, @builtin(num_
     }
     let s = radiance[pixel];
     let xy = vec2u(pixel % frame.width, pixel / frame.width);
-    textureStore(out_image, xy, vec4f(select(vec3f(0.0), s.xyz / s.w, s.w > 0.0), 1.0));
+    var c = select(vec3f(0.0), s.xyz / s.w, s.w > 0.0);
+    if frame.filter_reach > 0u && frame.photon_count > 0u {
+        let l = light_sums[pixel];
+        c += select(vec3f(0.0), l.xyz / l.w, l.w > 0.0);
+    }
+    textureStore(out_image, xy, vec4f(c, 1.0));
 }

@@ -43,7 +43,7 @@ pub fn adapters() -> Vec<wgpu::AdapterInfo> {
 }
 
 /// Storage buffers the largest kernel binds in one stage.
-pub const STORAGE_BUFFERS_NEEDED: u32 = 16;
+pub const STORAGE_BUFFERS_NEEDED: u32 = 17;
 
 /// What the renderer needs from a device, within what `adapter` offers.
 pub fn required_limits(adapter: &wgpu::Limits) -> Result<wgpu::Limits, GpuError> {

@@ -101,6 +101,18 @@ pub fn splat_reach(filter: PixelFilter) -> u32 {
     }
 }
 
+/// More than a pass's splats can weigh in one pixel of `frame`: every sample within the
+/// filter's reach at the filter's peak density per axis (the tent's 1 / radius; the
+/// gaussian's 1 / (2 m stddev), m = 1.2519 its mass on [0, 4] standard deviations, here 1.25).
+pub fn splat_weight_bound(frame: &Frame) -> f32 {
+    let side = 2 * frame.filter_reach + 1;
+    let peak = match frame.pixel_filter {
+        FILTER_TENT => 1.0 / frame.filter_width,
+        _ => 1.0 / (2.5 * frame.filter_width),
+    };
+    (side * side) as f32 * peak * peak
+}
+
 /// The kernels' `USES_*_FILTER` constants for `filter`: only its own code is compiled in, and
 /// none for the box (`camera_ray` in `shaders/shared/camera.wgsl`).
 pub fn pixel_filter_constants(filter: PixelFilter) -> [(&'static str, f64); 2] {

@@ -177,6 +177,13 @@ pub struct LightTracer {
     trace_group: wgpu::BindGroup,
     /// bpt's and vcm's camera pass and its bindings.
     bidir_camera: Option<(Kernel, wgpu::BindGroup)>,
+    /// bpt and vcm under a wide filter ([`Frame::filter_reach`] > 0): the kernel that splats
+    /// each pass's camera samples into the sums, and its bind group.
+    filter_splat: Option<(Kernel, wgpu::BindGroup)>,
+    /// Camera samples a pass: the renderer's pixels, and the filter's reach in rows beyond them.
+    samples: u32,
+    /// A pass's camera samples for `filter_splat` (16 bytes where none are splatted).
+    camera_samples: wgpu::Buffer,
     /// vcm's grid of light vertices.
     merge_grid: Option<MergeGrid>,
     /// The scene, for vcm's radius of each pass.
@@ -206,15 +213,23 @@ pub struct LightTracer {
 }
 
 impl LightTracer {
-    /// Rows of `scene`'s image whose splats fit in one of this device's storage buffers.
+    /// Rows of `scene`'s image whose splats, and under a splatting filter whose camera samples
+    /// with the rows the filter reaches beyond them, fit in one of this device's storage buffers.
     pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
-        let pixels = device.limits().max_storage_buffer_binding_size / SPLAT_BYTES;
-        (pixels / (scene.render.width as u64).max(1)).min(u32::MAX as u64) as u32
+        let limit = device.limits().max_storage_buffer_binding_size;
+        let width = (scene.render.width as u64).max(1);
+        let rows = (limit / SPLAT_BYTES / width).min(u32::MAX as u64) as u32;
+        match splat_reach_of(&scene.render) {
+            0 => rows,
+            reach => rows.min(((limit / PIXEL_BYTES / width).min(u32::MAX as u64) as u32).saturating_sub(2 * reach)),
+        }
     }
 
     /// Bytes of the renderer's own buffers for a band of `rows` rows of `scene`'s image, as
     /// [`Integrator::gpu_memory`] reports them: the sums per pixel and their read-back copy, the
-    /// splats, and the frame.
+    /// splats, under a splatting filter the light sums and their copy and a pass's camera
+    /// samples (the rows it reaches beyond the band counted as if inside the image), and the
+    /// frame.
     pub fn renderer_bytes(scene: &Scene, rows: u32) -> u64 {
         let r = &scene.render;
         // The store as large as it may be: its slots are sized by a probe after this estimate
@@ -226,7 +241,11 @@ impl LightTracer {
             }
             _ => 8,
         };
-        r.width as u64 * rows as u64 * (2 * PIXEL_BYTES + SPLAT_BYTES) + size_of::<Frame>() as u64 + store
+        let splatted = match splat_reach_of(r) {
+            0 => 0,
+            reach => (2 * rows as u64 + rows as u64 + 2 * reach as u64) * PIXEL_BYTES,
+        };
+        r.width as u64 * (rows as u64 * (2 * PIXEL_BYTES + SPLAT_BYTES) + splatted) + size_of::<Frame>() as u64 + store
     }
 
     /// What a light tracer (or bpt, vcm) cannot render of `scene`, as an error naming it:
@@ -328,6 +347,9 @@ impl LightTracer {
             frame.env_aim = super::sppm::ENV_AIM;
         }
         let merge = merge && r.method == Method::Vcm;
+        // bpt's and vcm's camera samples splatted through a wide filter (lt has none).
+        frame.filter_reach = splat_reach_of(r);
+        let (samples, camera_samples) = super::pixel_sums::camera_samples(device, &frame);
 
         let mut spec = super::specialization(scene, data);
         spec.constants.push(("BIDIR", if bidir { 1.0 } else { 0.0 }));
@@ -343,9 +365,16 @@ impl LightTracer {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
         let splat = storage_buffer(device, "splat", &vec![0u32; pixel_count as usize * (SPLAT_BYTES / 4) as usize]);
-        let sums = PixelSums::new(device, queue, pixel_count);
+        let sums = PixelSums::new(device, queue, pixel_count, frame.filter_reach > 0);
         let work_counts = storage_buffer(device, "work_counts", &[0u32; WORK_COUNTS as usize]);
-        let own = Own { frame: &frame_buffer, splat: &splat, radiance: &sums.radiance, work_counts: &work_counts };
+        let own = Own {
+            frame: &frame_buffer,
+            splat: &splat,
+            radiance: &sums.radiance,
+            light_sums: sums.light_sums(),
+            camera_samples: &camera_samples,
+            work_counts: &work_counts,
+        };
         // bpt and vcm: as many light subpaths as their vertices fit the store, by the mean a
         // probe of the render's own subpaths keeps; lt one a pixel of the whole image.
         let vertices = if bidir {
@@ -393,6 +422,13 @@ impl LightTracer {
         } else {
             None
         };
+        let filter_splat = if frame.filter_reach > 0 {
+            let kernel = spec.kernel(device, "filter_splat")?;
+            let group = kernel.bind_group(device, &resources)?;
+            Some((kernel, group))
+        } else {
+            None
+        };
         let accumulate_group = splat_accumulate.bind_group(device, &resources)?;
         drop(resources);
         Ok(Self {
@@ -403,6 +439,9 @@ impl LightTracer {
             light_trace,
             trace_group,
             bidir_camera,
+            filter_splat,
+            samples,
+            camera_samples,
             merge_grid,
             scene: scene.clone(),
             splat_accumulate,
@@ -437,6 +476,12 @@ impl LightTracer {
         self.vertices
     }
 
+    /// Whether the camera's samples are splatted through a wide filter, the light subpaths'
+    /// splats summed apart ([`LightTracer::counted_pass`]'s second sums).
+    pub(super) fn splats_apart(&self) -> bool {
+        self.filter_splat.is_some()
+    }
+
     /// vcm's radius `radius` at the first pass (its pilot's, set once the probe has said how
     /// many light subpaths a pass takes).
     pub(super) fn set_radius(&mut self, radius: Option<f32>) {
@@ -445,8 +490,8 @@ impl LightTracer {
 
     /// vcm's pilot: one pass at `shares` with `paths` light subpaths (at most as many as the
     /// tracer was built for), its kernels counting their work. Returns the pixel sums after it
-    /// and the counts ([`WORK_COUNTS`] words).
-    pub(super) fn counted_pass(&mut self, shares: Shares, paths: u32) -> Result<(Vec<[f32; 4]>, Vec<u32>), Error> {
+    /// (and the light sums, where kept apart) and the counts ([`WORK_COUNTS`] words).
+    pub(super) fn counted_pass(&mut self, shares: Shares, paths: u32) -> Result<(PassSums, Vec<u32>), Error> {
         let capacity = (self.store.light_path_first.size() / 4) as u32;
         if paths > capacity {
             return Err(Error::Setting(format!("vcm's pilot: {paths} light subpaths a pass, room for {capacity}")));
@@ -455,7 +500,7 @@ impl LightTracer {
         self.frame.photon_count = paths;
         self.queue.write_buffer(&self.work_counts, 0, bytemuck::cast_slice(&[0u32; WORK_COUNTS as usize]));
         self.run_pass()?;
-        let sums = self.sums.sums()?;
+        let sums = self.sums.all_sums()?;
         let counts = crate::gpu::readback::read_whole(&self.device, &self.queue, &self.work_counts)?;
         self.frame.count_work = 0;
         Ok((sums, counts))
@@ -506,6 +551,9 @@ impl Integrator for LightTracer {
         }
         if pass_done {
             if let Some((kernel, group)) = &self.bidir_camera {
+                kernel.dispatch(encoder, group, self.samples);
+            }
+            if let Some((kernel, group)) = &self.filter_splat {
                 kernel.dispatch(encoder, group, self.pixel_count);
             }
             // Without light subpaths (vcm's light_paths = 0) no splat: the camera pass counted
@@ -587,6 +635,7 @@ impl Integrator for LightTracer {
     }
 
     fn gpu_memory(&self) -> super::GpuMemory {
+        let samples = self.filter_splat.as_ref().map(|_| ("camera_samples", &self.camera_samples));
         let own = [
             ("frame", &self.frame_buffer),
             ("splat", &self.splat),
@@ -595,6 +644,7 @@ impl Integrator for LightTracer {
             ("light_vertex_count", &self.store.light_vertex_count),
         ]
         .into_iter()
+        .chain(samples)
         .chain(self.grid_buffers.iter().map(|(name, buffer)| (*name, buffer)))
         .chain(self.sums.buffers());
         super::GpuMemory {
@@ -614,11 +664,28 @@ impl Integrator for LightTracer {
     /// Refuses a state that no render could have left (see the path tracer's).
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
         let (width, rows) = (self.frame.width, self.frame.row_offset);
-        let passes = self.sums.restore(state, self.progress.first_pass, self.paths() as u64, width, rows, None)?;
+        let weights = self.filter_splat.is_some().then(|| super::filter::splat_weight_bound(&self.frame));
+        let light_counted = self.paths() > 0;
+        let passes =
+            self.sums.restore(state, self.progress.first_pass, self.paths() as u64, width, rows, weights, light_counted)?;
         self.progress.restored(passes);
         Ok(())
     }
 }
+
+/// How many pixels either way bpt's and vcm's camera samples are splatted under `r`'s filter
+/// ([`super::splat_reach`]); 0 for lt, which traces no camera subpaths.
+fn splat_reach_of(r: &RenderSettings) -> u32 {
+    if is_bidirectional(r.method) {
+        super::splat_reach(r.filter)
+    } else {
+        0
+    }
+}
+
+/// The sums a pass of vcm's pilot leaves: each pixel's (rgb, and count or weights) and, under
+/// a splatting filter, the light subpaths' apart ([`PixelSums::all_sums`]).
+pub(super) type PassSums = (Vec<[f32; 4]>, Option<Vec<[f32; 4]>>);
 
 /// Whether the render `r` may merge: vcm with a share of camera vertices that merge above 0,
 /// or one its pilot chooses (at 0 it stores no merge points and builds no grid).
@@ -674,6 +741,8 @@ struct Own<'a> {
     frame: &'a wgpu::Buffer,
     splat: &'a wgpu::Buffer,
     radiance: &'a wgpu::Buffer,
+    light_sums: &'a wgpu::Buffer,
+    camera_samples: &'a wgpu::Buffer,
     work_counts: &'a wgpu::Buffer,
 }
 
@@ -689,6 +758,8 @@ impl<'a> Own<'a> {
         resources.push(Resource { name: "frame", buffer: self.frame });
         resources.push(Resource { name: "splat", buffer: self.splat });
         resources.push(Resource { name: "radiance", buffer: self.radiance });
+        resources.push(Resource { name: "light_sums", buffer: self.light_sums });
+        resources.push(Resource { name: "camera_samples", buffer: self.camera_samples });
         resources.push(Resource { name: "light_vertices", buffer: &store.light_vertices });
         resources.push(Resource { name: "light_path_first", buffer: &store.light_path_first });
         resources.push(Resource { name: "light_vertex_count", buffer: &store.light_vertex_count });

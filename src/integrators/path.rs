@@ -108,21 +108,14 @@ impl PathTracer {
         spec.constants.push(("PATH_NEE", if nee { 1.0 } else { 0.0 }));
         let path_trace = spec.kernel(device, "path_trace")?;
         // The rows a pass traces: the band's, and under a wide filter those it reaches beyond.
+        let (samples, camera_samples) = super::pixel_sums::camera_samples(device, &frame);
         let reach = frame.filter_reach;
-        let sample_rows = rows.start.saturating_sub(reach)..(rows.end + reach).min(r.height);
-        let samples = if reach > 0 { r.width * sample_rows.len() as u32 } else { pixel_count };
-        let camera_samples = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("camera_samples"),
-            size: if reach > 0 { samples as u64 * PIXEL_BYTES } else { PIXEL_BYTES },
-            usage: wgpu::BufferUsages::STORAGE,
-            mapped_at_creation: false,
-        });
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
             contents: bytemuck::bytes_of(&frame),
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
         });
-        let sums = PixelSums::new(device, queue, pixel_count);
+        let sums = PixelSums::new(device, queue, pixel_count, false);
         let mut resources = scene_buffers.resources();
         resources.push(Resource { name: "frame", buffer: &frame_buffer });
         resources.push(Resource { name: "radiance", buffer: &sums.radiance });
@@ -153,18 +146,6 @@ impl PathTracer {
             pilot: Default::default(),
             _scene: scene_buffers,
         })
-    }
-
-    /// More than a pass's splats can weigh in one pixel: every sample within the filter's
-    /// reach at the filter's peak density per axis (the tent's 1 / radius; the gaussian's
-    /// 1 / (2 m stddev), m = 1.2519 its mass on [0, 4] standard deviations, here m = 1.25).
-    fn weight_bound(&self) -> f32 {
-        let side = 2 * self.frame.filter_reach + 1;
-        let peak = match self.frame.pixel_filter {
-            crate::layout::FILTER_TENT => 1.0 / self.frame.filter_width,
-            _ => 1.0 / (2.5 * self.frame.filter_width),
-        };
-        (side * side) as f32 * peak * peak
     }
 
     /// The path tracer reporting what vcm's pilot said of its choice of no light subpaths and
@@ -256,8 +237,8 @@ impl Integrator for PathTracer {
     /// filter), or sums not finite or negative.
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
         let (width, rows) = (self.frame.width, self.frame.row_offset);
-        let weights = self.filter_splat.is_some().then(|| self.weight_bound());
-        let passes = self.sums.restore(state, self.progress.first_pass, self.pixel_count as u64, width, rows, weights)?;
+        let weights = self.filter_splat.is_some().then(|| super::filter::splat_weight_bound(&self.frame));
+        let passes = self.sums.restore(state, self.progress.first_pass, self.pixel_count as u64, width, rows, weights, false)?;
         self.progress.restored(passes);
         Ok(())
     }

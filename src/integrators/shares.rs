@@ -33,7 +33,7 @@
 //! choice may then differ with the device's speed, as the passes do; a checkpoint keeps the
 //! choice, and a render resumed from it renders that choice again.
 
-use super::light::{light_paths, vcm_radius, LightTracer, Shares};
+use super::light::{light_paths, vcm_radius, LightTracer, PassSums, Shares};
 use super::Integrator;
 use crate::error::Error;
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
@@ -448,6 +448,44 @@ impl fmt::Display for Pilot {
     }
 }
 
+/// Each pixel's estimate of the pass between the pilot's sums `before` and `after`: their
+/// difference, or where the camera's samples are splatted through a wide filter (sums of
+/// weighted samples and of weights, the light subpaths' apart) the pass's weighted mean of
+/// the camera's samples plus its light splats.
+fn pass_estimate(after: &PassSums, before: &PassSums) -> Vec<[f32; 3]> {
+    let camera = after.0.iter().zip(&before.0);
+    match (&after.1, &before.1) {
+        (Some(light), Some(light_before)) => camera
+            .zip(light.iter().zip(light_before))
+            .map(|((a, b), (l, lb))| {
+                let w = a[3] - b[3];
+                let c = |i: usize| if w > 0.0 { (a[i] - b[i]) / w } else { 0.0 };
+                [c(0) + l[0] - lb[0], c(1) + l[1] - lb[1], c(2) + l[2] - lb[2]]
+            })
+            .collect(),
+        _ => camera.map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]]).collect(),
+    }
+}
+
+/// Each pixel's mean over the pilot's `passes` so far, from its sums: their sum over the
+/// passes, or where the camera's samples are splatted their weighted mean plus the light
+/// splats' sum over the passes.
+fn pass_mean(sums: &PassSums, passes: f64) -> Vec<[f64; 3]> {
+    match &sums.1 {
+        Some(light) => sums
+            .0
+            .iter()
+            .zip(light)
+            .map(|(s, l)| {
+                let w = s[3] as f64;
+                let c = |i: usize| if w > 0.0 { s[i] as f64 / w } else { 0.0 };
+                [c(0) + l[0] as f64 / passes, c(1) + l[1] as f64 / passes, c(2) + l[2] as f64 / passes]
+            })
+            .collect(),
+        None => sums.0.iter().map(|s| [s[0] as f64 / passes, s[1] as f64 / passes, s[2] as f64 / passes]).collect(),
+    }
+}
+
 /// The scene the pilot renders for `scene` (see the module's documentation), each candidate's
 /// light subpaths a pilot pass, in proportion to the render's, for light subpaths that keep
 /// `vertices` each on average ([`light_paths`]), and the factor on the render's radius that
@@ -549,7 +587,7 @@ pub fn choose(
     let mut costs = vec![0.0; choices.len()];
     let mut seconds = vec![0.0; choices.len()];
     let mut work = vec![[0.0; WORK_COUNTS as usize]; choices.len()];
-    let mut before = vec![[0.0f32; 4]; pixels];
+    let mut before: PassSums = (vec![[0.0f32; 4]; pixels], tracer.splats_apart().then(|| vec![[0.0f32; 4]; pixels]));
     // The passes of candidates `ks`, in turn; then every candidate run so far, its figures
     // with each pixel's mean over every pilot pass so far, and those means.
     let mut ran: Vec<usize> = Vec::new();
@@ -564,8 +602,7 @@ pub fn choose(
             if log {
                 eprintln!("pilot pass {k} {pass_seconds:.6} {work_counts:?}");
             }
-            let estimate: Vec<[f32; 3]> =
-                sums.iter().zip(&before).map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]]).collect();
+            let estimate = pass_estimate(&sums, &before);
             before = sums;
             estimates[k].push(estimate);
             costs[k] += model.cost(&work_counts, counts[k] > 0, pixels as u32) / passes_each as f64;
@@ -575,7 +612,7 @@ pub fn choose(
         }
         ran.extend_from_slice(ks);
         let all = tracer.passes().max(1) as f64;
-        let mu: Vec<[f64; 3]> = before.iter().map(|s| [s[0] as f64 / all, s[1] as f64 / all, s[2] as f64 / all]).collect();
+        let mu = pass_mean(&before, all);
         let candidates = ran
             .iter()
             .map(|&k| Candidate {

@@ -1,9 +1,11 @@
 //! Pixel filters by filter importance sampling (`sample_filter` in shaders/shared/camera.wgsl):
 //! the offsets `camera_ray` draws follow each filter's density (a KS test per axis and a
 //! chi-square test of the pair, on the WGSL itself, and mutants of the samplers fail them);
-//! the box draws the same numbers and rays as before filters, bit for bit; a sharp edge
-//! rendered with each filter (pt) is the step convolved with the normalized filter, pixel by
-//! pixel; and SPPM's camera pass uses the filter too.
+//! the box draws the same numbers and rays as before filters, bit for bit; SPPM's camera pass
+//! uses the filter too. And by weighted splatting (the path tracers', bpt's and vcm's camera
+//! samples, shaders/filter_splat.wgsl): a sharp edge rendered with each filter (pt) is the step
+//! convolved with the normalized filter, pixel by pixel; a pixel averages as many pixels'
+//! samples as the filter's shape says; bands and texture resolves give the host's image.
 
 use crate::common;
 
@@ -581,6 +583,41 @@ fn splatting_averages_the_pixels_a_filter_reaches() {
         );
         // The same light: the flat image's mean is the box's.
         assert!((mean / box_mean - 1.0).abs() < 0.01, "{filter:?}: mean {mean} against the box's {box_mean}");
+    }
+    gpu.check().unwrap();
+}
+
+/// Under a splatting filter the texture resolve (the preview's, an embedding application's)
+/// is the host's image to the bit: the camera samples' weighted mean, plus bpt's and vcm's
+/// light subpaths' splats summed apart.
+#[test]
+fn splatted_images_resolve_to_textures_as_on_the_host() {
+    let Some(gpu) = common::gpu() else { return };
+    for method in [Method::PtNee, Method::Bpt, Method::Vcm] {
+        let scene = edge_scene(7.6, method, GAUSSIAN);
+        let mut integrator = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
+        for _ in 0..3 {
+            integrator.run_pass().unwrap();
+        }
+        let image = integrator.image().unwrap();
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("resolved"),
+            size: wgpu::Extent3d { width: WIDTH, height: HEIGHT, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::Rgba32Float,
+            usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        integrator.record_resolve_to_texture(&mut encoder, &texture).unwrap();
+        gpu.queue.submit([encoder.finish()]);
+        let texels = sppm_gpu::gpu::readback::read_texture(&gpu.device, &gpu.queue, &texture).unwrap();
+        let resolved = Rgb32Image::from_rgba(WIDTH, HEIGHT, &texels);
+        let bits = |img: &Rgb32Image| img.pixels.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
+        assert!(bits(&resolved) == bits(&image), "{method:?}: the texture's resolve differs from the host's image");
+        assert!(image.mean()[0] > 0.1, "{method:?}: a dark image, mean {:?}", image.mean());
     }
     gpu.check().unwrap();
 }
