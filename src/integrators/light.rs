@@ -491,7 +491,7 @@ impl LightTracer {
     /// vcm's pilot: one pass at `shares` with `paths` light subpaths (at most as many as the
     /// tracer was built for), its kernels counting their work. Returns the pixel sums after it
     /// (and the light sums, where kept apart) and the counts ([`WORK_COUNTS`] words).
-    pub(super) fn counted_pass(&mut self, shares: Shares, paths: u32) -> Result<(PassSums, Vec<u32>), Error> {
+    pub(super) fn counted_pass(&mut self, shares: Shares, paths: u32) -> Result<(super::pixel_sums::PassSums, Vec<u32>), Error> {
         let capacity = (self.store.light_path_first.size() / 4) as u32;
         if paths > capacity {
             return Err(Error::Setting(format!("vcm's pilot: {paths} light subpaths a pass, room for {capacity}")));
@@ -682,10 +682,6 @@ fn splat_reach_of(r: &RenderSettings) -> u32 {
         0
     }
 }
-
-/// The sums a pass of vcm's pilot leaves: each pixel's (rgb, and count or weights) and, under
-/// a splatting filter, the light subpaths' apart ([`PixelSums::all_sums`]).
-pub(super) type PassSums = (Vec<[f32; 4]>, Option<Vec<[f32; 4]>>);
 
 /// Whether the render `r` may merge: vcm with a share of camera vertices that merge above 0,
 /// or one its pilot chooses (at 0 it stores no merge points and builds no grid).

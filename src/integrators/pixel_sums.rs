@@ -33,6 +33,10 @@ impl Sums {
     }
 }
 
+/// Each pixel's sums read back (rgb, and count or weights) and, under a splatting filter with
+/// light subpaths, the light subpaths' apart ([`PixelSums::all_sums`]).
+pub(super) type PassSums = (Vec<[f32; 4]>, Option<Vec<[f32; 4]>>);
+
 /// The ratio of a pixel's sums, rgb over w; black where w is 0.
 fn ratio(s: &[f32; 4]) -> [f32; 3] {
     let n = s[3];
@@ -129,7 +133,7 @@ impl PixelSums {
     }
 
     /// [`PixelSums::sums`] and the light sums where kept apart.
-    pub(super) fn all_sums(&self) -> Result<(Vec<[f32; 4]>, Option<Vec<[f32; 4]>>), Error> {
+    pub(super) fn all_sums(&self) -> Result<PassSums, Error> {
         let light = match self.has_light {
             true => Some(read_buffer(&self.device, &self.queue, &self.light.buffer, &self.light.staging, self.bytes())?),
             false => None,

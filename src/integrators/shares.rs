@@ -33,7 +33,8 @@
 //! choice may then differ with the device's speed, as the passes do; a checkpoint keeps the
 //! choice, and a render resumed from it renders that choice again.
 
-use super::light::{light_paths, vcm_radius, LightTracer, PassSums, Shares};
+use super::light::{light_paths, vcm_radius, LightTracer, Shares};
+use super::pixel_sums::PassSums;
 use super::Integrator;
 use crate::error::Error;
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
