@@ -117,7 +117,7 @@ impl AppKernel {
     }
 }
 
-fn target(device: &wgpu::Device, format: wgpu::TextureFormat, width: u32, height: u32) -> wgpu::Texture {
+pub(crate) fn target(device: &wgpu::Device, format: wgpu::TextureFormat, width: u32, height: u32) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some("app target"),
         size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },

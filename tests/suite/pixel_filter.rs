@@ -600,16 +600,8 @@ fn splatted_images_resolve_to_textures_as_on_the_host() {
             integrator.run_pass().unwrap();
         }
         let image = integrator.image().unwrap();
-        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("resolved"),
-            size: wgpu::Extent3d { width: WIDTH, height: HEIGHT, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba32Float,
-            usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
+        // An application's Rgba32Float target, as embed.rs makes it.
+        let texture = crate::embed::target(&gpu.device, wgpu::TextureFormat::Rgba32Float, WIDTH, HEIGHT);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         integrator.record_resolve_to_texture(&mut encoder, &texture).unwrap();
         gpu.queue.submit([encoder.finish()]);
