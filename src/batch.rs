@@ -8,6 +8,12 @@
 //! passes they hold; a partial altered since it was written, or with a pixel not finite or
 //! negative (a sum of estimates cannot be), is refused.
 //!
+//! Under a splatting filter (the path tracers', bpt's and vcm's camera samples through a tent
+//! or gaussian: [`SplatSums`]) the image is not a mean of passes: a partial then also holds
+//! the camera samples' weighted sums and weights (channels `splat.R`, `splat.G`, `splat.B`,
+//! `splat.W`) and for bpt and vcm the light subpaths' splats (`light.R`, `light.G`,
+//! `light.B`), and the merge is their sums' ratio plus the light's mean, as one process's.
+//!
 //! Exactness: a partial holds `mean * count` of its batch in f32, and the merge sums in f64.
 //! Against one process rendering all the passes, a pixel differs by the rounding of those
 //! products and of the GPU's f32 sums in another order: a few f32 ulps per batch and per
@@ -17,6 +23,7 @@
 use crate::checkpoint::{Fingerprint, Fnv};
 use crate::error::Error;
 use crate::image_io::{self, Rgb32Image};
+use crate::integrators::SplatSums;
 use std::path::{Path, PathBuf};
 
 /// Header names of a partial image's text attributes.
@@ -27,13 +34,22 @@ const GEOMETRY: &str = "sppm-gpu geometry";
 const APPEARANCE: &str = "sppm-gpu appearance";
 const CHECKSUM: &str = "sppm-gpu checksum";
 
-/// FNV-1a of a partial's size, pixels and `text` attributes (name and value, each
+/// A partial's channels beyond R, G and B under a splatting filter: the camera samples' sums
+/// and weights, then the light subpaths' sums.
+const SPLAT_CHANNELS: [&str; 4] = ["splat.R", "splat.G", "splat.B", "splat.W"];
+const LIGHT_CHANNELS: [&str; 3] = ["light.R", "light.G", "light.B"];
+
+/// FNV-1a of a partial's size, pixels, splat sums and `text` attributes (name and value, each
 /// length-prefixed), as 16 hex digits.
-fn checksum(sum: &Rgb32Image, text: &[(&str, &str)]) -> String {
+fn checksum(sum: &Rgb32Image, splat: Option<&SplatSums>, text: &[(&str, &str)]) -> String {
     let mut digest = Fnv::new();
     digest.write(&sum.width.to_le_bytes());
     digest.write(&sum.height.to_le_bytes());
     digest.write_f32s(sum.pixels.iter().flatten().copied());
+    if let Some(splat) = splat {
+        digest.write_f32s(splat.camera.iter().flatten().copied());
+        digest.write_f32s(splat.light.iter().flatten().flat_map(|p| [p[0], p[1], p[2]]));
+    }
     for (name, value) in text {
         for s in [name, value] {
             digest.write(&(s.len() as u64).to_le_bytes());
@@ -54,12 +70,23 @@ pub struct Partial {
     pub end: u32,
     /// What it was rendered from.
     pub fingerprint: Fingerprint,
+    /// Under a splatting filter, what the batch's image is made of (the light sums' passes
+    /// are the batch's).
+    pub splat: Option<SplatSums>,
     /// The file it came from (for messages).
     pub path: PathBuf,
 }
 
-/// Write the partial of a batch of passes `first..end` whose mean estimate is `mean`.
-pub fn write_partial(path: &Path, mean: &Rgb32Image, first: u32, end: u32, fingerprint: &Fingerprint) -> Result<(), Error> {
+/// Write the partial of a batch of passes `first..end` whose mean estimate is `mean`, and
+/// under a splatting filter the sums it is made of.
+pub fn write_partial(
+    path: &Path,
+    mean: &Rgb32Image,
+    splat: Option<&SplatSums>,
+    first: u32,
+    end: u32,
+    fingerprint: &Fingerprint,
+) -> Result<(), Error> {
     let count = end
         .checked_sub(first)
         .filter(|&n| n > 0)
@@ -75,9 +102,21 @@ pub fn write_partial(path: &Path, mean: &Rgb32Image, first: u32, end: u32, finge
         (GEOMETRY, geometry.as_str()),
         (APPEARANCE, appearance.as_str()),
     ];
-    let digest = checksum(&sum, &text);
+    let digest = checksum(&sum, splat, &text);
     let text: Vec<(&str, &str)> = text.into_iter().chain([(CHECKSUM, digest.as_str())]).collect();
-    Ok(image_io::write_exr_with_text(path, &sum, &text)?)
+    let mut planes: Vec<(&str, Vec<f32>)> = Vec::new();
+    if let Some(splat) = splat {
+        for (c, name) in SPLAT_CHANNELS.iter().enumerate() {
+            planes.push((name, splat.camera.iter().map(|p| p[c]).collect()));
+        }
+        for (c, name) in LIGHT_CHANNELS.iter().enumerate() {
+            if let Some(light) = &splat.light {
+                planes.push((name, light.iter().map(|p| p[c]).collect()));
+            }
+        }
+    }
+    let extra: Vec<(&str, &[f32])> = planes.iter().map(|(n, v)| (*n, v.as_slice())).collect();
+    Ok(image_io::write_exr_with_channels(path, &sum, &extra, &text)?)
 }
 
 /// Read a partial image written by [`write_partial`].
@@ -97,7 +136,8 @@ pub fn read_partial(path: &Path) -> Result<Partial, Error> {
             path.display()
         ))
     })?;
-    if checksum(&sum, &text_of) != stored {
+    let mut splat = read_splat(path, &sum)?;
+    if checksum(&sum, splat.as_ref(), &text_of) != stored {
         return Err(Error::Setting(format!(
             "{}: the partial is corrupt: checksum mismatch (its pixels or header changed since it was written)",
             path.display()
@@ -116,13 +156,48 @@ pub fn read_partial(path: &Path) -> Result<Partial, Error> {
         geometry: digest(GEOMETRY)?,
         appearance: digest(APPEARANCE)?,
     };
-    Ok(Partial { sum, first, end, fingerprint, path: path.to_path_buf() })
+    for light in splat.iter_mut().flat_map(|s| s.light.iter_mut()).flatten() {
+        light[3] = (end - first) as f32;
+    }
+    Ok(Partial { sum, first, end, fingerprint, splat, path: path.to_path_buf() })
+}
+
+/// A partial's splat sums, where it has them: the `splat.*` channels all or none, the light
+/// channels all or none (their passes, the batch's, set by the caller).
+fn read_splat(path: &Path, sum: &Rgb32Image) -> Result<Option<SplatSums>, Error> {
+    let names: Vec<&str> = SPLAT_CHANNELS.iter().chain(&LIGHT_CHANNELS).copied().collect();
+    let planes = image_io::read_exr_channels(path, &names)?;
+    let (camera, light) = planes.split_at(SPLAT_CHANNELS.len());
+    let all = |planes: &[Option<Vec<f32>>]| -> Result<Option<Vec<Vec<f32>>>, Error> {
+        match planes.iter().filter(|p| p.is_some()).count() {
+            0 => Ok(None),
+            n if n == planes.len() => Ok(Some(planes.iter().flatten().cloned().collect())),
+            _ => {
+                Err(Error::Setting(format!("{}: the partial is corrupt: some of its splat channels are missing", path.display())))
+            }
+        }
+    };
+    let pixels = sum.pixels.len();
+    let Some(camera) = all(camera)? else { return Ok(None) };
+    let camera = (0..pixels).map(|i| [camera[0][i], camera[1][i], camera[2][i], camera[3][i]]).collect();
+    let light = all(light)?.map(|l| (0..pixels).map(|i| [l[0][i], l[1][i], l[2][i], 0.0]).collect());
+    Ok(Some(SplatSums { camera, light }))
 }
 
 /// Errors naming the first pixel of `part` (row by row) that is not finite or is negative: a
 /// sum of non-negative estimates is neither.
 fn check_pixels(part: &Partial) -> Result<(), Error> {
-    let Some(i) = part.sum.pixels.iter().position(|p| p.iter().any(|v| !(v.is_finite() && *v >= 0.0))) else {
+    let bad = |v: &f32| !(v.is_finite() && *v >= 0.0);
+    if let Some(splat) = &part.splat {
+        let mut planes = splat.camera.iter().chain(splat.light.iter().flatten());
+        if planes.any(|p| p.iter().any(bad)) {
+            return Err(Error::Setting(format!(
+                "{}: a splat sum of the partial is not finite or is negative: sums of weights and samples must be neither",
+                part.path.display()
+            )));
+        }
+    }
+    let Some(i) = part.sum.pixels.iter().position(|p| p.iter().any(bad)) else {
         return Ok(());
     };
     let (x, y) = (i % part.sum.width.max(1) as usize, i / part.sum.width.max(1) as usize);
@@ -174,6 +249,15 @@ pub fn merge(parts: &[Partial]) -> Result<(Rgb32Image, Vec<String>), Error> {
         reach = Some(p);
     }
     let count: u64 = parts.iter().map(|p| (p.end - p.first) as u64).sum();
+    let splatted = parts.iter().filter(|p| p.splat.is_some()).count();
+    if splatted == parts.len() {
+        return Ok((merge_splats(&order, head, count), warnings));
+    } else if splatted > 0 {
+        return Err(Error::Setting(format!(
+            "{}: some partials hold splat sums and some do not: not batches of one render",
+            head.path.display()
+        )));
+    }
     let mut total = vec![[0f64; 3]; head.sum.pixels.len()];
     for p in &order {
         for (t, s) in total.iter_mut().zip(&p.sum.pixels) {
@@ -184,4 +268,34 @@ pub fn merge(parts: &[Partial]) -> Result<(Rgb32Image, Vec<String>), Error> {
     }
     let pixels = total.iter().map(|t| t.map(|v| (v / count as f64) as f32)).collect();
     Ok((Rgb32Image { width: head.sum.width, height: head.sum.height, pixels }, warnings))
+}
+
+/// The merge of partials under a splatting filter (each with [`SplatSums`]), `count` passes
+/// among them: per pixel the camera samples' weighted sums over their weights, plus the light
+/// subpaths' sums over the passes, in f64.
+fn merge_splats(parts: &[&Partial], head: &Partial, count: u64) -> Rgb32Image {
+    let pixels = head.sum.pixels.len();
+    let (mut camera, mut light) = (vec![[0f64; 4]; pixels], vec![[0f64; 3]; pixels]);
+    for p in parts {
+        let splat = p.splat.as_ref().expect("every part splatted");
+        for (t, s) in camera.iter_mut().zip(&splat.camera) {
+            for c in 0..4 {
+                t[c] += s[c] as f64;
+            }
+        }
+        for (t, s) in light.iter_mut().zip(splat.light.iter().flatten()) {
+            for c in 0..3 {
+                t[c] += s[c] as f64;
+            }
+        }
+    }
+    let pixels = camera
+        .iter()
+        .zip(&light)
+        .map(|(c, l)| {
+            let w = c[3];
+            std::array::from_fn(|i| ((if w > 0.0 { c[i] / w } else { 0.0 }) + l[i] / count as f64) as f32)
+        })
+        .collect();
+    Rgb32Image { width: head.sum.width, height: head.sum.height, pixels }
 }

@@ -273,25 +273,81 @@ pub fn write_exr(path: &Path, img: &Rgb32Image) -> Result<(), ImageError> {
 /// [`write_exr`] with text attributes in the header, `(name, value)`: Latin-1 text each
 /// (the renderer's partial images carry their pass range and fingerprint this way).
 pub fn write_exr_with_text(path: &Path, img: &Rgb32Image, text: &[(&str, &str)]) -> Result<(), ImageError> {
+    write_exr_with_channels(path, img, &[], text)
+}
+
+/// [`write_exr_with_text`] with more f32 channels beside R, G and B, each `(name, plane)`: a
+/// plane of `width * height` values, row-major (a partial image's splat weights).
+pub fn write_exr_with_channels(
+    path: &Path,
+    img: &Rgb32Image,
+    extra: &[(&str, &[f32])],
+    text: &[(&str, &str)],
+) -> Result<(), ImageError> {
     check_pixel_buffer(path, img)?;
-    let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
-        let [r, g, b] = img.pixels[y * img.width as usize + x];
-        (r, g, b)
-    });
+    let latin1 = |s: &str| {
+        exr::prelude::Text::new_or_none(s).ok_or_else(|| {
+            let message = format!("the header text or channel name `{s}` is not Latin-1");
+            ImageError::new(path, ImageErrorKind::Exr(exr::error::Error::Invalid(message.into())))
+        })
+    };
     let size = (img.width as usize, img.height as usize);
     let mut encoded = Vec::new();
-    let mut image = exr::prelude::Image::from_channels(size, channels);
+    let mut attributes = exr::meta::header::LayerAttributes::default();
     for (name, value) in text {
-        let latin1 = |s: &str| {
-            exr::prelude::Text::new_or_none(s).ok_or_else(|| {
-                let message = format!("the header text `{name}` is not Latin-1");
-                ImageError::new(path, ImageErrorKind::Exr(exr::error::Error::Invalid(message.into())))
-            })
-        };
-        image.layer_data.attributes.other.insert(latin1(name)?, exr::meta::attribute::AttributeValue::Text(latin1(value)?));
+        attributes.other.insert(latin1(name)?, exr::meta::attribute::AttributeValue::Text(latin1(value)?));
     }
-    image.write().to_buffered(Cursor::new(&mut encoded)).map_err(|e| ImageError::new(path, ImageErrorKind::Exr(e)))?;
+    let write = |result: exr::error::UnitResult| result.map_err(|e| ImageError::new(path, ImageErrorKind::Exr(e)));
+    if extra.is_empty() {
+        let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+            let [r, g, b] = img.pixels[y * img.width as usize + x];
+            (r, g, b)
+        });
+        let mut image = exr::prelude::Image::from_channels(size, channels);
+        image.layer_data.attributes = attributes;
+        write(image.write().to_buffered(Cursor::new(&mut encoded)))?;
+    } else {
+        use exr::prelude::{AnyChannel, AnyChannels, FlatSamples};
+        let plane = |c: usize| FlatSamples::F32(img.pixels.iter().map(|p| p[c]).collect());
+        let mut list: exr::prelude::SmallVec<[AnyChannel<FlatSamples>; 4]> =
+            ["R", "G", "B"].iter().enumerate().map(|(c, name)| AnyChannel::new(*name, plane(c))).collect();
+        for (name, values) in extra {
+            if values.len() != img.pixels.len() {
+                let message = format!("channel `{name}` holds {} values for {} pixels", values.len(), img.pixels.len());
+                return Err(ImageError::new(path, ImageErrorKind::Exr(exr::error::Error::Invalid(message.into()))));
+            }
+            list.push(AnyChannel::new(latin1(name)?, FlatSamples::F32(values.to_vec())));
+        }
+        let layer = exr::prelude::Layer::new(size, attributes, exr::prelude::Encoding::FAST_LOSSLESS, AnyChannels::sort(list));
+        write(exr::prelude::Image::from_layer(layer).write().to_buffered(Cursor::new(&mut encoded)))?;
+    }
     write_atomically(path, &encoded)
+}
+
+/// The f32 planes (row-major) of the channels `names` of an EXR's first layer, `None` for a
+/// name it lacks (f16 and u32 channels converted).
+pub fn read_exr_channels(path: &Path, names: &[&str]) -> Result<Vec<Option<Vec<f32>>>, ImageError> {
+    let mut file = File::open(path).map_err(|e| ImageError::new(path, ImageErrorKind::Io(e)))?;
+    check_exr_header(path, &mut file)?;
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_unbuffered(file)
+        .map_err(|e| ImageError::new(path, ImageErrorKind::Exr(e)))?;
+    let channels = &image.layer_data.channel_data.list;
+    Ok(names
+        .iter()
+        .map(|name| {
+            channels.iter().find(|c| c.name.to_string() == *name).map(|c| match &c.sample_data {
+                exr::prelude::FlatSamples::F32(v) => v.clone(),
+                exr::prelude::FlatSamples::F16(v) => v.iter().map(|h| h.to_f32()).collect(),
+                exr::prelude::FlatSamples::U32(v) => v.iter().map(|&u| u as f32).collect(),
+            })
+        })
+        .collect())
 }
 
 /// Writes `img` in the format named by `path`'s extension (`.png` or `.exr`,

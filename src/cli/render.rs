@@ -414,7 +414,8 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
         if partial.exists() {
             eprintln!("note: replacing {}", partial.display());
         }
-        sppm_gpu::batch::write_partial(partial, &image, first_pass, integrator.passes(), &fingerprint)?;
+        let splat = integrator.splat_sums()?;
+        sppm_gpu::batch::write_partial(partial, &image, splat.as_ref(), first_pass, integrator.passes(), &fingerprint)?;
         written.push(format!("{} (passes {first_pass}..{})", partial.display(), integrator.passes()));
     }
     if !strategy_outputs.is_empty() && !integrator.splits_strategies() {

@@ -152,6 +152,23 @@ impl Integrator for Bands {
         }
         Ok(out)
     }
+    /// The bands' sums one after another, in their rows' order.
+    fn splat_sums(&mut self) -> Result<Option<super::SplatSums>, Error> {
+        let mut out: Option<super::SplatSums> = None;
+        for band in &mut self.bands {
+            let Some(sums) = band.splat_sums()? else { return Ok(None) };
+            match &mut out {
+                None => out = Some(sums),
+                Some(all) => {
+                    all.camera.extend(sums.camera);
+                    if let (Some(light), Some(more)) = (&mut all.light, sums.light) {
+                        light.extend(more);
+                    }
+                }
+            }
+        }
+        Ok(out)
+    }
     /// The scene's buffers once (the bands share them), the bands' own summed by name.
     fn gpu_memory(&self) -> super::GpuMemory {
         let mut total = self.bands[0].gpu_memory();

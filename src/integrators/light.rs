@@ -633,6 +633,9 @@ impl Integrator for LightTracer {
     fn image(&mut self) -> Result<Rgb32Image, Error> {
         self.sums.image(self.frame.width, self.frame.height)
     }
+    fn splat_sums(&mut self) -> Result<Option<super::SplatSums>, Error> {
+        self.filter_splat.as_ref().map(|_| self.sums.splat_sums()).transpose()
+    }
 
     fn gpu_memory(&self) -> super::GpuMemory {
         let samples = self.filter_splat.as_ref().map(|_| ("camera_samples", &self.camera_samples));

@@ -20,6 +20,7 @@ pub use frame::{camera_frame, camera_frame_for, shutter_time};
 pub use light::LightTracer;
 pub use memory::{check_memory, max_rows, memory_need, GpuMemory, MemoryNeed};
 pub use path::PathTracer;
+pub use pixel_sums::SplatSums;
 pub use sppm::{Deposits, Sppm};
 
 use frame::{band_frame, record_upload, set_frame_camera, specialization};
@@ -95,6 +96,11 @@ pub trait Integrator {
     fn work_unit(&self) -> &'static str;
     /// The current estimate, read back (waits for the submitted passes).
     fn image(&mut self) -> Result<Rgb32Image, Error>;
+    /// Under a splatting filter, the sums the image is the ratio of ([`SplatSums`]), for a
+    /// batch's partial image to merge exactly; `None` where each pass's estimate counts 1.
+    fn splat_sums(&mut self) -> Result<Option<SplatSums>, Error> {
+        Ok(None)
+    }
     /// The GPU buffers it holds.
     fn gpu_memory(&self) -> GpuMemory;
     /// Everything later passes depend on, as bytes (waits for the submitted passes): the

@@ -37,6 +37,18 @@ impl Sums {
 /// light subpaths, the light subpaths' apart ([`PixelSums::all_sums`]).
 pub(super) type PassSums = (Vec<[f32; 4]>, Option<Vec<[f32; 4]>>);
 
+/// What an image splatted through a wide filter is made of, per pixel, row-major: the camera
+/// samples' filter-weighted sum (rgb) and their weights' sum (w), and for bpt and vcm their
+/// light subpaths' splats summed apart (rgb, and the passes in w). The image is the first's
+/// ratio plus the second's; batches of one render add both and merge to its image exactly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SplatSums {
+    /// The camera samples' weighted sums and weights.
+    pub camera: Vec<[f32; 4]>,
+    /// The light subpaths' splats and passes (bpt, vcm).
+    pub light: Option<Vec<[f32; 4]>>,
+}
+
 /// The ratio of a pixel's sums, rgb over w; black where w is 0.
 fn ratio(s: &[f32; 4]) -> [f32; 3] {
     let n = s[3];
@@ -139,6 +151,12 @@ impl PixelSums {
             false => None,
         };
         Ok((self.sums()?, light))
+    }
+
+    /// [`PixelSums::all_sums`] as [`SplatSums`].
+    pub(super) fn splat_sums(&self) -> Result<SplatSums, Error> {
+        let (camera, light) = self.all_sums()?;
+        Ok(SplatSums { camera, light })
     }
 
     /// Record the mean of each pixel's estimates into `texture` (see

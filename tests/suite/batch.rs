@@ -31,6 +31,16 @@ fn global(name: &str, size: u32, photons: u32) -> Scene {
 
 /// Passes `first..end` of `scene` by one integrator, as the command line's `--passes` does.
 fn batch(gpu: &sppm_gpu::gpu::GpuContext, scene: &Scene, first: u32, end: u32) -> Rgb32Image {
+    batch_with_splats(gpu, scene, first, end).0
+}
+
+/// [`batch`], and the sums its image is made of under a splatting filter.
+fn batch_with_splats(
+    gpu: &sppm_gpu::gpu::GpuContext,
+    scene: &Scene,
+    first: u32,
+    end: u32,
+) -> (Rgb32Image, Option<sppm_gpu::integrators::SplatSums>) {
     let mut r = integrators::create(&gpu.device, &gpu.queue, scene).unwrap_or_else(|e| panic!("{e}"));
     r.start_at_pass(first).unwrap_or_else(|e| panic!("{e}"));
     while r.passes() < end {
@@ -39,7 +49,7 @@ fn batch(gpu: &sppm_gpu::gpu::GpuContext, scene: &Scene, first: u32, end: u32) -
     let image = r.image().unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(count_non_finite(&image), 0);
     assert_eq!(count_negative(&image), 0);
-    image
+    (image, r.splat_sums().unwrap_or_else(|e| panic!("{e}")))
 }
 
 /// The largest difference between `a` and `b` in units of the stated bound (at most 1 passes).
@@ -124,7 +134,9 @@ fn global_radius_follows_the_schedule() {
 
 /// Four batches written as partials, read back and merged, against one integrator running
 /// every pass: within the stated bound, for SPPM with the global schedule and for pt-nee, with
-/// either sampler (the Sobol sampler's photons are numbered across passes).
+/// either sampler (the Sobol sampler's photons are numbered across passes), and for pt-nee and
+/// bpt under a gaussian filter, whose partials carry the splat sums (without them, merged by
+/// passes, the merge is off by more than the bound).
 #[test]
 fn batches_merge_to_the_whole_render() {
     let Some(gpu) = common::gpu() else { return };
@@ -136,33 +148,47 @@ fn batches_merge_to_the_whole_render() {
 /// [`batches_merge_to_the_whole_render`]'s renders and checks, in `dir`.
 fn merges(gpu: &sppm_gpu::gpu::GpuContext, dir: &std::path::Path) {
     use sppm_gpu::sampler::Sampler;
-    for (method, sampler) in [
-        (Method::Sppm, Sampler::Independent),
-        (Method::PtNee, Sampler::Independent),
-        (Method::Sppm, Sampler::Sobol),
-        (Method::PtNee, Sampler::Sobol),
+    use sppm_gpu::scene::PixelFilter;
+    let gaussian = PixelFilter::Gaussian { stddev: 0.5 };
+    for (method, sampler, filter) in [
+        (Method::Sppm, Sampler::Independent, PixelFilter::Box),
+        (Method::PtNee, Sampler::Independent, PixelFilter::Box),
+        (Method::Sppm, Sampler::Sobol, PixelFilter::Box),
+        (Method::PtNee, Sampler::Sobol, PixelFilter::Box),
+        (Method::PtNee, Sampler::Sobol, gaussian),
+        (Method::Bpt, Sampler::Sobol, gaussian),
     ] {
         let mut scene = global("cornell-spheres.toml", 48, 20_000);
-        scene.render.method = method;
-        scene.render.sampler = sampler;
+        (scene.render.method, scene.render.sampler, scene.render.filter) = (method, sampler, filter);
         let whole = batch(gpu, &scene, 0, 12);
         let fingerprint = Fingerprint::of(&scene);
         let ranges = [(0, 3), (3, 4), (4, 9), (9, 12)];
+        let mut unsplatted = Vec::new();
         let mut parts: Vec<Partial> = ranges
             .iter()
             .map(|&(a, b)| {
-                let path = dir.join(format!("{method:?}-{sampler:?}-{a}-{b}.exr"));
-                write_partial(&path, &batch(gpu, &scene, a, b), a, b, &fingerprint).unwrap();
+                let path = dir.join(format!("{method:?}-{sampler:?}-{filter:?}-{a}-{b}.exr"));
+                let (image, splat) = batch_with_splats(gpu, &scene, a, b);
+                assert_eq!(splat.is_some(), filter != PixelFilter::Box, "{method:?} {filter:?}: splat sums");
+                write_partial(&path, &image, splat.as_ref(), a, b, &fingerprint).unwrap();
+                let plain = dir.join(format!("plain-{a}-{b}.exr"));
+                write_partial(&plain, &image, None, a, b, &fingerprint).unwrap();
+                unsplatted.push(read_partial(&plain).unwrap_or_else(|e| panic!("{e}")));
                 read_partial(&path).unwrap_or_else(|e| panic!("{e}"))
             })
             .collect();
+        if filter != PixelFilter::Box {
+            let (merged, _) = merge(&unsplatted).unwrap();
+            let worst = worst_against_bound(&merged, &whole);
+            assert!(worst > 1.0, "{method:?} {filter:?}: merged by passes, {worst} times the bound");
+        }
         // Any order.
         parts.reverse();
         let (merged, warnings) = merge(&parts).unwrap_or_else(|e| panic!("{e}"));
         assert!(warnings.is_empty(), "{warnings:?}");
         let worst = worst_against_bound(&merged, &whole);
-        eprintln!("{method:?} {sampler:?}: the merge differs from one process by at most {worst:.3} of the bound");
-        assert!(worst <= 1.0, "{method:?} {sampler:?}: {worst} times the bound");
+        eprintln!("{method:?} {sampler:?} {filter:?}: the merge differs from one process by at most {worst:.3} of the bound");
+        assert!(worst <= 1.0, "{method:?} {sampler:?} {filter:?}: {worst} times the bound");
         // Not the same as a batch alone: the merge averages every pass.
         assert!(worst_against_bound(&parts[0].sum, &whole) > 1.0);
 
@@ -179,15 +205,15 @@ fn merges(gpu: &sppm_gpu::gpu::GpuContext, dir: &std::path::Path) {
     let mut scene = global("cornell-spheres.toml", 48, 20_000);
     let a = dir.join("seed0.exr");
     let b = dir.join("seed1.exr");
-    write_partial(&a, &batch(gpu, &scene, 0, 1), 0, 1, &Fingerprint::of(&scene)).unwrap();
+    write_partial(&a, &batch(gpu, &scene, 0, 1), None, 0, 1, &Fingerprint::of(&scene)).unwrap();
     scene.render.seed = 1;
-    write_partial(&b, &batch(gpu, &scene, 1, 2), 1, 2, &Fingerprint::of(&scene)).unwrap();
+    write_partial(&b, &batch(gpu, &scene, 1, 2), None, 1, 2, &Fingerprint::of(&scene)).unwrap();
     let e = merge(&[read_partial(&a).unwrap(), read_partial(&b).unwrap()]).unwrap_err().to_string();
     assert!(e.contains("seed 0 (now 1)"), "{e}");
     // Another sampler's part: refused too.
     scene.render.seed = 0;
     scene.render.sampler = if scene.render.sampler == Sampler::Sobol { Sampler::Independent } else { Sampler::Sobol };
-    write_partial(&b, &batch(gpu, &scene, 1, 2), 1, 2, &Fingerprint::of(&scene)).unwrap();
+    write_partial(&b, &batch(gpu, &scene, 1, 2), None, 1, 2, &Fingerprint::of(&scene)).unwrap();
     let e = merge(&[read_partial(&a).unwrap(), read_partial(&b).unwrap()]).unwrap_err().to_string();
     assert!(e.contains("sampler"), "{e}");
     // An image that is not a partial.

@@ -149,12 +149,12 @@ fn mean() -> Rgb32Image {
 fn merge_refuses_a_part_with_nan_infinite_or_negative_pixels() {
     let dir = common::scratch("stored-data-bad-pixels");
     let good = dir.join("good.exr");
-    write_partial(&good, &mean(), 0, 2, &fingerprint()).unwrap();
+    write_partial(&good, &mean(), None, 0, 2, &fingerprint()).unwrap();
     for (name, value) in [("nan", f32::NAN), ("inf", f32::INFINITY), ("negative", -0.25)] {
         let path = dir.join(format!("{name}.exr"));
         let mut bad = mean();
         bad.set(4, 1, [0.5, value, 0.5]);
-        write_partial(&path, &bad, 2, 3, &fingerprint()).unwrap();
+        write_partial(&path, &bad, None, 2, 3, &fingerprint()).unwrap();
         // Its checksum holds: the pixel is what was written.
         let part = read_partial(&path).unwrap_or_else(|e| panic!("{e}"));
         let e = merge(&[read_partial(&good).unwrap(), part]).expect_err("a bad pixel is refused").to_string();
@@ -167,7 +167,7 @@ fn merge_refuses_a_part_with_nan_infinite_or_negative_pixels() {
     }
     // The good parts still merge.
     let other = dir.join("other.exr");
-    write_partial(&other, &mean(), 2, 3, &fingerprint()).unwrap();
+    write_partial(&other, &mean(), None, 2, 3, &fingerprint()).unwrap();
     let (merged, _) = merge(&[read_partial(&good).unwrap(), read_partial(&other).unwrap()]).unwrap();
     assert!((merged.get(5, 3)[2] - mean().get(5, 3)[2]).abs() < 1e-6);
 }
@@ -178,7 +178,7 @@ fn merge_refuses_a_part_with_nan_infinite_or_negative_pixels() {
 fn a_partial_altered_after_writing_is_refused() {
     let dir = common::scratch("stored-data-partial-checksum");
     let path = dir.join("part.exr");
-    write_partial(&path, &mean(), 0, 3, &fingerprint()).unwrap();
+    write_partial(&path, &mean(), None, 0, 3, &fingerprint()).unwrap();
     let bytes = std::fs::read(&path).unwrap();
     assert_eq!(read_partial(&path).unwrap().end, 3);
     let refused = |altered: &[u8]| {
