@@ -209,6 +209,44 @@ fn a_partial_altered_after_writing_is_refused() {
     assert!(e.contains("part.exr") && e.contains("sppm-gpu checksum"), "{e}");
 }
 
+/// A partial's splat sums (a splatting filter's weighted samples and weights) read back as
+/// written and are in its checksum: a weight changed, or a splat channel missing, is refused.
+#[test]
+fn a_partial_keeps_its_splat_sums() {
+    let dir = common::scratch("stored-data-partial-splats");
+    let path = dir.join("part.exr");
+    let pixels = 6 * 4;
+    let camera: Vec<[f32; 4]> = (0..pixels).map(|i| [0.1 * i as f32, 0.2, 0.3, 1.0 + 0.01 * i as f32]).collect();
+    let light = Some((0..pixels).map(|i| [0.01 * i as f32, 0.02, 0.03, 3.0]).collect());
+    let splat = sppm_gpu::integrators::SplatSums { camera, light };
+    write_partial(&path, &mean(), Some(&splat), 0, 3, &fingerprint()).unwrap();
+    let part = read_partial(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(part.splat.as_ref(), Some(&splat), "the sums as written (the light's passes the batch's 3)");
+    // The merge of one part is its sums' ratio plus the light's mean: pixel 5.
+    let (merged, _) = merge(&[part]).unwrap();
+    let expected = 0.5 / 1.05 + 0.05 / 3.0;
+    assert!((merged.pixels[5][0] - expected).abs() < 1e-6, "{} against {expected}", merged.pixels[5][0]);
+    // The same file with one weight changed, and with the splat's W channel alone left out.
+    let (image, text) = image_io::read_exr_with_text(&path).unwrap();
+    let text: Vec<(&str, &str)> = text.iter().map(|(k, v)| (k.as_str(), v.as_str())).collect();
+    let names = ["splat.R", "splat.G", "splat.B", "splat.W", "light.R", "light.G", "light.B"];
+    let planes: Vec<Vec<f32>> = image_io::read_exr_channels(&path, &names).unwrap().into_iter().map(Option::unwrap).collect();
+    let mut weights = planes.clone();
+    weights[3][7] += 0.5;
+    let with = |planes: &[Vec<f32>], names: &[&'static str]| -> Vec<(&'static str, Vec<f32>)> {
+        names.iter().zip(planes).map(|(n, p)| (*n, p.clone())).collect()
+    };
+    for (what, channels, expected) in [
+        ("a weight changed", with(&weights, &names), "checksum mismatch"),
+        ("splat.W missing", with(&[&planes[..3], &planes[4..]].concat(), &[&names[..3], &names[4..]].concat()), "missing"),
+    ] {
+        let extra: Vec<(&str, &[f32])> = channels.iter().map(|(n, p)| (*n, p.as_slice())).collect();
+        image_io::write_exr_with_channels(&path, &image, &extra, &text).unwrap();
+        let e = read_partial(&path).expect_err(what).to_string();
+        assert!(e.contains("part.exr") && e.contains(expected), "{what}: {e}");
+    }
+}
+
 fn state() -> Vec<u8> {
     (0..200u32).flat_map(|i| (i * 2_654_435_761).to_le_bytes()).collect()
 }
