@@ -491,7 +491,7 @@ impl LightTracer {
     /// vcm's pilot: one pass at `shares` with `paths` light subpaths (at most as many as the
     /// tracer was built for), its kernels counting their work. Returns the pixel sums after it
     /// (and the light sums, where kept apart) and the counts ([`WORK_COUNTS`] words).
-    pub(super) fn counted_pass(&mut self, shares: Shares, paths: u32) -> Result<(super::pixel_sums::PassSums, Vec<u32>), Error> {
+    pub(super) fn counted_pass(&mut self, shares: Shares, paths: u32) -> Result<(super::SplatSums, Vec<u32>), Error> {
         let capacity = (self.store.light_path_first.size() / 4) as u32;
         if paths > capacity {
             return Err(Error::Setting(format!("vcm's pilot: {paths} light subpaths a pass, room for {capacity}")));
@@ -634,7 +634,7 @@ impl Integrator for LightTracer {
         self.sums.image(self.frame.width, self.frame.height)
     }
     fn splat_sums(&mut self) -> Result<Option<super::SplatSums>, Error> {
-        self.filter_splat.as_ref().map(|_| self.sums.splat_sums()).transpose()
+        self.filter_splat.as_ref().map(|_| self.sums.all_sums()).transpose()
     }
 
     fn gpu_memory(&self) -> super::GpuMemory {

@@ -219,7 +219,7 @@ impl Integrator for PathTracer {
         self.sums.image(self.frame.width, self.frame.height)
     }
     fn splat_sums(&mut self) -> Result<Option<super::SplatSums>, Error> {
-        self.filter_splat.as_ref().map(|_| self.sums.splat_sums()).transpose()
+        self.filter_splat.as_ref().map(|_| self.sums.all_sums()).transpose()
     }
     fn gpu_memory(&self) -> super::GpuMemory {
         let samples = self.filter_splat.as_ref().map(|_| ("camera_samples", &self.camera_samples));

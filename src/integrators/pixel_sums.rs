@@ -33,14 +33,11 @@ impl Sums {
     }
 }
 
-/// Each pixel's sums read back (rgb, and count or weights) and, under a splatting filter with
-/// light subpaths, the light subpaths' apart ([`PixelSums::all_sums`]).
-pub(super) type PassSums = (Vec<[f32; 4]>, Option<Vec<[f32; 4]>>);
-
 /// What an image splatted through a wide filter is made of, per pixel, row-major: the camera
 /// samples' filter-weighted sum (rgb) and their weights' sum (w), and for bpt and vcm their
 /// light subpaths' splats summed apart (rgb, and the passes in w). The image is the first's
 /// ratio plus the second's; batches of one render add both and merge to its image exactly.
+/// (Read back where nothing splats, `camera` holds the passes' estimates and their count.)
 #[derive(Clone, Debug, PartialEq)]
 pub struct SplatSums {
     /// The camera samples' weighted sums and weights.
@@ -134,8 +131,8 @@ impl PixelSums {
 
     /// The image so far, read back (waits for the submitted passes).
     pub(super) fn image(&self, width: u32, height: u32) -> Result<Rgb32Image, Error> {
-        let (sums, light) = self.all_sums()?;
-        Ok(Self::mean(&sums, light.as_deref(), width, height))
+        let SplatSums { camera, light } = self.all_sums()?;
+        Ok(Self::mean(&camera, light.as_deref(), width, height))
     }
 
     /// Each pixel's sums so far (rgb and the estimates' count, or their weights'), read back
@@ -144,19 +141,14 @@ impl PixelSums {
         Ok(read_buffer(&self.device, &self.queue, &self.radiance, &self.staging, self.bytes())?)
     }
 
-    /// [`PixelSums::sums`] and the light sums where kept apart.
-    pub(super) fn all_sums(&self) -> Result<PassSums, Error> {
+    /// [`PixelSums::sums`] and the light sums where kept apart: the camera's sums and the
+    /// light's, as [`SplatSums`] holds them (the camera's then counts where nothing splats).
+    pub(super) fn all_sums(&self) -> Result<SplatSums, Error> {
         let light = match self.has_light {
             true => Some(read_buffer(&self.device, &self.queue, &self.light.buffer, &self.light.staging, self.bytes())?),
             false => None,
         };
-        Ok((self.sums()?, light))
-    }
-
-    /// [`PixelSums::all_sums`] as [`SplatSums`].
-    pub(super) fn splat_sums(&self) -> Result<SplatSums, Error> {
-        let (camera, light) = self.all_sums()?;
-        Ok(SplatSums { camera, light })
+        Ok(SplatSums { camera: self.sums()?, light })
     }
 
     /// Record the mean of each pixel's estimates into `texture` (see
@@ -190,8 +182,8 @@ impl PixelSums {
 
     /// The state after `passes` passes that did `work` (waits for them).
     pub(super) fn state(&self, passes: u32, work: u64) -> Result<Vec<u8>, Error> {
-        let (sums, light) = self.all_sums()?;
-        let mut bytes: Vec<u8> = bytemuck::cast_slice(&sums).to_vec();
+        let SplatSums { camera, light } = self.all_sums()?;
+        let mut bytes: Vec<u8> = bytemuck::cast_slice(&camera).to_vec();
         if let Some(light) = light {
             bytes.extend_from_slice(bytemuck::cast_slice(&light));
         }

@@ -34,8 +34,8 @@
 //! choice, and a render resumed from it renders that choice again.
 
 use super::light::{light_paths, vcm_radius, LightTracer, Shares};
-use super::pixel_sums::PassSums;
 use super::Integrator;
+use super::SplatSums;
 use crate::error::Error;
 use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
 use crate::layout::{WORK_CAMERA_VERTICES, WORK_CONNECTIONS, WORK_COUNTS, WORK_LIGHT_VERTICES, WORK_MERGE_CANDIDATES};
@@ -453,9 +453,9 @@ impl fmt::Display for Pilot {
 /// difference, or where the camera's samples are splatted through a wide filter (sums of
 /// weighted samples and of weights, the light subpaths' apart) the pass's weighted mean of
 /// the camera's samples plus its light splats.
-fn pass_estimate(after: &PassSums, before: &PassSums) -> Vec<[f32; 3]> {
-    let camera = after.0.iter().zip(&before.0);
-    match (&after.1, &before.1) {
+fn pass_estimate(after: &SplatSums, before: &SplatSums) -> Vec<[f32; 3]> {
+    let camera = after.camera.iter().zip(&before.camera);
+    match (&after.light, &before.light) {
         (Some(light), Some(light_before)) => camera
             .zip(light.iter().zip(light_before))
             .map(|((a, b), (l, lb))| {
@@ -471,10 +471,10 @@ fn pass_estimate(after: &PassSums, before: &PassSums) -> Vec<[f32; 3]> {
 /// Each pixel's mean over the pilot's `passes` so far, from its sums: their sum over the
 /// passes, or where the camera's samples are splatted their weighted mean plus the light
 /// splats' sum over the passes.
-fn pass_mean(sums: &PassSums, passes: f64) -> Vec<[f64; 3]> {
-    match &sums.1 {
+fn pass_mean(sums: &SplatSums, passes: f64) -> Vec<[f64; 3]> {
+    match &sums.light {
         Some(light) => sums
-            .0
+            .camera
             .iter()
             .zip(light)
             .map(|(s, l)| {
@@ -483,7 +483,7 @@ fn pass_mean(sums: &PassSums, passes: f64) -> Vec<[f64; 3]> {
                 [c(0) + l[0] as f64 / passes, c(1) + l[1] as f64 / passes, c(2) + l[2] as f64 / passes]
             })
             .collect(),
-        None => sums.0.iter().map(|s| [s[0] as f64 / passes, s[1] as f64 / passes, s[2] as f64 / passes]).collect(),
+        None => sums.camera.iter().map(|s| [s[0] as f64 / passes, s[1] as f64 / passes, s[2] as f64 / passes]).collect(),
     }
 }
 
@@ -588,7 +588,8 @@ pub fn choose(
     let mut costs = vec![0.0; choices.len()];
     let mut seconds = vec![0.0; choices.len()];
     let mut work = vec![[0.0; WORK_COUNTS as usize]; choices.len()];
-    let mut before: PassSums = (vec![[0.0f32; 4]; pixels], tracer.splats_apart().then(|| vec![[0.0f32; 4]; pixels]));
+    let mut before =
+        SplatSums { camera: vec![[0.0f32; 4]; pixels], light: tracer.splats_apart().then(|| vec![[0.0f32; 4]; pixels]) };
     // The passes of candidates `ks`, in turn; then every candidate run so far, its figures
     // with each pixel's mean over every pilot pass so far, and those means.
     let mut ran: Vec<usize> = Vec::new();
