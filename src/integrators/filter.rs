@@ -75,8 +75,8 @@ pub fn set_pixel_filter(frame: &mut Frame, filter: PixelFilter) -> Result<(), Er
 }
 
 /// The most pixels either way a splatted sample may reach: a wider filter (a gaussian of
-/// standard deviation over 2.125 pixels, a tent of radius over 8.5) is sampled by importance instead, as each pixel's gather
-/// reads `(2 reach + 1)^2` samples a pass.
+/// standard deviation over 2.125 pixels, a tent of radius over 8.5) is sampled by importance
+/// instead, as each pixel's gather reads `(2 reach + 1)^2` samples a pass.
 pub const MAX_SPLAT_REACH: u32 = 8;
 
 /// How many pixels either way a sample splatted through `filter` reaches ([`Frame::filter_reach`]):
