@@ -617,3 +617,30 @@ fn splatted_images_resolve_to_textures_as_on_the_host() {
     }
     gpu.check().unwrap();
 }
+
+/// Which filters splat, and how far: a sample within half a pixel of its pixel's centre
+/// reaches the pixels whose centres lie closer than the filter's radius plus 1/2; filters no
+/// wider than the box, and those reaching more than 8 pixels, are importance sampled (0).
+#[test]
+fn splat_reach_is_the_pixels_a_sample_can_weigh_in() {
+    use sppm_gpu::integrators::splat_reach;
+    let tent = |radius: f32| PixelFilter::Tent { radius };
+    let gaussian = |stddev: f32| PixelFilter::Gaussian { stddev };
+    for (filter, reach) in [
+        (PixelFilter::Box, 0),
+        (tent(0.5), 0),
+        (tent(0.51), 1),
+        (tent(1.0), 1),
+        (tent(1.5), 1),
+        (tent(1.51), 2),
+        (tent(8.5), 8),
+        (tent(8.51), 0),
+        (gaussian(0.125), 0),
+        (gaussian(0.5), 2),
+        (gaussian(2.125), 8),
+        (gaussian(2.2), 0),
+        (tent(f32::NAN), 0),
+    ] {
+        assert_eq!(splat_reach(filter), reach, "{filter:?}");
+    }
+}
