@@ -14,14 +14,12 @@
 #import types
 #import rng
 #import camera
+#import camera_samples
 #import bidir_connect
 #import camera_path
 
 // Per pixel: the sum of the passes' estimates (rgb) and their count (w).
 @group(0) @binding(16) var<storage, read_write> radiance: array<vec4f>;
-// Under a wide filter, this pass's sample of each pixel of splat_rows(): its radiance's bits
-// (xyz) and its position in the pixel (w, two 16-bit fractions), for filter_splat.
-@group(0) @binding(37) var<storage, read_write> camera_samples: array<vec4u>;
 
 const STREAM_BIDIR_CAMERA: u32 = 4u;
 
@@ -30,7 +28,7 @@ fn bidir_camera(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
     // A pixel of this renderer's rows, or of splat_rows() where a wide filter's samples are
     // splatted.
     let item = gid.x + gid.y * groups.x * 64u;
-    let rows = select(vec2u(frame.row_offset, frame.row_offset + frame.height), splat_rows(), frame.filter_reach > 0u);
+    let rows = splat_rows();
     if item >= frame.width * (rows.y - rows.x) {
         return;
     }
@@ -48,7 +46,7 @@ fn bidir_camera(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
     let ok = all(l == l) && all(abs(l) < vec3f(3.0e38));
     l = select(vec3f(0.0), l, ok);
     if frame.filter_reach > 0u {
-        camera_samples[item] = vec4u(bitcast<vec3u>(l), pack2x16unorm(jitter));
+        store_camera_sample(item, l, jitter);
     } else {
         radiance[item] += vec4f(l, select(0.0, 1.0, frame.photon_count == 0u));
     }

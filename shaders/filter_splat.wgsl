@@ -10,13 +10,11 @@
 #import rng
 #import sampling
 #import camera
+#import camera_samples
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 // Per pixel: the sum of the passes' weighted samples (rgb) and of their weights (w).
 @group(0) @binding(16) var<storage, read_write> radiance: array<vec4f>;
-// This pass's sample of each pixel of splat_rows(): its radiance's bits (xyz) and its
-// position in the pixel (w, two 16-bit fractions).
-@group(0) @binding(37) var<storage, read> camera_samples: array<vec4u>;
 
 @compute @workgroup_size(64)
 fn filter_splat(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {
@@ -42,9 +40,9 @@ fn filter_splat(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
             }
             let s = camera_samples[u32(row - rows.x) * frame.width + u32(column)];
             // The sample's offset from this pixel's centre.
-            let d = vec2f(f32(dx), f32(dy)) + unpack2x16unorm(s.w) - 0.5;
+            let d = vec2f(f32(dx), f32(dy)) + camera_sample_jitter(s) - 0.5;
             let w = filter_density(d.x) * filter_density(d.y);
-            sum += w * bitcast<vec3f>(s.xyz);
+            sum += w * camera_sample_radiance(s);
             weights += w;
         }
     }

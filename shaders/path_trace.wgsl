@@ -8,14 +8,12 @@
 #import types
 #import rng
 #import camera
+#import camera_samples
 #import bidir_connect_none
 #import camera_path
 
 // Per pixel: the sum of the passes' samples (rgb) and the sample count (w).
 @group(0) @binding(16) var<storage, read_write> radiance: array<vec4f>;
-// Under a wide filter, this pass's sample of each pixel of splat_rows(): its radiance's bits
-// (xyz) and its position in the pixel (w, two 16-bit fractions), for filter_splat.
-@group(0) @binding(37) var<storage, read_write> camera_samples: array<vec4u>;
 
 const STREAM_PATH: u32 = 2u;
 
@@ -29,7 +27,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     // This dispatch's part of the pass: pixels [work_first, work_end) of this renderer's rows,
     // or of splat_rows() where a wide filter's samples are splatted.
     let item = frame.work_first + gid.x + gid.y * groups.x * 64u;
-    let rows = select(vec2u(frame.row_offset, frame.row_offset + frame.height), splat_rows(), frame.filter_reach > 0u);
+    let rows = splat_rows();
     if item >= min(frame.work_end, frame.width * (rows.y - rows.x)) {
         return;
     }
@@ -47,7 +45,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     let ok = all(l == l) && all(abs(l) < vec3f(3.0e38));
     l = select(vec3f(0.0), l, ok);
     if frame.filter_reach > 0u {
-        camera_samples[item] = vec4u(bitcast<vec3u>(l), pack2x16unorm(jitter));
+        store_camera_sample(item, l, jitter);
     } else {
         radiance[item] += vec4f(l, 1.0);
     }

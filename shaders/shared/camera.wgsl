@@ -138,9 +138,9 @@ fn camera_ray_at(px: u32, row: u32, jitter: vec2f, rng: ptr<function, Rng>) -> R
     return Ray(frame.cam_position, normalize(dir_pinhole));
 }
 
-// The rows of camera samples a pass traces where samples are splatted through a wide filter
-// (frame.filter_reach > 0), [first, end) of the whole image: this renderer's rows and the
-// filter's reach beyond them, within the image.
+// The rows of camera samples a pass traces, [first, end) of the whole image: this renderer's
+// rows and, where samples are splatted through a wide filter (frame.filter_reach > 0), the
+// filter's reach beyond them within the image.
 fn splat_rows() -> vec2u {
     let first = frame.row_offset - min(frame.filter_reach, frame.row_offset);
     return vec2u(first, min(frame.row_offset + frame.height + frame.filter_reach, frame.image_height));

@@ -422,13 +422,7 @@ impl LightTracer {
         } else {
             None
         };
-        let filter_splat = if frame.filter_reach > 0 {
-            let kernel = spec.kernel(device, "filter_splat")?;
-            let group = kernel.bind_group(device, &resources)?;
-            Some((kernel, group))
-        } else {
-            None
-        };
+        let filter_splat = super::pixel_sums::filter_splat(device, &spec, &frame, &resources)?;
         let accumulate_group = splat_accumulate.bind_group(device, &resources)?;
         drop(resources);
         Ok(Self {

@@ -109,7 +109,6 @@ impl PathTracer {
         let path_trace = spec.kernel(device, "path_trace")?;
         // The rows a pass traces: the band's, and under a wide filter those it reaches beyond.
         let (samples, camera_samples) = super::pixel_sums::camera_samples(device, &frame);
-        let reach = frame.filter_reach;
         let frame_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("frame"),
             contents: bytemuck::bytes_of(&frame),
@@ -121,13 +120,7 @@ impl PathTracer {
         resources.push(Resource { name: "radiance", buffer: &sums.radiance });
         resources.push(Resource { name: "camera_samples", buffer: &camera_samples });
         let group = path_trace.bind_group(device, &resources)?;
-        let filter_splat = if reach > 0 {
-            let kernel = spec.kernel(device, "filter_splat")?;
-            let group = kernel.bind_group(device, &resources)?;
-            Some((kernel, group))
-        } else {
-            None
-        };
+        let filter_splat = super::pixel_sums::filter_splat(device, &spec, &frame, &resources)?;
         drop(resources);
         Ok(Self {
             device: device.clone(),

@@ -267,7 +267,7 @@ pub(super) fn camera_samples(device: &wgpu::Device, frame: &Frame) -> (u32, wgpu
     let reach = frame.filter_reach;
     let first = frame.row_offset.saturating_sub(reach);
     let end = (frame.row_offset + frame.height + reach).min(frame.image_height);
-    let samples = frame.width * if reach > 0 { end - first } else { frame.height };
+    let samples = frame.width * (end - first);
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("camera_samples"),
         size: if reach > 0 { samples as u64 * PIXEL_BYTES } else { PIXEL_BYTES },
@@ -275,6 +275,22 @@ pub(super) fn camera_samples(device: &wgpu::Device, frame: &Frame) -> (u32, wgpu
         mapped_at_creation: false,
     });
     (samples, buffer)
+}
+
+/// `filter_splat` and its bind group over `resources` (the frame, the sums and the camera
+/// samples) where `frame`'s camera samples are splatted through a wide filter; `None` else.
+pub(super) fn filter_splat(
+    device: &wgpu::Device,
+    spec: &crate::gpu::Specialization,
+    frame: &Frame,
+    resources: &[Resource],
+) -> Result<Option<(Kernel, wgpu::BindGroup)>, Error> {
+    if frame.filter_reach == 0 {
+        return Ok(None);
+    }
+    let kernel = spec.kernel(device, "filter_splat")?;
+    let group = kernel.bind_group(device, resources)?;
+    Ok(Some((kernel, group)))
 }
 
 /// Where an integrator of one estimate a pixel a pass stands: the passes recorded, the first
