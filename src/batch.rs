@@ -121,7 +121,14 @@ pub fn write_partial(
 
 /// Read a partial image written by [`write_partial`].
 pub fn read_partial(path: &Path) -> Result<Partial, Error> {
-    let (sum, text) = image_io::read_exr_with_text(path)?;
+    // The pixels, the splat sums and the header in one read.
+    let names: Vec<&str> = ["R", "G", "B"].iter().chain(&SPLAT_CHANNELS).chain(&LIGHT_CHANNELS).copied().collect();
+    let image_io::ExrChannels { planes, width, height, text } = image_io::read_exr_channels(path, &names)?;
+    let (rgb, splat_planes) = planes.split_at(3);
+    let [Some(r), Some(g), Some(b)] = rgb else {
+        return Err(Error::Setting(format!("{}: not a partial image of sppm-gpu (no R, G and B channels)", path.display())));
+    };
+    let sum = Rgb32Image { width, height, pixels: r.iter().zip(g).zip(b).map(|((r, g), b)| [*r, *g, *b]).collect() };
     let get = |name: &str| -> Result<&str, Error> {
         text.iter().find(|(k, _)| k == name).map(|(_, v)| v.as_str()).ok_or_else(|| {
             Error::Setting(format!("{}: not a partial image of sppm-gpu (no `{name}` in its header)", path.display()))
@@ -136,7 +143,7 @@ pub fn read_partial(path: &Path) -> Result<Partial, Error> {
             path.display()
         ))
     })?;
-    let mut splat = read_splat(path, &sum)?;
+    let mut splat = splat_of(path, splat_planes, sum.pixels.len())?;
     if checksum(&sum, splat.as_ref(), &text_of) != stored {
         return Err(Error::Setting(format!(
             "{}: the partial is corrupt: checksum mismatch (its pixels or header changed since it was written)",
@@ -162,11 +169,10 @@ pub fn read_partial(path: &Path) -> Result<Partial, Error> {
     Ok(Partial { sum, first, end, fingerprint, splat, path: path.to_path_buf() })
 }
 
-/// A partial's splat sums, where it has them: the `splat.*` channels all or none, the light
-/// channels all or none (their passes, the batch's, set by the caller).
-fn read_splat(path: &Path, sum: &Rgb32Image) -> Result<Option<SplatSums>, Error> {
-    let names: Vec<&str> = SPLAT_CHANNELS.iter().chain(&LIGHT_CHANNELS).copied().collect();
-    let planes = image_io::read_exr_channels(path, &names)?;
+/// A partial's splat sums from its `splat.*` and `light.*` planes (in that order), where it
+/// has them: the `splat.*` channels all or none, the light channels all or none (their passes,
+/// the batch's, set by the caller).
+fn splat_of(path: &Path, planes: &[Option<Vec<f32>>], pixels: usize) -> Result<Option<SplatSums>, Error> {
     let (camera, light) = planes.split_at(SPLAT_CHANNELS.len());
     let all = |planes: &[Option<Vec<f32>>]| -> Result<Option<Vec<Vec<f32>>>, Error> {
         match planes.iter().filter(|p| p.is_some()).count() {
@@ -177,7 +183,6 @@ fn read_splat(path: &Path, sum: &Rgb32Image) -> Result<Option<SplatSums>, Error>
             }
         }
     };
-    let pixels = sum.pixels.len();
     let Some(camera) = all(camera)? else { return Ok(None) };
     let camera = (0..pixels).map(|i| [camera[0][i], camera[1][i], camera[2][i], camera[3][i]]).collect();
     let light = all(light)?.map(|l| (0..pixels).map(|i| [l[0][i], l[1][i], l[2][i], 0.0]).collect());

@@ -325,8 +325,9 @@ pub fn write_exr_with_channels(
 }
 
 /// The f32 planes (row-major) of the channels `names` of an EXR's first layer, `None` for a
-/// name it lacks (f16 and u32 channels converted).
-pub fn read_exr_channels(path: &Path, names: &[&str]) -> Result<Vec<Option<Vec<f32>>>, ImageError> {
+/// name it lacks (f16 and u32 channels converted), its size, and its text attributes as
+/// [`read_exr_with_text`] gives them: one read for all of a partial image.
+pub fn read_exr_channels(path: &Path, names: &[&str]) -> Result<ExrChannels, ImageError> {
     let mut file = File::open(path).map_err(|e| ImageError::new(path, ImageErrorKind::Io(e)))?;
     check_exr_header(path, &mut file)?;
     let image = exr::prelude::read()
@@ -338,7 +339,7 @@ pub fn read_exr_channels(path: &Path, names: &[&str]) -> Result<Vec<Option<Vec<f
         .from_unbuffered(file)
         .map_err(|e| ImageError::new(path, ImageErrorKind::Exr(e)))?;
     let channels = &image.layer_data.channel_data.list;
-    Ok(names
+    let planes = names
         .iter()
         .map(|name| {
             channels.iter().find(|c| c.name.to_string() == *name).map(|c| match &c.sample_data {
@@ -347,7 +348,22 @@ pub fn read_exr_channels(path: &Path, names: &[&str]) -> Result<Vec<Option<Vec<f
                 exr::prelude::FlatSamples::U32(v) => v.iter().map(|&u| u as f32).collect(),
             })
         })
-        .collect())
+        .collect();
+    let Vec2(width, height) = image.layer_data.size;
+    let text = text_attributes(&image.layer_data.attributes, &image.attributes);
+    Ok(ExrChannels { planes, width: width as u32, height: height as u32, text })
+}
+
+/// What [`read_exr_channels`] read.
+pub struct ExrChannels {
+    /// The planes asked for, in order; `None` where the file lacks the channel.
+    pub planes: Vec<Option<Vec<f32>>>,
+    /// The layer's width.
+    pub width: u32,
+    /// The layer's height.
+    pub height: u32,
+    /// The header's text attributes, `(name, value)`.
+    pub text: Vec<(String, String)>,
 }
 
 /// Writes `img` in the format named by `path`'s extension (`.png` or `.exr`,
@@ -382,19 +398,25 @@ pub fn read_exr_with_text(path: &Path) -> Result<(Rgb32Image, Vec<(String, Strin
         .all_attributes()
         .from_unbuffered(file)
         .map_err(|e| ImageError::new(path, ImageErrorKind::Exr(e)))?;
-    // The reader files unknown attributes under the layer.
-    let text = image
-        .layer_data
-        .attributes
+    let text = text_attributes(&image.layer_data.attributes, &image.attributes);
+    Ok((image.layer_data.channel_data.pixels, text))
+}
+
+/// The text attributes of an EXR's layer and image, `(name, value)` (the reader files unknown
+/// attributes under the layer).
+fn text_attributes(
+    layer: &exr::meta::header::LayerAttributes,
+    image: &exr::meta::header::ImageAttributes,
+) -> Vec<(String, String)> {
+    layer
         .other
         .iter()
-        .chain(&image.attributes.other)
+        .chain(&image.other)
         .filter_map(|(key, value)| match value {
             exr::meta::attribute::AttributeValue::Text(t) => Some((key.to_string(), t.to_string())),
             _ => None,
         })
-        .collect();
-    Ok((image.layer_data.channel_data.pixels, text))
+        .collect()
 }
 
 /// Refuses the EXR `file` (at `path`) when a layer's header claims more than [`MAX_PIXELS`]

@@ -230,7 +230,8 @@ fn a_partial_keeps_its_splat_sums() {
     let (image, text) = image_io::read_exr_with_text(&path).unwrap();
     let text: Vec<(&str, &str)> = text.iter().map(|(k, v)| (k.as_str(), v.as_str())).collect();
     let names = ["splat.R", "splat.G", "splat.B", "splat.W", "light.R", "light.G", "light.B"];
-    let planes: Vec<Vec<f32>> = image_io::read_exr_channels(&path, &names).unwrap().into_iter().map(Option::unwrap).collect();
+    let planes: Vec<Vec<f32>> =
+        image_io::read_exr_channels(&path, &names).unwrap().planes.into_iter().map(Option::unwrap).collect();
     let mut weights = planes.clone();
     weights[3][7] += 0.5;
     let with = |planes: &[Vec<f32>], names: &[&'static str]| -> Vec<(&'static str, Vec<f32>)> {
