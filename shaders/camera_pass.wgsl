@@ -12,17 +12,30 @@
 // the event by sampling the phase function, as it passes glossy surfaces. The path is
 // shared/camera_path.wgsl's, the path tracers' loop, asked to stop at the visible point
 // (CAMERA_PATH_SPPM).
+//
+// With a global radius schedule under a wide pixel filter (frame.filter_reach > 0) each pass's
+// estimate of a point is a camera sample splatted as the path tracers' are (the points cover
+// splat_rows()): the first path leaves from a uniform place in the pixel, and its share of the
+// direct light goes to `camera_samples`, which update_stats completes with the photons'
+// density at its visible point; the other paths sample the filter as elsewhere, and their
+// share is summed apart per pixel (`direct_sums`, averaged by passes). The splatted sample's
+// expectation is the filtered indirect light and 1 / paths of the direct, the others' the rest
+// of the direct light.
 
 #import types
 #import rng
 #import sampling
 #import camera
 #import grid
+#import camera_samples
 #import bidir_connect_none
 #import camera_path
 
 @group(0) @binding(8) var<storage, read_write> visible_points: array<VisiblePoint>;
 @group(0) @binding(10) var<storage, read_write> vp_stats: array<VpStats>;
+// Under a splatting filter, per pixel of the band: the direct light of the paths after the
+// first, summed over passes (rgb), and the passes (w).
+@group(0) @binding(40) var<storage, read_write> direct_sums: array<vec4f>;
 // Word 0: the largest radius of this pass's visible points, as f32 bits, for grid_setup.
 // With an environment aimed at the visible points (frame.env_aim > 0), words 1 to 3 the
 // largest x, y, z of the positions of those the camera sees directly (with no scattering
@@ -40,11 +53,12 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         return;
     }
     // Keyed by the point's index in the whole image, so that a band draws the numbers the
-    // whole image would.
-    var rng = rng_new(frame.seed, frame.pass_index, STREAM_CAMERA, index + frame.row_offset * frame.width * frame.spp);
+    // whole image would. The points' rows: the band's, and a splatting filter's reach.
+    let first_row = splat_rows().x;
+    var rng = rng_new(frame.seed, frame.pass_index, STREAM_CAMERA, index + first_row * frame.width * frame.spp);
     let pixel = index / frame.spp;
     let px = pixel % frame.width;
-    let py = pixel / frame.width;
+    let row = first_row + pixel / frame.width;
 
     // The first path leaves the visible point. The light the paths gather is the mean over
     // frame.direct_samples paths through the pixel (1 where photons carry direct light): each
@@ -56,16 +70,25 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     let paths = max(frame.direct_samples, 1u);
     // With the Sobol sampler: path i of slot s of pixel p in pass n is sample
     // (n spp + s) paths + i of the pixel's sequence.
-    let global = index + frame.row_offset * frame.width * frame.spp;
+    let global = index + first_row * frame.width * frame.spp;
     let first_sample = (frame.pass_index * frame.spp + global % frame.spp) * paths;
     let pixel_seed = sobol_seed(frame.seed, STREAM_CAMERA, global / frame.spp);
+    let splat = frame.filter_reach > 0u;
+    var jitter = vec2f(0.0);
+    var ld_first = vec3f(0.0);
     for (var i = 0u; i < paths; i++) {
         rng_sobol(&rng, first_sample + i, pixel_seed);
-        let ray = camera_ray(px, py, &rng);
+        let u = rng_next2(&rng);
+        // Splatted, the first path's place in the pixel is uniform and the others sample the
+        // filter (camera_ray_at samples it itself where nothing splats).
+        let at = select(u, 0.5 + sample_filter(u), splat && i > 0u);
+        let ray = camera_ray_at(px, row, at, &rng);
         let path = trace_camera_path(ray, CAMERA_PATH_SPPM, frame.direct != 0u, &rng);
         ld += path.l;
         if i == 0u {
             first = path;
+            jitter = u;
+            ld_first = path.l;
         }
     }
     var vp = first.vp;
@@ -89,5 +112,17 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
         }
     }
     visible_points[index] = vp;
-    vp_stats[index].ld += ld / f32(paths);
+    if splat {
+        // A NaN or infinite sample counts as black, as the path tracers' do.
+        let l = ld_first / f32(paths);
+        store_camera_sample(index, select(vec3f(0.0), l, all(l == l) && all(abs(l) < vec3f(3.0e38))), jitter);
+        // The band's own pixels sum the other paths' share.
+        if row >= frame.row_offset && row < frame.row_offset + frame.height {
+            let rest = (ld - ld_first) / f32(paths);
+            let ok = all(rest == rest) && all(abs(rest) < vec3f(3.0e38));
+            direct_sums[px + (row - frame.row_offset) * frame.width] += vec4f(select(vec3f(0.0), rest, ok), 1.0);
+        }
+    } else {
+        vp_stats[index].ld += ld / f32(paths);
+    }
 }

@@ -4,7 +4,7 @@
 #import estimate
 
 @group(0) @binding(0) var<uniform> frame: Frame;
-@group(0) @binding(16) var<storage, read_write> image: array<vec4f>;
+@group(0) @binding(39) var<storage, read_write> image: array<vec4f>;
 
 @compute @workgroup_size(64)
 fn resolve(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups) groups: vec3u) {

@@ -3,7 +3,8 @@
 // photons and scale the accumulated flux tau to the new disc. The pass's flux phi is the
 // photons' summed flux (photon_pass.wgsl) times the point's weight. With a global radius schedule
 // (Knaus & Zwicker 2011) every pass is an estimate of its own at the pass's radius r: tau
-// sums the passes' flux densities phi / (pi r^2), and the radius is the host's to set.
+// sums the passes' flux densities phi / (pi r^2), and the radius is the host's to set; under a
+// wide pixel filter each pass's estimate is instead a camera sample, splatted (filter_splat).
 //
 // The adaptive rule (ADAPTIVE_RADIUS, radius_rule = "adaptive"): the disc estimate is biased
 // only where the photon density varies over the disc, so a point keeps its radius nearly
@@ -33,6 +34,7 @@
 
 #import types
 #import grid
+#import camera_samples
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(8) var<storage, read> visible_points: array<VisiblePoint>;
@@ -97,7 +99,17 @@ fn update_stats(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
         if in_volume(visible_points[index].normal) {
             phi *= volume_flux_scale(r);
         }
-        vp_stats[index].tau += phi / (PI * r * r);
+        let density = phi / (PI * r * r);
+        if frame.filter_reach > 0u {
+            // Under a splatting filter the pass's estimate completes the point's camera sample
+            // (camera_pass.wgsl): its direct light and this density, scaled as resolve scales
+            // tau; filter_splat then splats it.
+            let s = camera_samples[index];
+            let l = camera_sample_radiance(s) + density * (frame.power_total / f32(frame.photon_count));
+            store_camera_sample(index, select(vec3f(0.0), l, all(l == l) && all(abs(l) < vec3f(3.0e38))), camera_sample_jitter(s));
+        } else {
+            vp_stats[index].tau += density;
+        }
         vp_stats[index].n += m;
     } else if m > 0.0 {
         var st = vp_stats[index];

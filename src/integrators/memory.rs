@@ -66,12 +66,13 @@ impl MemoryNeed {
 pub fn memory_need(device: &wgpu::Device, scene: &Scene) -> MemoryNeed {
     let r = &scene.render;
     let rows = max_rows(device, scene).clamp(1, r.height.max(1));
-    let bands = (0..r.height).step_by(rows as usize).map(|y0| (y0 + rows).min(r.height) - y0);
-    let renderer = bands
+    let renderer = (0..r.height)
+        .step_by(rows as usize)
+        .map(|y0| y0..(y0 + rows).min(r.height))
         .map(|band| match Renderer::of(r) {
             Renderer::Sppm => Sppm::renderer_bytes(scene, band, device.limits().max_storage_buffer_binding_size),
-            Renderer::Path => PathTracer::renderer_bytes(scene, band),
-            Renderer::Light => LightTracer::renderer_bytes(scene, band),
+            Renderer::Path => PathTracer::renderer_bytes(scene, band.len() as u32),
+            Renderer::Light => LightTracer::renderer_bytes(scene, band.len() as u32),
         })
         .sum();
     // Per triangle: itself, its reference in `prim_refs` and a BVH node at most, shading

@@ -42,12 +42,13 @@ impl Sums {
 pub struct SplatSums {
     /// The camera samples' weighted sums and weights.
     pub camera: Vec<[f32; 4]>,
-    /// The light subpaths' splats and passes (bpt, vcm).
+    /// The light subpaths' splats and passes (bpt, vcm), or SPPM's direct light of the camera
+    /// paths after a point's first and passes: what is averaged by passes.
     pub light: Option<Vec<[f32; 4]>>,
 }
 
 /// The ratio of a pixel's sums, rgb over w; black where w is 0.
-fn ratio(s: &[f32; 4]) -> [f32; 3] {
+pub(super) fn ratio(s: &[f32; 4]) -> [f32; 3] {
     let n = s[3];
     if n > 0.0 {
         [s[0] / n, s[1] / n, s[2] / n]
@@ -229,27 +230,8 @@ impl PixelSums {
         let parts = [(sums, weights), (light, None)];
         for (part, (sums, weights)) in parts.into_iter().enumerate().take(if self.has_light { 2 } else { 1 }) {
             let count = if part == 1 && !light_counted { 0.0 } else { count };
-            for (i, s) in sums.chunks_exact(PIXEL_BYTES as usize).enumerate() {
-                let s: [f32; 4] = bytemuck::pod_read_unaligned(s);
-                let weight_ok = match weights {
-                    None => s[3] == count,
-                    Some(most) => (k == 0 && s[3] == 0.0) || (s[3] > 0.0 && s[3] <= most * k as f32),
-                };
-                if !weight_ok || s[..3].iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
-                    let (x, y) = (i % width as usize, row_offset as usize + i / width as usize);
-                    let expected = match weights {
-                        None => format!("{count} samples"),
-                        Some(most) => format!("samples of weight above 0 and at most {}", most * k as f32),
-                    };
-                    let what = if part == 1 { "light subpaths' sum" } else { "sum" };
-                    return corrupt(format!(
-                        "pixel ({x}, {y}) holds the {what} {:?} of {} samples, where {k} passes give {expected} of finite, \
-                         non-negative radiance",
-                        &s[..3],
-                        s[3]
-                    ));
-                }
-            }
+            let what = if part == 1 { "light subpaths' sum" } else { "sum" };
+            check_sums(sums, k, count, weights, (width, row_offset), what)?;
         }
         self.queue.write_buffer(&self.radiance, 0, sums);
         if self.has_light {
@@ -257,6 +239,41 @@ impl PixelSums {
         }
         Ok(passes)
     }
+}
+
+/// Check the sums of a state after `k` passes, a `vec4f` a pixel (`what` in the message): each
+/// counts `count` estimates, or under a splatting filter (`weights`, a pass's most weight in a
+/// pixel) weights above 0 and at most that a pass (0 before any); radiance finite and not
+/// negative. `(width, row_offset)` name the pixels in the message.
+pub(super) fn check_sums(
+    sums: &[u8],
+    k: u32,
+    count: f32,
+    weights: Option<f32>,
+    (width, row_offset): (u32, u32),
+    what: &str,
+) -> Result<(), Error> {
+    for (i, s) in sums.chunks_exact(PIXEL_BYTES as usize).enumerate() {
+        let s: [f32; 4] = bytemuck::pod_read_unaligned(s);
+        let weight_ok = match weights {
+            None => s[3] == count,
+            Some(most) => (k == 0 && s[3] == 0.0) || (s[3] > 0.0 && s[3] <= most * k as f32),
+        };
+        if !weight_ok || s[..3].iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+            let (x, y) = (i % width as usize, row_offset as usize + i / width as usize);
+            let expected = match weights {
+                None => format!("{count} samples"),
+                Some(most) => format!("samples of weight above 0 and at most {}", most * k as f32),
+            };
+            return Err(Error::Setting(format!(
+                "the saved state is corrupt: pixel ({x}, {y}) holds the {what} {:?} of {} samples, where {k} passes give \
+                 {expected} of finite, non-negative radiance",
+                &s[..3],
+                s[3]
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// A pass's camera samples under a splatting filter (`camera_samples`, which `filter_splat`

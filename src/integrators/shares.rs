@@ -450,9 +450,9 @@ impl fmt::Display for Pilot {
 }
 
 /// Each pixel's estimate of the pass between the pilot's sums `before` and `after`: their
-/// difference, or where the camera's samples are splatted through a wide filter (sums of
-/// weighted samples and of weights, the light subpaths' apart) the pass's weighted mean of
-/// the camera's samples plus its light splats.
+/// difference (over a count of 1), or where the camera's samples are splatted through a wide
+/// filter (sums of weighted samples and of weights, the light subpaths' apart where traced)
+/// the pass's weighted mean of the camera's samples plus its light splats.
 fn pass_estimate(after: &SplatSums, before: &SplatSums) -> Vec<[f32; 3]> {
     let camera = after.camera.iter().zip(&before.camera);
     match (&after.light, &before.light) {
@@ -464,7 +464,14 @@ fn pass_estimate(after: &SplatSums, before: &SplatSums) -> Vec<[f32; 3]> {
                 [c(0) + l[0] - lb[0], c(1) + l[1] - lb[1], c(2) + l[2] - lb[2]]
             })
             .collect(),
-        _ => camera.map(|(a, b)| [a[0] - b[0], a[1] - b[1], a[2] - b[2]]).collect(),
+        // A count of 1 a pass (nothing splats), or SPPM's splatted estimates' weights.
+        _ => camera
+            .map(|(a, b)| {
+                let w = a[3] - b[3];
+                let c = |i: usize| if w > 0.0 { (a[i] - b[i]) / w } else { 0.0 };
+                [c(0), c(1), c(2)]
+            })
+            .collect(),
     }
 }
 
@@ -866,13 +873,15 @@ struct SppmPasses {
     sppm: super::Sppm,
     estimates: Passes,
     sum: Vec<[f64; 3]>,
+    /// Where the passes' estimates are splatted: the sums after the last pass.
+    splat: Option<SplatSums>,
     hits: f64,
     seconds: f64,
 }
 
 impl SppmPasses {
     fn new(sppm: super::Sppm) -> Self {
-        Self { sppm, estimates: Vec::new(), sum: Vec::new(), hits: 0.0, seconds: 0.0 }
+        Self { sppm, estimates: Vec::new(), sum: Vec::new(), splat: None, hits: 0.0, seconds: 0.0 }
     }
 
     /// Runs `passes` passes more.
@@ -880,6 +889,22 @@ impl SppmPasses {
         for _ in 0..passes {
             let start = std::time::Instant::now();
             self.sppm.run_pass()?;
+            // Where the estimates are splatted, each pixel's weighted mean of the pass's.
+            if let Some(sums) = Integrator::splat_sums(&mut self.sppm)? {
+                let zero = || SplatSums {
+                    camera: vec![[0.0; 4]; sums.camera.len()],
+                    light: sums.light.clone().map(|l| vec![[0.0; 4]; l.len()]),
+                };
+                let before = self.splat.take().unwrap_or_else(zero);
+                self.estimates.push(pass_estimate(&sums, &before));
+                self.splat = Some(sums);
+                let (gathered, seconds) = (self.sppm.photon_hits_gathered()?.0 as f64, start.elapsed().as_secs_f64());
+                if log {
+                    eprintln!("pilot sppm pass {seconds:.6} [{gathered}]");
+                }
+                (self.seconds, self.hits) = (self.seconds + seconds, self.hits + gathered);
+                continue;
+            }
             let image = self.sppm.image()?;
             let gathered = self.sppm.photon_hits_gathered()?.0 as f64;
             let pass_seconds = start.elapsed().as_secs_f64();

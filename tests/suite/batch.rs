@@ -134,9 +134,9 @@ fn global_radius_follows_the_schedule() {
 
 /// Four batches written as partials, read back and merged, against one integrator running
 /// every pass: within the stated bound, for SPPM with the global schedule and for pt-nee, with
-/// either sampler (the Sobol sampler's photons are numbered across passes), and for pt-nee and
-/// bpt under a gaussian filter, whose partials carry the splat sums (without them, merged by
-/// passes, the merge is off by more than the bound).
+/// either sampler (the Sobol sampler's photons are numbered across passes), and for pt-nee,
+/// bpt and SPPM under a gaussian filter, whose partials carry the splat sums (without them,
+/// merged by passes, the merge is off by more than the bound).
 #[test]
 fn batches_merge_to_the_whole_render() {
     let Some(gpu) = common::gpu() else { return };
@@ -157,6 +157,7 @@ fn merges(gpu: &sppm_gpu::gpu::GpuContext, dir: &std::path::Path) {
         (Method::PtNee, Sampler::Sobol, PixelFilter::Box),
         (Method::PtNee, Sampler::Sobol, gaussian),
         (Method::Bpt, Sampler::Sobol, gaussian),
+        (Method::Sppm, Sampler::Sobol, gaussian),
     ] {
         let mut scene = global("cornell-spheres.toml", 48, 20_000);
         (scene.render.method, scene.render.sampler, scene.render.filter) = (method, sampler, filter);

@@ -78,18 +78,26 @@ fn memory_need_matches_what_is_allocated() {
         sppm_gpu::gpu::GpuContext::with_limits(|l| wgpu::Limits { max_storage_buffer_binding_size: 64 << 10, ..l }).unwrap();
     let bunny = common::load_scene("gallery/bunny-cube.toml");
     use sppm_gpu::scene::RadiusRule::{Adaptive, Shrink};
-    for (context, name, method, size, rule) in [
-        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 48, Shrink),
-        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::PtNee, 48, Shrink),
-        (&small, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 64, Shrink),
-        (&gpu, "gallery/bunny-cube.toml", sppm_gpu::scene::Method::Sppm, 32, Shrink),
+    // SPPM splatting its passes under a gaussian (the global schedule): the rows of visible
+    // points a band's filter reaches beyond it, and the pixels' sums.
+    let splat = Some(sppm_gpu::scene::PixelFilter::Gaussian { stddev: 0.5 });
+    for (context, name, method, size, rule, filter) in [
+        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 48, Shrink, None),
+        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::PtNee, 48, Shrink, None),
+        (&small, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 64, Shrink, None),
+        (&gpu, "gallery/bunny-cube.toml", sppm_gpu::scene::Method::Sppm, 32, Shrink, None),
         // The adaptive radius rule's wider accumulator and per-point tests, whole and in bands.
-        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 48, Adaptive),
-        (&small, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 64, Adaptive),
+        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 48, Adaptive, None),
+        (&small, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 64, Adaptive, None),
+        (&gpu, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 48, Shrink, splat),
+        (&small, "cornell-box.toml", sppm_gpu::scene::Method::Sppm, 64, Shrink, splat),
     ] {
         let mut scene = if name.contains("bunny") { bunny.clone() } else { common::load_scene(name) };
         scene.render.method = method;
         scene.render.radius_rule = rule;
+        if let Some(filter) = filter {
+            (scene.render.filter, scene.render.radius_schedule) = (filter, sppm_gpu::scene::RadiusSchedule::Global);
+        }
         scene.render.width = size;
         scene.render.height = size - 8;
         if std::ptr::eq(context, &small) {

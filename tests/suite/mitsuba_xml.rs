@@ -644,6 +644,13 @@ fn against_mitsuba_with(
     c
 }
 
+/// SPPM's global radius schedule, under which it splats its passes' estimates through a
+/// filter wider than the box.
+fn global_schedule(s: &mut Scene) {
+    s.render.radius_schedule = scene::RadiusSchedule::Global;
+    assert!(sppm_gpu::integrators::sppm::splat_reach_of(&s.render) > 0, "{:?} does not splat", s.render.filter);
+}
+
 fn assert_close(name: &str, c: &sppm_gpu::metrics::Comparison, rel_mse: f64, mean: f64) {
     assert!(c.rel_mse < rel_mse, "{name}: relMSE {} (8x8 blocks)", c.rel_mse);
     for r in c.mean_ratio {
@@ -769,6 +776,9 @@ fn box_matches_mitsuba() {
     }
     let c = against_mitsuba("box", Method::Sppm, 16, 100_000);
     assert_close("box sppm", &c, 0.003, 0.01);
+    // The global schedule splats its passes' estimates through the file's tent.
+    let c = against_mitsuba_with("box", "box", Method::Sppm, 16, 100_000, global_schedule);
+    assert_close("box sppm, splatted", &c, 0.003, 0.01);
     let c = against_mitsuba("box", Method::PtNee, 64, 0);
     assert_close("box pt-nee", &c, 0.003, 0.01);
 }
@@ -1103,6 +1113,9 @@ fn lights_match_mitsuba() {
     }
     let c = against_mitsuba("lights", Method::Sppm, 16, 100_000);
     assert_close("lights sppm", &c, 0.003, 0.01);
+    // The global schedule splats its passes' estimates through the file's gaussian.
+    let c = against_mitsuba_with("lights", "lights", Method::Sppm, 16, 100_000, global_schedule);
+    assert_close("lights sppm, splatted", &c, 0.003, 0.01);
 }
 
 /// spot.xml: a spot light's position and axis from its to_world (a uniform scale leaves the

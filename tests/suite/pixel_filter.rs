@@ -488,15 +488,49 @@ fn sppm_camera_pass_uses_the_filter() {
     gpu.check().unwrap();
 }
 
+/// `scene` as it splats its camera samples under a wide filter: SPPM with the global radius
+/// schedule and one visible point a pixel (its passes then estimate on their own), the
+/// others as they are.
+fn splatting(mut scene: Scene) -> Scene {
+    if scene.render.method == Method::Sppm {
+        (scene.render.radius_schedule, scene.render.spp) = (sppm_gpu::scene::RadiusSchedule::Global, 1);
+    }
+    scene
+}
+
+/// SPPM with the global radius schedule splats each pass's estimate of a visible point as the
+/// path tracers splat their samples, its first camera path's direct light with it and the
+/// other paths' summed apart: the edge is the step convolved with the filter, pixel by pixel
+/// and column by column, with one path a point and with four, and not the other filter's.
+#[test]
+fn sppm_splats_its_passes_under_the_global_schedule() {
+    let Some(gpu) = common::gpu() else { return };
+    let edge = 7.6;
+    let passes = 1024;
+    for (filter, paths) in [(GAUSSIAN, 1), (TENT, 4)] {
+        let mut scene = splatting(edge_scene(edge as f32, Method::Sppm, filter));
+        scene.render.direct_samples = Some(paths);
+        assert_eq!(sppm_gpu::integrators::sppm::splat_reach_of(&scene.render), integrators::splat_reach(filter));
+        let img = render(&gpu, &scene, passes);
+        let (ok, worst) = matches_edge(&img, passes, edge, filter);
+        eprintln!("SPPM splatted, {filter:?}, {paths} paths a point: worst deviation {worst:.3} of its bound");
+        assert!(ok, "SPPM {filter:?}, {paths} paths: a pixel or column is {worst:.3} times its bound from the convolved edge");
+        let other = if filter == TENT { GAUSSIAN } else { TENT };
+        assert!(!matches_edge(&img, passes, edge, other).0, "SPPM {filter:?}'s image passes for {other:?}'s");
+    }
+    gpu.check().unwrap();
+}
+
 /// Banded images: bands of rows give the whole image's gaussian-filtered pixels bit for bit
 /// (a sample's raster position and random numbers depend on its row in the whole image; a
-/// band traces the rows its filter reaches beyond it), for pt-nee and for bpt, whose light
-/// subpaths' splats each band sums apart.
+/// band traces the rows its filter reaches beyond it), for pt-nee, for bpt, whose light
+/// subpaths' splats each band sums apart, and for SPPM's splatted passes (its visible points
+/// of those rows gather the same photons in every band).
 #[test]
 fn gaussian_bands_equal_the_whole_image() {
     let Some(gpu) = common::gpu() else { return };
-    for method in [Method::PtNee, Method::Bpt] {
-        let scene = edge_scene(7.6, method, GAUSSIAN);
+    for method in [Method::PtNee, Method::Bpt, Method::Sppm] {
+        let scene = splatting(edge_scene(7.6, method, GAUSSIAN));
         let whole = render(&gpu, &scene, 16);
         let mut bands = integrators::Bands::new(&gpu.device, &gpu.queue, &scene, 6).unwrap();
         assert_eq!(bands.band_count(), 3);
@@ -593,12 +627,12 @@ fn splatting_averages_the_pixels_a_filter_reaches() {
 
 /// Under a splatting filter the texture resolve (the preview's, an embedding application's)
 /// is the host's image to the bit: the camera samples' weighted mean, plus bpt's and vcm's
-/// light subpaths' splats summed apart.
+/// light subpaths' splats, or SPPM's direct light, summed apart.
 #[test]
 fn splatted_images_resolve_to_textures_as_on_the_host() {
     let Some(gpu) = common::gpu() else { return };
-    for method in [Method::PtNee, Method::Bpt, Method::Vcm] {
-        let scene = edge_scene(7.6, method, GAUSSIAN);
+    for method in [Method::PtNee, Method::Bpt, Method::Vcm, Method::Sppm] {
+        let scene = splatting(edge_scene(7.6, method, GAUSSIAN));
         let mut integrator = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
         for _ in 0..3 {
             integrator.run_pass().unwrap();

@@ -346,9 +346,13 @@ fn with_word(state: &[u8], word: usize, value: f32) -> Vec<u8> {
 fn restore_refuses_states_no_render_could_leave() {
     let Some(gpu) = common::gpu() else { return };
     let gaussian = PixelFilter::Gaussian { stddev: 0.5 };
-    for (method, filter) in [(Method::Sppm, PixelFilter::Box), (Method::PtNee, PixelFilter::Box), (Method::PtNee, gaussian)] {
+    for (method, filter) in
+        [(Method::Sppm, PixelFilter::Box), (Method::PtNee, PixelFilter::Box), (Method::PtNee, gaussian), (Method::Sppm, gaussian)]
+    {
         let mut scene = tiny(method);
         scene.render.filter = filter;
+        // SPPM splats its passes' estimates under the global schedule.
+        scene.render.radius_schedule = sppm_gpu::scene::RadiusSchedule::Global;
         let mut first = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
         first.run_pass().unwrap();
         first.run_pass().unwrap();
@@ -366,15 +370,15 @@ fn restore_refuses_states_no_render_could_leave() {
         assert!(e.contains("4294967295"), "{e}");
         passes[..4].copy_from_slice(&3u32.to_le_bytes());
         refused(&passes, "3 passes with the work of 2");
-        // Words of the first point's or pixel's sums (SPPM: tau, N, ld, r; the path tracers:
-        // r, g, b, count).
+        // Words of the first point's or pixel's sums (SPPM: tau, N, ld, r; the path tracers and
+        // splatting SPPM: r, g, b, count or weight).
         for (word, value) in [(0, f32::NAN), (1, f32::INFINITY), (2, -1.0), (3, f32::NAN)] {
             let e = refused(&with_word(&state, word, value), "a sum not finite or negative");
             assert!(e.contains("pixel (0, 0)"), "{method:?}: {e}");
         }
         if method == Method::PtNee && filter == PixelFilter::Box {
             refused(&with_word(&state, 3, 5.0), "a pixel of 5 samples after 2 passes");
-        } else if method == Method::PtNee {
+        } else if filter != PixelFilter::Box {
             refused(&with_word(&state, 3, 0.0), "a pixel of no weight after 2 passes");
             refused(&with_word(&state, 3, 1e3), "a pixel of more weight than 2 passes splat");
         }

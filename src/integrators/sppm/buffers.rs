@@ -142,6 +142,9 @@ pub(super) struct Buffers {
     pub(super) photon_suspended: wgpu::Buffer,
     pub(super) photon_resume_args: wgpu::Buffer,
     pub(super) radius_tests: wgpu::Buffer,
+    pub(super) camera_samples: wgpu::Buffer,
+    pub(super) radiance: wgpu::Buffer,
+    pub(super) direct_sums: wgpu::Buffer,
 }
 
 impl Buffers {
@@ -166,6 +169,9 @@ impl Buffers {
             Resource { name: "photon_suspended", buffer: &self.photon_suspended },
             Resource { name: "photon_resume_args", buffer: &self.photon_resume_args },
             Resource { name: "radius_tests", buffer: &self.radius_tests },
+            Resource { name: "camera_samples", buffer: &self.camera_samples },
+            Resource { name: "radiance", buffer: &self.radiance },
+            Resource { name: "direct_sums", buffer: &self.direct_sums },
         ]);
         resources
     }
@@ -178,7 +184,9 @@ impl Buffers {
 /// per grid bucket (the point count rounded up to a power of two): a count, a start and,
 /// where hits are gathered, a hit list; per pixel: the image and its read-back copy; per
 /// photon: room for its hits ([`photon_hit_capacity`]) and suspended threads
-/// (`suspended_bytes`).
+/// (`suspended_bytes`). Where the passes' estimates are splatted through a wide filter
+/// ([`super::splat_reach_of`]), a camera sample a point, and a pixel's weighted sums and its
+/// direct light summed apart.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BufferSizes {
     /// `frame`: [`Frame`].
@@ -217,6 +225,14 @@ pub struct BufferSizes {
     pub radius_tests: u64,
     /// `image_staging`: the image's read-back copy.
     pub image_staging: u64,
+    /// `camera_samples`: a pass's estimate of each point and its place in its pixel where they
+    /// are splatted, or one.
+    pub camera_samples: u64,
+    /// `radiance`: the weighted sums of a pixel where the estimates are splatted, or one.
+    pub radiance: u64,
+    /// `direct_sums`: the direct light summed apart a pixel where the estimates are
+    /// splatted, or one.
+    pub direct_sums: u64,
 }
 
 impl BufferSizes {
@@ -225,6 +241,7 @@ impl BufferSizes {
     pub fn new(render: &RenderSettings, points: u64, pixels: u64, at_once: bool, max_binding: u64) -> Self {
         let table = points.max(1).next_power_of_two();
         let adaptive = render.radius_rule == RadiusRule::Adaptive;
+        let splat = super::splat_reach_of(render) > 0;
         let size = |n: u64, each: usize| (n * each as u64).max(16);
         Self {
             frame: size(1, size_of::<Frame>()),
@@ -245,11 +262,14 @@ impl BufferSizes {
             photon_resume_args: RESUME_ARGS_BYTES.max(16),
             radius_tests: size(if adaptive { points } else { 1 }, size_of::<RadiusTest>()),
             image_staging: size(pixels, 16),
+            camera_samples: size(if splat { points } else { 1 }, 16),
+            radiance: size(if splat { pixels } else { 1 }, 16),
+            direct_sums: size(if splat { pixels } else { 1 }, 16),
         }
     }
 
     /// Every buffer's name (its WGSL global's) and size.
-    pub fn named(&self) -> [(&'static str, u64); 18] {
+    pub fn named(&self) -> [(&'static str, u64); 21] {
         [
             ("frame", self.frame),
             ("visible_points", self.visible_points),
@@ -269,6 +289,9 @@ impl BufferSizes {
             ("photon_resume_args", self.photon_resume_args),
             ("radius_tests", self.radius_tests),
             ("image_staging", self.image_staging),
+            ("camera_samples", self.camera_samples),
+            ("radiance", self.radiance),
+            ("direct_sums", self.direct_sums),
         ]
     }
 
@@ -311,6 +334,9 @@ impl Buffers {
             photon_suspended: zeroed_buffer(device, "photon_suspended", s.photon_suspended, STORAGE_USAGE),
             photon_resume_args: zeroed_buffer(device, "photon_resume_args", s.photon_resume_args, indirect),
             radius_tests: zeroed_buffer(device, "radius_tests", s.radius_tests, STORAGE_USAGE),
+            camera_samples: zeroed_buffer(device, "camera_samples", s.camera_samples, STORAGE_USAGE),
+            radiance: zeroed_buffer(device, "radiance", s.radiance, STORAGE_USAGE),
+            direct_sums: zeroed_buffer(device, "direct_sums", s.direct_sums, STORAGE_USAGE),
         }
     }
 }

@@ -12,7 +12,9 @@
 //! ([`deposits_at_once`]) the grid's lists are built before the photons, and every hit is
 //! added at once. `update_stats` folds the pass's photons
 //! into each point's statistics (N, radius, tau). `resolve` turns the statistics into an
-//! image at any time.
+//! image at any time. With a global radius schedule under a filter wider than the box, each
+//! pass's estimate of a point is instead a camera sample that `filter_splat` splats into the
+//! pixels its filter reaches, as the path tracers' are ([`splat_reach_of`]).
 
 mod buffers;
 
@@ -28,7 +30,7 @@ use crate::gpu::scene_buffers::{SceneBuffers, SceneData};
 use crate::gpu::{Kernel, Specialization};
 use crate::image_io::Rgb32Image;
 use crate::layout::*;
-use crate::scene::{DirectLight, RadiusRule, RadiusSchedule, Scene};
+use crate::scene::{DirectLight, RadiusRule, RadiusSchedule, RenderSettings, Scene};
 use buffers::{largest_point_bytes, Buffers, GRID_POINT_WORDS_BYTES, SUSPENDED_STATE_BYTES};
 use std::ops::Range;
 use std::sync::Arc;
@@ -39,6 +41,27 @@ use std::sync::Arc;
 /// with weights that keep the estimate unbiased. The environment variable `SPPM_ENV_AIM`
 /// (a number in [0, 1)) overrides it, for experiments; 0 turns it off.
 pub const ENV_AIM: f32 = 0.9;
+
+/// The filter's reach in pixels where SPPM splats its passes' estimates (Mitsuba's weighted
+/// splatting, [`super::filter`]): under a filter wider than the box, with a global radius
+/// schedule (each pass an estimate of its own, Knaus & Zwicker 2011) and one visible point a
+/// pixel; 0 otherwise, where camera rays sample the filter (filter importance sampling). On
+/// Mitsuba's tent-filtered scenes a pixel then averages about 2.25 pixels' estimates.
+pub fn splat_reach_of(r: &RenderSettings) -> u32 {
+    if r.radius_schedule == RadiusSchedule::Global && r.spp == 1 {
+        super::splat_reach(r.filter)
+    } else {
+        0
+    }
+}
+
+/// The rows of the visible points of band `rows` of `r`'s image: its own, and those a
+/// splatting filter reaches beyond them within the image ([`splat_reach_of`]; `splat_rows` in
+/// shaders/shared/camera.wgsl).
+fn point_rows(r: &RenderSettings, rows: &Range<u32>) -> Range<u32> {
+    let reach = splat_reach_of(r);
+    rows.start.saturating_sub(reach)..(rows.end + reach).min(r.height)
+}
 
 /// Photons each `photon_pass` thread traces (`PHOTONS_PER_THREAD` in the kernel).
 pub const PHOTONS_PER_THREAD: u32 = 16;
@@ -234,6 +257,9 @@ pub struct Sppm {
     photon_gather: Stage,
     photon_resume_setup: Stage,
     update_stats: Stage,
+    /// Where the passes' estimates are splatted ([`splat_reach_of`]): the kernel that splats
+    /// them into `radiance`.
+    filter_splat: Option<Stage>,
     resolve: Stage,
     /// `resolve_texture` for Rgba32Float and Rgba16Float targets, made when first used.
     resolve_texture: [Option<Kernel>; 2],
@@ -299,17 +325,18 @@ impl Sppm {
         // the flux of the adaptive radius rule).
         let points = device.limits().max_storage_buffer_binding_size / largest_point_bytes(scene);
         let per_row = scene.render.width as u64 * scene.render.spp as u64;
-        (points / per_row.max(1)).min(u32::MAX as u64) as u32
+        let rows = (points / per_row.max(1)).min(u32::MAX as u64) as u32;
+        rows.saturating_sub(2 * splat_reach_of(&scene.render))
     }
 
-    /// Bytes of the renderer's own buffers for a band of `rows` rows of `scene`'s image on a
+    /// Bytes of the renderer's own buffers for the band `rows` of `scene`'s image on a
     /// device whose storage buffers hold `max_binding` bytes, as
     /// [`Integrator::gpu_memory`] reports them once allocated ([`BufferSizes`]), computed
     /// before allocating, for the memory check.
-    pub fn renderer_bytes(scene: &Scene, rows: u32, max_binding: u64) -> u64 {
+    pub fn renderer_bytes(scene: &Scene, rows: Range<u32>, max_binding: u64) -> u64 {
         let r = &scene.render;
-        let pixels = r.width as u64 * rows as u64;
-        let points = pixels * r.spp as u64;
+        let pixels = r.width as u64 * rows.len() as u64;
+        let points = r.width as u64 * point_rows(r, &rows).len() as u64 * r.spp as u64;
         BufferSizes::new(r, points, pixels, deposits_at_once(r, points), max_binding).total()
     }
 
@@ -325,7 +352,9 @@ impl Sppm {
     ) -> Result<Self, Error> {
         let r = &scene.render;
         let mut frame = super::band_frame(scene, data, &rows)?;
+        frame.filter_reach = splat_reach_of(r);
         let band_height = frame.height;
+        let point_rows = point_rows(r, &rows).len() as u32;
         // Random streams are keyed by a point's u32 index in the whole image.
         if r.width as u64 * r.height as u64 * r.spp as u64 > u32::MAX as u64 {
             return Err(Error::Setting(format!(
@@ -334,8 +363,9 @@ impl Sppm {
             )));
         }
         let pixel_count = r.width.checked_mul(band_height).ok_or_else(|| Error::Setting("image too large".into()))?;
-        let vp_count = pixel_count
-            .checked_mul(r.spp)
+        let vp_count = (r.width as u64 * point_rows as u64 * r.spp as u64)
+            .try_into()
+            .ok()
             .filter(|n| (*n as u64) * largest_point_bytes(scene) <= device.limits().max_storage_buffer_binding_size)
             .ok_or_else(|| {
                 Error::Setting(format!(
@@ -414,6 +444,10 @@ impl Sppm {
             photon_gather: Stage::new(device, "photon_gather", &buffers, &spec)?,
             photon_resume_setup: Stage::new(device, "photon_resume_setup", &buffers, &spec)?,
             update_stats: Stage::new(device, "update_stats", &buffers, &spec)?,
+            filter_splat: match frame.filter_reach {
+                0 => None,
+                _ => Some(Stage::new(device, "filter_splat", &buffers, &spec)?),
+            },
             resolve: Stage::new(device, "resolve", &buffers, &spec)?,
             resolve_texture: [None, None],
             image_staging: staging_buffer(device, "image_staging", sizes.image_staging),
@@ -454,9 +488,22 @@ impl Sppm {
     }
 
     /// Bytes of [`Integrator::state`]'s buffers: the statistics and, under the adaptive radius
-    /// rule, the uniformity tests.
+    /// rule, the uniformity tests; where the passes' estimates are splatted, the pixels' sums.
     fn state_bytes(&self) -> u64 {
+        if self.filter_splat.is_some() {
+            return self.buffers.radiance.size() + self.buffers.direct_sums.size();
+        }
         self.buffers.vp_stats.size() + if self.adaptive { self.buffers.radius_tests.size() } else { 0 }
+    }
+
+    /// After a state of `passes` passes and `photons` photons is loaded: go on from there.
+    fn restored(&mut self, passes: u32, photons: u64) {
+        self.drop_pass_under_way();
+        self.passes = passes;
+        if self.global_radius_sq.is_some() {
+            self.global_radius_sq = Some(global_radius_sq(self.initial_radius, self.frame.alpha, passes));
+        }
+        self.photons_traced = photons;
     }
 
     /// Forget the parts recorded of a pass not completed, and the photons they deposited.
@@ -590,6 +637,9 @@ impl Sppm {
 
     fn record_statistics(&mut self, encoder: &mut wgpu::CommandEncoder) {
         self.update_stats.dispatch(encoder, self.vp_count);
+        if let Some(stage) = &self.filter_splat {
+            stage.dispatch(encoder, self.pixel_count);
+        }
         self.passes += 1;
         self.photons_traced += self.frame.photon_count as u64;
         // r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1) for the pass i (from 1) just done; the
@@ -828,6 +878,9 @@ impl Integrator for Sppm {
         self.queue.write_buffer(&self.buffers.vp_stats, 0, bytemuck::cast_slice(&stats));
         let tests = vec![0u8; self.buffers.radius_tests.size() as usize];
         self.queue.write_buffer(&self.buffers.radius_tests, 0, &tests);
+        for sums in [&self.buffers.radiance, &self.buffers.direct_sums] {
+            self.queue.write_buffer(sums, 0, &vec![0u8; sums.size() as usize]);
+        }
         self.drop_pass_under_way();
         self.passes = self.first_pass;
         self.photons_traced = 0;
@@ -927,8 +980,15 @@ impl Integrator for Sppm {
             renderer: super::sizes(own.chain(staging)),
         }
     }
-    /// The statistics, then (adaptive radius rule) the uniformity tests.
+    /// The statistics, then (adaptive radius rule) the uniformity tests; where the passes'
+    /// estimates are splatted, the pixels' sums alone (a global schedule keeps nothing else):
+    /// the weighted ones, then the direct light's.
     fn state(&mut self) -> Result<Vec<u8>, Error> {
+        if let Some(sums) = self.splat_sums()? {
+            let mut bytes: Vec<u8> = bytemuck::cast_slice(&sums.camera).to_vec();
+            bytes.extend_from_slice(bytemuck::cast_slice(&sums.light.unwrap_or_default()));
+            return Ok(super::encode_state(self.passes, self.photons_traced, &bytes));
+        }
         let mut stats: Vec<u8> = read_whole(&self.device, &self.queue, &self.buffers.vp_stats)?;
         if self.adaptive {
             stats.extend(read_whole::<u8>(&self.device, &self.queue, &self.buffers.radius_tests)?);
@@ -938,6 +998,17 @@ impl Integrator for Sppm {
     /// The estimate of `resolve.wgsl` (shared/estimate.wgsl), on the host.
     fn image_of_state(&self, state: &[u8]) -> Result<Rgb32Image, Error> {
         let (passes, _, stats) = super::decode_state(state, self.state_bytes())?;
+        if self.filter_splat.is_some() {
+            let (sums, direct) = stats.split_at(self.buffers.radiance.size() as usize);
+            let sums: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(sums);
+            let direct: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(direct);
+            let mut image = Rgb32Image::new(self.frame.width, self.frame.height);
+            for ((pixel, s), d) in image.pixels.iter_mut().zip(&sums).zip(&direct) {
+                let (s, d) = (super::pixel_sums::ratio(s), super::pixel_sums::ratio(d));
+                *pixel = [0, 1, 2].map(|c| s[c] + d[c]).map(|v| if v.is_finite() { v } else { 0.0 });
+            }
+            return Ok(image);
+        }
         let stats: Vec<VpStats> = bytemuck::pod_collect_to_vec(&stats[..self.buffers.vp_stats.size() as usize]);
         let (k, spp) = (passes.saturating_sub(self.first_pass).max(1) as f32, self.frame.spp.max(1) as usize);
         let global = self.global_radius_sq.is_some();
@@ -958,8 +1029,7 @@ impl Integrator for Sppm {
     /// Refuses a state that no render could have left: photons other than those of its passes,
     /// or statistics not finite, or negative where they cannot be.
     fn restore(&mut self, state: &[u8]) -> Result<(), Error> {
-        let (passes, photons, stats) = super::decode_state(state, self.state_bytes())?;
-        let (stats, tests) = stats.split_at(self.buffers.vp_stats.size() as usize);
+        let (passes, photons, bytes) = super::decode_state(state, self.state_bytes())?;
         let corrupt = |what: String| Err(Error::Setting(format!("the saved state is corrupt: {what}")));
         // Each pass since first_pass traced photon_count photons.
         let per_pass = self.frame.photon_count as u64;
@@ -969,6 +1039,19 @@ impl Integrator for Sppm {
                 "it holds {passes} passes and {photons} photons, where each pass from pass {first} traces {per_pass}"
             ));
         }
+        if self.filter_splat.is_some() {
+            let bound = super::filter::splat_weight_bound(&self.frame);
+            let place = (self.frame.width, self.frame.row_offset);
+            let k = passes - self.first_pass;
+            let (sums, direct) = bytes.split_at(self.buffers.radiance.size() as usize);
+            super::pixel_sums::check_sums(sums, k, 0.0, Some(bound), place, "sum")?;
+            super::pixel_sums::check_sums(direct, k, k.min(1 << 24) as f32, None, place, "direct light's sum")?;
+            self.queue.write_buffer(&self.buffers.radiance, 0, sums);
+            self.queue.write_buffer(&self.buffers.direct_sums, 0, direct);
+            self.restored(passes, photons);
+            return Ok(());
+        }
+        let (stats, tests) = bytes.split_at(self.buffers.vp_stats.size() as usize);
         // The pixel of visible point i, for messages.
         let spp = self.frame.spp.max(1) as usize;
         let pixel = |i: usize| {
@@ -997,12 +1080,14 @@ impl Integrator for Sppm {
         if self.adaptive {
             self.queue.write_buffer(&self.buffers.radius_tests, 0, tests);
         }
-        self.drop_pass_under_way();
-        self.passes = passes;
-        if self.global_radius_sq.is_some() {
-            self.global_radius_sq = Some(global_radius_sq(self.initial_radius, self.frame.alpha, passes));
-        }
-        self.photons_traced = photons;
+        self.restored(passes, photons);
         Ok(())
+    }
+
+    fn splat_sums(&mut self) -> Result<Option<super::SplatSums>, Error> {
+        let Some(_) = &self.filter_splat else { return Ok(None) };
+        let camera = read_whole(&self.device, &self.queue, &self.buffers.radiance)?;
+        let light = Some(read_whole(&self.device, &self.queue, &self.buffers.direct_sums)?);
+        Ok(Some(super::SplatSums { camera, light }))
     }
 }
