@@ -69,8 +69,10 @@ pub(crate) struct Overrides {
     #[arg(long)]
     pub(crate) merge_share: Option<f32>,
     /// SPPM's radius schedule: per-point (each visible point's radius shrinks with its
-    /// photons; default) or global (the radius of pass i depends on i alone, so passes can
-    /// run in batches; Knaus & Zwicker 2011) (overrides render.radius_schedule).
+    /// photons) or global (the radius of pass i depends on i alone, so passes can run in
+    /// batches and splat through a tent or gaussian filter; Knaus & Zwicker 2011); default
+    /// global where it splats (a tent or gaussian, spp 1, radius rule shrink), else per-point
+    /// (overrides render.radius_schedule).
     #[arg(long, value_parser = named::<RadiusSchedule>())]
     pub(crate) radius_schedule: Option<RadiusSchedule>,
     /// How each SPPM visible point's radius shrinks (per-point schedule): shrink (by alpha of

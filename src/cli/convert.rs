@@ -159,7 +159,10 @@ fn document(scene: &Scene, meshes: &Path) -> Result<(Table, Vec<File>, Vec<Image
             render.insert(key.into(), float(share));
         }
     }
-    render.insert("radius_schedule".into(), Value::String(r.radius_schedule.name().into()));
+    // A schedule the scene left to follow its other settings stays left to them.
+    if r.radius_schedule_given {
+        render.insert("radius_schedule".into(), Value::String(r.radius_schedule.name().into()));
+    }
     render.insert("radius_rule".into(), Value::String(r.radius_rule.name().into()));
     render.insert("sampler".into(), Value::String(r.sampler.name().into()));
     match r.filter {

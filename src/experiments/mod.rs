@@ -507,7 +507,8 @@ impl SweepParam {
                 render.work_given.photons = true;
             }
             Self::RadiusSchedule if value == 0.0 || value == 1.0 => {
-                render.radius_schedule = if value == 1.0 { RadiusSchedule::Global } else { RadiusSchedule::PerPoint }
+                render.radius_schedule = if value == 1.0 { RadiusSchedule::Global } else { RadiusSchedule::PerPoint };
+                render.radius_schedule_given = true;
             }
             _ => return Err(Error::Setting(format!("{value} is not a valid {}", self.name()))),
         }

@@ -18,8 +18,7 @@ use crate::error::Error;
 use crate::layout::{Frame, FILTER_BOX, FILTER_GAUSSIAN, FILTER_TABLE_SIZE, FILTER_TENT};
 use crate::scene::PixelFilter;
 
-/// Where Mitsuba 3 cuts its gaussian off, in standard deviations.
-pub const GAUSSIAN_CUTOFF: f64 = 4.0;
+pub use crate::scene::{GAUSSIAN_CUTOFF, MAX_SPLAT_REACH};
 
 /// Mitsuba 3's gaussian filter in standard deviations `t`, unnormalized:
 /// `max(0, exp(-t^2 / 2) - exp(-8))` (the value at the cutoff subtracted, so it falls to 0
@@ -74,31 +73,10 @@ pub fn set_pixel_filter(frame: &mut Frame, filter: PixelFilter) -> Result<(), Er
     Ok(())
 }
 
-/// The most pixels either way a splatted sample may reach: a wider filter (a gaussian of
-/// standard deviation over 2.125 pixels, a tent of radius over 8.5) is sampled by importance
-/// instead, as each pixel's gather reads `(2 reach + 1)^2` samples a pass.
-pub const MAX_SPLAT_REACH: u32 = 8;
-
-/// How many pixels either way a sample splatted through `filter` reaches ([`Frame::filter_reach`]):
-/// a sample lies within half a pixel of its pixel's centre in x and y, so it reaches the pixels
-/// whose centres lie closer than the filter's radius plus 1/2, `ceil(radius + 1/2) - 1` of them
-/// either way. 0, importance sampling, for the box and for filters no wider than it (a
-/// pixel's own sample could weigh nothing) or wider than [`MAX_SPLAT_REACH`].
+/// How many pixels either way a sample splatted through `filter` reaches ([`Frame::filter_reach`],
+/// [`PixelFilter::splat_reach`]).
 pub fn splat_reach(filter: PixelFilter) -> u32 {
-    let radius = match filter {
-        PixelFilter::Box => return 0,
-        PixelFilter::Tent { radius } => radius as f64,
-        PixelFilter::Gaussian { stddev } => GAUSSIAN_CUTOFF * stddev as f64,
-    };
-    if radius.is_nan() || radius <= 0.5 {
-        return 0;
-    }
-    let reach = (radius + 0.5).ceil() as u32 - 1;
-    if reach > MAX_SPLAT_REACH {
-        0
-    } else {
-        reach
-    }
+    filter.splat_reach()
 }
 
 /// More than a pass's splats can weigh in one pixel of `frame`: every sample within the

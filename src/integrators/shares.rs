@@ -72,7 +72,7 @@ impl Choice {
     pub fn apply(&self, render: &mut RenderSettings) {
         (render.connect_share, render.merge_share) = (Some(self.shares.connect), Some(self.shares.merge));
         if self.photon_mapping {
-            (render.photon_mapping, render.radius_schedule) = (true, RadiusSchedule::Global);
+            (render.photon_mapping, render.radius_schedule, render.radius_schedule_given) = (true, RadiusSchedule::Global, true);
         } else if !self.light_subpaths {
             render.light_paths = Some(0);
         } else if let Some(n) = render.width.saturating_mul(render.height).checked_div(self.pixels_per_light_path) {

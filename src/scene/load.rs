@@ -211,6 +211,7 @@ fn read_render(t: &Table) -> Result<RenderSettings> {
         connect_share: t.opt("connect_share", |v| v.f32_in(Bound::Closed(0.0, 1.0)))?,
         merge_share: t.opt("merge_share", |v| v.f32_in(Bound::Closed(0.0, 1.0)))?,
         radius_schedule: t.or("radius_schedule", d.radius_schedule, Value::named)?,
+        radius_schedule_given: t.get("radius_schedule").is_some(),
         radius_rule: read_radius_rule(t)?,
         filter: read_filter(t)?,
         sampler: t.or("sampler", d.sampler, Value::named)?,

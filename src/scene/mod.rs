@@ -194,7 +194,8 @@ pub enum DirectLight {
 pub enum RadiusSchedule {
     /// Each visible point's radius shrinks with the photons it has gathered (Hachisuka &
     /// Jensen 2009): the radius adapts to the local photon density, but each pass depends on
-    /// every pass before it. The default.
+    /// every pass before it. The default where passes do not splat
+    /// ([`RenderSettings::settle_radius_schedule`]).
     PerPoint,
     /// The radius of pass i is a function of i alone, r_i^2 = r_1^2 prod_{k=1}^{i-1} (k + alpha)
     /// / (k + 1), the same for every point (Knaus & Zwicker 2011, "Progressive photon mapping:
@@ -246,6 +247,38 @@ pub enum PixelFilter {
     },
 }
 
+/// Where Mitsuba 3 cuts its gaussian off, in standard deviations.
+pub const GAUSSIAN_CUTOFF: f64 = 4.0;
+
+/// The most pixels either way a splatted sample may reach: a wider filter (a gaussian of
+/// standard deviation over 2.125 pixels, a tent of radius over 8.5) is sampled by importance
+/// instead, as each pixel's gather reads `(2 reach + 1)^2` samples a pass.
+pub const MAX_SPLAT_REACH: u32 = 8;
+
+impl PixelFilter {
+    /// How many pixels either way a sample splatted through the filter reaches: a sample lies
+    /// within half a pixel of its pixel's centre in x and y, so it reaches the pixels whose
+    /// centres lie closer than the filter's radius plus 1/2, `ceil(radius + 1/2) - 1` of them
+    /// either way. 0, importance sampling, for the box and for filters no wider than it (a
+    /// pixel's own sample could weigh nothing) or wider than [`MAX_SPLAT_REACH`].
+    pub fn splat_reach(self) -> u32 {
+        let radius = match self {
+            PixelFilter::Box => return 0,
+            PixelFilter::Tent { radius } => radius as f64,
+            PixelFilter::Gaussian { stddev } => GAUSSIAN_CUTOFF * stddev as f64,
+        };
+        if radius.is_nan() || radius <= 0.5 {
+            return 0;
+        }
+        let reach = (radius + 0.5).ceil() as u32 - 1;
+        if reach > MAX_SPLAT_REACH {
+            0
+        } else {
+            reach
+        }
+    }
+}
+
 /// The `[render]` table, with defaults applied.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderSettings {
@@ -293,8 +326,12 @@ pub struct RenderSettings {
     /// vcm's share of camera vertices that merge with light vertices (`merge_share`, in
     /// [0, 1]), as [`RenderSettings::connect_share`] for merging.
     pub merge_share: Option<f32>,
-    /// SPPM's radius schedule (`radius_schedule`: `"per-point"`, the default, or `"global"`).
+    /// SPPM's radius schedule (`radius_schedule`: `"per-point"` or `"global"`; by default
+    /// the one [`RenderSettings::settle_radius_schedule`] chooses).
     pub radius_schedule: RadiusSchedule,
+    /// Whether the scene or an override gave `radius_schedule`; where not, it follows the
+    /// other settings ([`RenderSettings::settle_radius_schedule`]).
+    pub radius_schedule_given: bool,
     /// How a visible point's radius shrinks under [`RadiusSchedule::PerPoint`]
     /// (`radius_rule`: `"shrink"`, the default, or `"adaptive"`).
     pub radius_rule: RadiusRule,
@@ -379,6 +416,7 @@ impl Default for RenderSettings {
             connect_share: None,
             merge_share: None,
             radius_schedule: RadiusSchedule::PerPoint,
+            radius_schedule_given: false,
             radius_rule: RadiusRule::Shrink,
             filter: PixelFilter::Box,
             sampler: crate::sampler::Sampler::DEFAULT,
@@ -400,6 +438,21 @@ impl RenderSettings {
         }
         if !self.work_given.spp {
             self.spp = work.spp;
+        }
+        self.settle_radius_schedule();
+    }
+
+    /// SPPM's radius schedule where none was given: the global one where its passes then
+    /// splat through a filter wider than the box (one visible point a pixel, the plain radius
+    /// rule: `integrators::sppm::splat_reach_of`), a radius per point elsewhere. At equal time
+    /// on Mitsuba's tent- and gaussian-filtered test scenes the splatted global schedule's
+    /// relMSE is 1.02x to 2.0x below the per-point one's (BENCHMARKS.md "VCM"). Called by
+    /// [`Scene::new`] (every reader), the overrides and [`RenderSettings::fit_pass_work`],
+    /// after which these settings may have changed.
+    pub fn settle_radius_schedule(&mut self) {
+        if !self.radius_schedule_given {
+            let splats = self.spp == 1 && self.radius_rule == RadiusRule::Shrink && self.filter.splat_reach() > 0;
+            self.radius_schedule = if splats { RadiusSchedule::Global } else { RadiusSchedule::PerPoint };
         }
     }
 }
@@ -610,16 +663,18 @@ pub struct Scene {
 
 impl Scene {
     /// A scene of these settings, camera, materials (with the textures they name), lights and
-    /// media, without shapes: each reader adds its shapes and their primitives.
+    /// media, without shapes: each reader adds its shapes and their primitives. A radius
+    /// schedule the settings do not give is settled ([`RenderSettings::settle_radius_schedule`]).
     pub fn new(
         path: PathBuf,
-        render: RenderSettings,
+        mut render: RenderSettings,
         camera: Camera,
         materials: Vec<Material>,
         textures: Vec<Texture>,
         lights: Vec<Light>,
         media: Vec<Medium>,
     ) -> Self {
+        render.settle_radius_schedule();
         Scene {
             path,
             render,

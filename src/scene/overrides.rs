@@ -168,8 +168,10 @@ impl Overrides {
         }
         render.direct = self.direct.unwrap_or(render.direct);
         render.radius_schedule = self.radius_schedule.unwrap_or(render.radius_schedule);
+        render.radius_schedule_given |= self.radius_schedule.is_some();
         render.radius_rule = self.radius_rule.unwrap_or(render.radius_rule);
         render.sampler = self.sampler.unwrap_or(render.sampler);
+        render.settle_radius_schedule();
         Ok(())
     }
 }

@@ -644,11 +644,16 @@ fn against_mitsuba_with(
     c
 }
 
-/// SPPM's global radius schedule, under which it splats its passes' estimates through a
-/// filter wider than the box.
-fn global_schedule(s: &mut Scene) {
-    s.render.radius_schedule = scene::RadiusSchedule::Global;
+/// Checks that SPPM takes the global radius schedule for `s` where none is given, and splats
+/// its passes' estimates through the file's filter.
+fn splatted(s: &mut Scene) {
+    assert_eq!(s.render.radius_schedule, scene::RadiusSchedule::Global);
     assert!(sppm_gpu::integrators::sppm::splat_reach_of(&s.render) > 0, "{:?} does not splat", s.render.filter);
+}
+
+/// SPPM with a radius per point, whose camera samples sample the filter.
+fn per_point(s: &mut Scene) {
+    (s.render.radius_schedule, s.render.radius_schedule_given) = (scene::RadiusSchedule::PerPoint, true);
 }
 
 fn assert_close(name: &str, c: &sppm_gpu::metrics::Comparison, rel_mse: f64, mean: f64) {
@@ -774,11 +779,11 @@ fn box_matches_mitsuba() {
     if common::gpu().is_none() {
         return;
     }
-    let c = against_mitsuba("box", Method::Sppm, 16, 100_000);
+    // SPPM's default here: the global schedule, its passes splatted through the file's tent.
+    let c = against_mitsuba_with("box", "box", Method::Sppm, 16, 100_000, splatted);
     assert_close("box sppm", &c, 0.003, 0.01);
-    // The global schedule splats its passes' estimates through the file's tent.
-    let c = against_mitsuba_with("box", "box", Method::Sppm, 16, 100_000, global_schedule);
-    assert_close("box sppm, splatted", &c, 0.003, 0.01);
+    let c = against_mitsuba_with("box", "box", Method::Sppm, 16, 100_000, per_point);
+    assert_close("box sppm, a radius per point", &c, 0.003, 0.01);
     let c = against_mitsuba("box", Method::PtNee, 64, 0);
     assert_close("box pt-nee", &c, 0.003, 0.01);
 }
@@ -1111,11 +1116,11 @@ fn lights_match_mitsuba() {
     if common::gpu().is_none() {
         return;
     }
-    let c = against_mitsuba("lights", Method::Sppm, 16, 100_000);
+    // SPPM's default here: the global schedule, its passes splatted through the file's gaussian.
+    let c = against_mitsuba_with("lights", "lights", Method::Sppm, 16, 100_000, splatted);
     assert_close("lights sppm", &c, 0.003, 0.01);
-    // The global schedule splats its passes' estimates through the file's gaussian.
-    let c = against_mitsuba_with("lights", "lights", Method::Sppm, 16, 100_000, global_schedule);
-    assert_close("lights sppm, splatted", &c, 0.003, 0.01);
+    let c = against_mitsuba_with("lights", "lights", Method::Sppm, 16, 100_000, per_point);
+    assert_close("lights sppm, a radius per point", &c, 0.003, 0.01);
 }
 
 /// spot.xml: a spot light's position and axis from its to_world (a uniform scale leaves the

@@ -746,6 +746,45 @@ fn no_input_panics() {
 
 /// Beyond v1, what a Mitsuba scene needs and `sppm-gpu convert` will write: `one_sided`
 /// materials and the pixel filter.
+/// SPPM's radius schedule where the scene gives none: the global one where its passes splat
+/// through a tent or gaussian (one camera sample a pixel a pass, the plain radius rule), a
+/// radius per point elsewhere; a schedule given by the file or an override stays, and the
+/// overrides and the device's pass work settle it again.
+#[test]
+fn the_radius_schedule_follows_the_filter_where_none_is_given() {
+    use sppm_gpu::scene::{Overrides, PassWork, RadiusRule, RadiusSchedule, SettingNames};
+    let render = |extra: &str| load_ok(&edit("iterations = 1\n", &format!("iterations = 1\n{extra}\n"))).render;
+    for (extra, schedule) in [
+        ("", RadiusSchedule::PerPoint),
+        ("filter = \"gaussian\"", RadiusSchedule::Global),
+        ("filter = \"tent\"", RadiusSchedule::Global),
+        // A tent no wider than the box splats nothing.
+        ("filter = \"tent\"\nfilter_radius = 0.5", RadiusSchedule::PerPoint),
+        ("filter = \"gaussian\"\nspp = 4", RadiusSchedule::PerPoint),
+        ("filter = \"gaussian\"\nradius_rule = \"adaptive\"", RadiusSchedule::PerPoint),
+        ("filter = \"gaussian\"\nradius_schedule = \"per-point\"", RadiusSchedule::PerPoint),
+        ("radius_schedule = \"global\"", RadiusSchedule::Global),
+    ] {
+        assert_eq!(render(extra).radius_schedule, schedule, "{extra:?}");
+    }
+    let mut scene = load_ok(&edit("iterations = 1\n", "iterations = 1\nfilter = \"gaussian\"\n"));
+    // An override of the rule, then of the camera samples, each settles it again.
+    let overrides = Overrides { radius_rule: Some(RadiusRule::Adaptive), ..Default::default() };
+    overrides.apply_to_scene(&mut scene, SettingNames::Options).unwrap();
+    assert_eq!(scene.render.radius_schedule, RadiusSchedule::PerPoint);
+    scene.render.radius_rule = RadiusRule::Shrink;
+    scene.render.fit_pass_work(PassWork::DEFAULT);
+    assert_eq!(scene.render.radius_schedule, RadiusSchedule::Global);
+    scene.render.fit_pass_work(PassWork::GPU);
+    assert_eq!(scene.render.radius_schedule, RadiusSchedule::PerPoint, "the GPU's 4 samples a pass");
+    // A schedule given by an override stays.
+    let mut scene = load_ok(&edit("iterations = 1\n", "iterations = 1\nfilter = \"gaussian\"\n"));
+    let overrides = Overrides { radius_schedule: Some(RadiusSchedule::PerPoint), ..Default::default() };
+    overrides.apply_to_scene(&mut scene, SettingNames::Options).unwrap();
+    scene.render.fit_pass_work(PassWork::DEFAULT);
+    assert_eq!(scene.render.radius_schedule, RadiusSchedule::PerPoint);
+}
+
 #[test]
 fn one_sided_materials_and_pixel_filters() {
     use sppm_gpu::scene::PixelFilter;
