@@ -48,7 +48,7 @@ pub struct SplatSums {
 }
 
 /// The ratio of a pixel's sums, rgb over w; black where w is 0.
-pub(super) fn ratio(s: &[f32; 4]) -> [f32; 3] {
+fn ratio(s: &[f32; 4]) -> [f32; 3] {
     let n = s[3];
     if n > 0.0 {
         [s[0] / n, s[1] / n, s[2] / n]
@@ -118,7 +118,7 @@ impl PixelSums {
 
     /// The mean of each pixel's estimates (their weighted mean under a splatting filter, plus
     /// the light sums' mean), `width` x `height`; black where none has weight yet.
-    fn mean(sums: &[[f32; 4]], light: Option<&[[f32; 4]]>, width: u32, height: u32) -> Rgb32Image {
+    pub(super) fn mean(sums: &[[f32; 4]], light: Option<&[[f32; 4]]>, width: u32, height: u32) -> Rgb32Image {
         let mut img = Rgb32Image::new(width, height);
         for (i, (dst, s)) in img.pixels.iter_mut().zip(sums).enumerate() {
             *dst = ratio(s);

@@ -889,23 +889,7 @@ impl SppmPasses {
         for _ in 0..passes {
             let start = std::time::Instant::now();
             self.sppm.run_pass()?;
-            // Where the estimates are splatted, each pixel's weighted mean of the pass's.
-            if let Some(sums) = Integrator::splat_sums(&mut self.sppm)? {
-                let zero = || SplatSums {
-                    camera: vec![[0.0; 4]; sums.camera.len()],
-                    light: sums.light.clone().map(|l| vec![[0.0; 4]; l.len()]),
-                };
-                let before = self.splat.take().unwrap_or_else(zero);
-                self.estimates.push(pass_estimate(&sums, &before));
-                self.splat = Some(sums);
-                let (gathered, seconds) = (self.sppm.photon_hits_gathered()?.0 as f64, start.elapsed().as_secs_f64());
-                if log {
-                    eprintln!("pilot sppm pass {seconds:.6} [{gathered}]");
-                }
-                (self.seconds, self.hits) = (self.seconds + seconds, self.hits + gathered);
-                continue;
-            }
-            let image = self.sppm.image()?;
+            let estimate = self.last_estimate()?;
             let gathered = self.sppm.photon_hits_gathered()?.0 as f64;
             let pass_seconds = start.elapsed().as_secs_f64();
             // The measuring hook (scripts/measure/pilot-time-cost.py): each pass's time and hits.
@@ -913,21 +897,37 @@ impl SppmPasses {
                 eprintln!("pilot sppm pass {pass_seconds:.6} [{gathered}]");
             }
             (self.seconds, self.hits) = (self.seconds + pass_seconds, self.hits + gathered);
-            self.sum.resize(image.pixels.len(), [0.0; 3]);
-            let k = (self.estimates.len() + 1) as f64;
-            let estimate = image
-                .pixels
-                .iter()
-                .zip(self.sum.iter_mut())
-                .map(|(mean, sum)| {
-                    let e = [0, 1, 2].map(|c| k * mean[c] as f64 - sum[c]);
-                    (0..3).for_each(|c| sum[c] += e[c]);
-                    e.map(|x| x as f32)
-                })
-                .collect();
             self.estimates.push(estimate);
         }
         Ok(())
+    }
+
+    /// Each pixel's estimate of the pass just run (waits for it): where the estimates are
+    /// splatted, the pass's weighted mean from the sums (plus its direct light summed apart),
+    /// else from the image of the passes so far and the sum of those before.
+    fn last_estimate(&mut self) -> Result<Vec<[f32; 3]>, Error> {
+        if let Some(sums) = Integrator::splat_sums(&mut self.sppm)? {
+            let zero = || SplatSums {
+                camera: vec![[0.0; 4]; sums.camera.len()],
+                light: sums.light.as_ref().map(|l| vec![[0.0; 4]; l.len()]),
+            };
+            let estimate = pass_estimate(&sums, self.splat.as_ref().unwrap_or(&zero()));
+            self.splat = Some(sums);
+            return Ok(estimate);
+        }
+        let image = self.sppm.image()?;
+        self.sum.resize(image.pixels.len(), [0.0; 3]);
+        let k = (self.estimates.len() + 1) as f64;
+        Ok(image
+            .pixels
+            .iter()
+            .zip(self.sum.iter_mut())
+            .map(|(mean, sum)| {
+                let e = [0, 1, 2].map(|c| k * mean[c] as f64 - sum[c]);
+                (0..3).for_each(|c| sum[c] += e[c]);
+                e.map(|x| x as f32)
+            })
+            .collect())
     }
 
     /// The mean photon hits a pass gathered, and the mean seconds of a pass.
@@ -1046,6 +1046,24 @@ pub(super) fn resolve(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A pass's estimate from the sums before and after it: their difference over a count of
+    /// 1, the camera's weighted mean where they are weights (path tracers, SPPM's splatted
+    /// passes), plus the light's (or SPPM's direct light's) difference where summed apart.
+    #[test]
+    fn a_pass_estimate_is_its_weighted_mean() {
+        let before = SplatSums { camera: vec![[1.0, 2.0, 3.0, 2.0]], light: None };
+        let counted = SplatSums { camera: vec![[1.5, 2.5, 3.5, 3.0]], light: None };
+        assert_eq!(pass_estimate(&counted, &before), vec![[0.5, 0.5, 0.5]]);
+        let weighted = SplatSums { camera: vec![[2.0, 3.0, 4.0, 2.5]], light: None };
+        assert_eq!(pass_estimate(&weighted, &before), vec![[2.0, 2.0, 2.0]]);
+        let light = |v: f32, passes: f32| Some(vec![[v, v, v, passes]]);
+        let before = SplatSums { light: light(1.0, 2.0), ..before };
+        let after = SplatSums { light: light(1.25, 3.0), ..weighted };
+        assert_eq!(pass_estimate(&after, &before), vec![[2.25, 2.25, 2.25]]);
+        // No weight in the pass: nothing from the camera.
+        assert_eq!(pass_estimate(&before, &before), vec![[0.0, 0.0, 0.0]]);
+    }
 
     /// `passes` passes of `pixels` pixels, each channel `mu` plus noise of relative spread
     /// about `spread` (a fixed sequence), and the pixels' means `mu`.

@@ -357,6 +357,11 @@ fn restore_refuses_states_no_render_could_leave() {
         first.run_pass().unwrap();
         first.run_pass().unwrap();
         let state = first.state().unwrap();
+        // The state's image, made on the host (a lost device's last checkpoint), is the GPU's.
+        let (host, image) = (first.image_of_state(&state).unwrap(), first.image().unwrap());
+        for (a, b) in host.pixels.iter().flatten().zip(image.pixels.iter().flatten()) {
+            assert!((a - b).abs() <= 1e-6 * b.abs(), "{method:?} {filter:?}: the state's image {a} against {b}");
+        }
         let mut fresh = integrators::create(&gpu.device, &gpu.queue, &scene).unwrap();
         let mut refused = |altered: &[u8], what: &str| {
             let e = fresh.restore(altered).expect_err(what).to_string();

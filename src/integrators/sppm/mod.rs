@@ -1000,14 +1000,9 @@ impl Integrator for Sppm {
         let (passes, _, stats) = super::decode_state(state, self.state_bytes())?;
         if self.filter_splat.is_some() {
             let (sums, direct) = stats.split_at(self.buffers.radiance.size() as usize);
-            let sums: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(sums);
-            let direct: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(direct);
-            let mut image = Rgb32Image::new(self.frame.width, self.frame.height);
-            for ((pixel, s), d) in image.pixels.iter_mut().zip(&sums).zip(&direct) {
-                let (s, d) = (super::pixel_sums::ratio(s), super::pixel_sums::ratio(d));
-                *pixel = [0, 1, 2].map(|c| s[c] + d[c]).map(|v| if v.is_finite() { v } else { 0.0 });
-            }
-            return Ok(image);
+            let (sums, direct): (Vec<[f32; 4]>, Vec<[f32; 4]>) =
+                (bytemuck::pod_collect_to_vec(sums), bytemuck::pod_collect_to_vec(direct));
+            return Ok(super::pixel_sums::PixelSums::mean(&sums, Some(&direct), self.frame.width, self.frame.height));
         }
         let stats: Vec<VpStats> = bytemuck::pod_collect_to_vec(&stats[..self.buffers.vp_stats.size() as usize]);
         let (k, spp) = (passes.saturating_sub(self.first_pass).max(1) as f32, self.frame.spp.max(1) as usize);
