@@ -42,9 +42,7 @@ fn bidir_camera(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
     bidir_block = index / 64u;
     let jitter = rng_next2(&rng);
     let ray = camera_ray_at(px, row, jitter, &rng);
-    var l = trace_camera_path(ray, CAMERA_PATH_BIDIR | CAMERA_PATH_ROULETTE, true, &rng).l;
-    let ok = all(l == l) && all(abs(l) < vec3f(3.0e38));
-    l = select(vec3f(0.0), l, ok);
+    let l = finite_sample(trace_camera_path(ray, CAMERA_PATH_BIDIR | CAMERA_PATH_ROULETTE, true, &rng).l);
     if frame.filter_reach > 0u {
         store_camera_sample(item, l, jitter);
     } else {

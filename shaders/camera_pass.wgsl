@@ -75,20 +75,21 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     let pixel_seed = sobol_seed(frame.seed, STREAM_CAMERA, global / frame.spp);
     let splat = frame.filter_reach > 0u;
     var jitter = vec2f(0.0);
-    var ld_first = vec3f(0.0);
     for (var i = 0u; i < paths; i++) {
         rng_sobol(&rng, first_sample + i, pixel_seed);
-        let u = rng_next2(&rng);
-        // Splatted, the first path's place in the pixel is uniform and the others sample the
-        // filter (camera_ray_at samples it itself where nothing splats).
-        let at = select(u, 0.5 + sample_filter(u), splat && i > 0u);
+        var at = rng_next2(&rng);
+        if i == 0u {
+            jitter = at;
+        } else if splat {
+            // Splatted, the first path's place in the pixel is uniform and the others sample
+            // the filter (camera_ray_at samples it itself where nothing splats).
+            at = 0.5 + sample_filter(at);
+        }
         let ray = camera_ray_at(px, row, at, &rng);
         let path = trace_camera_path(ray, CAMERA_PATH_SPPM, frame.direct != 0u, &rng);
         ld += path.l;
         if i == 0u {
             first = path;
-            jitter = u;
-            ld_first = path.l;
         }
     }
     var vp = first.vp;
@@ -113,14 +114,11 @@ fn camera_pass(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroup
     }
     visible_points[index] = vp;
     if splat {
-        // A NaN or infinite sample counts as black, as the path tracers' do.
-        let l = ld_first / f32(paths);
-        store_camera_sample(index, select(vec3f(0.0), l, all(l == l) && all(abs(l) < vec3f(3.0e38))), jitter);
+        store_camera_sample(index, finite_sample(first.l / f32(paths)), jitter);
         // The band's own pixels sum the other paths' share.
         if row >= frame.row_offset && row < frame.row_offset + frame.height {
-            let rest = (ld - ld_first) / f32(paths);
-            let ok = all(rest == rest) && all(abs(rest) < vec3f(3.0e38));
-            direct_sums[px + (row - frame.row_offset) * frame.width] += vec4f(select(vec3f(0.0), rest, ok), 1.0);
+            let rest = finite_sample((ld - first.l) / f32(paths));
+            direct_sums[px + (row - frame.row_offset) * frame.width] += vec4f(rest, 1.0);
         }
     } else {
         vp_stats[index].ld += ld / f32(paths);

@@ -40,10 +40,7 @@ fn path_trace(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgroups
     rng_sobol(&rng, frame.pass_index, sobol_seed(frame.seed, STREAM_PATH, index));
     let jitter = rng_next2(&rng);
     let ray = camera_ray_at(px, row, jitter, &rng);
-    var l = trace_camera_path(ray, CAMERA_PATH_PT, PATH_NEE, &rng).l;
-    // A NaN or infinite sample counts as black rather than poisoning the pixel.
-    let ok = all(l == l) && all(abs(l) < vec3f(3.0e38));
-    l = select(vec3f(0.0), l, ok);
+    let l = finite_sample(trace_camera_path(ray, CAMERA_PATH_PT, PATH_NEE, &rng).l);
     if frame.filter_reach > 0u {
         store_camera_sample(item, l, jitter);
     } else {

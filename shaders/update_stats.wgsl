@@ -106,7 +106,7 @@ fn update_stats(@builtin(global_invocation_id) gid: vec3u, @builtin(num_workgrou
             // tau; filter_splat then splats it.
             let s = camera_samples[index];
             let l = camera_sample_radiance(s) + density * (frame.power_total / f32(frame.photon_count));
-            store_camera_sample(index, select(vec3f(0.0), l, all(l == l) && all(abs(l) < vec3f(3.0e38))), camera_sample_jitter(s));
+            store_camera_sample(index, finite_sample(l), camera_sample_jitter(s));
         } else {
             vp_stats[index].tau += density;
         }

@@ -8,11 +8,12 @@
 //! passes they hold; a partial altered since it was written, or with a pixel not finite or
 //! negative (a sum of estimates cannot be), is refused.
 //!
-//! Under a splatting filter (the path tracers', bpt's and vcm's camera samples through a tent
-//! or gaussian: [`SplatSums`]) the image is not a mean of passes: a partial then also holds
-//! the camera samples' weighted sums and weights (channels `splat.R`, `splat.G`, `splat.B`,
-//! `splat.W`) and for bpt and vcm the light subpaths' splats (`light.R`, `light.G`,
-//! `light.B`), and the merge is their sums' ratio plus the light's mean, as one process's.
+//! Under a splatting filter (the path tracers', bpt's, vcm's and SPPM's camera samples through
+//! a tent or gaussian: [`SplatSums`]) the image is not a mean of passes: a partial then also
+//! holds the camera samples' weighted sums and weights (channels `splat.R`, `splat.G`,
+//! `splat.B`, `splat.W`) and what is averaged by passes apart, bpt's and vcm's light subpaths'
+//! splats or SPPM's direct light (`light.R`, `light.G`, `light.B`), and the merge is their
+//! sums' ratio plus the light's mean, as one process's.
 //!
 //! Exactness: a partial holds `mean * count` of its batch in f32, and the merge sums in f64.
 //! Against one process rendering all the passes, a pixel differs by the rounding of those

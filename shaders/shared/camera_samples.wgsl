@@ -6,6 +6,11 @@
 
 @group(0) @binding(37) var<storage, read_write> camera_samples: array<vec4u>;
 
+// A sample's radiance, or black where it is NaN or infinite, rather than poisoning its pixel.
+fn finite_sample(l: vec3f) -> vec3f {
+    return select(vec3f(0.0), l, all(l == l) && all(abs(l) < vec3f(3.0e38)));
+}
+
 // Store the pass's sample `item`: radiance l (finite), at `jitter` in its pixel.
 fn store_camera_sample(item: u32, l: vec3f, jitter: vec2f) {
     camera_samples[item] = vec4u(bitcast<vec3u>(l), pack2x16unorm(jitter));

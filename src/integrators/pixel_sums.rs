@@ -47,6 +47,22 @@ pub struct SplatSums {
     pub light: Option<Vec<[f32; 4]>>,
 }
 
+impl SplatSums {
+    /// Zeroed sums of `pixels` pixels, light sums too where `light`.
+    pub(super) fn zero(pixels: usize, light: bool) -> Self {
+        SplatSums { camera: vec![[0.0; 4]; pixels], light: light.then(|| vec![[0.0; 4]; pixels]) }
+    }
+
+    /// The state after `passes` passes that did `work`: the camera's sums, then the light's.
+    pub(super) fn encode_state(&self, passes: u32, work: u64) -> Vec<u8> {
+        let mut bytes: Vec<u8> = bytemuck::cast_slice(&self.camera).to_vec();
+        if let Some(light) = &self.light {
+            bytes.extend_from_slice(bytemuck::cast_slice(light));
+        }
+        encode_state(passes, work, &bytes)
+    }
+}
+
 /// The ratio of a pixel's sums, rgb over w; black where w is 0.
 fn ratio(s: &[f32; 4]) -> [f32; 3] {
     let n = s[3];
@@ -183,12 +199,7 @@ impl PixelSums {
 
     /// The state after `passes` passes that did `work` (waits for them).
     pub(super) fn state(&self, passes: u32, work: u64) -> Result<Vec<u8>, Error> {
-        let SplatSums { camera, light } = self.all_sums()?;
-        let mut bytes: Vec<u8> = bytemuck::cast_slice(&camera).to_vec();
-        if let Some(light) = light {
-            bytes.extend_from_slice(bytemuck::cast_slice(&light));
-        }
-        Ok(encode_state(passes, work, &bytes))
+        Ok(self.all_sums()?.encode_state(passes, work))
     }
 
     /// The image of a state, on the host.

@@ -595,8 +595,7 @@ pub fn choose(
     let mut costs = vec![0.0; choices.len()];
     let mut seconds = vec![0.0; choices.len()];
     let mut work = vec![[0.0; WORK_COUNTS as usize]; choices.len()];
-    let mut before =
-        SplatSums { camera: vec![[0.0f32; 4]; pixels], light: tracer.splats_apart().then(|| vec![[0.0f32; 4]; pixels]) };
+    let mut before = SplatSums::zero(pixels, tracer.splats_apart());
     // The passes of candidates `ks`, in turn; then every candidate run so far, its figures
     // with each pixel's mean over every pilot pass so far, and those means.
     let mut ran: Vec<usize> = Vec::new();
@@ -907,10 +906,7 @@ impl SppmPasses {
     /// else from the image of the passes so far and the sum of those before.
     fn last_estimate(&mut self) -> Result<Vec<[f32; 3]>, Error> {
         if let Some(sums) = Integrator::splat_sums(&mut self.sppm)? {
-            let zero = || SplatSums {
-                camera: vec![[0.0; 4]; sums.camera.len()],
-                light: sums.light.as_ref().map(|l| vec![[0.0; 4]; l.len()]),
-            };
+            let zero = || SplatSums::zero(sums.camera.len(), sums.light.is_some());
             let estimate = pass_estimate(&sums, self.splat.as_ref().unwrap_or(&zero()));
             self.splat = Some(sums);
             return Ok(estimate);

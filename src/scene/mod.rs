@@ -451,8 +451,19 @@ impl RenderSettings {
     /// after which these settings may have changed.
     pub fn settle_radius_schedule(&mut self) {
         if !self.radius_schedule_given {
-            let splats = self.spp == 1 && self.radius_rule == RadiusRule::Shrink && self.filter.splat_reach() > 0;
+            let splats = self.radius_rule == RadiusRule::Shrink && self.global_splat_reach() > 0;
             self.radius_schedule = if splats { RadiusSchedule::Global } else { RadiusSchedule::PerPoint };
+        }
+    }
+
+    /// How many pixels either way SPPM splats each pass's estimate of a visible point under
+    /// the global radius schedule: the filter's reach with one visible point a pixel, 0 with
+    /// more (their camera rays then sample the filter).
+    pub fn global_splat_reach(&self) -> u32 {
+        if self.spp == 1 {
+            self.filter.splat_reach()
+        } else {
+            0
         }
     }
 }

@@ -48,8 +48,8 @@ pub const ENV_AIM: f32 = 0.9;
 /// pixel; 0 otherwise, where camera rays sample the filter (filter importance sampling). On
 /// Mitsuba's tent-filtered scenes a pixel then averages about 2.25 pixels' estimates.
 pub fn splat_reach_of(r: &RenderSettings) -> u32 {
-    if r.radius_schedule == RadiusSchedule::Global && r.spp == 1 {
-        super::splat_reach(r.filter)
+    if r.radius_schedule == RadiusSchedule::Global {
+        r.global_splat_reach()
     } else {
         0
     }
@@ -985,9 +985,7 @@ impl Integrator for Sppm {
     /// the weighted ones, then the direct light's.
     fn state(&mut self) -> Result<Vec<u8>, Error> {
         if let Some(sums) = self.splat_sums()? {
-            let mut bytes: Vec<u8> = bytemuck::cast_slice(&sums.camera).to_vec();
-            bytes.extend_from_slice(bytemuck::cast_slice(&sums.light.unwrap_or_default()));
-            return Ok(super::encode_state(self.passes, self.photons_traced, &bytes));
+            return Ok(sums.encode_state(self.passes, self.photons_traced));
         }
         let mut stats: Vec<u8> = read_whole(&self.device, &self.queue, &self.buffers.vp_stats)?;
         if self.adaptive {
