@@ -7,7 +7,7 @@ use super::Cli;
 use indicatif::{ProgressBar, ProgressStyle};
 use sppm_gpu::checkpoint::Checkpoint;
 use sppm_gpu::gpu::GpuContext;
-use sppm_gpu::integrators::{self, light, shares::Choice};
+use sppm_gpu::integrators::{self, light, shares::Choice, FirstPasses};
 use sppm_gpu::pacing::{DeviceQueue, Goal, Pacer, PassQueue};
 use sppm_gpu::scene::{self, Method, Named};
 use sppm_gpu::{image_io, say, Error};
@@ -252,7 +252,11 @@ pub(crate) fn render(cli: &Cli, scene_path: &Path) -> Result<Option<u8>, Error> 
     // Under a time limit the kernels are compiled first, so that the limit is spent on
     // passes (a first run on lavapipe compiles for seconds); otherwise the first pass does it.
     let (mut integrator, compile) = match scene.render.time_limit {
-        Some(_) => integrators::create_compiled(&gpu.device, &gpu.queue, &scene).map(|(i, s)| (i, Some(s)))?,
+        Some(_) => {
+            // A batch starts at its first pass: no pass before it.
+            let first = if cli.passes.is_some() { FirstPasses::NotRun } else { FirstPasses::Checked };
+            integrators::create_compiled(&gpu.device, &gpu.queue, &scene, first).map(|(i, s)| (i, Some(s)))?
+        }
         None => (integrators::create(&gpu.device, &gpu.queue, &scene)?, None),
     };
     lap(&mut phases, if compile.is_some() { "scene, BVH, renderer and kernels" } else { "scene, BVH and renderer" });

@@ -156,7 +156,7 @@ impl Timed {
     /// ([`integrators::create_compiled`]); the clock starts at what it spent on the render
     /// before its first pass (vcm's pilot).
     fn compiled(gpu: &GpuContext, scene: &Scene) -> Result<Self, Error> {
-        let (integrator, _) = integrators::create_compiled(&gpu.device, &gpu.queue, scene)?;
+        let (integrator, _) = integrators::create_compiled(&gpu.device, &gpu.queue, scene, integrators::FirstPasses::Checked)?;
         let seconds = integrator.setup_seconds();
         Ok(Self { integrator, device: gpu.device.clone(), queue: gpu.queue.clone(), seconds })
     }

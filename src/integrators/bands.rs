@@ -117,6 +117,10 @@ impl Integrator for Bands {
     fn pilot(&self) -> &super::PilotReport {
         &self.pilot
     }
+
+    fn set_pilot(&mut self, report: super::PilotReport) {
+        self.pilot = report;
+    }
     /// Each band's warnings, one line each where bands say the same.
     fn warnings(&mut self) -> Result<Vec<String>, Error> {
         let mut all: Vec<String> = Vec::new();

@@ -591,6 +591,10 @@ impl Integrator for LightTracer {
         &self.pilot
     }
 
+    fn set_pilot(&mut self, report: super::PilotReport) {
+        self.pilot = report;
+    }
+
     /// Light vertices the store had no room for: their connections and merges are missing
     /// from the image, which is then darker than it should be where they would have added.
     fn warnings(&mut self) -> Result<Vec<String>, Error> {

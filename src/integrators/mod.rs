@@ -3,6 +3,7 @@
 //! driven through [`Integrator`].
 
 pub mod bands;
+pub mod check;
 pub mod filter;
 mod frame;
 pub mod light;
@@ -146,9 +147,12 @@ pub trait Integrator {
     fn start_at_pass(&mut self, first: u32) -> Result<(), Error>;
     /// What vcm's pilot ([`shares`]) said of its choice for the render (empty where none chose).
     fn pilot(&self) -> &PilotReport {
-        static NONE: PilotReport = PilotReport(None);
+        static NONE: PilotReport = PilotReport { notes: Vec::new(), seconds: 0.0, choice: None };
         &NONE
     }
+    /// Replace what the integrator reports of vcm's pilot (the check of the render's first
+    /// passes, [`check`], adds to it). Integrators that keep no report ignore it.
+    fn set_pilot(&mut self, _report: PilotReport) {}
     /// What the integrator chose for the render before its first pass, one sentence each, for
     /// the user to read (vcm's pilot).
     fn notes(&self) -> Vec<String> {
@@ -187,7 +191,8 @@ pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Resu
     let data = SceneData::new(scene)?;
     let buffers = Arc::new(SceneBuffers::upload(device, scene, &data)?);
     let (scene, pilot) = resolve(device, queue, scene, &data, &buffers)?;
-    create_on(device, queue, &scene, &data, buffers, pilot)
+    let report = pilot.as_ref().map(PilotReport::of).unwrap_or_default();
+    create_on(device, queue, &scene, &data, buffers, report)
 }
 
 /// `scene` with vcm's shares chosen where its pilot chooses them, and the pilot; else `scene`.
@@ -220,10 +225,9 @@ fn create_on(
     scene: &Scene,
     data: &SceneData,
     buffers: Arc<SceneBuffers>,
-    pilot: Option<shares::Pilot>,
+    report: PilotReport,
 ) -> Result<Box<dyn Integrator>, Error> {
     let (rows, height) = (max_rows(device, scene), scene.render.height);
-    let report = pilot.as_ref().map(PilotReport::of).unwrap_or_default();
     Ok(match Renderer::of(&scene.render) {
         // An image whose per-pixel buffers do not fit in one storage buffer goes in bands.
         _ if rows < height => Box::new(Bands::with_scene_buffers(device, queue, scene, data, buffers, rows)?.reporting(report)),
@@ -240,34 +244,48 @@ fn create_on(
 
 /// What vcm's pilot said of its choice and the seconds it took, kept by the integrator that
 /// renders the choice for [`Integrator::notes`] and [`Integrator::setup_seconds`] (empty where
-/// no pilot chose).
+/// no pilot chose); under a time limit also what the render's first passes said of it
+/// ([`check`]).
 #[derive(Clone, Debug, Default)]
-pub struct PilotReport(Option<(String, f64, shares::Choice)>);
+pub struct PilotReport {
+    notes: Vec<String>,
+    seconds: f64,
+    choice: Option<shares::Choice>,
+}
 
 impl PilotReport {
     /// The report of `pilot`.
     pub fn of(pilot: &shares::Pilot) -> Self {
-        Self(Some((pilot.to_string(), pilot.seconds, pilot.chosen)))
+        Self { notes: vec![pilot.to_string()], seconds: pilot.seconds, choice: Some(pilot.chosen) }
     }
 
-    /// The pilot's note, where one chose.
+    /// This report with the check of the render's first passes: its `note`, the `seconds` it
+    /// took and the choice that renders after it.
+    pub fn checked(mut self, note: String, seconds: f64, choice: shares::Choice) -> Self {
+        self.notes.push(note);
+        self.seconds += seconds;
+        self.choice = Some(choice);
+        self
+    }
+
+    /// The pilot's notes, where one chose.
     pub fn notes(&self) -> Vec<String> {
-        self.0.iter().map(|(note, _, _)| note.clone()).collect()
+        self.notes.clone()
     }
 
-    /// The pilot's seconds (0 where none chose).
+    /// The pilot's seconds, and its check's (0 where none chose).
     pub fn seconds(&self) -> f64 {
-        self.0.as_ref().map_or(0.0, |(_, seconds, _)| *seconds)
+        self.seconds
     }
 
-    /// The pilot's choice, where one chose.
+    /// The choice that renders, where a pilot chose.
     pub fn choice(&self) -> Option<shares::Choice> {
-        self.0.as_ref().map(|(_, _, choice)| *choice)
+        self.choice
     }
 
     /// Whether a pilot chose.
     pub fn is_some(&self) -> bool {
-        self.0.is_some()
+        self.choice.is_some()
     }
 }
 
@@ -336,12 +354,32 @@ pub fn limitations(scene: &Scene) -> Vec<String> {
     out
 }
 
+/// Whether a render made by [`create_compiled`] may run its first passes before it is
+/// returned, to check vcm's pilot's choice against them ([`check`]): a whole image's render,
+/// or a batch's, whose [`Integrator::start_at_pass`] must come before any pass.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FirstPasses {
+    /// Under a time limit, where vcm's pilot chose, the render's first passes check the choice
+    /// (kept, or the render starts over with another candidate) within the limit.
+    Checked,
+    /// No pass is run.
+    NotRun,
+}
+
 /// [`create`], with its kernels compiled first by one pass of a tiny copy of `scene` (8x8
 /// pixels, at most a thousand photons) sharing its pipelines ([`crate::gpu::share_kernels`]);
 /// also the seconds that took. Drivers compile a kernel when it is made (NVIDIA) or first
 /// dispatched (lavapipe), so the renderer's own first pass, a time limit and a rate then
-/// measure rendering alone.
-pub fn create_compiled(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<(Box<dyn Integrator>, f64), Error> {
+/// measure rendering alone. Under a time limit, where vcm's pilot chose and `first` allows,
+/// the render's first passes check its choice ([`check`]): the integrator comes back with
+/// them done, or started over with another candidate, the check's seconds in
+/// [`Integrator::setup_seconds`].
+pub fn create_compiled(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    first: FirstPasses,
+) -> Result<(Box<dyn Integrator>, f64), Error> {
     crate::gpu::share_kernels(|| {
         let start = std::time::Instant::now();
         check_device_for(device, scene)?;
@@ -353,7 +391,7 @@ pub fn create_compiled(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene
             let mut tiny = scene.clone();
             let r = &mut tiny.render;
             (r.width, r.height, r.photons, r.iterations, r.time_limit) = (8, 8, r.photons.min(1024), 1, None);
-            let mut warm_up = create_on(device, queue, &tiny, &data, buffers.clone(), None)?;
+            let mut warm_up = create_on(device, queue, &tiny, &data, buffers.clone(), PilotReport::default())?;
             warm_up.run_pass()?;
             warm_up.image().map(|_| ())
         };
@@ -376,7 +414,52 @@ pub fn create_compiled(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene
             warm_up(&resolved)?;
             seconds += start.elapsed().as_secs_f64();
         }
-        let integrator = create_on(device, queue, &resolved, &data, buffers.clone(), pilot)?;
-        Ok((integrator, seconds))
+        let report = pilot.as_ref().map(PilotReport::of).unwrap_or_default();
+        let mut integrator = create_on(device, queue, &resolved, &data, buffers.clone(), report.clone())?;
+        let (Some(pilot), Some(limit), FirstPasses::Checked) = (pilot, scene.render.time_limit, first) else {
+            return Ok((integrator, seconds));
+        };
+        let check_start = std::time::Instant::now();
+        let render_seconds = (limit - pilot.seconds).max(0.0);
+        let Some((rel_variance, k)) = check::first_passes(integrator.as_mut(), render_seconds, scene.render.iterations)? else {
+            let note = format!(
+                "vcm's first passes did not check its pilot's choice: twice {} of them did not fit in {:.0}% of the render's time \
+                 or in its passes (the {} that ran are kept)",
+                check::MIN_CHECK_PASSES,
+                100.0 * check::MAX_CHECK_SHARE,
+                integrator.passes()
+            );
+            integrator.set_pilot(report.checked(note, check_start.elapsed().as_secs_f64(), pilot.chosen));
+            return Ok((integrator, seconds));
+        };
+        let spent = check_start.elapsed().as_secs_f64();
+        // A test hook: passes that varied this many times more than they did.
+        let scale = std::env::var("SPPM_GPU_CHECK_RATIO").ok().and_then(|v| v.parse::<f64>().ok()).unwrap_or(1.0);
+        let rel_variance = rel_variance * scale;
+        let Some(verdict) = check::decide(&pilot.candidates, pilot.chosen, rel_variance, render_seconds, render_seconds - spent)
+        else {
+            return Ok((integrator, seconds));
+        };
+        let said = format!(
+            "vcm's first {} passes ({spent:.2} s) varied {:.2}x what its pilot read of them (relative variance a pass {rel_variance:.3e})",
+            2 * k,
+            verdict.ratio
+        );
+        let Some(choice) = verdict.switch_to else {
+            integrator.set_pilot(report.checked(format!("{said}: kept, the render goes on"), spent, pilot.chosen));
+            return Ok((integrator, seconds));
+        };
+        // Another candidate renders less error in the time left: the render starts over with
+        // it, on the device's memory the first one leaves.
+        drop(integrator);
+        let mut switched = scene.clone();
+        choice.apply(&mut switched.render);
+        if Renderer::of(&switched.render) == Renderer::Path {
+            warm_up(&switched)?;
+        }
+        let note =
+            format!("{said}: {} renders less error in the time left; the render starts over with it", choice.description());
+        let report = report.checked(note, check_start.elapsed().as_secs_f64(), choice);
+        Ok((create_on(device, queue, &switched, &data, buffers.clone(), report)?, seconds))
     })
 }

@@ -208,6 +208,10 @@ impl Integrator for PathTracer {
         &self.pilot
     }
 
+    fn set_pilot(&mut self, report: super::PilotReport) {
+        self.pilot = report;
+    }
+
     fn image(&mut self) -> Result<Rgb32Image, Error> {
         self.sums.image(self.frame.width, self.frame.height)
     }

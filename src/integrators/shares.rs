@@ -81,6 +81,26 @@ impl Choice {
     }
 }
 
+impl Choice {
+    /// The choice in words, for the user.
+    pub fn description(&self) -> String {
+        let shares = self.shares;
+        if self.photon_mapping {
+            "photon mapping (merging at each camera subpath's first diffuse vertex alone: sppm with the global radius schedule)"
+                .into()
+        } else if self.light_subpaths {
+            let pixels = match self.pixels_per_light_path {
+                0 => String::new(),
+                1 => ", a light subpath a pixel".into(),
+                n => format!(", a light subpath for every {n} pixels"),
+            };
+            format!("connect share {} and merge share {}{pixels}", shares.connect, shares.merge)
+        } else {
+            "no light subpaths (light_paths = 0: camera subpaths with next-event estimation, as pt-nee)".into()
+        }
+    }
+}
+
 impl fmt::Display for Choice {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if !self.light_subpaths {
@@ -421,19 +441,7 @@ impl fmt::Display for Pilot {
             self.representative,
             self.seconds,
         )?;
-        let chosen = self.chosen.shares;
-        if self.chosen.photon_mapping {
-            write!(f, "photon mapping (merging at each camera subpath's first diffuse vertex alone: sppm with the global radius schedule)")?;
-        } else if self.chosen.light_subpaths {
-            write!(f, "connect share {} and merge share {}", chosen.connect, chosen.merge)?;
-            match self.chosen.pixels_per_light_path {
-                0 => {}
-                1 => write!(f, ", a light subpath a pixel")?,
-                n => write!(f, ", a light subpath for every {n} pixels")?,
-            }
-        } else {
-            write!(f, "no light subpaths (light_paths = 0: camera subpaths with next-event estimation, as pt-nee)")?;
-        }
+        write!(f, "{}", self.chosen.description())?;
         write!(
             f,
             " (relative variance x cost of connect/merge shares, @ pixels a light subpath where set, none for no light \

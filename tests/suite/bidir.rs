@@ -629,3 +629,33 @@ fn vcm_pilot_stops_weighing_photon_mapping_once_it_has_lost() {
     assert_eq!(mapped.bias, 0.0, "{pilot}");
     assert!(!pilot.chosen.photon_mapping, "{pilot}");
 }
+
+/// Under a time limit vcm's first passes check its pilot's choice (`integrators::check`): the
+/// integrator comes back with them done (at least twice `MIN_CHECK_PASSES`, about a tenth of
+/// the time the pilot leaves), their seconds in its setup beside the pilot's, and a note of how
+/// much they varied against the pilot's reading; on cornell-box, which the pilot reads well,
+/// it keeps its choice. A batch's (`FirstPasses::NotRun`, whose first pass must be set before
+/// any runs) comes back with none.
+#[test]
+fn vcm_checks_its_pilots_choice_against_its_first_passes() {
+    use sppm_gpu::integrators::{check, create_compiled, FirstPasses};
+    let Some(gpu) = common::gpu() else { return };
+    let mut scene = common::load_scene("cornell-box.toml");
+    let r = &mut scene.render;
+    (r.method, r.width, r.height, r.iterations, r.time_limit) = (Method::Vcm, 32, 32, u32::MAX, Some(3.0));
+    let scene = scene;
+    let (checked, _) = create_compiled(&gpu.device, &gpu.queue, &scene, FirstPasses::Checked).unwrap();
+    let notes = checked.notes();
+    assert_eq!(notes.len(), 2, "{notes:?}");
+    let pilot_seconds: f64 = notes[0]
+        .split("merges as at pass ")
+        .nth(1)
+        .and_then(|rest| rest.split(", ").nth(1)?.split(" s)").next()?.parse().ok())
+        .unwrap_or_else(|| panic!("no pilot seconds: {}", notes[0]));
+    assert!(notes[1].contains("varied") && notes[1].contains("kept, the render goes on"), "{notes:?}");
+    assert!(checked.passes() >= 2 * check::MIN_CHECK_PASSES && checked.passes() % 2 == 0, "{} passes", checked.passes());
+    assert!(checked.setup_seconds() > pilot_seconds + 0.5 * check::CHECK_SHARE * (3.0 - pilot_seconds) - 0.01, "{notes:?}");
+    assert!(checked.setup_seconds() < 3.0, "the check took the whole limit: {notes:?}");
+    let (batch, _) = create_compiled(&gpu.device, &gpu.queue, &scene, FirstPasses::NotRun).unwrap();
+    assert_eq!((batch.passes(), batch.notes().len()), (0, 1));
+}

@@ -250,3 +250,34 @@ fn vcm_resumes_with_its_pilots_choice() {
     assert_eq!(output.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains(ck) && stderr.contains("`1/2` is not a choice of vcm's pilot"), "{stderr}");
 }
+
+/// Where vcm's first passes varied far more than its pilot read (a test hook scales what they
+/// showed), the render starts over with the pilot's runner-up, which the checkpoint keeps and a
+/// resumed render renders; the image is the new choice's.
+#[test]
+fn vcm_keeps_the_choice_its_first_passes_switched_to() {
+    if common::gpu().is_none() {
+        return;
+    }
+    let dir = common::scratch("checkpoint-vcm-switch");
+    let checkpoint = dir.join("ck");
+    let ck = checkpoint.to_str().unwrap();
+    let out = dir.join("switched.exr");
+    let mut command = sppm_gpu("cornell-box.toml", "vcm", &out, &["--time-limit", "3", "--checkpoint", ck]);
+    command.env("SPPM_GPU_CHECK_RATIO", "1e6");
+    let output = run(command);
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let saved = sppm_gpu::checkpoint::read(&checkpoint).unwrap();
+    let choice: sppm_gpu::integrators::shares::Choice = saved.pilot.as_deref().expect("a choice kept").parse().unwrap();
+    let said = format!("{} renders less error in the time left; the render starts over with it", choice.description());
+    assert!(stderr.contains(&said), "{said}\n{stderr}");
+    let chose = stderr.split("vcm's pilot (").nth(1).and_then(|rest| rest.split(") chose ").nth(1)).unwrap_or_default();
+    assert!(!chose.starts_with(&choice.description()), "the pilot chose it already: {stderr}");
+    let image = sppm_gpu::image_io::read_image(&out).unwrap();
+    assert!(image.pixels.iter().flatten().all(|v| v.is_finite()) && image.pixels.iter().flatten().any(|&v| v > 0.0));
+    let resumed = dir.join("resumed.exr");
+    let output = run(sppm_gpu("cornell-box.toml", "vcm", &resumed, &["--time-limit", "1", "--resume", ck]));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains(&format!("vcm renders {choice} as its pilot chose when the render began")), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -320,25 +320,28 @@ impl Job {
     fn integrator(&self) -> Result<Box<dyn Integrator>, sppm_gpu::Error> {
         let gpu = &self.gpu;
         match self.scene.render.time_limit {
-            Some(_) => Ok(integrators::create_compiled(&gpu.device, &gpu.queue, &self.scene)?.0),
+            Some(_) => {
+                Ok(integrators::create_compiled(&gpu.device, &gpu.queue, &self.scene, integrators::FirstPasses::Checked)?.0)
+            }
             None => integrators::create(&gpu.device, &gpu.queue, &self.scene),
         }
     }
 
     /// Runs passes until `end_pass` or until `budget` seconds of passes, through the
-    /// library's pacer; returns the seconds the passes took, and before the first pass what
-    /// the integrator spent on the render before it (vcm's pilot), which the budget counts.
-    /// Stops early when `stop` is set.
+    /// library's pacer; returns the seconds the passes took, and `setup`, what the
+    /// integrator spent on the render before this run's first pass (vcm's pilot and the check
+    /// of its first passes: [`Integrator::setup_seconds`] on the first run, else 0), which the
+    /// budget counts. Stops early when `stop` is set.
     fn run(
         &self,
         integrator: &mut dyn Integrator,
         end_pass: u32,
         budget: Option<f64>,
+        setup: f64,
         stop: &AtomicBool,
     ) -> Result<f64, sppm_gpu::Error> {
         let gpu = &self.gpu;
         let passes = integrator.passes();
-        let setup = if passes == 0 { integrator.setup_seconds() } else { 0.0 };
         let budget = budget.map(|b| (b - setup).max(0.0));
         let mut pacer =
             Pacer::new(DeviceQueue::new(integrator, &gpu.device, &gpu.queue), passes, Goal { end_pass, time_limit: budget });
@@ -560,7 +563,8 @@ impl Scene {
         let mut rx = device.run(move |tx| {
             let mut integrator = job.integrator()?;
             let r = &job.scene.render;
-            let seconds = job.run(integrator.as_mut(), r.iterations, r.time_limit, &worker_stop)?;
+            let setup = integrator.setup_seconds();
+            let seconds = job.run(integrator.as_mut(), r.iterations, r.time_limit, setup, &worker_stop)?;
             let image = integrator.image()?;
             job.gpu.check()?;
             let _ = tx.send(Message::Image { passes: integrator.passes(), seconds, image });
@@ -613,7 +617,8 @@ impl Scene {
                     break;
                 }
                 let before = integrator.passes();
-                seconds += job.run(integrator.as_mut(), end, budget, &worker_stop)?;
+                let setup = if seconds == 0.0 { integrator.setup_seconds() } else { 0.0 };
+                seconds += job.run(integrator.as_mut(), end, budget, setup, &worker_stop)?;
                 if integrator.passes() == before {
                     break;
                 }

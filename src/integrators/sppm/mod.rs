@@ -928,6 +928,10 @@ impl Integrator for Sppm {
         &self.pilot
     }
 
+    fn set_pilot(&mut self, report: super::PilotReport) {
+        self.pilot = report;
+    }
+
     fn splits_strategies(&self) -> bool {
         false
     }
