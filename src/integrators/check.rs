@@ -11,8 +11,8 @@
 //! the two halves' means, `D = 2 (I_k - I_2k)`, whose variance is `2 sigma^2 / k` for passes
 //! of variance `sigma^2` ([`halves_rel_variance`]). With that variance in its figure
 //! ([`super::shares::Candidate::figure`]) over the whole render's time, against each other
-//! candidate's over the time left, the render goes on with its passes or starts over with the
-//! other ([`decide`]).
+//! candidate's that merges over the time left, the render goes on with its passes or starts
+//! over with the other ([`decide`]).
 
 use super::shares::{Candidate, Choice};
 use super::Integrator;
@@ -72,10 +72,20 @@ pub struct Verdict {
     pub switch_to: Option<Choice>,
 }
 
+/// Whether `choice` merges: merging alone, or with connections, or photon mapping.
+fn merges(choice: Choice) -> bool {
+    choice.light_subpaths && (choice.shares.merge > 0.0 || choice.photon_mapping)
+}
+
 /// The verdict on `chosen`, one of the pilot's `candidates`, whose passes in the render showed
 /// `rel_variance` a pass: its figure with it over `render_seconds` (its passes so far are
-/// kept) against each other candidate's over `seconds_left`, by [`SWITCH_MARGIN`]. `None`
-/// where `chosen` is not among `candidates`.
+/// kept) against each other candidate's that merges over `seconds_left`, by
+/// [`SWITCH_MARGIN`]. Paths too rare for the pilot's passes are light through glass or mirrors
+/// onto diffuse surfaces (caustics), which merging finds by its density estimate where the
+/// other strategies meet them by chance: on sky.xml the render's passes varied 14x the pilot's
+/// reading without light subpaths, 6.3x with connections alone, 1.7x merging alone; on
+/// cornell-spheres and cornell-skylight 2.2x and 2.4x without light subpaths, 0.6x merging alone
+/// (BENCHMARKS.md "VCM"). `None` where `chosen` is not among `candidates`.
 pub fn decide(
     candidates: &[Candidate],
     chosen: Choice,
@@ -88,7 +98,7 @@ pub fn decide(
     let going_on = Candidate { rel_variance, ..own.clone() }.figure() / render_seconds;
     let other = candidates
         .iter()
-        .filter(|c| c.choice != chosen && c.figure().is_finite())
+        .filter(|c| c.choice != chosen && merges(c.choice) && c.figure().is_finite())
         .min_by(|a, b| a.figure().total_cmp(&b.figure()));
     let switch_to =
         other.filter(|o| seconds_left > 0.0 && SWITCH_MARGIN * o.figure() / seconds_left < going_on).map(|o| o.choice);
@@ -189,6 +199,12 @@ mod tests {
         assert_eq!(envmap.switch_to, None);
         // Nothing left to render the other in: the render goes on.
         assert_eq!(decide(&pilot, chosen, 3.15, 27.0, 0.0).unwrap().switch_to, None);
+        // Without light subpaths chosen over the others, whose figures' best does not merge:
+        // the render goes on with the best that merges.
+        let mut with_none = pilot.to_vec();
+        with_none.push(candidate("none", 0.517, 12_000.0));
+        let none = decide(&with_none, "none".parse().unwrap(), 7.1, 27.0, 24.3).unwrap();
+        assert_eq!(none.switch_to, Some("0/1".parse().unwrap()), "{none:?}");
         assert!(decide(&pilot, "0/0".parse().unwrap(), 1.0, 27.0, 24.3).is_none());
     }
 }
