@@ -85,15 +85,12 @@ fn merges(choice: Choice) -> bool {
 /// other strategies meet them by chance: on sky.xml the render's passes varied 14x the pilot's
 /// reading without light subpaths, 6.3x with connections alone, 1.7x merging alone; on
 /// cornell-spheres and cornell-skylight 2.2x and 2.4x without light subpaths, 0.6x merging alone
-/// (BENCHMARKS.md "VCM"). `None` where `chosen` is not among `candidates`.
-pub fn decide(
-    candidates: &[Candidate],
-    chosen: Choice,
-    rel_variance: f64,
-    render_seconds: f64,
-    seconds_left: f64,
-) -> Option<Verdict> {
-    let own = candidates.iter().find(|c| c.choice == chosen)?;
+/// (BENCHMARKS.md "VCM"). Where `chosen` is not among `candidates`, the render goes on (the
+/// ratio NaN).
+pub fn decide(candidates: &[Candidate], chosen: Choice, rel_variance: f64, render_seconds: f64, seconds_left: f64) -> Verdict {
+    let Some(own) = candidates.iter().find(|c| c.choice == chosen) else {
+        return Verdict { ratio: f64::NAN, switch_to: None };
+    };
     let ratio = rel_variance / own.rel_variance;
     let going_on = Candidate { rel_variance, ..own.clone() }.figure() / render_seconds;
     let other = candidates
@@ -102,7 +99,7 @@ pub fn decide(
         .min_by(|a, b| a.figure().total_cmp(&b.figure()));
     let switch_to =
         other.filter(|o| seconds_left > 0.0 && SWITCH_MARGIN * o.figure() / seconds_left < going_on).map(|o| o.choice);
-    Some(Verdict { ratio, switch_to })
+    Verdict { ratio, switch_to }
 }
 
 /// The render's first passes, by `integrator`, for the check: `k` passes in half of
@@ -192,19 +189,20 @@ mod tests {
     fn the_render_starts_over_only_where_its_passes_vary_far_more_than_the_pilot_read() {
         let pilot = [candidate("1/0", 0.504, 24_489.0), candidate("0/1", 0.665, 26_329.0), candidate("1/1", 0.638, 32_898.0)];
         let chosen: Choice = "1/0".parse().unwrap();
-        let sky = decide(&pilot, chosen, 3.15, 27.0, 24.3).unwrap();
+        let sky = decide(&pilot, chosen, 3.15, 27.0, 24.3);
         assert!((sky.ratio - 6.25).abs() < 0.01, "{sky:?}");
         assert_eq!(sky.switch_to, Some("0/1".parse().unwrap()));
-        let envmap = decide(&pilot, chosen, 0.504 * 1.4, 27.0, 24.3).unwrap();
+        let envmap = decide(&pilot, chosen, 0.504 * 1.4, 27.0, 24.3);
         assert_eq!(envmap.switch_to, None);
         // Nothing left to render the other in: the render goes on.
-        assert_eq!(decide(&pilot, chosen, 3.15, 27.0, 0.0).unwrap().switch_to, None);
+        assert_eq!(decide(&pilot, chosen, 3.15, 27.0, 0.0).switch_to, None);
         // Without light subpaths chosen over the others, whose figures' best does not merge:
         // the render goes on with the best that merges.
         let mut with_none = pilot.to_vec();
         with_none.push(candidate("none", 0.517, 12_000.0));
-        let none = decide(&with_none, "none".parse().unwrap(), 7.1, 27.0, 24.3).unwrap();
+        let none = decide(&with_none, "none".parse().unwrap(), 7.1, 27.0, 24.3);
         assert_eq!(none.switch_to, Some("0/1".parse().unwrap()), "{none:?}");
-        assert!(decide(&pilot, "0/0".parse().unwrap(), 1.0, 27.0, 24.3).is_none());
+        let absent = decide(&pilot, "0/0".parse().unwrap(), 1.0, 27.0, 24.3);
+        assert!(absent.ratio.is_nan() && absent.switch_to.is_none(), "{absent:?}");
     }
 }

@@ -439,10 +439,7 @@ pub fn create_compiled(
         // A test hook: passes that varied this many times more than they did.
         let scale = std::env::var("SPPM_GPU_CHECK_RATIO").ok().and_then(|v| v.parse::<f64>().ok()).unwrap_or(1.0);
         let rel_variance = rel_variance * scale;
-        let Some(verdict) = check::decide(&pilot.candidates, pilot.chosen, rel_variance, render_seconds, render_seconds - spent)
-        else {
-            return Ok((integrator, seconds));
-        };
+        let verdict = check::decide(&pilot.candidates, pilot.chosen, rel_variance, render_seconds, render_seconds - spent);
         let said = format!(
             "vcm's first {} passes ({spent:.2} s) varied {:.2}x what its pilot read of them (relative variance a pass {rel_variance:.3e})",
             2 * k,
