@@ -3,8 +3,8 @@
 //! those passes do not meet them, its variance in the render is far above what the pilot read.
 //! On Mitsuba's sky.xml (the sun's caustics through smooth glass on a wide ground, which few of
 //! the light subpaths reach) connections without merging varied 6.3x the pilot's reading in a
-//! render's first passes, merging alone 1.7x; on sixteen other scenes their first passes read
-//! 0.7x to 1.4x the pilot's figure (BENCHMARKS.md "VCM").
+//! render's first passes, merging alone 1.7x; on sixteen other scenes the chosen candidate's
+//! first passes read 0.5x to 1.4x the pilot's figure (BENCHMARKS.md "VCM").
 //!
 //! Under a time limit the render's first passes, which it keeps, say again how much the chosen
 //! candidate's passes vary: the image after `k` passes and after `2k` give the difference of
@@ -109,8 +109,8 @@ pub fn decide(candidates: &[Candidate], chosen: Choice, rel_variance: f64, rende
 pub fn first_passes(integrator: &mut dyn Integrator, render_seconds: f64, iterations: u32) -> Result<Option<(f64, u32)>, Error> {
     let start = std::time::Instant::now();
     let elapsed = || start.elapsed().as_secs_f64();
-    let (half, most) = (CHECK_SHARE * render_seconds, (MAX_CHECK_SHARE * render_seconds).min(MAX_CHECK_SECONDS));
-    while elapsed() < 0.5 * half.min(most) || integrator.passes() < MIN_CHECK_PASSES {
+    let (share, most) = (CHECK_SHARE * render_seconds, (MAX_CHECK_SHARE * render_seconds).min(MAX_CHECK_SECONDS));
+    while elapsed() < 0.5 * share.min(most) || integrator.passes() < MIN_CHECK_PASSES {
         if elapsed() > 0.5 * most || 2 * (integrator.passes() + 1) > iterations {
             return Ok(None);
         }

@@ -190,22 +190,20 @@ pub fn create(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Resu
     check_device_for(device, scene)?;
     let data = SceneData::new(scene)?;
     let buffers = Arc::new(SceneBuffers::upload(device, scene, &data)?);
-    let (scene, pilot) = resolve(device, queue, scene, &data, &buffers, false)?;
+    let (scene, pilot) = resolve(device, queue, scene, &data, &buffers)?;
     let report = pilot.as_ref().map(PilotReport::of).unwrap_or_default();
     create_on(device, queue, &scene, &data, buffers, report)
 }
 
 /// `scene` with vcm's shares chosen where its pilot chooses them, and the pilot; else `scene`.
-/// `checked`: the render's first passes check the choice ([`check`]).
 fn resolve<'a>(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     scene: &'a Scene,
     data: &SceneData,
     buffers: &Arc<SceneBuffers>,
-    checked: bool,
 ) -> Result<(std::borrow::Cow<'a, Scene>, Option<shares::Pilot>), Error> {
-    Ok(match shares::resolve(device, queue, scene, data, buffers, checked)? {
+    Ok(match shares::resolve(device, queue, scene, data, buffers)? {
         Some((resolved, pilot)) => (std::borrow::Cow::Owned(resolved), Some(pilot)),
         None => (std::borrow::Cow::Borrowed(scene), None),
     })
@@ -408,8 +406,7 @@ pub fn create_compiled(
             warm_up(&mapping)?;
         }
         let mut seconds = start.elapsed().as_secs_f64();
-        let checked = first == FirstPasses::Checked && scene.render.time_limit.is_some();
-        let (resolved, pilot) = resolve(device, queue, scene, &data, &buffers, checked)?;
+        let (resolved, pilot) = resolve(device, queue, scene, &data, &buffers)?;
         // Where the pilot chose no light subpaths the render runs pt-nee's kernel, which no
         // kernel made so far is (photon mapping's, SPPM's, were made above).
         if pilot.is_some() && Renderer::of(&resolved.render) == Renderer::Path {
@@ -419,7 +416,7 @@ pub fn create_compiled(
         }
         let report = pilot.as_ref().map(PilotReport::of).unwrap_or_default();
         let mut integrator = create_on(device, queue, &resolved, &data, buffers.clone(), report.clone())?;
-        let (Some(pilot), Some(limit), true) = (pilot, scene.render.time_limit, checked) else {
+        let (Some(pilot), Some(limit), FirstPasses::Checked) = (pilot, scene.render.time_limit, first) else {
             return Ok((integrator, seconds));
         };
         let check_start = std::time::Instant::now();
@@ -427,9 +424,10 @@ pub fn create_compiled(
         let Some((rel_variance, k)) = check::first_passes(integrator.as_mut(), render_seconds, scene.render.iterations)? else {
             let note = format!(
                 "vcm's first passes did not check its pilot's choice: twice {} of them did not fit in {:.0}% of the render's time \
-                 or in its passes (the {} that ran are kept)",
+                 (at most {} s) or in its passes (the {} that ran are kept)",
                 check::MIN_CHECK_PASSES,
                 100.0 * check::MAX_CHECK_SHARE,
+                check::MAX_CHECK_SECONDS,
                 integrator.passes()
             );
             integrator.set_pilot(report.checked(note, check_start.elapsed().as_secs_f64(), pilot.chosen));

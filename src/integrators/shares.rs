@@ -161,23 +161,19 @@ pub const CANDIDATES: [Choice; 7] = [
 
 /// The candidates the pilot weighs for `scene`: every one of [`CANDIDATES`], but where a
 /// surface hides lights from next-event estimation (mirrors, glass, smooth coatings:
-/// `MaterialKind::hides_lights`) and the render's first passes do not check the choice
-/// (`checked`: [`super::check`], under a time limit), only those that connect or merge. Light
-/// through such surfaces onto a diffuse one, a caustic, seen in a mirror or through glass, is
-/// found only by merging (or by connections, seen directly by light tracing too), else where
-/// BSDF sampling hits a light: paths too rare for the pilot's passes to see. Without a check,
-/// a choice of no light subpaths on such a scene would stand whatever its passes show (on
-/// Mitsuba's sky.xml camera subpaths alone vary 14x what the pilot reads). With one, such a
-/// choice is checked, and where it varies far more than the pilot read the render goes on
-/// merging; on Mitsuba's legacy.xml (a water sphere) light tracing beside the camera's
-/// strategies renders 0.87x no light subpaths' error and 0.69x merging alone's, which the pilot
-/// chose without it (BENCHMARKS.md "VCM").
+/// `MaterialKind::hides_lights`), only those that connect or merge. Light through such
+/// surfaces onto a diffuse one, a caustic, seen in a mirror or through glass, is found only by
+/// merging (or by connections, seen directly by light tracing too), else where BSDF sampling
+/// hits a light: paths too rare for the pilot's passes to see. On cornell-spheres the pilot
+/// rates (relative variance x cost) light tracing beside the camera's strategies at 1.03x
+/// merging alone and camera subpaths alone at 1.05x, where at 30 s their relMSE is 2x and
+/// (pt-nee's) 10x merging alone's (BENCHMARKS.md "VCM").
 /// A scene that sets `light_paths` keeps its count: the candidates that set one, and photon
 /// mapping (whose photons stand for them), are left out.
-pub fn candidates(scene: &Scene, checked: bool) -> Vec<Choice> {
+pub fn candidates(scene: &Scene) -> Vec<Choice> {
     // A measuring hook (scripts/measure/vcm-pilot-cost.sh): every candidate on every scene.
     let every = std::env::var_os("SPPM_GPU_PILOT_ALL").is_some();
-    let hidden = !every && !checked && scene.materials.iter().any(|m| m.kind.hides_lights());
+    let hidden = !every && scene.materials.iter().any(|m| m.kind.hides_lights());
     let counted = scene.render.light_paths.is_some();
     CANDIDATES
         .into_iter()
@@ -189,7 +185,7 @@ pub fn candidates(scene: &Scene, checked: bool) -> Vec<Choice> {
 /// Whether vcm's pilot may weigh photon mapping for `scene` (where it chooses the shares, and
 /// photon mapping is one of its [`candidates`]).
 pub fn weighs_photon_mapping(scene: &Scene) -> bool {
-    super::light::pilot_chooses_shares(scene) && candidates(scene, false).iter().any(|c| c.photon_mapping)
+    super::light::pilot_chooses_shares(scene) && candidates(scene).iter().any(|c| c.photon_mapping)
 }
 
 /// Pixels of the pilot's image on its longer side (at most the render's).
@@ -397,8 +393,8 @@ pub const DENSER_MARGIN: f64 = 0.9;
 /// textures.xml at 30 s it rated light tracing beside the camera's strategies (0, 0) at 1.00x
 /// no light subpaths over 1.1 (1.10x better), whose passes then rendered 1.19x to 1.23x no light
 /// subpaths' error (4.38e-5 against 3.67e-5), a pass with light subpaths costing 1.39x one
-/// without where the pilot counted 1.20x; on legacy.xml it rated (0, 0) 1.21x better, and it
-/// rendered 0.87x (BENCHMARKS.md "VCM"). At 1.25 both go to no light subpaths.
+/// without where the pilot counted 1.20x (BENCHMARKS.md "VCM"). At 1.25 it goes to no light
+/// subpaths.
 pub const NO_LIGHT_SUBPATHS_MARGIN: f64 = 1.25;
 
 /// The share of the best other candidate's figure that photon mapping's must stay below: above
@@ -557,27 +553,24 @@ fn pilot_radius(scene: &Scene, representative: u32, factor: f64) -> Option<f32> 
 }
 
 /// Runs vcm's pilot for `scene` (its scene data built and uploaded for it) and chooses its
-/// shares, whether or not the scene sets them, for a render whose first passes do not check
-/// the choice.
+/// shares, whether or not the scene sets them.
 pub fn choose_for(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<Pilot, Error> {
     let data = SceneData::new(scene)?;
     let buffers = Arc::new(SceneBuffers::upload(device, scene, &data)?);
-    choose(device, queue, scene, &data, buffers, false)
+    choose(device, queue, scene, &data, buffers)
 }
 
-/// Runs vcm's pilot for `scene` on its uploaded buffers and chooses its shares, from the
-/// [`candidates`] of a render whose first passes check the choice where `checked`.
+/// Runs vcm's pilot for `scene` on its uploaded buffers and chooses its shares.
 pub fn choose(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     scene: &Scene,
     data: &SceneData,
     buffers: Arc<SceneBuffers>,
-    checked: bool,
 ) -> Result<Pilot, Error> {
     let start = std::time::Instant::now();
     let limit = device.limits().max_storage_buffer_binding_size;
-    let choices = candidates(scene, checked);
+    let choices = candidates(scene);
     // The tracer first, with room for the light subpaths the candidates want: its probe says
     // how many vertices they keep, and so how many a pass of the pilot and of the render hold.
     let (wanting, _, _) = pilot_scene(scene, &choices, limit, Some(0.0))?;
@@ -1039,20 +1032,18 @@ fn pass_deviations(passes: &[Vec<[f32; 3]>], mu: &[[f64; 3]]) -> Vec<f64> {
 }
 
 /// Where vcm's pilot chooses `scene`'s shares ([`super::light::pilot_chooses_shares`]): the
-/// scene with the pilot's shares, and the pilot (for a render whose first passes check its
-/// choice where `checked`).
+/// scene with the pilot's shares, and the pilot.
 pub(super) fn resolve(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     scene: &Scene,
     data: &SceneData,
     buffers: &Arc<SceneBuffers>,
-    checked: bool,
 ) -> Result<Option<(Scene, Pilot)>, Error> {
     if !super::light::pilot_chooses_shares(scene) {
         return Ok(None);
     }
-    let pilot = choose(device, queue, scene, data, buffers.clone(), checked)?;
+    let pilot = choose(device, queue, scene, data, buffers.clone())?;
     let mut scene = scene.clone();
     pilot.chosen.apply(&mut scene.render);
     Ok(Some((scene, pilot)))

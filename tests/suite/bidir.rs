@@ -326,7 +326,7 @@ fn vcm_pilot_chooses_from_the_scene_alone() {
     // An all-diffuse room: every candidate, the last without light subpaths.
     let mut room = common::load_scene("cornell-box.toml");
     room.render.method = Method::Vcm;
-    assert_eq!(candidates(&room, false), CANDIDATES);
+    assert_eq!(candidates(&room), CANDIDATES);
     let mut none = room.clone();
     CANDIDATES[4].apply(&mut none.render);
     assert_eq!(
