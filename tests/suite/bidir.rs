@@ -642,7 +642,7 @@ fn vcm_checks_its_pilots_choice_against_its_first_passes() {
     let Some(gpu) = common::gpu() else { return };
     let mut scene = common::load_scene("cornell-box.toml");
     let r = &mut scene.render;
-    (r.method, r.width, r.height, r.iterations, r.time_limit) = (Method::Vcm, 32, 32, u32::MAX, Some(3.0));
+    (r.method, r.width, r.height, r.iterations, r.time_limit, r.photons) = (Method::Vcm, 32, 32, u32::MAX, Some(4.0), 4000);
     let scene = scene;
     let (checked, _) = create_compiled(&gpu.device, &gpu.queue, &scene, FirstPasses::Checked).unwrap();
     let notes = checked.notes();
@@ -654,8 +654,8 @@ fn vcm_checks_its_pilots_choice_against_its_first_passes() {
         .unwrap_or_else(|| panic!("no pilot seconds: {}", notes[0]));
     assert!(notes[1].contains("varied") && notes[1].contains("kept, the render goes on"), "{notes:?}");
     assert!(checked.passes() >= 2 * check::MIN_CHECK_PASSES && checked.passes() % 2 == 0, "{} passes", checked.passes());
-    assert!(checked.setup_seconds() > pilot_seconds + 0.5 * check::CHECK_SHARE * (3.0 - pilot_seconds) - 0.01, "{notes:?}");
-    assert!(checked.setup_seconds() < 3.0, "the check took the whole limit: {notes:?}");
+    assert!(checked.setup_seconds() > pilot_seconds + 0.5 * check::CHECK_SHARE * (4.0 - pilot_seconds) - 0.01, "{notes:?}");
+    assert!(checked.setup_seconds() < 4.0, "the check took the whole limit: {notes:?}");
     let (batch, _) = create_compiled(&gpu.device, &gpu.queue, &scene, FirstPasses::NotRun).unwrap();
     assert_eq!((batch.passes(), batch.notes().len()), (0, 1));
 }
