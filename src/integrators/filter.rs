@@ -16,9 +16,7 @@
 
 use crate::error::Error;
 use crate::layout::{Frame, FILTER_BOX, FILTER_GAUSSIAN, FILTER_TABLE_SIZE, FILTER_TENT};
-use crate::scene::PixelFilter;
-
-pub use crate::scene::{GAUSSIAN_CUTOFF, MAX_SPLAT_REACH};
+use crate::scene::{PixelFilter, GAUSSIAN_CUTOFF};
 
 /// Mitsuba 3's gaussian filter in standard deviations `t`, unnormalized:
 /// `max(0, exp(-t^2 / 2) - exp(-8))` (the value at the cutoff subtracted, so it falls to 0
@@ -71,12 +69,6 @@ pub fn set_pixel_filter(frame: &mut Frame, filter: PixelFilter) -> Result<(), Er
         PixelFilter::Gaussian { stddev } => (FILTER_GAUSSIAN, positive("stddev", stddev)?, gaussian_filter_cdf()),
     };
     Ok(())
-}
-
-/// How many pixels either way a sample splatted through `filter` reaches ([`Frame::filter_reach`],
-/// [`PixelFilter::splat_reach`]).
-pub fn splat_reach(filter: PixelFilter) -> u32 {
-    filter.splat_reach()
 }
 
 /// More than a pass's splats can weigh in one pixel of `frame`: every sample within the

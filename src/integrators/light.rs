@@ -675,10 +675,10 @@ impl Integrator for LightTracer {
 }
 
 /// How many pixels either way bpt's and vcm's camera samples are splatted under `r`'s filter
-/// ([`super::splat_reach`]); 0 for lt, which traces no camera subpaths.
+/// ([`crate::scene::PixelFilter::splat_reach`]); 0 for lt, which traces no camera subpaths.
 fn splat_reach_of(r: &RenderSettings) -> u32 {
     if is_bidirectional(r.method) {
-        super::splat_reach(r.filter)
+        r.filter.splat_reach()
     } else {
         0
     }

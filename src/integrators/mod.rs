@@ -16,7 +16,7 @@ pub mod sppm;
 mod state;
 
 pub use bands::Bands;
-pub use filter::{set_pixel_filter, splat_reach};
+pub use filter::set_pixel_filter;
 pub use frame::{camera_frame, camera_frame_for, shutter_time};
 pub use light::LightTracer;
 pub use memory::{check_memory, max_rows, memory_need, GpuMemory, MemoryNeed};

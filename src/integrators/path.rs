@@ -59,7 +59,7 @@ impl PathTracer {
     pub fn max_rows(device: &wgpu::Device, scene: &Scene) -> u32 {
         let pixels = device.limits().max_storage_buffer_binding_size / 16;
         let rows = (pixels / (scene.render.width as u64).max(1)).min(u32::MAX as u64) as u32;
-        rows.saturating_sub(2 * super::splat_reach(scene.render.filter))
+        rows.saturating_sub(2 * scene.render.filter.splat_reach())
     }
 
     /// Bytes of the renderer's own buffers for a band of `rows` rows of `scene`'s image, as
@@ -67,7 +67,7 @@ impl PathTracer {
     /// a pass's camera samples under a wide filter (the rows it reaches beyond the band
     /// counted as if inside the image), and the frame.
     pub fn renderer_bytes(scene: &Scene, rows: u32) -> u64 {
-        let reach = super::splat_reach(scene.render.filter);
+        let reach = scene.render.filter.splat_reach();
         let sample_rows = if reach > 0 { rows as u64 + 2 * reach as u64 } else { 0 };
         scene.render.width as u64 * (rows as u64 * 2 + sample_rows) * PIXEL_BYTES + std::mem::size_of::<Frame>() as u64
     }
@@ -85,7 +85,7 @@ impl PathTracer {
     ) -> Result<Self, Error> {
         let r = &scene.render;
         let mut frame = super::band_frame(scene, data, &rows)?;
-        frame.filter_reach = super::splat_reach(r.filter);
+        frame.filter_reach = r.filter.splat_reach();
         let band_height = frame.height;
         let pixel_count = r.width.checked_mul(band_height).ok_or_else(|| Error::Setting("image too large".into()))?;
         let bytes = pixel_count as u64 * PIXEL_BYTES;

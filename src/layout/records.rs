@@ -115,7 +115,7 @@ pub struct Frame {
     /// The path tracers under a wide pixel filter: how many pixels either way a camera sample
     /// reaches, its weight added to theirs (`shaders/filter_splat.wgsl`); 0 where each sample is
     /// its pixel's alone, its offset drawn from the filter (see
-    /// [`splat_reach`](crate::integrators::splat_reach)).
+    /// [`PixelFilter::splat_reach`](crate::scene::PixelFilter::splat_reach)).
     pub filter_reach: u32,
     /// Padding; always 0.
     pub _pad5: u32,

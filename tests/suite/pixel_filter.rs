@@ -510,7 +510,7 @@ fn sppm_splats_its_passes_under_the_global_schedule() {
     for (filter, paths) in [(GAUSSIAN, 1), (TENT, 4)] {
         let mut scene = splatting(edge_scene(edge as f32, Method::Sppm, filter));
         scene.render.direct_samples = Some(paths);
-        assert_eq!(sppm_gpu::integrators::sppm::splat_reach_of(&scene.render), integrators::splat_reach(filter));
+        assert_eq!(sppm_gpu::integrators::sppm::splat_reach_of(&scene.render), filter.splat_reach());
         let img = render(&gpu, &scene, passes);
         let (ok, worst) = matches_edge(&img, passes, edge, filter);
         eprintln!("SPPM splatted, {filter:?}, {paths} paths a point: worst deviation {worst:.3} of its bound");
@@ -657,7 +657,6 @@ fn splatted_images_resolve_to_textures_as_on_the_host() {
 /// wider than the box, and those reaching more than 8 pixels, are importance sampled (0).
 #[test]
 fn splat_reach_is_the_pixels_a_sample_can_weigh_in() {
-    use sppm_gpu::integrators::splat_reach;
     let tent = |radius: f32| PixelFilter::Tent { radius };
     let gaussian = |stddev: f32| PixelFilter::Gaussian { stddev };
     for (filter, reach) in [
@@ -675,6 +674,6 @@ fn splat_reach_is_the_pixels_a_sample_can_weigh_in() {
         (gaussian(2.2), 0),
         (tent(f32::NAN), 0),
     ] {
-        assert_eq!(splat_reach(filter), reach, "{filter:?}");
+        assert_eq!(filter.splat_reach(), reach, "{filter:?}");
     }
 }
